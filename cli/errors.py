@@ -1,0 +1,45 @@
+"""How the CLI reports problems: compiler-style diagnostics and DESIGN.md exit codes.
+
+Exit codes: 0 clean, 1 errors in the program(s), 2 usage or I/O error.
+"""
+
+from __future__ import annotations
+
+import functools
+import sys
+from collections.abc import Callable
+from typing import ParamSpec, TypeVar
+
+import click
+
+from kernel.diagnostics import Diagnostic
+
+EXIT_OK = 0
+EXIT_PROGRAM_ERROR = 1
+EXIT_USAGE = 2
+
+P = ParamSpec("P")
+R = TypeVar("R")
+
+
+def report(diag: Diagnostic) -> None:
+    """Print one diagnostic to stderr as ``file:line:col: error[CODE]: message``."""
+    click.echo(str(diag), err=True)
+
+
+def guarded(func: Callable[P, R]) -> Callable[P, R]:
+    """Run a command body; turn diagnostics and I/O errors into messages and exit codes."""
+
+    @functools.wraps(func)
+    def wrapper(*args: P.args, **kwargs: P.kwargs) -> R:
+        try:
+            return func(*args, **kwargs)
+        except Diagnostic as diag:
+            report(diag)
+            sys.exit(EXIT_USAGE if diag.code.startswith("IO-") else EXIT_PROGRAM_ERROR)
+        except OSError as exc:
+            name = getattr(exc, "filename", None) or ""
+            click.echo(f"{name}: error[IO-ERROR]: {exc.strerror or exc}", err=True)
+            sys.exit(EXIT_USAGE)
+
+    return wrapper

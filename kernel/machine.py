@@ -1,0 +1,233 @@
+"""The machine profile: axes, their limits, and the controller settings the planner needs.
+
+A profile is a TOML file (DESIGN.md, *The machine profile*); :data:`DEFAULT_MACHINE` is the
+built-in 3-axis mill used when none is given. Units are the kernel's: mm (deg for rotary
+axes), seconds, and their powers. Every field is documented in ``docs/machine-profile.md``.
+
+Tables other than ``[axes.*]`` and ``[controller]`` (``[spindle]``, ``[servo]``,
+``[tools]``, ...) belong to other parts of the toolchain; they are kept verbatim in
+:attr:`Machine.extra`. Inside the two tables read here an unknown key is an error
+(``MACH-KEY``), so a misspelt limit never silently falls back to a default.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field, fields
+from typing import Any
+
+from kernel.diagnostics import Diagnostic, Location
+
+AXIS_NAMES: tuple[str, ...] = ("x", "y", "z", "a", "b", "c")
+ROTARY: frozenset[str] = frozenset({"a", "b", "c"})
+ACCDEC_TYPES: tuple[str, ...] = ("trapezoid", "scurve")
+CORNER_RULES: tuple[str, ...] = ("axis", "angle")
+CIRCLE_METHODS: tuple[str, ...] = (
+    "exact",
+    "euler",
+    "improved_euler",
+    "taylor",
+    "tustin",
+    "improved_tustin",
+)
+
+
+@dataclass(frozen=True, slots=True)
+class AxisLimits:
+    """One axis: travel (mm or deg), velocity, acceleration, jerk (per s, s², s³).
+
+    ``servo`` holds the axis' ``[axes.<name>.servo]`` table untouched, for the servo stage.
+    """
+
+    name: str
+    min: float = -math.inf
+    max: float = math.inf
+    velocity: float = 100.0
+    acceleration: float = 1000.0
+    jerk: float = 50000.0
+    home: float = 0.0
+    servo: dict[str, Any] = field(default_factory=dict, compare=False)
+
+    @property
+    def rotary(self) -> bool:
+        return self.name in ROTARY
+
+
+@dataclass(frozen=True, slots=True)
+class Controller:
+    """Controller settings (book ch. 4 and 6; NISTIR 5970 §3.5.3 for the path modes).
+
+    ``interpolation_period``: sampling period of the interpolator, s (book ch. 6: 1-8 ms).
+    ``lookahead``: number of buffered blocks N including the current one (book §4.4; 1 = none).
+    ``accdec``: ``trapezoid`` (bounded acceleration) or ``scurve`` (bounded jerk).
+    ``corner_rule``: ``axis`` (per-axis speed difference, book §4.3.4) or ``angle`` (§4.3.3).
+    ``corner_velocity_step``: allowed per-axis speed step at a corner as a multiple of
+    acceleration x interpolation period (ΔV_m of book Eq. 4.91).
+    ``blend_tolerance``: path deviation allowed by ``G64`` without ``P``, mm (0: exact path).
+    ``chord_tolerance``: chord error allowed on arcs and NURBS, mm (book Eqs. 3.83, 4.98).
+    ``arc_acceleration_ratio``: share of the axis acceleration given to centripetal
+    acceleration on arcs (the book's performance index α of Eq. 4.97 as a fraction).
+    ``rapid_rate``: path speed cap for traverses, mm/s (0: as fast as the axes allow).
+    ``max_feed``: path speed cap for feed moves, mm/s (0: none beyond the axes).
+    ``tool_change_time``, ``spindle_orient_time``, ``program_stop_time``: durations, s.
+    ``circle_method``: arc sampling, ``exact`` or a sampled-data method of book §3.3.2.
+    ``feed_override``: feed override factor applied while overrides are enabled.
+    """
+
+    interpolation_period: float = 0.001
+    lookahead: int = 200
+    accdec: str = "trapezoid"
+    corner_rule: str = "axis"
+    corner_velocity_step: float = 1.0
+    blend_tolerance: float = 0.0
+    chord_tolerance: float = 0.001
+    arc_acceleration_ratio: float = 0.5
+    rapid_rate: float = 0.0
+    max_feed: float = 0.0
+    tool_change_time: float = 5.0
+    spindle_orient_time: float = 0.5
+    program_stop_time: float = 0.0
+    circle_method: str = "exact"
+    feed_override: float = 1.0
+
+
+@dataclass(frozen=True, slots=True)
+class Machine:
+    """A machine profile: named axes in order, controller settings, other tables verbatim."""
+
+    name: str
+    axes: tuple[AxisLimits, ...]
+    controller: Controller = field(default_factory=Controller)
+    extra: dict[str, Any] = field(default_factory=dict, compare=False)
+
+    @property
+    def axis_names(self) -> tuple[str, ...]:
+        return tuple(a.name for a in self.axes)
+
+    def axis(self, name: str) -> AxisLimits:
+        for a in self.axes:
+            if a.name == name:
+                return a
+        raise KeyError(name)
+
+    def limit_vector(self, attr: str) -> tuple[float, ...]:
+        """``attr`` (velocity, acceleration, jerk, min, max) for all six axes X..C.
+
+        Axes the machine lacks get 0 for velocity/acceleration/jerk (they cannot move).
+        """
+        out = []
+        for n in AXIS_NAMES:
+            try:
+                out.append(float(getattr(self.axis(n), attr)))
+            except KeyError:
+                out.append(0.0 if attr in ("velocity", "acceleration", "jerk", "home") else
+                           (-math.inf if attr == "min" else math.inf))
+        return tuple(out)
+
+
+DEFAULT_MACHINE = Machine(
+    name="default 3-axis mill (mm)",
+    axes=(
+        AxisLimits("x", -400.0, 400.0, velocity=250.0, acceleration=2000.0, jerk=50000.0),
+        AxisLimits("y", -250.0, 250.0, velocity=250.0, acceleration=2000.0, jerk=50000.0),
+        AxisLimits("z", -300.0, 200.0, velocity=200.0, acceleration=1500.0, jerk=40000.0),
+    ),
+)
+
+_AXIS_KEYS = {f.name for f in fields(AxisLimits)} - {"name"}
+_CONTROLLER_FIELDS = {f.name: f for f in fields(Controller)}
+
+
+def _number(value: object, what: str, loc: Location, *, positive: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise Diagnostic("MACH-TYPE", f"{what} must be a number, not {value!r}", loc)
+    v = float(value)
+    if math.isnan(v) or (positive and not v > 0):
+        raise Diagnostic("MACH-RANGE", f"{what} must be positive, got {value!r}", loc)
+    return v
+
+
+def _axis(name: str, table: object, loc: Location) -> AxisLimits:
+    if name not in AXIS_NAMES:
+        raise Diagnostic("MACH-AXIS", f"unknown axis {name!r}; axes are {', '.join(AXIS_NAMES)}", loc)
+    if not isinstance(table, dict):
+        raise Diagnostic("MACH-TYPE", f"[axes.{name}] must be a table", loc)
+    unknown = set(table) - _AXIS_KEYS
+    if unknown:
+        raise Diagnostic("MACH-KEY", f"[axes.{name}]: unknown key(s) {', '.join(sorted(unknown))}", loc)
+    kw: dict[str, Any] = {}
+    for key, value in table.items():
+        if key == "servo":
+            if not isinstance(value, dict):
+                raise Diagnostic("MACH-TYPE", f"[axes.{name}.servo] must be a table", loc)
+            kw[key] = dict(value)
+        else:
+            pos = key in ("velocity", "acceleration", "jerk")
+            kw[key] = _number(value, f"axes.{name}.{key}", loc, positive=pos)
+    axis = AxisLimits(name, **kw)
+    if not axis.min < axis.max:
+        raise Diagnostic("MACH-RANGE", f"axes.{name}: min {axis.min} must be below max {axis.max}", loc)
+    return axis
+
+
+def _controller(table: object, loc: Location) -> Controller:
+    if not isinstance(table, dict):
+        raise Diagnostic("MACH-TYPE", "[controller] must be a table", loc)
+    kw: dict[str, Any] = {}
+    for key, value in table.items():
+        if key not in _CONTROLLER_FIELDS:
+            raise Diagnostic("MACH-KEY", f"[controller]: unknown key {key!r}", loc)
+        what = f"controller.{key}"
+        if key == "lookahead":
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise Diagnostic("MACH-RANGE", f"{what} must be an integer >= 1", loc)
+            kw[key] = value
+        elif key in ("accdec", "corner_rule", "circle_method"):
+            allowed = {"accdec": ACCDEC_TYPES, "corner_rule": CORNER_RULES,
+                       "circle_method": CIRCLE_METHODS}[key]
+            if value not in allowed:
+                raise Diagnostic("MACH-RANGE", f"{what} must be one of {', '.join(allowed)}", loc)
+            kw[key] = value
+        else:
+            pos = key in ("interpolation_period", "chord_tolerance", "feed_override",
+                          "corner_velocity_step")
+            v = _number(value, what, loc, positive=pos)
+            if v < 0:
+                raise Diagnostic("MACH-RANGE", f"{what} must not be negative", loc)
+            if key == "arc_acceleration_ratio" and not 0 < v < 1:
+                raise Diagnostic("MACH-RANGE", f"{what} must lie strictly between 0 and 1", loc)
+            kw[key] = v
+    return Controller(**kw)
+
+
+def machine_from_dict(data: dict[str, Any], file: str | None = None) -> Machine:
+    """Build a :class:`Machine` from parsed TOML; raises ``MACH-*`` diagnostics."""
+    loc = Location(file)
+    axes_t = data.get("axes")
+    if not isinstance(axes_t, dict) or not axes_t:
+        raise Diagnostic("MACH-AXIS", "the profile needs at least one [axes.<name>] table", loc)
+    order = sorted(axes_t, key=lambda n: AXIS_NAMES.index(n) if n in AXIS_NAMES else 99)
+    axes = tuple(_axis(n, axes_t[n], loc) for n in order)
+    controller = _controller(data.get("controller", {}), loc)
+    name = data.get("name", file or "machine")
+    if not isinstance(name, str):
+        raise Diagnostic("MACH-TYPE", "name must be a string", loc)
+    extra = {k: v for k, v in data.items() if k not in ("axes", "controller", "name")}
+    return Machine(name, axes, controller, extra)
+
+
+def parse_machine(text: str, file: str | None = None) -> Machine:
+    """Parse TOML text into a :class:`Machine` (``MACH-TOML`` on a syntax error)."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise Diagnostic("MACH-TOML", f"not valid TOML: {exc}", Location(file)) from None
+    return machine_from_dict(data, file)
+
+
+def with_controller(machine: Machine, **changes: Any) -> Machine:
+    """A copy of ``machine`` with some controller fields replaced (validated like TOML)."""
+    current = {f: getattr(machine.controller, f) for f in _CONTROLLER_FIELDS}
+    current.update(changes)
+    return Machine(machine.name, machine.axes, _controller(current, Location()), machine.extra)
