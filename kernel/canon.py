@@ -110,7 +110,15 @@ class FeedMode(int, Enum):
     UNITS_PER_REVOLUTION = 2
 
 
-_ENUMS: tuple[type[Enum], ...] = (Plane, Units, MotionMode, FeedReference, Direction, Axis, CompSide)
+_ENUMS: tuple[type[Enum], ...] = (
+    Plane,
+    Units,
+    MotionMode,
+    FeedReference,
+    Direction,
+    Axis,
+    CompSide,
+)
 _ENUM_BY_VALUE: dict[str, Enum] = {m.value: m for e in _ENUMS for m in e}  # type: ignore[misc]
 # LinuxCNC prints directions with the long NISTIR names too.
 _ENUM_BY_VALUE["CANON_DIRECTION_CLOCKWISE"] = Direction.CLOCKWISE
@@ -140,7 +148,9 @@ class Command:
             if f.name == "source":
                 continue
             v = getattr(self, f.name)
-            out[f.name] = v.value if isinstance(v, Enum) else (list(v) if isinstance(v, tuple) else v)
+            out[f.name] = (
+                v.value if isinstance(v, Enum) else (list(v) if isinstance(v, tuple) else v)
+            )
         if self.source is not None:
             s = self.source
             out["source"] = {
@@ -229,7 +239,7 @@ class StraightTraverse(Command):
     c: float = 0.0
 
 
-# --------------------------------------------------------------------------- §3.5 machining attributes
+# ---------------------------------------------------------------------- §3.5 machining attributes
 @dataclass(frozen=True, slots=True)
 class SetFeedRate(Command):
     NAME: ClassVar[str] = "SET_FEED_RATE"
@@ -290,7 +300,7 @@ class StopSpeedFeedSynch(Command):
     NAME: ClassVar[str] = "STOP_SPEED_FEED_SYNCH"
 
 
-# --------------------------------------------------------------------------- §3.6 machining functions
+# ---------------------------------------------------------------------- §3.6 machining functions
 @dataclass(frozen=True, slots=True)
 class ArcFeed(Command):
     """Helical arc: in-plane end, centre, signed turns, end on the plane normal (§3.6.1).
@@ -588,6 +598,152 @@ class ProgramEnd(Command):
     NAME: ClassVar[str] = "PROGRAM_END"
 
 
+# --------------------------------------------------------------------------- LinuxCNC additions
+# Commands LinuxCNC's rs274 prints that NISTIR 5970 lacks. The interpreter emits them in its
+# LinuxCNC-compatible mode so ``cnc canon`` reads like rs274; the kernel ignores all but
+# RIGID_TAP (a spindle-synchronised motion to a depth and back, G33.1).
+@dataclass(frozen=True, slots=True)
+class SetG5xOffset(Command):
+    """Active work offset: index 1..9 (G54..G59.3) and its x y z a b c."""
+
+    NAME: ClassVar[str] = "SET_G5X_OFFSET"
+    index: int
+    x: float
+    y: float
+    z: float
+    a: float = 0.0
+    b: float = 0.0
+    c: float = 0.0
+
+
+@dataclass(frozen=True, slots=True)
+class SetG92Offset(Command):
+    NAME: ClassVar[str] = "SET_G92_OFFSET"
+    x: float
+    y: float
+    z: float
+    a: float = 0.0
+    b: float = 0.0
+    c: float = 0.0
+
+
+@dataclass(frozen=True, slots=True)
+class SetXYRotation(Command):
+    """G10 L2 R: rotation of the work coordinate system about Z, degrees."""
+
+    NAME: ClassVar[str] = "SET_XY_ROTATION"
+    angle: float
+
+
+@dataclass(frozen=True, slots=True)
+class OnReset(Command):
+    NAME: ClassVar[str] = "ON_RESET"
+
+
+@dataclass(frozen=True, slots=True)
+class StartChange(Command):
+    """M6 begins: LinuxCNC's hook before ``CHANGE_TOOL``."""
+
+    NAME: ClassVar[str] = "START_CHANGE"
+
+
+@dataclass(frozen=True, slots=True)
+class ChangeToolNumber(Command):
+    """M61 Q: declare the tool in the spindle without a change."""
+
+    NAME: ClassVar[str] = "CHANGE_TOOL_NUMBER"
+    number: int
+
+
+@dataclass(frozen=True, slots=True)
+class SetToolTableEntry(Command):
+    """G10 L1/L10/L11: pocket, tool, offsets x y z a b c u v w, diameter, angles, orientation."""
+
+    NAME: ClassVar[str] = "SET_TOOL_TABLE_ENTRY"
+    pocket: int
+    tool: int
+    x: float = 0.0
+    y: float = 0.0
+    z: float = 0.0
+    a: float = 0.0
+    b: float = 0.0
+    c: float = 0.0
+    u: float = 0.0
+    v: float = 0.0
+    w: float = 0.0
+    diameter: float = 0.0
+    front_angle: float = 0.0
+    back_angle: float = 0.0
+    orientation: int = 0
+
+
+@dataclass(frozen=True, slots=True)
+class RigidTap(Command):
+    """G33.1: feed to (x, y, z) synchronised with the spindle, reverse, and come back."""
+
+    NAME: ClassVar[str] = "RIGID_TAP"
+    x: float
+    y: float
+    z: float
+
+
+@dataclass(frozen=True, slots=True)
+class SetMotionOutputBit(Command):
+    """M62: digital output on, synchronised with the next motion."""
+
+    NAME: ClassVar[str] = "SET_MOTION_OUTPUT_BIT"
+    index: int
+
+
+@dataclass(frozen=True, slots=True)
+class ClearMotionOutputBit(Command):
+    """M63: digital output off, synchronised with the next motion."""
+
+    NAME: ClassVar[str] = "CLEAR_MOTION_OUTPUT_BIT"
+    index: int
+
+
+@dataclass(frozen=True, slots=True)
+class SetAuxOutputBit(Command):
+    """M64: digital output on, immediately."""
+
+    NAME: ClassVar[str] = "SET_AUX_OUTPUT_BIT"
+    index: int
+
+
+@dataclass(frozen=True, slots=True)
+class ClearAuxOutputBit(Command):
+    """M65: digital output off, immediately."""
+
+    NAME: ClassVar[str] = "CLEAR_AUX_OUTPUT_BIT"
+    index: int
+
+
+@dataclass(frozen=True, slots=True)
+class SetMotionOutputValue(Command):
+    """M67: analog output, synchronised with the next motion."""
+
+    NAME: ClassVar[str] = "SET_MOTION_OUTPUT_VALUE"
+    index: int
+    value: float
+
+
+@dataclass(frozen=True, slots=True)
+class SetAuxOutputValue(Command):
+    """M68: analog output, immediately."""
+
+    NAME: ClassVar[str] = "SET_AUX_OUTPUT_VALUE"
+    index: int
+    value: float
+
+
+@dataclass(frozen=True, slots=True)
+class Finish(Command):
+    """End of the canonical stream after program end (LinuxCNC)."""
+
+    NAME: ClassVar[str] = "FINISH"
+
+
 ALL_COMMANDS: tuple[type[Command], ...] = tuple(
     c for c in list(globals().values()) if isinstance(c, type) and issubclass(c, Command) and c.NAME
 )
@@ -615,6 +771,14 @@ LINUXCNC_ONLY: frozenset[str] = frozenset(
         "SET_NAIVECAM_TOLERANCE",
         "START_CHANGE",
         "CHANGE_TOOL_NUMBER",
+        "SET_TOOL_TABLE_ENTRY",
+        "SET_MOTION_OUTPUT_BIT",
+        "CLEAR_MOTION_OUTPUT_BIT",
+        "SET_AUX_OUTPUT_BIT",
+        "CLEAR_AUX_OUTPUT_BIT",
+        "SET_MOTION_OUTPUT_VALUE",
+        "SET_AUX_OUTPUT_VALUE",
+        "FINISH",
     }
 )
 
@@ -680,6 +844,8 @@ _SPINDLE_INDEXED = frozenset(
         "START_SPINDLE_COUNTERCLOCKWISE",
         "STOP_SPINDLE_TURNING",
         "ORIENT_SPINDLE",
+        "ENABLE_SPEED_OVERRIDE",
+        "DISABLE_SPEED_OVERRIDE",
         "SPINDLE_RETRACT",
         "SPINDLE_RETRACT_TRAVERSE",
     }
@@ -731,7 +897,8 @@ def parse_command(tc: TextCommand, file: str | None = None) -> Command:
                 return ChangeTool(0, joined, source=loc)
         if cls is UseToolLengthOffset and len(args) == 9:  # LinuxCNC: x y z, a b c, u v w
             return UseToolLengthOffset(float(args[2]), source=loc)
-        if cls is SetSpindleMode and len(args) == 2:  # LinuxCNC: spindle, css max (0: G97)
+        if cls is SetSpindleMode and len(args) == 2 and "." not in args[0]:
+            # LinuxCNC: spindle index (an integer), css max (0: G97)
             return SetSpindleMode(float(args[1]), float(args[1]) > 0, source=loc)
         if cls is SetFeedMode and len(args) == 2:  # LinuxCNC: spindle, mode
             return SetFeedMode(FeedMode(int(float(args[1]))), source=loc)
@@ -742,9 +909,10 @@ def parse_command(tc: TextCommand, file: str | None = None) -> Command:
         flds = [f for f in fields(cls) if f.name != "source"]
         if tc.name in _SPINDLE_INDEXED and len(args) == len(flds) + 1:
             args = args[1:]
-        if cls in (StraightFeed, StraightTraverse, StraightProbe, SetOriginOffsets) and len(
-            args
-        ) > 6:
+        if (
+            cls in (StraightFeed, StraightTraverse, StraightProbe, SetOriginOffsets)
+            and len(args) > 6
+        ):
             args = args[:6]  # LinuxCNC with u v w
         if len(args) > len(flds):
             raise ValueError(f"{len(args)} arguments, expected at most {len(flds)}")
@@ -759,8 +927,11 @@ def parse_command(tc: TextCommand, file: str | None = None) -> Command:
 def read_commands(lines: Iterable[str], file: str | None = None) -> Iterator[Command]:
     """Read canonical text into IR commands, skipping LinuxCNC-only commands."""
     for tc in read_text(lines, file):
-        if tc.name in LINUXCNC_ONLY and tc.name not in ("SET_FEED_MODE", "SET_SPINDLE_MODE",
-                                                          "SET_NAIVECAM_TOLERANCE"):
+        if tc.name in LINUXCNC_ONLY and tc.name not in (
+            "SET_FEED_MODE",
+            "SET_SPINDLE_MODE",
+            "SET_NAIVECAM_TOLERANCE",
+        ):
             continue
         yield parse_command(tc, file)
 
