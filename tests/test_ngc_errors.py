@@ -12,8 +12,8 @@ import json
 from pathlib import Path
 
 import pytest
-from gcode.interpreter import InterpreterOptions, interpret
 
+from gcode.interpreter import InterpreterOptions, interpret
 from gcode.tooltable import read_tool_table
 from kernel.diagnostics import Diagnostic
 
