@@ -1,0 +1,141 @@
+"""The compiled fast lane gives exactly what the general RS274/NGC semantics give.
+
+References: Python's own ``float()`` for number parsing and ``f"{v:.4f}"`` (via
+``kernel.canon.write_text``) for the text form; a direct transcription of the NIST v3
+rules for plain lines (F before motion, G0/G1 modal, G90/G91) as the model.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from gcode import fastlane
+from kernel import canon
+
+AXES = "XYZABC"
+
+
+def lane(text: str, *, feed: float = 0.0, traverse: bool = True, incremental: bool = False):
+    buf = np.frombuffer(text.encode(), dtype=np.uint8)
+    return fastlane.scan(
+        buf, 0, (0.0,) * 6, feed, incremental=incremental, traverse=traverse, first_line=1
+    )
+
+
+def model(lines: list[list[tuple[str, str]]], feed: float, traverse: bool, incremental: bool):
+    """NIST v3 §3.8 for plain lines: feed rate first, then the motion; G0/G1 modal."""
+    pos = [0.0] * 6
+    out: list[str] = []
+    for words in lines:
+        d = {letter.upper(): text for letter, text in words}
+        if "G" in d:
+            traverse = float(d["G"]) == 0.0
+        if "F" in d:
+            feed = float(d["F"])
+            out.append(canon.SetFeedRate(feed).to_text())
+        moved = [a for a in AXES if a in d]
+        if moved:
+            assert traverse or feed > 0
+            for a in moved:
+                v = float(d[a].replace(" ", ""))
+                pos[AXES.index(a)] = pos[AXES.index(a)] + v if incremental else v
+            cls = canon.StraightTraverse if traverse else canon.StraightFeed
+            out.append(cls(*pos).to_text())
+    return out
+
+
+NUMBER = st.builds(
+    lambda sign, whole, frac: f"{sign}{whole}{'.' + frac if frac is not None else ''}",
+    st.sampled_from(["", "-", "+"]),
+    st.integers(0, 99999).map(str),
+    st.one_of(st.none(), st.text("0123456789", min_size=0, max_size=6)),
+)
+LINE = st.lists(
+    st.tuples(st.sampled_from(list(AXES) + ["x", "z", "F", "G"]), NUMBER),
+    min_size=0,
+    max_size=5,
+    unique_by=lambda w: w[0].upper(),
+).map(
+    lambda ws: [
+        (letter, num)
+        if letter.upper() not in "FG"
+        else (
+            letter,
+            str(abs(float(num)) + 1) if letter.upper() == "F" else str(int(float(num)) % 2),
+        )
+        for letter, num in ws
+    ]
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(LINE, max_size=12), st.booleans(), st.booleans())
+def test_plain_lines_follow_the_rs274_rules(lines, traverse: bool, incremental: bool) -> None:
+    text = "".join(" ".join(f"{a}{n}" for a, n in words) + "\n" for words in lines)
+    run = lane(text, feed=100.0, traverse=traverse, incremental=incremental)
+    assert run.lines == len(lines)
+    assert run.consumed == len(text)
+    assert [c.to_text() for c in run.commands()] == model(lines, 100.0, traverse, incremental)
+
+
+@settings(max_examples=300, deadline=None)
+@given(NUMBER)
+def test_numbers_parse_to_the_same_double_as_float(number: str) -> None:
+    run = lane(f"X{number}\n")
+    if sum(ch.isdigit() for ch in number) == 0:
+        assert run.lines == 0
+    else:
+        assert run.position[0, 0] == float(number)
+
+
+def test_text_form_is_identical_to_the_ir_writer_including_ties_and_huge_values() -> None:
+    rng = np.random.default_rng(5970)
+    special = [5e-5, -5e-5, 1.23445, -1.23445, 0.5, -0.0, 1e12, -3e13, 0.99995, 123456.78905]
+    vals = np.concatenate([rng.normal(0, 500, 6000), special, special])
+    vals = np.resize(vals, (len(vals) // 6 + 1) * 6).reshape(-1, 6)
+    kinds = np.resize(np.array([0, 1, 2], np.int8), len(vals))
+    run = fastlane.Run(
+        kinds, vals, vals[:, 0].copy(), np.arange(len(vals)), 0, 0, (0.0,) * 6, 0.0, False
+    )
+    expected = "".join(line + "\n" for line in canon.write_text(run.commands(), 7))
+    assert fastlane.events_text(run, 7) == expected
+
+
+def test_run_stops_before_lines_the_general_interpreter_must_take() -> None:
+    stoppers = [
+        "G2 X1 Y1 I1",  # another motion code
+        "X1 (comment)",
+        "X#1",
+        "X[1+1]",
+        "/X1",  # block delete
+        "X1 X2",  # repeated letter: an error for the general path
+        "X1 N5",  # N not first
+        "N1.5 X1",
+        "F-10",
+        "F0",
+        "M3",
+        "X1.2.3",
+        "X",
+        "%",
+    ]
+    for bad in stoppers:
+        run = lane(f"X5\n{bad}\nX6\n", feed=10.0)
+        assert run.lines == 1, bad
+        assert run.end_position[0] == 5.0
+
+
+def test_feed_move_with_zero_feed_is_left_to_the_interpreter() -> None:
+    run = lane("G0 X1\nG1 Y1\n", feed=0.0)
+    assert run.lines == 1
+    assert run.end_traverse is True
+    run = lane("G0 X1\nG1 F50 Y1\n", feed=0.0)
+    assert run.lines == 2 and run.end_feed == 50.0 and run.end_traverse is False
+
+
+def test_blanks_inside_words_are_ignored_as_rs274_does() -> None:
+    run = lane("x 1 . 5  y - 2\r\nN12 G 0 Z3\n", feed=1.0, traverse=False)
+    assert run.lines == 2
+    assert run.position[0].tolist() == [1.5, -2.0, 0.0, 0.0, 0.0, 0.0]
+    assert run.kind.tolist() == [fastlane.FEED_MOVE, fastlane.TRAVERSE]
