@@ -52,22 +52,23 @@ NUMBER = st.builds(
     st.integers(0, 99999).map(str),
     st.one_of(st.none(), st.text("0123456789", min_size=0, max_size=6)),
 )
+
+
+def _word(letter: str, number: str) -> tuple[str, str]:
+    """Make F a positive feed and G a 0 or 1, keeping the drawn number otherwise."""
+    if letter.upper() == "F":
+        return letter, f"{abs(float(number)) + 1:.4f}"
+    if letter.upper() == "G":
+        return letter, str(int(float(number)) % 2)
+    return letter, number
+
+
 LINE = st.lists(
     st.tuples(st.sampled_from(list(AXES) + ["x", "z", "F", "G"]), NUMBER),
     min_size=0,
     max_size=5,
     unique_by=lambda w: w[0].upper(),
-).map(
-    lambda ws: [
-        (letter, num)
-        if letter.upper() not in "FG"
-        else (
-            letter,
-            str(abs(float(num)) + 1) if letter.upper() == "F" else str(int(float(num)) % 2),
-        )
-        for letter, num in ws
-    ]
-)
+).map(lambda words: [_word(letter, number) for letter, number in words])
 
 
 @settings(max_examples=300, deadline=None)
