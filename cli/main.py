@@ -18,6 +18,10 @@ SUBCOMMANDS: dict[str, str] = {
     "plan": "cli.plan",
     "trace": "cli.trace",
     "stepnc": "cli.stepnc",
+    "check": "cli.check",
+    "run": "cli.run",
+    "machine": "cli.machine",
+    "convert": "cli.convert",
 }
 
 
@@ -34,10 +38,43 @@ class LazyGroup(click.Group):
         return importlib.import_module(module).command
 
 
-@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
+EPILOG = """\b
+Examples:
+  cnc canon part.ngc                     canonical machining commands
+  cnc check *.ngc --format sarif -o r.sarif
+  cnc plan part.ngc --machine mill.toml  cycle time and limit hits
+  cnc stepnc info ex1.stp                workplan, features, tools
+
+\b
+Shell completion (bash): eval "$(_CNC_COMPLETE=bash_source cnc)"
+Colour is used only on a terminal; NO_COLOR=1 turns it off.
+Exit codes: 0 clean, 1 errors in the program(s), 2 usage or I/O error.
+"""
+
+
+@click.group(
+    cls=LazyGroup,
+    context_settings={"help_option_names": ["-h", "--help"]},
+    epilog=EPILOG,
+)
 @click.version_option(package_name="cnc-toolchain", prog_name="cnc")
-def cli() -> None:
+@click.option("-q", "--quiet", count=True, help="Print less (repeat for errors only).")
+@click.option("-v", "--verbose", count=True, help="Print more (repeat for debugging detail).")
+@click.pass_context
+def cli(ctx: click.Context, quiet: int, verbose: int) -> None:
     """cnc: G-code and STEP-NC to canonical machining commands, planning and simulation."""
+    ctx.ensure_object(dict)
+    ctx.obj["verbosity"] = verbose - quiet
+
+
+def verbosity(ctx: click.Context | None = None) -> int:
+    """The ``-v``/``-q`` balance of the current invocation (0 by default)."""
+    ctx = ctx or click.get_current_context(silent=True)
+    while ctx is not None:
+        if isinstance(ctx.obj, dict) and "verbosity" in ctx.obj:
+            return int(ctx.obj["verbosity"])
+        ctx = ctx.parent
+    return 0
 
 
 def main() -> None:
