@@ -1,0 +1,288 @@
+"""``cnc check``: lint programs against a machine profile, for people and for CI.
+
+Examples::
+
+    cnc check part.ngc
+    cnc check --machine mill.toml --format sarif -o check.sarif programs/*.ngc
+    cnc check --jobs 4 --format junit -o check.xml programs/
+    cnc check --list-rules
+
+Exit codes (DESIGN.md): 0 no errors, 1 errors in a program, 2 usage or I/O error. One bad
+file never stops the batch.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+import tomllib
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+import click
+
+from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.formats import FORMATS, CheckReport, FileResult, render
+from cli.main import verbosity
+from cli.programs import program_commands
+from gcode.tooltable import ToolTable, read_tool_table
+from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
+from kernel.check.config import merge_tables, spindle_range, tool_table_spec
+from kernel.diagnostics import Diagnostic, Location, Severity
+from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
+
+PROGRAM_SUFFIXES = (".ngc", ".nc", ".gcode", ".tap", ".canon", ".jsonl", ".stp", ".p21")
+
+
+@dataclass(frozen=True, slots=True)
+class Setup:
+    """Everything a worker needs to check a file (picklable)."""
+
+    context: CheckContext
+
+
+def _read_toml(path: str) -> dict[str, Any]:
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise Diagnostic("CHECK-CONFIG", f"not valid TOML: {exc}", Location(path)) from None
+
+
+def load_tool_table(path: str) -> ToolTable:
+    with open(path, encoding="utf-8", errors="replace") as fh:
+        return read_tool_table(fh.readlines(), path)
+
+
+def load_context(
+    machine_path: str | None, config_path: str | None, tool_table: str | None
+) -> CheckContext:
+    """Machine profile + ``[check]`` settings (+ ``[tool.cnc.check]``) + tool table."""
+    machine: Machine = DEFAULT_MACHINE
+    table: dict[str, Any] = {}
+    tools_file, tool_units = None, 1.0
+    extra: dict[str, Any] = {}
+    if machine_path:
+        with open(machine_path, encoding="utf-8") as fh:
+            machine = parse_machine(fh.read(), machine_path)
+        extra = machine.extra
+        table = dict(extra.get("check", {})) if isinstance(extra.get("check"), dict) else {}
+        if "check" in extra and not isinstance(extra["check"], dict):
+            raise Diagnostic("CHECK-CONFIG", "[check] must be a table", Location(machine_path))
+        tools_file, tool_units = tool_table_spec(extra, machine_path)
+        if tools_file:
+            tools_file = str(Path(machine_path).parent / tools_file)
+    if config_path is None and Path("pyproject.toml").is_file():
+        config_path = "pyproject.toml"
+    source = machine_path
+    if config_path:
+        doc = _read_toml(config_path)
+        top = doc.get("tool", {}).get("cnc", {}).get("check")
+        if top is None and "check" in doc and "tool" not in doc:
+            top = doc["check"]
+        if top is not None:
+            if not isinstance(top, dict):
+                raise Diagnostic(
+                    "CHECK-CONFIG", "[tool.cnc.check] must be a table", Location(config_path)
+                )
+            table = merge_tables(table, top)
+            source = config_path
+    config = config_from_dict(table, set(RULES), source)
+    if tool_table:
+        tools_file = tool_table
+    tools = load_tool_table(tools_file) if tools_file else None
+    return CheckContext(
+        machine=machine,
+        config=config,
+        tools=tools,
+        tool_mm_per_unit=tool_units,
+        spindle_range=spindle_range(extra, machine_path),
+    )
+
+
+_SETUP: Setup | None = None
+
+
+def _init_worker(setup: Setup) -> None:
+    global _SETUP
+    _SETUP = setup
+
+
+def check_file(path: str, setup: Setup | None = None) -> FileResult:
+    """Check one file; program problems become findings, I/O problems ``io_error``."""
+    setup = setup or _SETUP
+    assert setup is not None
+    t0 = time.perf_counter()
+    ctx = setup.context
+    try:
+        cmds = program_commands(path, ctx.tools, ctx.tool_mm_per_unit)
+        findings = check_stream(cmds, ctx, path)
+    except OSError as exc:
+        return FileResult(path, (), exc.strerror or str(exc), time.perf_counter() - t0)
+    except Exception as exc:  # noqa: BLE001 - a bug must not take the rest of the batch down
+        msg = f"internal error while checking ({type(exc).__name__}: {exc}); please report it"
+        bug = Finding("CNC001", Severity.ERROR, msg, Location(path), "CHECK-INTERNAL")
+        return FileResult(path, (bug,), None, time.perf_counter() - t0)
+    return FileResult(path, tuple(findings), None, time.perf_counter() - t0)
+
+
+def _check_one(path: str) -> FileResult:
+    return check_file(path)
+
+
+def _size(path: str) -> int:
+    try:
+        return os.stat(path).st_size
+    except OSError:
+        return 0
+
+
+def expand(files: tuple[str, ...]) -> list[str]:
+    """Files as given; directories contribute their programs (sorted, recursively)."""
+    out: list[str] = []
+    for f in files:
+        p = Path(f)
+        if p.is_dir():
+            out.extend(str(q) for q in sorted(p.rglob("*")) if q.suffix.lower() in PROGRAM_SUFFIXES)
+        else:
+            out.append(f)
+    return out
+
+
+def run_checks(paths: list[str], setup: Setup, jobs: int) -> list[FileResult]:
+    """Check ``paths`` with ``jobs`` worker processes (1: in this process); input order kept.
+
+    Largest files go first and the rest follow in small chunks, so one long program does
+    not leave the other workers idle at the end (longest-processing-time-first).
+    """
+    if jobs <= 1 or len(paths) <= 1:
+        return [check_file(p, setup) for p in paths]
+    jobs = min(jobs, len(paths))
+    order = sorted(range(len(paths)), key=lambda i: -_size(paths[i]))
+    chunk = max(1, min(16, len(paths) // (jobs * 16)))
+    with ProcessPoolExecutor(jobs, initializer=_init_worker, initargs=(setup,)) as pool:
+        done = list(pool.map(_check_one, [paths[i] for i in order], chunksize=chunk))
+    out: list[FileResult | None] = [None] * len(paths)
+    for i, r in zip(order, done, strict=True):
+        out[i] = r
+    return out  # type: ignore[return-value]
+
+
+def _version() -> str:
+    try:
+        return metadata.version("cnc-toolchain")
+    except metadata.PackageNotFoundError:
+        return "0"
+
+
+def _list_rules(ctx: CheckContext) -> str:
+    lines = []
+    for r in RULES.values():
+        sev = ctx.config.severity(r.id, r.severity, r.default_enabled)
+        state = sev.value if sev else "off"
+        lines.append(f"{r.id}  {r.name:32s} {state:8s} {r.summary}")
+    return "\n".join(lines) + "\n"
+
+
+@click.command("check")
+@click.argument("files", nargs=-1, type=click.Path(dir_okay=True))
+@click.option(
+    "--machine",
+    "-m",
+    "machine_path",
+    type=click.Path(exists=True, dir_okay=False),
+    help="Machine profile (TOML); its [check], [spindle] and [tools] tables apply.",
+)
+@click.option(
+    "--config",
+    "config_path",
+    type=click.Path(exists=True, dir_okay=False),
+    help="pyproject-style TOML with a [tool.cnc.check] table "
+    "(default: ./pyproject.toml if present).",
+)
+@click.option(
+    "--tool-table",
+    "-t",
+    type=click.Path(exists=True, dir_okay=False),
+    help="Tool table (LinuxCNC .tbl or NIST tool file); overrides the profile's.",
+)
+@click.option(
+    "--format",
+    "-f",
+    "fmt",
+    type=click.Choice(FORMATS),
+    default="text",
+    show_default=True,
+    help="Output format.",
+)
+@click.option(
+    "--jobs",
+    "-j",
+    type=click.IntRange(min=0),
+    default=1,
+    show_default=True,
+    help="Worker processes (0: one per CPU).",
+)
+@click.option(
+    "--output",
+    "-o",
+    type=click.Path(dir_okay=False, writable=True),
+    help="Write the report to this file instead of standard output.",
+)
+@click.option("--list-rules", is_flag=True, help="List the rules with their effective severity.")
+@guarded
+def command(
+    files: tuple[str, ...],
+    machine_path: str | None,
+    config_path: str | None,
+    tool_table: str | None,
+    fmt: str,
+    jobs: int,
+    output: str | None,
+    list_rules: bool,
+) -> None:
+    """Lint and verify programs without simulating them.
+
+    FILES are G-code, canonical text or canonical JSON-lines programs (the kind is detected
+    from the content) or directories of them. Rules and their ids are listed by
+    --list-rules and documented in docs/check-rules.md.
+
+    \b
+    Examples:
+      cnc check part.ngc
+      cnc check -m mill.toml -f sarif -o check.sarif programs/
+      cnc check -j 4 -f junit -o check.xml *.ngc
+    """
+    ctx = load_context(machine_path, config_path, tool_table)
+    if list_rules:
+        click.echo(_list_rules(ctx), nl=False)
+        return
+    if not files:
+        raise click.UsageError("no FILES given (see --help)")
+    paths = expand(files)
+    if jobs == 0:
+        jobs = os.cpu_count() or 1
+    t0 = time.perf_counter()
+    results = run_checks(paths, Setup(ctx), jobs)
+    rules = tuple(
+        (r, ctx.config.severity(r.id, r.severity, r.default_enabled)) for r in RULES.values()
+    )
+    report = CheckReport(
+        tuple(results), rules, ctx.machine.name, _version(), time.perf_counter() - t0
+    )
+    color = (
+        output is None and fmt == "text" and sys.stdout.isatty() and not os.environ.get("NO_COLOR")
+    )
+    text = render(report, fmt, color=color, verbosity=verbosity())
+    if output:
+        with open(output, "w", encoding="utf-8") as fh:
+            fh.write(text)
+    else:
+        click.echo(text, nl=False)
+    if report.io_errors:
+        sys.exit(EXIT_USAGE)
+    sys.exit(EXIT_PROGRAM_ERROR if report.total(Severity.ERROR) else EXIT_OK)

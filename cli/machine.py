@@ -1,0 +1,249 @@
+"""``cnc machine``: show the effective profile, validate profiles, write a starter profile.
+
+Examples::
+
+    cnc machine show                  # the built-in default 3-axis mill
+    cnc machine show mill.toml        # mill.toml with every default filled in
+    cnc machine validate mill.toml lathe.toml
+    cnc machine init -o mill.toml     # a commented starter profile
+
+The profile format is kernel.machine's (docs/machine-profile.md); ``validate`` also checks
+the ``[check]``, ``[spindle]`` and ``[tools]`` tables ``cnc check`` reads (docs/check-rules.md)
+and that the tool table they name can be read.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from dataclasses import fields
+from pathlib import Path
+from typing import Any
+
+import click
+
+from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from kernel.diagnostics import Diagnostic, Location
+from kernel.machine import DEFAULT_MACHINE, AxisLimits, Controller, Machine, parse_machine
+
+STARTER = """\
+# cnc machine profile (TOML). Units: mm, degrees, seconds. Reference: docs/machine-profile.md
+name = "my 3-axis mill"
+
+# One table per axis (x y z a b c): travel limits in machine coordinates, velocity (per s),
+# acceleration (per s^2) and jerk (per s^3).
+[axes.x]
+min = -400.0
+max = 400.0
+velocity = 250.0
+acceleration = 2000.0
+jerk = 50000.0
+
+[axes.y]
+min = -250.0
+max = 250.0
+velocity = 250.0
+acceleration = 2000.0
+jerk = 50000.0
+
+[axes.z]
+min = -300.0
+max = 200.0
+velocity = 200.0
+acceleration = 1500.0
+jerk = 40000.0
+
+# Controller: interpolation period (s), look-ahead depth (blocks), acc/dec profile
+# ("trapezoid" or "scurve"), blending tolerance for G64 without P (mm).
+[controller]
+interpolation_period = 0.001
+lookahead = 200
+accdec = "trapezoid"
+blend_tolerance = 0.0
+
+# Spindle speed range (rpm), judged by `cnc check` (CNC501, CNC502).
+[spindle]
+min_speed = 0.0
+max_speed = 12000.0
+
+# Tool table: a LinuxCNC .tbl or NIST tool file relative to this profile, and the unit of
+# its lengths ("mm" or "inch").
+# [tools]
+# file = "tools.tbl"
+# units = "mm"
+
+# `cnc check` settings (docs/check-rules.md): uncomment what applies to your shop.
+[check]
+# safe_z = 5.0                                        # mm, work coordinates
+# stock = { min = [0.0, 0.0, -20.0], max = [100.0, 80.0, 0.0] }
+# unsupported = ["G5.2"]                              # codes your controller rejects
+# disable = []                                        # rule ids switched off
+# enable = ["CNC601"]                                 # opt-in rules switched on
+max_dwell = 60.0
+arc_tolerance = "linuxcnc"
+"""
+
+
+# --------------------------------------------------------------------------- TOML writing
+def _value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if math.isinf(v):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, list | tuple):
+        return "[" + ", ".join(_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{k} = {_value(x)}" for k, x in v.items()) + " }"
+    raise TypeError(f"cannot write {v!r} as TOML")
+
+
+def _table(name: str, d: dict[str, Any], out: list[str]) -> None:
+    simple = {k: v for k, v in d.items() if not isinstance(v, dict)}
+    nested = {k: v for k, v in d.items() if isinstance(v, dict)}
+    out.append(f"\n[{name}]")
+    out.extend(f"{k} = {_value(v)}" for k, v in simple.items())
+    for k, v in nested.items():
+        _table(f"{name}.{k}", v, out)
+
+
+def machine_dict(m: Machine) -> dict[str, Any]:
+    """The effective profile as plain data (every default filled in)."""
+    axes = {}
+    for a in m.axes:
+        d = {f.name: getattr(a, f.name) for f in fields(AxisLimits) if f.name != "name"}
+        if not d["servo"]:
+            del d["servo"]
+        axes[a.name] = d
+    ctrl = {f.name: getattr(m.controller, f.name) for f in fields(Controller)}
+    return {"name": m.name, "axes": axes, "controller": ctrl, **m.extra}
+
+
+def machine_toml(m: Machine) -> str:
+    d = machine_dict(m)
+    out = [f"name = {_value(d['name'])}"]
+    for name, axis in d["axes"].items():
+        _table(f"axes.{name}", axis, out)
+    _table("controller", d["controller"], out)
+    for k, v in d.items():
+        if k in ("name", "axes", "controller"):
+            continue
+        if isinstance(v, dict):
+            _table(k, v, out)
+        else:
+            out.insert(1, f"{k} = {_value(v)}")
+    return "\n".join(out) + "\n"
+
+
+# --------------------------------------------------------------------------- commands
+def _load(path: str) -> Machine:
+    with open(path, encoding="utf-8") as fh:
+        return parse_machine(fh.read(), path)
+
+
+@click.group("machine")
+def command() -> None:
+    """Show, validate or create machine profiles.
+
+    \b
+    Examples:
+      cnc machine init -o mill.toml
+      cnc machine validate mill.toml
+      cnc machine show mill.toml -f json
+    """
+
+
+@command.command("show")
+@click.argument("profile", required=False, type=click.Path(exists=True, dir_okay=False))
+@click.option(
+    "--format", "-f", "fmt", type=click.Choice(["toml", "json"]), default="toml", show_default=True
+)
+@guarded
+def show(profile: str | None, fmt: str) -> None:
+    """Print the effective profile: PROFILE (default: the built-in mill) with defaults filled.
+
+    \b
+    Examples:
+      cnc machine show
+      cnc machine show mill.toml -f json
+    """
+    m = _load(profile) if profile else DEFAULT_MACHINE
+    if fmt == "json":
+        click.echo(json.dumps(machine_dict(m), indent=2, default=str))
+    else:
+        click.echo(machine_toml(m), nl=False)
+
+
+def validate_profile(path: str) -> Machine:
+    """Parse ``path`` and check the tables ``cnc check`` reads; raises Diagnostic."""
+    from cli.check import load_context
+
+    m = _load(path)
+    try:
+        load_context(path, path, None)
+    except OSError as exc:  # a tool table named by the profile that cannot be read
+        raise Diagnostic(
+            "MACH-TOOLS",
+            f"cannot read the tool table: {exc.strerror or exc}",
+            Location(getattr(exc, "filename", None) or path),
+        ) from None
+    return m
+
+
+@command.command("validate")
+@click.argument("profiles", nargs=-1, required=True, type=click.Path(dir_okay=False))
+def validate(profiles: tuple[str, ...]) -> None:
+    """Check that each profile is valid; report every broken one.
+
+    \b
+    Example:
+      cnc machine validate mill.toml lathe.toml
+    """
+    code = EXIT_OK
+    for p in profiles:
+        try:
+            m = validate_profile(p)
+        except Diagnostic as diag:
+            click.echo(str(diag), err=True)
+            code = max(code, EXIT_PROGRAM_ERROR)
+            continue
+        except OSError as exc:
+            click.echo(f"{p}: error[IO-ERROR]: {exc.strerror or exc}", err=True)
+            code = EXIT_USAGE
+            continue
+        axes = "".join(m.axis_names).upper()
+        click.echo(f"{p}: ok ({m.name}, axes {axes})")
+    sys.exit(code)
+
+
+@command.command("init")
+@click.option(
+    "--output",
+    "-o",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="File to write (default: standard output).",
+)
+@click.option("--force", is_flag=True, help="Overwrite an existing file.")
+@guarded
+def init(output: str | None, force: bool) -> None:
+    """Write a commented starter profile.
+
+    \b
+    Example:
+      cnc machine init -o mill.toml && cnc machine validate mill.toml
+    """
+    if output is None:
+        click.echo(STARTER, nl=False)
+        return
+    if Path(output).exists() and not force:
+        raise Diagnostic("IO-EXISTS", "file exists; use --force to overwrite", Location(output))
+    with open(output, "w", encoding="utf-8") as fh:
+        fh.write(STARTER)
+    click.echo(f"wrote {output}", err=True)

@@ -1,0 +1,234 @@
+"""The whole pipeline for one program, as ``cnc run`` executes it per file.
+
+interpret -> check (kernel.check) -> path -> look-ahead plan -> interpolation -> measure ->
+acc/dec after interpolation and servo simulation (kernel.trace) -> a JSON report, and a
+trace file on request. Problems of the program end the pipeline for that file with a
+diagnostic in its report; they never escape to stop a batch.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import Any
+
+from cli.programs import program_commands
+from kernel import canon
+from kernel.check import CheckContext, Finding, check_stream
+from kernel.diagnostics import Diagnostic, Location, Severity
+
+REPORT_SCHEMA = "cnc-run-report"
+REPORT_VERSION = 1
+
+
+@dataclass(frozen=True, slots=True)
+class RunOptions:
+    """Where reports go, whether traces are written (``trace_format``: csv or npz) and
+    whether a self-contained HTML page with plots accompanies each JSON report."""
+
+    out_dir: str
+    trace_format: str | None = None
+    force: bool = True
+    html: bool = False
+
+
+@dataclass(slots=True)
+class RunResult:
+    """What the summary table shows for one file; the full report is on disk."""
+
+    file: str
+    status: str = "ok"  # ok, findings (check errors), error (stopped), io-error
+    cycle_time: float = 0.0
+    samples: int = 0
+    following_error: float = 0.0  # mm, worst axis
+    contour_error: float = 0.0  # mm
+    errors: int = 0
+    warnings: int = 0
+    message: str = ""
+    report: str = ""
+    seconds: float = 0.0
+
+
+def _stem(path: str) -> str:
+    return os.path.splitext(os.path.basename(path))[0]
+
+
+def report_names(programs: list[str]) -> dict[str, str]:
+    """Output name per program: its file stem, with ``_2``, ``_3``... when stems repeat
+    (``a/part.ngc`` and ``b/part.ngc`` must not overwrite each other's reports)."""
+    seen: dict[str, int] = {}
+    out = {}
+    for p in programs:
+        stem = _stem(p)
+        seen[stem] = seen.get(stem, 0) + 1
+        out[p] = stem if seen[stem] == 1 else f"{stem}_{seen[stem]}"
+    return out
+
+
+def _simulate(
+    commands: list[canon.Command],
+    program: str,
+    name: str,
+    ctx: CheckContext,
+    opts: RunOptions,
+    progress: Callable[[int, int], None] | None,
+    res: RunResult,
+    doc: dict[str, Any],
+    images: dict[str, bytes],
+) -> None:
+    """Plan, interpolate, measure and servo-simulate; fill ``res``, ``doc`` (and ``images``
+    with plots when an HTML report is wanted)."""
+    from kernel.interpolate import sample
+    from kernel.measure import measure
+    from kernel.path import build_path
+    from kernel.planner import plan
+    from kernel.trace import Trace, columns, setup
+
+    machine = ctx.machine
+    path = build_path(commands, machine, program)
+    pl = plan(path, machine)
+    samples = sample(pl)
+    m = measure(pl, samples)
+    doc["measure"] = m.to_dict()
+    res.cycle_time, res.samples = m.cycle.total, m.samples
+    trace = Trace(samples, setup(machine, samples.period), path.segments)
+    writer = None
+    if opts.trace_format:
+        from kernel.trace_writers import open_writer
+
+        tpath = os.path.join(opts.out_dir, f"{name}_trace.{opts.trace_format}")
+        writer = open_writer(opts.trace_format, tpath, columns(samples.axes), opts.force)
+        doc["trace"] = tpath
+    total, done = trace.rows, 0
+    data = None
+    if opts.html:
+        from kernel.plots import PlotData
+
+        data = PlotData(samples.axes, total_rows=total)
+    try:
+        for table in trace.chunks():
+            done += len(table["t"])
+            if writer is not None:
+                writer.write(table)
+            if data is not None:
+                data.add(table)
+            if progress is not None:
+                progress(done, total)
+    finally:
+        if writer is not None:
+            writer.close()
+    doc["servo"] = trace.errors.to_dict()
+    fe = [abs(float(p.value)) for p in trace.errors.following.values()]
+    res.following_error = max(fe, default=0.0)
+    res.contour_error = abs(float(trace.errors.contour.value))
+    if data is not None and len(data.column("t")):
+        images.update(_plots(data, samples.axes, name))
+
+
+def _plots(data: Any, axes: tuple[str, ...], stem: str) -> dict[str, bytes]:
+    """PNG images of the XY path and of each axis (kernel.plots), by title."""
+    import io
+
+    import matplotlib.pyplot as plt
+
+    from kernel.plots import axis_figure, path_figure
+
+    figs = []
+    if "x" in axes and "y" in axes:
+        figs.append((f"{stem}: XY path", path_figure(data, f"{stem}: XY path")))
+    for a in axes:
+        title = f"{stem}: axis {a.upper()}, commanded and actual"
+        figs.append((title, axis_figure(data, a, title)))
+    out = {}
+    for title, fig in figs:
+        buf = io.BytesIO()
+        fig.savefig(buf, format="png", dpi=80)
+        plt.close(fig)
+        out[title] = buf.getvalue()
+    return out
+
+
+def run_program(
+    program: str,
+    ctx: CheckContext,
+    opts: RunOptions,
+    progress: Callable[[int, int], None] | None = None,
+    name: str | None = None,
+) -> RunResult:
+    """Run ``program`` through the pipeline and write ``DIR/<name>.report.json`` (``name``
+    defaults to the file stem); never raises for problems of the program
+    (``progress(done, total)`` follows the servo simulation)."""
+    t0 = time.perf_counter()
+    name = name or _stem(program)
+    res = RunResult(program, report=os.path.join(opts.out_dir, f"{name}.report.json"))
+    doc: dict[str, Any] = {
+        "schema": REPORT_SCHEMA,
+        "version": REPORT_VERSION,
+        "program": program,
+        "machine": ctx.machine.name,
+        "status": "ok",
+        "diagnostics": [],
+        "findings": [],
+    }
+    commands: list[canon.Command] = []
+    images: dict[str, bytes] = {}
+
+    def recording() -> Iterator[canon.Command]:  # check the stream, keep it for the planner
+        for cmd in program_commands(program, ctx.tools, ctx.tool_mm_per_unit):
+            commands.append(cmd)
+            yield cmd
+
+    try:
+        findings: list[Finding] = check_stream(recording(), ctx, program)
+    except OSError as exc:
+        res.status, res.message = "io-error", f"{program}: {exc.strerror or exc}"
+        res.seconds = time.perf_counter() - t0
+        return res
+    except Exception as exc:  # noqa: BLE001 - a bug must not take the rest of the batch down
+        msg = f"internal error while checking ({type(exc).__name__}: {exc}); please report it"
+        findings = [Finding("CNC001", Severity.ERROR, msg, Location(program), "CHECK-INTERNAL")]
+    doc["findings"] = [f.to_dict() for f in findings]
+    res.errors = sum(1 for f in findings if f.severity == Severity.ERROR)
+    res.warnings = sum(1 for f in findings if f.severity == Severity.WARNING)
+    stop = next((f for f in findings if f.rule == "CNC001"), None)
+    if stop is not None:  # the program cannot be interpreted to its end: nothing to run
+        res.status, res.message = "error", stop.format()
+    else:
+        if res.errors:
+            res.status = "findings"
+            res.message = next(f.format() for f in findings if f.severity == Severity.ERROR)
+        try:
+            _simulate(commands, program, name, ctx, opts, progress, res, doc, images)
+        except Diagnostic as diag:
+            doc["diagnostics"].append(diag.record.to_dict())
+            res.status, res.message = "error", str(diag)
+        except Exception as exc:  # noqa: BLE001 - as above, for the planner and the servo stage
+            diag = Diagnostic(
+                "RUN-INTERNAL",
+                f"internal error while simulating ({type(exc).__name__}: {exc}); please report it",
+                Location(program),
+            )
+            doc["diagnostics"].append(diag.record.to_dict())
+            res.status, res.message = "error", str(diag)
+    doc["status"] = res.status
+    res.seconds = time.perf_counter() - t0
+    doc["seconds"] = round(res.seconds, 6)
+    with open(res.report, "w", encoding="utf-8") as fh:
+        json.dump(doc, fh, indent=2, default=_json_default)
+    if opts.html:
+        from cli.formats.html_report import render_html
+
+        page = json.loads(json.dumps(doc, default=_json_default))
+        with open(os.path.join(opts.out_dir, f"{name}.report.html"), "w", encoding="utf-8") as fh:
+            fh.write(render_html(page, images))
+    return res
+
+
+def _json_default(v: object) -> object:
+    try:
+        return float(v)  # numpy scalars
+    except (TypeError, ValueError):
+        return str(v)

@@ -1,0 +1,126 @@
+"""Open a program of any supported kind as a stream of canonical commands.
+
+The kind is detected by content, not by extension: canonical text (ours or LinuxCNC
+``rs274`` output, a line like ``    1 N..... STRAIGHT_FEED(...)``), canonical JSON lines
+(``{"cmd": ...}``), ISO 10303-21 (``ISO-10303-21;``: STEP-NC, through stepnc.to_canon) or
+else RS274/NGC G-code (through gcode.interpreter).
+Errors of the program itself arrive as :class:`~kernel.diagnostics.Diagnostic` from the
+generator, after the commands before them (as rs274 stops at its first error).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from collections.abc import Iterator
+from dataclasses import replace
+from pathlib import Path
+
+from gcode.tooltable import ToolTable
+from kernel import canon
+from kernel.check.canon_input import commands_with_offsets
+from kernel.diagnostics import Diagnostic, Location
+
+KINDS = ("gcode", "canon", "jsonl", "part21")
+_PART21 = re.compile(r"^\s*ISO-10303-21\s*;", re.M)
+_CANON_LINE = re.compile(r"^\s*(?:\d+\s+N[.\d]*\s+)?[A-Z][A-Z0-9_]*\(.*\)\s*$")
+
+
+def detect_kind(head: str) -> str:
+    """Classify a program by its first meaningful line (Part 21 may open with comments)."""
+    if _PART21.search(head):
+        return "part21"
+    for line in head.splitlines():
+        s = line.strip()
+        if not s:
+            continue
+        if s.upper().startswith("ISO-10303-21"):
+            return "part21"
+        if s.startswith("{"):
+            return "jsonl"
+        if _CANON_LINE.match(s) and not s.startswith(("(", ";", "%")):
+            return "canon"
+        return "gcode"
+    return "gcode"
+
+
+def read_head(path: str, size: int = 16384) -> str:
+    """The first ``size`` bytes as text; ``CHECK-BINARY`` if the file is not text."""
+    with open(path, "rb") as fh:
+        data = fh.read(size)
+    if b"\0" in data:
+        raise Diagnostic("CHECK-BINARY", "not a text file (NUL bytes)", Location(path))
+    return data.decode("utf-8", errors="replace")
+
+
+def _jsonl(path: str) -> Iterator[canon.Command]:
+    with open(path, encoding="utf-8", errors="replace") as fh:
+        for n, line in enumerate(fh, 1):
+            if not line.strip():
+                continue
+            loc = Location(path, n, 1)
+            try:
+                obj = json.loads(line)
+                cmd = canon.from_json(obj)
+            except (ValueError, TypeError) as exc:
+                raise Diagnostic("CANON-JSON", f"bad JSON-lines command: {exc}", loc) from None
+            yield cmd if cmd.source is not None else _with_source(cmd, loc)
+
+
+def _with_source(cmd: canon.Command, loc: Location) -> canon.Command:
+    object.__setattr__(cmd, "source", loc)
+    return cmd
+
+
+def _canon_text(path: str) -> Iterator[canon.Command]:
+    with open(path, encoding="utf-8", errors="replace") as fh:
+        yield from commands_with_offsets(fh, path)
+
+
+def inch_tool_table(tools: ToolTable, mm_per_unit: float) -> ToolTable:
+    """The table with lengths in inches, the unit rs274 (and gcode.interpreter) reads tool
+    tables in; ``mm_per_unit`` is the unit of ``tools`` (25.4: already inches)."""
+    if mm_per_unit == 25.4:
+        return tools
+    k = mm_per_unit / 25.4
+    out = ToolTable()
+    for n, t in tools.tools.items():
+        off = tuple(v * k if i in (0, 1, 2, 6, 7, 8) else v for i, v in enumerate(t.offset))
+        out.tools[n] = replace(t, offset=off, diameter=t.diameter * k)
+    return out
+
+
+def _gcode(path: str, tools: ToolTable | None, mm_per_unit: float) -> Iterator[canon.Command]:
+    if tools is not None:
+        tools = inch_tool_table(tools, mm_per_unit)
+    try:
+        from gcode.interpreter import InterpreterOptions, interpret
+    except ImportError as exc:
+        raise Diagnostic(
+            "CHECK-FRONTEND", f"the G-code interpreter is not available: {exc}", Location(path)
+        ) from None
+    search = (str(Path(path).resolve().parent),)
+    yield from interpret(path, InterpreterOptions(tool_table=tools, search_path=search))
+
+
+def _part21(path: str) -> Iterator[canon.Command]:
+    """ISO 14649 through :func:`stepnc.to_canon.canon_from_file` (standard start-up state)."""
+    from stepnc.to_canon import canon_from_file
+
+    yield from canon_from_file(path, mode="default")
+
+
+def program_commands(
+    path: str, tools: ToolTable | None = None, tool_mm_per_unit: float = 1.0
+) -> Iterator[canon.Command]:
+    """Stream the canonical commands of the program at ``path`` (kind detected by content);
+    ``tools`` (lengths in units of ``tool_mm_per_unit`` mm) go to the G-code interpreter."""
+    kind = detect_kind(read_head(path))
+    if kind == "canon":
+        yield from _canon_text(path)
+    elif kind == "jsonl":
+        yield from _jsonl(path)
+    elif kind == "part21":
+        yield from _part21(path)
+    else:
+        yield from _gcode(path, tools, tool_mm_per_unit)

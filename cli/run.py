@@ -1,0 +1,181 @@
+"""``cnc run``: the whole pipeline for a batch of programs, with progress and a summary.
+
+Examples::
+
+    cnc run part.ngc -o reports/
+    cnc run -m mill.toml -j 4 -o reports/ programs/
+    cnc run --traces csv -o out/ part.ngc
+
+Per program: interpret, check, plan, interpolate, simulate acc/dec and servos; write
+``DIR/<name>.report.json`` (schema ``cnc-run-report`` version 1: status, diagnostics, check
+findings, the planner's measurements, servo following and contour errors) and with
+``--traces`` ``DIR/<name>_trace.<fmt>``. One failing file never stops the batch. Exit codes:
+0 all programs ran clean, 1 a program had an error, 2 usage or I/O error.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
+
+import click
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from cli.check import expand, load_context
+from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.main import verbosity
+from cli.pipeline import RunOptions, RunResult, report_names, run_program
+from kernel.check import CheckContext
+from kernel.diagnostics import Diagnostic, Location
+
+_CTX: tuple[CheckContext, RunOptions] | None = None
+
+
+def _init(ctx: CheckContext, opts: RunOptions) -> None:
+    global _CTX
+    _CTX = (ctx, opts)
+
+
+def _run_one(path: str, name: str) -> RunResult:
+    assert _CTX is not None
+    return run_program(path, *_CTX, name=name)
+
+
+def _summary(results: list[RunResult], console: Console, seconds: float) -> None:
+    t = Table(title=f"cnc run: {len(results)} program{'s' * (len(results) != 1)}")
+    for col in (
+        "program",
+        "status",
+        "cycle [s]",
+        "samples",
+        "follow [µm]",
+        "contour [µm]",
+        "errors",
+        "warnings",
+    ):
+        t.add_column(col, justify="left" if col in ("program", "status") else "right")
+    style = {"ok": "green", "findings": "yellow", "error": "bold red", "io-error": "bold red"}
+    for r in results:
+        t.add_row(
+            os.path.basename(r.file),
+            f"[{style[r.status]}]{r.status}[/]",
+            f"{r.cycle_time:.3f}",
+            str(r.samples),
+            f"{r.following_error * 1000:.2f}",
+            f"{r.contour_error * 1000:.2f}",
+            str(r.errors),
+            str(r.warnings),
+        )
+    console.print(t)
+    for r in results:
+        if r.message:
+            console.print(f"{r.message}", markup=False, highlight=False)
+    bad = sum(1 for r in results if r.status != "ok")
+    console.print(f"{len(results) - bad} ok, {bad} with problems, {seconds:.1f} s")
+
+
+@click.command("run")
+@click.argument("files", nargs=-1, required=True, type=click.Path(dir_okay=True))
+@click.option(
+    "--machine",
+    "-m",
+    "machine_path",
+    type=click.Path(exists=True, dir_okay=False),
+    help="Machine profile (TOML); default: the built-in 3-axis mill.",
+)
+@click.option(
+    "--output",
+    "-o",
+    "out_dir",
+    type=click.Path(file_okay=False),
+    default="cnc-run",
+    show_default=True,
+    help="Directory for the reports (created if missing).",
+)
+@click.option(
+    "--jobs",
+    "-j",
+    type=click.IntRange(min=0),
+    default=1,
+    show_default=True,
+    help="Worker processes (0: one per CPU).",
+)
+@click.option(
+    "--html",
+    is_flag=True,
+    help="Also write DIR/<name>.report.html: plots, cycle time and findings, viewable offline.",
+)
+@click.option(
+    "--traces",
+    type=click.Choice(["csv", "npz"]),
+    default=None,
+    help="Also write each program's per-axis servo trace in this format.",
+)
+@guarded
+def command(
+    files: tuple[str, ...],
+    machine_path: str | None,
+    out_dir: str,
+    jobs: int,
+    html: bool,
+    traces: str | None,
+) -> None:
+    """Run programs through the whole pipeline and write a report per program.
+
+    FILES are G-code or canonical programs (detected by content) or directories of them.
+
+    \b
+    Examples:
+      cnc run part.ngc -o reports/
+      cnc run -m mill.toml -j 4 -o reports/ programs/
+      cnc run --traces csv -o out/ part.ngc
+      cnc run --html -o reports/ part.ngc
+    """
+    ctx = load_context(machine_path, None, None)
+    if os.path.exists(out_dir) and not os.path.isdir(out_dir):
+        raise Diagnostic("IO-NOT-DIR", "output path is not a directory", Location(out_dir))
+    os.makedirs(out_dir, exist_ok=True)
+    opts = RunOptions(out_dir, traces, html=html)
+    paths = list(dict.fromkeys(expand(files)))  # each program once
+    names = report_names(paths)
+    jobs = (os.cpu_count() or 1) if jobs == 0 else jobs
+    console = Console(stderr=True)
+    t0 = time.perf_counter()
+    results: dict[str, RunResult] = {}
+    columns = (
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+    )
+    quiet = verbosity() < 0
+    with Progress(*columns, console=console, transient=True, disable=quiet) as progress:
+        files_task = progress.add_task("programs", total=len(paths))
+        if jobs <= 1 or len(paths) <= 1:
+            for p in paths:
+                sub = progress.add_task(f"  {os.path.basename(p)}: servo samples", total=None)
+
+                def tick(done: int, total: int, sub: int = sub) -> None:
+                    progress.update(sub, completed=done, total=total)
+
+                results[p] = run_program(p, ctx, opts, tick, names[p])
+                progress.remove_task(sub)
+                progress.advance(files_task)
+        else:
+            with ProcessPoolExecutor(
+                min(jobs, len(paths)), initializer=_init, initargs=(ctx, opts)
+            ) as pool:
+                futures = {pool.submit(_run_one, p, names[p]): p for p in paths}
+                for fut in as_completed(futures):
+                    results[futures[fut]] = fut.result()
+                    progress.advance(files_task)
+    ordered = [results[p] for p in paths]
+    out = Console() if sys.stdout.isatty() else Console(width=160)
+    _summary(ordered, out, time.perf_counter() - t0)
+    if any(r.status == "io-error" for r in ordered):
+        sys.exit(EXIT_USAGE)
+    sys.exit(EXIT_PROGRAM_ERROR if any(r.status != "ok" for r in ordered) else EXIT_OK)
