@@ -1,0 +1,238 @@
+"""``cnc stepnc``: inspect ISO 14649 (STEP-NC) programs and turn them into canonical
+commands, RS274/NGC or solids."""
+
+from __future__ import annotations
+
+import functools
+import os
+
+import click
+
+from cli.errors import EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from kernel.diagnostics import Diagnostic, Location, Severity
+
+MODES = click.Choice(["nist", "default"])
+
+
+def _write_guard(path: str, force: bool) -> None:
+    if os.path.exists(path) and not force:
+        raise click.UsageError(f"{path} exists; use --force to overwrite")
+
+
+def _raw(text: str | None) -> tuple[float, ...] | None:
+    if text is None:
+        return None
+    try:
+        vals = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        vals = ()
+    if len(vals) != 6:
+        raise click.BadParameter("give x0,y0,z0,x1,y1,z1", param_hint="--raw")
+    return vals
+
+
+def _interpreting(func):  # noqa: ANN001, ANN202
+    """Turn a programming slip on unusual but valid input into a located diagnostic instead
+    of a traceback (the model code raises Diagnostic for everything it anticipates)."""
+
+    @functools.wraps(func)
+    def wrapper(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
+        try:
+            return func(*args, **kwargs)
+        except (AttributeError, TypeError, ValueError, IndexError, KeyError) as exc:
+            raise Diagnostic(
+                "STEPNC-UNSUPPORTED",
+                f"cannot interpret this program: {exc}",
+                Location(kwargs.get("file")),
+            ) from None
+
+    return wrapper
+
+
+@click.group("stepnc")
+def command() -> None:
+    """ISO 14649 STEP-NC programs (Part 21 files)."""
+
+
+@command.command("info")
+@click.argument("file", type=click.Path(dir_okay=False))
+@guarded
+@_interpreting
+def info(file: str) -> None:
+    """Show the workplan, features, operations and tools as a tree."""
+    from rich.console import Console
+    from rich.markup import escape
+    from rich.tree import Tree
+
+    from stepnc.model import Entity, load
+
+    model = load(file)
+    project = model.project()
+    root = Tree(f"[bold]PROJECT #{project.id}[/] {escape(repr(project.its_id))}")
+    plan = project.main_workplan
+
+    def walk(node: Tree, element: Entity) -> None:
+        label = f"[bold]{element.type}[/] #{element.id} {escape(repr(element.its_id))}"
+        if element.type == "MACHINING_WORKINGSTEP":
+            ws = node.add(label)
+            f, op = element.its_feature, element.its_operation
+            ws.add(f"feature {f.type} #{f.id} {escape(repr(f.its_id))}")
+            o = ws.add(f"operation {op.type} #{op.id} {escape(repr(op.its_id))}")
+            tool = op.its_tool
+            o.add(
+                f"tool #{tool.id} {escape(repr(tool.its_id))} ({tool.its_tool_body.type}, "
+                f"D={float(tool.its_tool_body.dimension.diameter):g})"
+            )
+            strat = getattr(op, "its_machining_strategy", None)
+            if isinstance(strat, Entity):
+                o.add(f"strategy {strat.type} #{strat.id}")
+            return
+        sub = node.add(label)
+        for attr in ("its_elements", "branches"):
+            try:
+                children = getattr(element, attr)
+            except AttributeError:
+                continue
+            for child in children or ():
+                walk(sub, child)
+
+    walk(root, plan)
+    tools = root.add("[bold]tools[/]")
+    for t in model.all("MILLING_CUTTING_TOOL"):
+        dim = t.its_tool_body.dimension
+        tools.add(
+            f"#{t.id} {escape(repr(t.its_id))} {t.its_tool_body.type} D={float(dim.diameter):g}"
+        )
+    Console().print(root)
+
+
+@command.command("check")
+@click.argument("file", type=click.Path(dir_okay=False))
+@guarded
+@_interpreting
+def check(file: str) -> None:
+    """Report every problem in FILE (collect-all, salvaging what can be read)."""
+    from stepnc.model import load
+
+    diags: list[Diagnostic] = []
+    load(file, diags)
+    for d in diags:
+        click.echo(str(d), err=True)
+    errors = sum(d.record.severity is Severity.ERROR for d in diags)
+    click.echo(f"{file}: {errors} error(s), {len(diags) - errors} warning(s)", err=True)
+    if errors:
+        raise SystemExit(EXIT_PROGRAM_ERROR)
+
+
+@command.command("canon")
+@click.argument("file", type=click.Path(dir_okay=False))
+@click.option("--tool-file", type=click.Path(dir_okay=False), help="NIST ISO 14649 tool file")
+@click.option("--mode", type=MODES, default="nist", show_default=True)
+@click.option("--json", "as_json", is_flag=True, help="JSON lines instead of text")
+@guarded
+@_interpreting
+def canon_cmd(file: str, tool_file: str | None, mode: str, as_json: bool) -> None:
+    """Print the canonical machining commands of FILE."""
+    from kernel import canon
+    from stepnc.to_canon import canon_from_file
+
+    cmds = canon_from_file(file, tool_file, mode)
+    lines = canon.to_jsonl(cmds) if as_json else canon.write_text(cmds)
+    for line in lines:
+        click.echo(line)
+
+
+@command.command("to-gcode")
+@click.argument("file", type=click.Path(dir_okay=False))
+@click.option("--tool-file", type=click.Path(dir_okay=False))
+@click.option("--mode", type=MODES, default="default", show_default=True)
+@click.option(
+    "--dialect",
+    default="rs274ngc",
+    show_default=True,
+    help="a gcode.dialects name when gcode.emit is installed, else rs274ngc",
+)
+@click.option("-o", "--output", type=click.Path(dir_okay=False), help="file (default stdout)")
+@click.option("--force", is_flag=True, help="overwrite OUTPUT")
+@guarded
+@_interpreting
+def to_gcode(
+    file: str, tool_file: str | None, mode: str, dialect: str, output: str | None, force: bool
+) -> None:
+    """Write FILE as a G-code program (RS274/NGC by default)."""
+    from stepnc.to_canon import canon_from_file
+
+    if output is not None:
+        _write_guard(output, force)
+    cmds = canon_from_file(file, tool_file, mode)
+    try:
+        from gcode.emit import write as emit_write
+    except ImportError:
+        emit_write = None
+    if emit_write is not None:
+        lines = (f"{line}\n" for line in emit_write(cmds, dialect))
+    else:
+        from stepnc.ngc_out import to_ngc
+
+        if dialect != "rs274ngc":
+            raise click.UsageError(f"dialect {dialect!r} needs gcode.emit (rs274ngc only)")
+        lines = to_ngc(cmds, f"from {os.path.basename(file)}")
+    text = "".join(lines)
+    if output is None:
+        click.echo(text, nl=False)
+        return
+    with open(output, "w") as fh:
+        fh.write(text)
+
+
+@command.command("part")
+@click.argument("file", type=click.Path(dir_okay=False))
+@click.option(
+    "-o", "--output", required=True, type=click.Path(dir_okay=False), help=".step/.stp or .stl"
+)
+@click.option("--raw", help="raw block x0,y0,z0,x1,y1,z1 when the workpiece has none")
+@click.option("--force", is_flag=True, help="overwrite OUTPUT")
+@guarded
+@_interpreting
+def part(file: str, output: str, raw: str | None, force: bool) -> None:
+    """Write the finished part (workpiece minus features) as STEP or STL."""
+    from stepnc import geometry
+    from stepnc.model import load
+
+    if not output.lower().endswith((".step", ".stp", ".stl")):
+        raise click.UsageError("OUTPUT must end in .step, .stp or .stl")
+    _write_guard(output, force)
+    shape = geometry.finished_part(load(file), _raw(raw))
+    geometry.export(shape, output)
+    click.echo(f"{output}: finished part, volume {geometry.volume(shape):.3f} mm^3")
+
+
+@command.command("gouge")
+@click.argument("file", type=click.Path(dir_okay=False))
+@click.option("--tool-file", type=click.Path(dir_okay=False))
+@click.option("--mode", type=MODES, default="nist", show_default=True)
+@click.option("--raw", help="raw block x0,y0,z0,x1,y1,z1 when the workpiece has none")
+@guarded
+@_interpreting
+def gouge_cmd(file: str, tool_file: str | None, mode: str, raw: str | None) -> None:
+    """Check every cutting move against the finished part, per workingstep."""
+    from stepnc import gouge
+    from stepnc.model import load
+    from stepnc.to_canon import canon_from_model
+    from stepnc.tooling import load_tool_file
+
+    model = load(file)
+    tools = load_tool_file(tool_file) if tool_file else None
+    result = gouge.check(model, canon_from_model(model, tools, mode), _raw(raw))
+    bad = 0
+    for ws, found in result.items():
+        status = "ok" if not found else f"{len(found)} gouging move(s)"
+        click.echo(f"#{ws} {model.entity(ws).its_id!r}: {status}")
+        for g in found[:3]:
+            click.echo(f"    command {g.command + 1} at {tuple(round(c, 4) for c in g.point)}")
+        bad += len(found)
+    if bad:
+        raise SystemExit(EXIT_PROGRAM_ERROR)
+
+
+__all__ = ["command", "EXIT_USAGE"]

@@ -1,0 +1,339 @@
+"""STEP-NC -> canonical commands (stepnc.to_canon and stepnc.toolpaths)."""
+
+from __future__ import annotations
+
+import math
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from kernel import canon
+from kernel.diagnostics import Diagnostic
+from stepnc import gouge
+from stepnc.model import load
+from stepnc.to_canon import canon_from_file, canon_from_model
+from stepnc.toolpaths.drilling import tip_length
+
+HERE = Path(__file__).resolve().parent
+CORPUS = HERE.parents[1] / "shared" / "corpus" / "stepnc"
+EX1, TOOLS = str(CORPUS / "ex1.stp"), str(CORPUS / "iso14649.tool_ex1")
+EX1_RAW = (0.0, 0.0, -45.0, 100.0, 120.0, 5.0)  # book: block 100 x 120 x 50, face top Z=5
+sys.path.insert(0, str(HERE / "stepnc"))
+from programs import PROGRAMS  # noqa: E402
+
+
+def nist_reference() -> list[canon.Command]:
+    with open(CORPUS / "ex1.can") as fh:
+        return [canon.parse_command(t) for t in canon.read_text(fh)]
+
+
+def test_ex1_matches_nist_command_for_command():
+    ours = list(canon_from_file(EX1, TOOLS, "nist"))
+    theirs = nist_reference()
+    assert len(ours) == len(theirs) == 538
+    # compare as NIST prints them: CHANGE_TOOL shows the tool id, not our pocket number
+    pairs = enumerate(zip(ours, theirs, strict=True))
+    mismatches = [
+        (i, a.to_text(), b.to_text()) for i, (a, b) in pairs if a.to_text() != b.to_text()
+    ]
+    assert mismatches == []
+    assert [c.slot for c in ours if isinstance(c, canon.ChangeTool)] == [3, 4, 6, 3]
+
+
+def test_ex1_every_motion_carries_its_workingstep_and_operation():
+    model = load(EX1)
+    for cmd in canon_from_model(model, None, "nist"):
+        assert cmd.source is not None and cmd.source.file == EX1
+        if isinstance(cmd, (canon.StraightFeed, canon.ArcFeed, canon.StraightTraverse)):
+            ws = model.entity(cmd.source.workingstep)
+            assert ws.type == "MACHINING_WORKINGSTEP"
+            assert cmd.source.entity == ws.its_operation.id
+            assert cmd.source.line > 0
+
+
+def test_drill_tip_length_of_ex1_twist_drill():
+    # ISO 14649-111 Fig. 2 via NIST: R tan(a) + r/tan((90+a+b)/2) cos(b), a=31, b=0.1, r=2
+    tool = load(EX1).entity(44)
+    expected = 10 * math.tan(math.radians(31)) + 2 / math.tan(math.radians(60.55)) * math.cos(
+        math.radians(0.1)
+    )
+    assert tip_length(tool) == pytest.approx(expected, abs=1e-12)
+    assert tip_length(tool) == pytest.approx(7.1378, abs=5e-5)  # ex1.can: -30 - 7.1378
+
+
+def test_ex1_default_mode_puts_the_reduced_end_section_at_the_hole_bottom():
+    nist = list(canon_from_file(EX1, TOOLS, "nist"))
+    default = list(canon_from_file(EX1, TOOLS, "default"))
+
+    def drill_feeds(cmds):
+        return [
+            round(c.z, 4)
+            for c in cmds
+            if isinstance(c, canon.StraightFeed) and c.source.workingstep == 11
+        ]
+
+    assert drill_feeds(nist) == [-9.1378, -15.1378, -37.1378, 10.0]
+    assert drill_feeds(default) == [-9.1378, -29.1378, -37.1378, 10.0]  # 8 mm above bottom
+
+
+def test_ex1_has_no_gouge_and_a_shifted_move_is_caught():
+    model = load(EX1)
+    cmds = list(canon_from_model(model, None, "nist"))
+    assert all(not g for g in gouge.check(model, cmds, EX1_RAW).values())
+    # push one finishing pass of the pocket 1 mm into the wall
+    i = next(
+        i
+        for i, c in enumerate(cmds)
+        if isinstance(c, canon.StraightFeed)
+        and c.source.workingstep == 14
+        and abs(c.x - 86.0) < 1e-9
+    )
+    cmds[i] = replace(cmds[i], x=87.0, source=cmds[i].source)
+    found = gouge.check(model, cmds, EX1_RAW)
+    assert [g.command for g in found[14]] == [i, i + 1]
+    assert all(not found[ws] for ws in (10, 11, 12, 13))
+
+
+def test_unknown_tool_in_tool_file_is_a_located_error(tmp_path):
+    tf = tmp_path / "t.tool"
+    tf.write_text("POCKET FMS TLO DIAM\n\n3 'MILL 18MM' 50.0 18.0 0\n")
+    with pytest.raises(Diagnostic) as exc:
+        list(canon_from_file(EX1, str(tf)))
+    assert exc.value.code == "STEPNC-TOOL-MISSING" and exc.value.location.workingstep == 11
+
+
+# ------------------------------------------------------------------ own programs
+@pytest.fixture(scope="module", params=sorted(PROGRAMS))
+def program(request):
+    name = request.param
+    model = load(str(HERE / "stepnc" / f"{name}.stp"))
+    return name, model, list(canon_from_model(model, None, "default"))
+
+
+def test_program_matches_its_golden_ir(program):
+    name, _, cmds = program
+    golden = (HERE / "stepnc" / f"{name}.can").read_text().splitlines()
+    ours = list(canon.write_text(cmds))
+    assert ours == golden
+
+
+def test_program_golden_ir_reads_back_as_the_same_commands(program):
+    name, _, cmds = program
+    with open(HERE / "stepnc" / f"{name}.can") as fh:
+        back = list(canon.read_commands(fh))
+    assert [c.to_text() for c in back] == [c.to_text() for c in cmds]
+
+
+def test_program_never_gouges_the_finished_part(program):
+    name, model, cmds = program
+    result = gouge.check(model, cmds)
+    assert result and all(not v for v in result.values()), name
+
+
+def test_program_cuts_only_below_the_security_plane_and_ends(program):
+    _, _, cmds = program
+    assert isinstance(cmds[-1], canon.ProgramEnd)
+    for c in cmds:
+        if isinstance(c, canon.StraightFeed):
+            assert c.z <= 50.0 + 1e-9
+
+
+def _feeds(cmds, ws=None):
+    return [
+        c
+        for c in cmds
+        if isinstance(c, (canon.StraightFeed, canon.ArcFeed))
+        and (ws is None or c.source.workingstep == ws)
+    ]
+
+
+def _z(c):
+    return c.z if isinstance(c, canon.StraightFeed) else c.axis_end_point
+
+
+@pytest.mark.parametrize(
+    ("name", "depth"),
+    [
+        ("face_bidir_x", -3.0),
+        ("face_bidir_y_right", -2.5),
+        ("face_rough_default_allowance", -2.8),
+        ("pocket_rough_default_helix", -11.5),
+        ("pocket_finish_helix", -10.0),
+        ("pocket_ramp", -8.5),
+        ("pocket_zigzag", -7.5),
+        ("pocket_toolaxis_ccw_climb", -6.0),
+        ("pocket_semicircle_ends", -5.0),
+        ("pocket_circular", -6.0),
+        ("pocket_groove_zigzag", -6.0),
+        ("pocket_rotated", -7.7),
+        ("drill_plain", -15 - 4 * math.tan(math.radians(31))),
+        ("multistep_drilling", -18 - 3 * math.tan(math.radians(31))),
+    ],
+)
+def test_deepest_cut_is_the_feature_depth_less_allowance(name, depth):
+    model = load(str(HERE / "stepnc" / f"{name}.stp"))
+    cmds = list(canon_from_model(model, None, "default"))
+    assert min(_z(c) for c in _feeds(cmds)) == pytest.approx(depth, abs=1e-9)
+
+
+def test_facing_strips_cover_the_whole_face():
+    """Every point of the 100 x 80 face is within the tool radius of a cut at full depth."""
+    for name in (
+        "face_bidir_x",
+        "face_bidir_y_right",
+        "face_bidir_minus_x",
+        "face_unidir_conventional",
+        "face_unidir_climb_minus_y",
+    ):
+        model = load(str(HERE / "stepnc" / f"{name}.stp"))
+        cmds = list(canon_from_model(model, None, "default"))
+        bottom = min(c.z for c in _feeds(cmds))
+        pos, segs = None, []
+        for c in cmds:
+            if isinstance(c, (canon.StraightFeed, canon.StraightTraverse)):
+                if (
+                    isinstance(c, canon.StraightFeed)
+                    and pos
+                    and abs(c.z - bottom) < 1e-9
+                    and abs(pos[2] - bottom) < 1e-9
+                ):
+                    segs.append((pos[:2], (c.x, c.y)))
+                pos = (c.x, c.y, c.z)
+        gx, gy = np.meshgrid(np.linspace(0, 100, 41), np.linspace(0, 80, 33))
+        pts = np.column_stack([gx.ravel(), gy.ravel()])
+        best = np.full(len(pts), np.inf)
+        for a, b in segs:
+            a, b = np.array(a), np.array(b)
+            t = np.clip(((pts - a) @ (b - a)) / max((b - a) @ (b - a), 1e-12), 0, 1)
+            best = np.minimum(best, np.linalg.norm(pts - (a + t[:, None] * (b - a)), axis=1))
+        assert best.max() <= 8.0 + 1e-9, name  # 16 mm tool
+
+
+def test_drilling_strategy_reduces_feed_and_speed_at_start_and_end():
+    model = load(str(HERE / "stepnc" / "drill_reduced_feeds.stp"))
+    cmds = list(canon_from_model(model, None, "default"))
+    seen, feed, speed = [], None, None
+    for c in cmds:
+        if isinstance(c, canon.SetFeedRate):
+            feed = c.rate
+        elif isinstance(c, canon.SetSpindleSpeed):
+            speed = c.speed
+        elif isinstance(c, canon.StraightFeed):
+            seen.append((round(c.z, 4), feed, speed))
+    full_feed, full_speed = 0.005 * 60000, 25 * 60
+    tip = 4 * math.tan(math.radians(31))
+    assert seen == [
+        (round(-2 - tip, 4), 0.5 * full_feed, 0.8 * full_speed),
+        (round(-40 - tip + 4, 4), full_feed, full_speed),
+        (round(-40 - tip, 4), 0.4 * full_feed, 0.6 * full_speed),
+        (3.0, 0.8 * full_feed, 0.6 * full_speed),  # feed_on_retract 0.8
+    ]
+
+
+def test_workplan_structures_and_nc_functions_in_order():
+    model = load(str(HERE / "stepnc" / "workplan_structures.stp"))
+    names = [
+        c.NAME
+        for c in canon_from_model(model, None, "default")
+        if c.NAME
+        in ("MESSAGE", "OPTIONAL_PROGRAM_STOP", "CHANGE_TOOL", "PROGRAM_STOP", "PROGRAM_END")
+    ]
+    assert names == [
+        "CHANGE_TOOL",
+        "MESSAGE",
+        "OPTIONAL_PROGRAM_STOP",
+        "CHANGE_TOOL",
+        "CHANGE_TOOL",
+        "PROGRAM_STOP",
+        "PROGRAM_END",
+    ]
+
+
+def test_bspline_toolpath_becomes_one_nurbs_feed():
+    model = load(str(HERE / "stepnc" / "explicit_bspline.stp"))
+    nurbs = [c for c in canon_from_model(model, None, "default") if isinstance(c, canon.NurbsFeed)]
+    assert len(nurbs) == 1 and nurbs[0].order == 4
+    assert nurbs[0].points[0][:2] == (35.0, 35.0) and nurbs[0].knots == (0.0,) * 4 + (1.0,) * 4
+
+
+def test_helix_turns_follow_pitch_and_direction():
+    model = load(str(HERE / "stepnc" / "explicit_arcs_and_helix.stp"))
+    arcs = [c for c in canon_from_model(model, None, "default") if isinstance(c, canon.ArcFeed)]
+    assert [(a.rotation, a.axis_end_point) for a in arcs] == [(1, -1.0), (2, -3.0)]
+
+
+@pytest.mark.parametrize(
+    ("name", "length", "width", "radius", "allowance"),
+    [
+        ("pocket_finish_helix", 60, 40, 8, 0.0),
+        ("pocket_toolaxis_ccw_climb", 60, 50, 10, 0.0),
+        ("pocket_semicircle_ends", 70, 30, 15, 0.0),
+        ("pocket_circular", 40, 40, 20, 0.0),
+        ("pocket_contour_bidirectional_y", 70, 44, 12, 0.0),
+        # zigzag without a contour pass leaves cusps of 5 - sqrt(25 - 2.9^2) = 0.93 mm at
+        # the walls between stroke ends (stepover 5.8): counted as allowance here
+        ("pocket_bidirectional", 60, 40, 10, 0.5 + 0.93),
+        ("pocket_rough_default_helix", 60, 40, 8, 0.5),
+    ],
+)
+def test_pocket_floor_is_cleared(name, length, width, radius, allowance):
+    """Every floor point of the pocket (less the side allowance) is within the tool radius
+    (5 mm) of a cutting move at the deepest level: nothing is left standing."""
+    model = load(str(HERE / "stepnc" / f"{name}.stp"))
+    cmds = list(canon_from_model(model, None, "default"))
+    bottom = min(_z(c) for c in _feeds(cmds))
+    pos, pts = np.zeros(3), []
+    for c in cmds:
+        if isinstance(c, (canon.StraightFeed, canon.ArcFeed)):
+            s = gouge._samples(pos, c, 0.2)
+            pts.append(s[np.abs(s[:, 2] - bottom) < 1e-9])
+        if isinstance(c, (canon.StraightFeed, canon.StraightTraverse)):
+            pos = np.array([c.x, c.y, c.z])
+        elif isinstance(c, canon.ArcFeed):
+            pos = np.array([c.first_end, c.second_end, c.axis_end_point])
+    path = np.concatenate(pts)[:, :2]
+    hl, hw = length / 2 - allowance - 0.25, width / 2 - allowance - 0.25
+    r = radius - allowance - 0.25  # the outline 0.25 mm inside the walls
+    gx, gy = np.meshgrid(np.linspace(-hl, hl, 61), np.linspace(-hw, hw, 41))
+    q = np.column_stack([gx.ravel(), gy.ravel()])
+    cx = np.maximum(np.abs(q[:, 0]) - (hl - r), 0)
+    cy = np.maximum(np.abs(q[:, 1]) - (hw - r), 0)
+    q = q[cx * cx + cy * cy <= r * r] + [50.0, 40.0]  # inside the rounded outline
+    d = np.min(np.linalg.norm(q[:, None, :] - path[None, :, :], axis=2), axis=1)
+    assert d.max() <= 5.0 + 0.1, name
+
+
+def test_rectangular_polyline_boundary_mills_like_the_rectangular_profile(tmp_path):
+    """ISO Example 1's pocket boundary is a GENERAL_CLOSED_PROFILE polyline (NIST replaced
+    it by a RECTANGULAR_CLOSED_PROFILE); the same rectangle gives the same commands."""
+    text = (
+        Path(EX1)
+        .read_text(encoding="latin-1")
+        .replace(
+            "#28= RECTANGULAR_CLOSED_PROFILE($, #122, #121);",
+            "#28= GENERAL_CLOSED_PROFILE($,#59);\n"
+            "#59= POLYLINE('CONTOUR OF POCKET1',(#131,#132,#133,#134,#131));\n"
+            "#131= CARTESIAN_POINT('P1',(40.0,-25.0,0.0));\n"
+            "#132= CARTESIAN_POINT('P2',(40.0,25.0,0.0));\n"
+            "#133= CARTESIAN_POINT('P3',(-40.0,25.0,0.0));\n"
+            "#134= CARTESIAN_POINT('P4',(-40.0,-25.0,0.0));",
+        )
+    )
+    poly = tmp_path / "poly.stp"
+    poly.write_text(text)
+    ours = [c.to_text() for c in canon_from_file(str(poly), TOOLS)]
+    assert ours == [c.to_text() for c in nist_reference()]
+
+
+def test_segment_technology_applies_to_its_segment_only():
+    model = load(str(HERE / "stepnc" / "explicit_segment_technology.stp"))
+    feed, seen = None, []
+    for c in canon_from_model(model, None, "default"):
+        if isinstance(c, canon.SetFeedRate):
+            feed = c.rate
+        elif isinstance(c, canon.StraightFeed):
+            seen.append(feed)
+    assert seen == [600.0, 120.0, 600.0]  # 0.01 m/s, the segment's 0.002 m/s, back
