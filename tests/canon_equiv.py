@@ -24,7 +24,7 @@ from dataclasses import dataclass, fields, replace
 from kernel import canon
 from kernel.diagnostics import Diagnostic
 
-TOLERANCE = 1e-4
+TOLERANCE = 1e-4 + 1e-9  # 1e-4 in program units; the 1e-9 absorbs float noise of printed values
 MAX_DIFFERENCES = 8
 
 MOTION_NAMES = frozenset(c.NAME for c in canon.MOTIONS)
