@@ -121,8 +121,11 @@ class Machine:
             try:
                 out.append(float(getattr(self.axis(n), attr)))
             except KeyError:
-                out.append(0.0 if attr in ("velocity", "acceleration", "jerk", "home") else
-                           (-math.inf if attr == "min" else math.inf))
+                out.append(
+                    0.0
+                    if attr in ("velocity", "acceleration", "jerk", "home")
+                    else (-math.inf if attr == "min" else math.inf)
+                )
         return tuple(out)
 
 
@@ -150,12 +153,16 @@ def _number(value: object, what: str, loc: Location, *, positive: bool = False) 
 
 def _axis(name: str, table: object, loc: Location) -> AxisLimits:
     if name not in AXIS_NAMES:
-        raise Diagnostic("MACH-AXIS", f"unknown axis {name!r}; axes are {', '.join(AXIS_NAMES)}", loc)
+        raise Diagnostic(
+            "MACH-AXIS", f"unknown axis {name!r}; axes are {', '.join(AXIS_NAMES)}", loc
+        )
     if not isinstance(table, dict):
         raise Diagnostic("MACH-TYPE", f"[axes.{name}] must be a table", loc)
     unknown = set(table) - _AXIS_KEYS
     if unknown:
-        raise Diagnostic("MACH-KEY", f"[axes.{name}]: unknown key(s) {', '.join(sorted(unknown))}", loc)
+        raise Diagnostic(
+            "MACH-KEY", f"[axes.{name}]: unknown key(s) {', '.join(sorted(unknown))}", loc
+        )
     kw: dict[str, Any] = {}
     for key, value in table.items():
         if key == "servo":
@@ -167,7 +174,9 @@ def _axis(name: str, table: object, loc: Location) -> AxisLimits:
             kw[key] = _number(value, f"axes.{name}.{key}", loc, positive=pos)
     axis = AxisLimits(name, **kw)
     if not axis.min < axis.max:
-        raise Diagnostic("MACH-RANGE", f"axes.{name}: min {axis.min} must be below max {axis.max}", loc)
+        raise Diagnostic(
+            "MACH-RANGE", f"axes.{name}: min {axis.min} must be below max {axis.max}", loc
+        )
     return axis
 
 
@@ -184,14 +193,21 @@ def _controller(table: object, loc: Location) -> Controller:
                 raise Diagnostic("MACH-RANGE", f"{what} must be an integer >= 1", loc)
             kw[key] = value
         elif key in ("accdec", "corner_rule", "circle_method"):
-            allowed = {"accdec": ACCDEC_TYPES, "corner_rule": CORNER_RULES,
-                       "circle_method": CIRCLE_METHODS}[key]
+            allowed = {
+                "accdec": ACCDEC_TYPES,
+                "corner_rule": CORNER_RULES,
+                "circle_method": CIRCLE_METHODS,
+            }[key]
             if value not in allowed:
                 raise Diagnostic("MACH-RANGE", f"{what} must be one of {', '.join(allowed)}", loc)
             kw[key] = value
         else:
-            pos = key in ("interpolation_period", "chord_tolerance", "feed_override",
-                          "corner_velocity_step")
+            pos = key in (
+                "interpolation_period",
+                "chord_tolerance",
+                "feed_override",
+                "corner_velocity_step",
+            )
             v = _number(value, what, loc, positive=pos)
             if v < 0:
                 raise Diagnostic("MACH-RANGE", f"{what} must not be negative", loc)

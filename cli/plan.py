@@ -1,0 +1,131 @@
+"""``cnc plan PROG``: plan and sample a program, print its cycle time and limit hits.
+
+``PROG`` is G-code (through the interpreter) or canonical text (``*.canon``). The machine
+is ``--machine M.toml`` or the built-in default mill.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator
+
+import click
+from rich.console import Console
+from rich.table import Table
+
+from cli.errors import guarded
+from kernel import canon
+from kernel.diagnostics import Diagnostic, Location
+from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
+from kernel.measure import Report, measure
+
+
+def _commands(path: str) -> Iterator[canon.Command]:
+    if path.endswith(".canon"):
+        # every command, LinuxCNC's work offsets and XY rotation included (read_commands
+        # drops those; the planner needs them to place the moves on the machine)
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            for tc in canon.read_text(fh, path):
+                yield canon.parse_command(tc, path)
+        return
+    try:
+        from gcode.interpreter import interpret
+    except ImportError as exc:  # the front end is another issue's work
+        raise Diagnostic(
+            "PLAN-FRONTEND", f"G-code interpreter unavailable: {exc}", Location(path)
+        ) from None
+    yield from interpret(path)
+
+
+def _machine(path: str | None) -> Machine:
+    if path is None:
+        return DEFAULT_MACHINE
+    with open(path, encoding="utf-8") as fh:
+        return parse_machine(fh.read(), path)
+
+
+def run(program: str, machine: Machine) -> Report:
+    """Plan, sample and measure ``program`` (the command's work, without printing)."""
+    from kernel.interpolate import sample
+    from kernel.path import build_path
+    from kernel.planner import plan
+
+    p = build_path(_commands(program), machine, program)
+    pl = plan(p, machine)
+    return measure(pl, sample(pl))
+
+
+def _text(report: Report, program: str, console: Console) -> None:
+    c = report.cycle
+    t = Table(title=f"cycle time: {program}")
+    t.add_column("activity")
+    t.add_column("time [s]", justify="right")
+    t.add_column("share", justify="right")
+    for name, val in (
+        ("cutting", c.cutting),
+        ("rapid", c.rapid),
+        ("dwell", c.dwell),
+        ("tool change", c.tool_change),
+        ("other stops", c.other),
+        ("total", c.total),
+    ):
+        share = f"{100 * val / c.total:.1f} %" if c.total > 0 else "-"
+        t.add_row(name, f"{val:.3f}", share)
+    console.print(t)
+    console.print(
+        f"path: feed {report.feed_length:.3f} mm, rapid {report.rapid_length:.3f} mm; "
+        f"{report.segments} segments, {report.samples} samples; "
+        f"chord error {report.chord_error * 1000:.3f} µm"
+    )
+    p = Table(title="peak axis values")
+    p.add_column("axis")
+    p.add_column("velocity", justify="right")
+    p.add_column("acceleration", justify="right")
+    p.add_column("jerk", justify="right")
+    for a in report.peak_velocity:
+        p.add_row(
+            a.upper(),
+            f"{report.peak_velocity[a]:.3f}",
+            f"{report.peak_acceleration[a]:.3f}",
+            f"{report.peak_jerk[a]:.1f}",
+        )
+    console.print(p)
+    if not report.hits:
+        console.print("no limit hits")
+        return
+    h = Table(title=f"limit hits ({report.hits_total})")
+    for col in ("line", "time [s]", "axis", "limit", "value", "bound", "samples"):
+        h.add_column(col)
+    for hit in report.hits:
+        h.add_row(
+            f"{program}:{hit.line}",
+            f"{hit.time:.3f}",
+            hit.axis.upper(),
+            hit.kind,
+            f"{hit.value:.4f}",
+            f"{hit.limit:.4f}",
+            str(hit.samples),
+        )
+    console.print(h)
+
+
+@click.command(name="plan")
+@click.argument("program", type=click.Path(exists=True, dir_okay=False))
+@click.option(
+    "--machine",
+    "machine_file",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="machine profile (TOML); default: built-in 3-axis mill",
+)
+@click.option(
+    "--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True
+)
+@guarded
+def command(program: str, machine_file: str | None, fmt: str) -> None:
+    """Plan PROGRAM (G-code or .canon): cycle-time breakdown and axis-limit hits."""
+    report = run(program, _machine(machine_file))
+    if fmt == "json":
+        click.echo(json.dumps({"program": program, **report.to_dict()}, indent=2))
+    else:
+        _text(report, program, Console())

@@ -1,0 +1,464 @@
+"""The IR walk behind :func:`kernel.path.build_path`: modal state and one light row per
+motion or hold, vectorised into the segment table at the end (see kernel.path for the
+rules: units, offsets, feed modes, arcs, NURBS tessellation, LinuxCNC additions).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from itertools import chain
+
+import numpy as np
+
+from kernel import canon
+from kernel.diagnostics import Diagnostic, Location
+from kernel.machine import AXIS_NAMES, Machine
+from kernel.path import (
+    ARC,
+    DWELL,
+    FEED,
+    HOLD,
+    LINE,
+    MIN_LENGTH,
+    ORIENT,
+    PROBE,
+    RAPID,
+    SEGMENT_DTYPE,
+    STOP,
+    TOOL_CHANGE,
+)
+
+_PLANE_AXES = {
+    canon.Plane.XY: (0, 1, 2),
+    canon.Plane.YZ: (1, 2, 0),
+    canon.Plane.XZ: (2, 0, 1),
+}
+
+_MODE = {
+    canon.FeedMode.UNITS_PER_MINUTE: 0,
+    canon.FeedMode.INVERSE_TIME: 1,
+    canon.FeedMode.UNITS_PER_REVOLUTION: 2,
+}
+
+
+@dataclass
+class _State:
+    mm: float = 1.0
+    g5x: tuple[float, ...] = (0.0,) * 6  # work offset (G54..), mm, applied after rotation
+    g92: tuple[float, ...] = (0.0,) * 6  # G92 offset, mm, applied before rotation
+    rot: float = 0.0  # SET_XY_ROTATION, rad about Z
+    position: tuple[float, ...] = (0.0,) * 6
+    feed: float = 0.0
+    feed_mode: int = 0  # _MODE
+    spindle: float = 0.0
+    synch: float = 0.0  # feed per revolution of START_SPEED_FEED_SYNCH (program units)
+    traverse: float = math.inf
+    plane: canon.Plane = canon.Plane.XY
+    exact_stop: bool = False
+    blend: float = 0.0
+    override: float = 1.0  # the factor in force (1 while overrides are disabled)
+
+
+def _loc_line(cmd: canon.Command) -> int:
+    return cmd.source.line if cmd.source is not None else 0
+
+
+# light row: kind, category, start, end, rate, mode, mm, spindle, synch, override,
+# exact_stop, blend, source, line, duration, arc record (or None)
+_Row = tuple
+
+
+class PathBuilder:
+    """Turns canonical commands into light rows; :meth:`table` vectorises them."""
+
+    def __init__(self, machine: Machine, file: str | None) -> None:
+        self.machine = machine
+        self.st = _State()
+        self.st.position = tuple(machine.limit_vector("home"))
+        self.st.override = machine.controller.feed_override
+        self.st.blend = machine.controller.blend_tolerance  # G64 is the initial mode
+        self.rows: list[_Row] = []
+        self.file = file
+
+    # ------------------------------------------------------------------ motions
+    def _rot(self, v: np.ndarray, sign: float = 1.0) -> np.ndarray:
+        """Rotate the XY part of 3-vectors (rows) by the XY rotation in force."""
+        c, sn = math.cos(sign * self.st.rot), math.sin(sign * self.st.rot)
+        out = np.array(v, dtype=float)
+        out[..., 0] = c * v[..., 0] - sn * v[..., 1]
+        out[..., 1] = sn * v[..., 0] + c * v[..., 1]
+        return out
+
+    def _to_machine(self, w: np.ndarray) -> tuple[float, ...]:
+        """Work frame (program position in mm + G92) to machine: ``R w + g5x`` (rs274's
+        order: G92, then the XY rotation, then the G5x offset)."""
+        m = np.array(w, dtype=float)
+        if self.st.rot:
+            m[:3] = self._rot(m[:3])
+        m += self.st.g5x
+        return tuple(m.tolist())
+
+    def _to_work(self, m: tuple[float, ...]) -> np.ndarray:
+        w = np.array(m, dtype=float) - self.st.g5x
+        if self.st.rot:
+            w[:3] = self._rot(w[:3], -1.0)
+        return w
+
+    def _target(self, values: tuple[float, ...]) -> tuple[float, ...]:
+        """Machine coordinates of a programmed end point."""
+        mm, o = self.st.mm, self.st.g92
+        w = (
+            values[0] * mm + o[0],
+            values[1] * mm + o[1],
+            values[2] * mm + o[2],
+            values[3] + o[3],
+            values[4] + o[4],
+            values[5] + o[5],
+        )
+        if not self.st.rot and not any(self.st.g5x):
+            return w
+        return self._to_machine(np.array(w))
+
+    def line_to(self, cmd: canon.Command, end: tuple[float, ...], category: int, idx: int) -> None:
+        st = self.st
+        start = st.position
+        st.position = end
+        if end == start:
+            return
+        rate = st.traverse if category == RAPID else st.feed
+        self.rows.append(
+            (
+                LINE,
+                category,
+                start,
+                end,
+                rate,
+                st.feed_mode,
+                st.mm,
+                st.spindle,
+                st.synch,
+                st.override,
+                st.exact_stop or category == PROBE,
+                st.blend,
+                idx,
+                _loc_line(cmd),
+                0.0,
+                None,
+            )
+        )
+
+    def arc(self, cmd: canon.ArcFeed, idx: int) -> None:
+        st = self.st
+        f, s, ax = _PLANE_AXES[st.plane]
+        start = self._to_work(st.position)
+        off = np.array(st.g92)
+        end = start.copy()
+        end[f] = cmd.first_end * st.mm + off[f]
+        end[s] = cmd.second_end * st.mm + off[s]
+        end[ax] = cmd.axis_end_point * st.mm + off[ax]
+        end[3:] = np.array([cmd.a, cmd.b, cmd.c]) + off[3:]
+        cf = cmd.first_axis * st.mm + off[f]
+        cs = cmd.second_axis * st.mm + off[s]
+        r0 = math.hypot(start[f] - cf, start[s] - cs)
+        r1 = math.hypot(end[f] - cf, end[s] - cs)
+        if r0 <= MIN_LENGTH or r1 <= MIN_LENGTH:
+            raise Diagnostic("PLAN-ARC", "arc with zero radius", cmd.source)
+        if cmd.rotation == 0:
+            raise Diagnostic("PLAN-ARC", "arc with rotation 0", cmd.source)
+        t0 = math.atan2(start[s] - cs, start[f] - cf)
+        t1 = math.atan2(end[s] - cs, end[f] - cf)
+        d = ((t1 - t0) if cmd.rotation > 0 else (t0 - t1)) % (2 * math.pi)
+        if d <= 1e-12:
+            d = 2 * math.pi
+        sweep = math.copysign(d + 2 * math.pi * (abs(cmd.rotation) - 1), cmd.rotation)
+        centre = np.zeros(3)
+        centre[f], centre[s], centre[ax] = cf, cs, start[ax]
+        normal = np.zeros(3)
+        normal[ax] = 1.0
+        e1 = np.zeros(3)
+        e1[f], e1[s] = (start[f] - cf) / r0, (start[s] - cs) / r0
+        axial = end[ax] - start[ax]
+        length = math.hypot(0.5 * (r0 + r1) * abs(sweep), axial)
+        rec = dict(
+            centre=centre,
+            normal=normal,
+            e1=e1,
+            e2=np.cross(normal, e1),
+            radius=r0,
+            radius_end=r1,
+            sweep=sweep,
+            axial=axial,
+            length=length,
+        )
+        if st.rot or any(st.g5x):
+            rot = np.stack([centre, normal, e1, rec["e2"]])
+            if st.rot:
+                rot = self._rot(rot)
+            centre, normal, e1, e2 = rot
+            rec.update(centre=centre + np.array(st.g5x[:3]), normal=normal, e1=e1, e2=e2)
+            start, end = np.array(self._to_machine(start)), np.array(self._to_machine(end))
+        st.position = tuple(end.tolist())
+        self.rows.append(
+            (
+                ARC,
+                FEED,
+                tuple(start.tolist()),
+                st.position,
+                st.feed,
+                st.feed_mode,
+                st.mm,
+                st.spindle,
+                st.synch,
+                st.override,
+                st.exact_stop,
+                st.blend,
+                idx,
+                _loc_line(cmd),
+                0.0,
+                rec,
+            )
+        )
+
+    def nurbs(self, cmd: canon.NurbsFeed, idx: int) -> None:
+        from kernel.nurbs import NurbsCurve, tessellate
+
+        st = self.st
+        if not cmd.points:
+            raise Diagnostic("PLAN-NURBS", "NURBS_FEED without control points", cmd.source)
+        f, s, _ = _PLANE_AXES[st.plane]
+        pts = np.array([[p[0], p[1]] for p in cmd.points], dtype=float) * st.mm
+        pts[:, 0] += st.g92[f]
+        pts[:, 1] += st.g92[s]
+        weights = np.array([p[2] for p in cmd.points], dtype=float)
+        curve = NurbsCurve.create(pts, weights, cmd.knots or None, cmd.order - 1, cmd.source)
+        xy = tessellate(curve, self.machine.controller.chord_tolerance)
+        base = self._to_work(st.position)
+        for q in xy[1:]:
+            w = base.copy()
+            w[f], w[s] = float(q[0]), float(q[1])
+            self.line_to(cmd, self._to_machine(w), FEED, idx)
+
+    def hold(self, cmd: canon.Command, seconds: float, category: int, idx: int) -> None:
+        p = self.st.position
+        self.rows.append(
+            (
+                HOLD,
+                category,
+                p,
+                p,
+                0.0,
+                0,
+                1.0,
+                0.0,
+                0.0,
+                1.0,
+                True,
+                0.0,
+                idx,
+                _loc_line(cmd),
+                max(0.0, seconds),
+                None,
+            )
+        )
+
+    # ------------------------------------------------------------------ dispatch
+    def feed(self, idx: int, cmd: canon.Command) -> None:
+        st = self.st
+        cls = type(cmd)
+        if cls is canon.StraightFeed:
+            self.line_to(cmd, self._target((cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)), FEED, idx)
+            return
+        c = self.machine.controller
+        match cmd:
+            case canon.StraightTraverse():
+                self.line_to(
+                    cmd, self._target((cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)), RAPID, idx
+                )
+            case canon.StraightProbe():
+                self.line_to(
+                    cmd, self._target((cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)), PROBE, idx
+                )
+            case canon.ArcFeed():
+                self.arc(cmd, idx)
+            case canon.NurbsFeed():
+                self.nurbs(cmd, idx)
+            case canon.Dwell():
+                self.hold(cmd, cmd.seconds, DWELL, idx)
+            case canon.ChangeTool():
+                self.hold(cmd, c.tool_change_time, TOOL_CHANGE, idx)
+            case canon.OrientSpindle():
+                self.hold(cmd, c.spindle_orient_time, ORIENT, idx)
+            case canon.ProgramStop() | canon.OptionalProgramStop() | canon.Stop():
+                self.hold(cmd, c.program_stop_time, STOP, idx)
+            case canon.ProgramEnd():
+                self.hold(cmd, 0.0, STOP, idx)
+            case canon.UseLengthUnits():
+                st.mm = cmd.units.mm_per_unit
+            case canon.SetOriginOffsets():
+                st.g5x = (cmd.x * st.mm, cmd.y * st.mm, cmd.z * st.mm, cmd.a, cmd.b, cmd.c)
+                st.g92 = (0.0,) * 6
+            case canon.SetFeedRate():
+                st.feed = cmd.rate
+            case canon.SetFeedMode():
+                st.feed_mode = _MODE[cmd.mode]
+            case canon.SetTraverseRate():
+                st.traverse = cmd.rate if cmd.rate > 0 else math.inf
+            case canon.SelectPlane():
+                st.plane = cmd.plane
+            case canon.SetMotionControlMode():
+                st.exact_stop = cmd.mode is canon.MotionMode.EXACT_STOP
+                cont = cmd.mode is canon.MotionMode.CONTINUOUS
+                tol = cmd.tolerance * st.mm if cmd.tolerance > 0 else c.blend_tolerance
+                st.blend = tol if cont else 0.0
+            case canon.SetSpindleSpeed():
+                st.spindle = cmd.speed
+            case canon.StartSpeedFeedSynch():
+                st.synch = cmd.feed_per_revolution
+            case canon.StopSpeedFeedSynch():
+                st.synch = 0.0
+            case canon.EnableFeedOverride():
+                st.override = c.feed_override
+            case canon.DisableFeedOverride():
+                st.override = 1.0
+            case canon.EllipseFeed():
+                raise Diagnostic(
+                    "PLAN-UNSUPPORTED", "ELLIPSE_FEED is not planned by this kernel", cmd.source
+                )
+            case _:
+                self._linuxcnc(cmd, idx)
+
+    def _linuxcnc(self, cmd: canon.Command, idx: int) -> None:
+        """LinuxCNC additions, known by NAME only (the kernel never imports a front end)."""
+        st = self.st
+        name = cmd.NAME
+        if name in ("SET_G5X_OFFSET", "SET_G92_OFFSET"):
+            v = [getattr(cmd, k) for k in ("x", "y", "z", "a", "b", "c")]
+            scaled = (v[0] * st.mm, v[1] * st.mm, v[2] * st.mm, v[3], v[4], v[5])
+            if name == "SET_G5X_OFFSET":
+                st.g5x = scaled
+            else:
+                st.g92 = scaled
+        elif name == "SET_XY_ROTATION":
+            st.rot = math.radians(cmd.angle)  # type: ignore[attr-defined]
+        elif name == "RIGID_TAP":  # G33.1: in synchronised, spindle reversal, back out
+            start = st.position
+            w = self._to_work(start)
+            w[:3] = [
+                cmd.x * st.mm + st.g92[0],
+                cmd.y * st.mm + st.g92[1],  # type: ignore[attr-defined]
+                cmd.z * st.mm + st.g92[2],
+            ]  # type: ignore[attr-defined]
+            bottom = self._to_machine(w)
+            saved = st.exact_stop
+            st.exact_stop = True
+            self.line_to(cmd, bottom, FEED, idx)
+            self.line_to(cmd, start, FEED, idx)
+            st.exact_stop = saved
+
+    # ------------------------------------------------------------------ vectorised finish
+    def table(self) -> np.ndarray:
+        rows = self.rows
+        n = len(rows)
+        seg = np.zeros(n, SEGMENT_DTYPE)
+        if not n:
+            return seg
+        (
+            kind,
+            cat,
+            start,
+            end,
+            rate,
+            mode,
+            mm,
+            spindle,
+            synch,
+            override,
+            stop,
+            blend,
+            src,
+            line,
+            duration,
+            recs,
+        ) = zip(*rows, strict=True)
+        kind = np.fromiter(kind, np.int8, n)
+        start = np.fromiter(chain.from_iterable(start), float, 6 * n).reshape(n, 6)
+        end = np.fromiter(chain.from_iterable(end), float, 6 * n).reshape(n, 6)
+        seg["kind"], seg["category"] = kind, np.fromiter(cat, np.int8, n)
+        seg["start"], seg["end"] = start, end
+        seg["exact_stop"] = np.fromiter(stop, bool, n)
+        seg["blend"] = np.fromiter(blend, float, n)
+        seg["source"] = np.fromiter(src, np.int64, n)
+        seg["line"] = np.fromiter(line, np.int32, n)
+        seg["duration"] = np.fromiter(duration, float, n)
+        d = end - start
+        lin = np.sqrt(np.einsum("ij,ij->i", d[:, :3], d[:, :3]))
+        rotary_only = lin <= MIN_LENGTH
+        length = np.where(rotary_only, np.linalg.norm(d[:, 3:], axis=1), lin)
+        is_arc = kind == ARC
+        ai = np.flatnonzero(is_arc)
+        for i in ai:
+            for key, val in recs[i].items():
+                seg[key][i] = val
+        length[ai] = seg["length"][ai]
+        rotary_only[ai] = False
+        seg["length"] = np.where(kind == HOLD, 0.0, length)
+        # axes the machine lacks must not move
+        present = np.array([a in self.machine.axis_names for a in AXIS_NAMES])
+        bad = np.flatnonzero(np.any((np.abs(d) > MIN_LENGTH) & ~present, axis=1))
+        if bad.size:
+            i = int(bad[0])
+            names = ", ".join(
+                AXIS_NAMES[j].upper()
+                for j in np.flatnonzero((np.abs(d[i]) > MIN_LENGTH) & ~present)
+            )
+            raise Diagnostic(
+                "PLAN-AXIS",
+                f"the move drives axis {names}, which the machine lacks",
+                Location(self.file, int(line[i]), 1 if line[i] else 0),
+            )
+        # drop motions too short to matter (the position was carried on anyway)
+        keep = (kind == HOLD) | (seg["length"] > MIN_LENGTH)
+        seg, d, rotary_only = seg[keep], d[keep], rotary_only[keep]
+        sel = np.flatnonzero(keep)
+        rate = np.fromiter(rate, float, n)[sel]
+        mode = np.fromiter(mode, float, n)[sel]
+        mm = np.fromiter(mm, float, n)[sel]
+        spindle = np.fromiter(spindle, float, n)[sel]
+        synch = np.fromiter(synch, float, n)[sel]
+        override = np.fromiter(override, float, n)[sel]
+        length = seg["length"]
+        with np.errstate(invalid="ignore"):
+            unit = np.where(rotary_only, 1.0, mm)
+            feed = np.where(
+                mode == 1,
+                length * rate / 60.0,
+                np.where(mode == 2, rate * unit * spindle / 60.0, rate * unit / 60.0),
+            )
+            feed = np.where(synch > 0, synch * mm * spindle / 60.0, feed) * override
+            rapid = seg["category"] == RAPID
+            feed = np.where(rapid, rate * unit / 60.0, feed)
+        seg["feed"] = feed
+        moving = seg["kind"] != HOLD
+        bad = np.flatnonzero(moving & ~rapid & ~(feed > 0))
+        if bad.size:
+            ln = int(seg["line"][bad[0]])
+            raise Diagnostic(
+                "PLAN-FEED",
+                "feed move with a zero feed rate",
+                Location(self.file, ln, 1 if ln else 0),
+            )
+        safe = np.where(length > 0, length, 1.0)[:, None]
+        lines = seg["kind"] == LINE
+        u = np.where(lines[:, None], d / safe, 0.0)
+        seg["u_start"], seg["u_end"] = u, u
+        arcs = np.flatnonzero(seg["kind"] == ARC)
+        if arcs.size:
+            from kernel.geometry import arc_tangent
+
+            sa = seg[arcs]
+            us, ue = arc_tangent(sa, np.zeros(arcs.size)), arc_tangent(sa, np.ones(arcs.size))
+            rot = d[arcs, 3:] / sa["length"][:, None]
+            us[:, 3:], ue[:, 3:] = rot, rot
+            seg["u_start"][arcs], seg["u_end"][arcs] = us, ue
+        return seg
