@@ -26,17 +26,19 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from enum import Enum
+from enum import StrEnum
 
 import numpy as np
 from scipy.signal import lfilter
 
 from kernel.diagnostics import Diagnostic, Location
+from kernel.fine import fine_positions
+from kernel.machine import Machine
 from kernel.samples import Samples
 
 
-class AccDecKind(str, Enum):
-    """The filter applied after interpolation (``controller.accdec_type`` in a profile)."""
+class AccDecKind(StrEnum):
+    """The filter applied after interpolation (``[accdec] type`` in a profile)."""
 
     NONE = "none"
     LINEAR = "linear"
@@ -44,7 +46,7 @@ class AccDecKind(str, Enum):
     S_SHAPE = "s_shape"
 
 
-class AccDecPlacement(str, Enum):
+class AccDecPlacement(StrEnum):
     """Where acc/dec happens: before interpolation (planner), after (these filters), or both."""
 
     BEFORE = "before"
@@ -54,7 +56,7 @@ class AccDecPlacement(str, Enum):
 
 @dataclass(frozen=True, slots=True)
 class AccDecConfig:
-    """Acc/dec settings of a machine (profile table ``[controller.accdec]``).
+    """Acc/dec settings of a machine (profile table ``[accdec]``, see :func:`config_from_machine`).
 
     ``tau`` is the acc/dec time constant in seconds: the full window of the linear filter,
     the total (triangle) width of the S-shape filter, the time constant of the exponential
@@ -92,6 +94,52 @@ class FilterState:
     zi: list[np.ndarray] = field(default_factory=list)
 
 
+_CONFIG_KEYS = ("type", "tau", "placement", "tail_tolerance")
+
+
+def config_from_machine(machine: Machine) -> AccDecConfig:
+    """The ADCAI settings of a profile's top-level ``[accdec]`` table (kept in ``extra``).
+
+    Keys: ``type`` (none, linear, exponential, s_shape), ``tau`` (s), ``placement`` (before,
+    after, both: where acc/dec happens, book §4.1) and ``tail_tolerance`` (mm). Without the
+    table acc/dec happens before interpolation only (the planner's job), so these filters
+    are off. Raises ``MACH-KEY``, ``MACH-TYPE`` or ``MACH-RANGE`` like the profile reader.
+    """
+    table = machine.extra.get("accdec")
+    if table is None:
+        return AccDecConfig(kind=AccDecKind.NONE)
+    loc = Location(machine.name)
+    if not isinstance(table, dict):
+        raise Diagnostic("MACH-TYPE", "[accdec] must be a table", loc)
+    unknown = sorted(set(table) - set(_CONFIG_KEYS))
+    if unknown:
+        raise Diagnostic("MACH-KEY", f"[accdec]: unknown key(s) {', '.join(unknown)}", loc)
+    kw: dict[str, object] = {}
+    for key, enum, field_name in (
+        ("type", AccDecKind, "kind"),
+        ("placement", AccDecPlacement, "placement"),
+    ):
+        if key in table:
+            try:
+                kw[field_name] = enum(table[key])
+            except ValueError:
+                allowed = ", ".join(e.value for e in enum)
+                raise Diagnostic(
+                    "MACH-RANGE", f"accdec.{key} must be one of {allowed}", loc
+                ) from None
+    for key, field_name in (("tau", "tau"), ("tail_tolerance", "exp_tail_tolerance")):
+        if key in table:
+            v = table[key]
+            if isinstance(v, bool) or not isinstance(v, int | float):
+                raise Diagnostic("MACH-TYPE", f"accdec.{key} must be a number", loc)
+            if not (math.isfinite(v) and (v > 0 or (key == "tau" and v == 0))):
+                raise Diagnostic("MACH-RANGE", f"accdec.{key} must be positive, got {v!r}", loc)
+            kw[field_name] = float(v)
+    if "placement" not in kw and kw.get("kind", AccDecKind.LINEAR) is not AccDecKind.NONE:
+        kw["placement"] = AccDecPlacement.AFTER
+    return AccDecConfig(**kw)  # type: ignore[arg-type]
+
+
 def _taps(tau: float, period: float, what: str) -> int:
     if not (tau >= 0 and period > 0 and math.isfinite(tau) and math.isfinite(period)):
         raise Diagnostic(
@@ -127,8 +175,9 @@ def s_shape_filter(tau: float, period: float) -> Filter:
     return Filter((moving_average(m), moving_average(m)), 2 * (m - 1))
 
 
-def exponential_filter(tau: float, period: float, tolerance: float = 1e-6,
-                       amplitude: float = 1.0) -> Filter:
+def exponential_filter(
+    tau: float, period: float, tolerance: float = 1e-6, amplitude: float = 1.0
+) -> Filter:
     """First-order lag ``alpha = exp(-T/tau)`` (eq. 4.5); ``tail`` reaches ``tolerance``.
 
     ``amplitude`` is the largest per-block displacement the tail must shrink below
@@ -142,14 +191,21 @@ def exponential_filter(tau: float, period: float, tolerance: float = 1e-6,
     return Filter((exponential(alpha),), math.ceil(math.log(ratio) / -math.log(alpha)))
 
 
-def dda_exponential_filter(n_bits: int) -> Filter:
+def dda_exponential_filter(n_bits: int, tolerance: float = 1e-6, amplitude: float = 1.0) -> Filter:
     """The DDA circuit of eq. 4.30: ``P_o(k) = P_o(k-1) + (P_i(k) - P_o(k-1))/2**n``.
 
     Its time constant is ``tau = T 2**n`` (eq. 4.31). The recursion has the input at ``k``
-    and the output at ``k-1``, i.e. ``(1/2**n) / (1 - (1 - 1/2**n) z^-1)``.
+    and the output at ``k-1``, i.e. ``(1/2**n) / (1 - (1 - 1/2**n) z^-1)``. ``tail`` is
+    counted as for :func:`exponential_filter`.
     """
+    if isinstance(n_bits, bool) or not isinstance(n_bits, int) or n_bits < 0:
+        raise Diagnostic("ACCDEC-PARAM", f"DDA accumulator bits {n_bits!r}: need an integer >= 0")
     g = 2.0**-n_bits
-    return Filter(((np.array([g]), np.array([1.0, -(1.0 - g)])),), 0)
+    if n_bits == 0:
+        return Filter(((np.array([1.0]), np.array([1.0])),), 0)
+    ratio = max(amplitude, tolerance) / tolerance
+    tail = math.ceil(math.log(ratio) / -math.log(1.0 - g))
+    return Filter(((np.array([g]), np.array([1.0, -(1.0 - g)])),), tail)
 
 
 def weighted_fir(weights: np.ndarray | list[float]) -> Filter:
@@ -213,8 +269,14 @@ def filter_blocks(filt: Filter, blocks: list[np.ndarray], exact_stop: bool) -> n
     if not blocks:
         return np.zeros(0)
     if exact_stop:
-        return np.concatenate([filter_pulses(filt, b) for b in blocks])
+        return np.concatenate([_stopped(filter_pulses(filt, b)) for b in blocks])
     return filter_pulses(filt, np.concatenate(blocks))
+
+
+def _stopped(y: np.ndarray) -> np.ndarray:
+    """One period of zero output after a block: the period in which the filter is found
+    empty before the next block may start (tables 4.1/4.2 end with that zero, fig. 6.8)."""
+    return np.concatenate([y, np.zeros((1, *y.shape[1:]))])
 
 
 def distribute_pulses(total: int, iterations: int, method: int = 2) -> np.ndarray:
@@ -254,13 +316,16 @@ def _derivative(x: np.ndarray, period: float) -> np.ndarray:
     return np.gradient(x, period, axis=0) if x.shape[0] > 1 else np.zeros_like(x)
 
 
-def apply(samples: Samples, config: AccDecConfig, exact_stop: bool = False) -> Samples:
+def apply(samples: Samples, config: AccDecConfig, exact_stop: bool | np.ndarray = False) -> Samples:
     """Filter every axis of ``samples`` after interpolation; returns longer ``Samples``.
 
     Each axis' per-period displacement goes through the configured filter (independently
     per axis, book fig. 4.2) and the tail is appended so the axes reach the end point.
-    With ``exact_stop`` each run of samples of one segment is filtered on its own.
-    Velocity, acceleration and jerk are recomputed by central differences.
+    ``exact_stop`` (G61, book §4.2.4): True stops after every segment; an array of flags per
+    path row (kernel.path's ``exact_stop`` column) stops after the flagged rows only. A
+    stop filters the samples before it on their own and lets the filter empty (fig. 6.8);
+    elsewhere the blocks overlap (G64). Velocity, acceleration and jerk are recomputed by
+    central differences.
     """
     if not config.filters_after or len(samples) == 0:
         return samples
@@ -268,13 +333,21 @@ def apply(samples: Samples, config: AccDecConfig, exact_stop: bool = False) -> S
     d = np.diff(pos, axis=0, prepend=pos[:1])
     amp = float(np.abs(d).max()) if d.size else 1.0
     filt = make_filter(config, samples.period, max(amp, 1e-12))
-    if exact_stop:
-        cuts = np.flatnonzero(np.diff(samples.segment)) + 1
+    seg = samples.segment
+    cuts = np.flatnonzero(np.diff(seg)) + 1
+    if isinstance(exact_stop, np.ndarray):
+        flags = np.asarray(exact_stop, dtype=bool)
+        prev = seg[cuts - 1]
+        ok = (prev >= 0) & (prev < flags.size)
+        cuts = cuts[ok & flags[np.where(ok, prev, 0)]] if flags.size else cuts[:0]
+    elif not exact_stop:
+        cuts = cuts[:0]
+    if cuts.size:
         blocks = np.split(d, cuts)
         idx_blocks = np.split(np.arange(len(samples)), cuts)
-        out = [filter_pulses(filt, b) for b in blocks]
+        out = [_stopped(filter_pulses(filt, b)) for b in blocks]
         index = np.concatenate(
-            [np.concatenate([ix, np.full(filt.tail, ix[-1])]) for ix in idx_blocks]
+            [np.concatenate([ix, np.full(filt.tail + 1, ix[-1])]) for ix in idx_blocks]
         )
         dd = np.concatenate(out)
     else:
@@ -294,4 +367,41 @@ def apply(samples: Samples, config: AccDecConfig, exact_stop: bool = False) -> S
         jerk=jerk,
         segment=samples.segment[index],
         source_line=samples.source_line[index],
+    )
+
+
+def fine_interpolate(samples: Samples, ratio: int, method: str = "linear") -> Samples:
+    """Fine interpolation to the position-control period (book §3.4, §6.2.4), by
+    :func:`kernel.fine.fine_positions`: ``linear`` (eq. 3.72) spreads each interpolation
+    period's displacement evenly over ``ratio`` periods; ``moving_average`` (eq. 3.73,
+    ``ratio`` even) smooths it further and starts ``ratio/2`` fine periods earlier.
+
+    Velocity is the displacement per fine period, acceleration and jerk its backward
+    differences; segment and source line follow the interpolation sample each fine period
+    belongs to.
+    """
+    if isinstance(ratio, bool) or not isinstance(ratio, int) or ratio < 1:
+        raise Diagnostic(
+            "ACCDEC-PARAM", f"fine-interpolation ratio {ratio!r}: need an integer >= 1"
+        )
+    if ratio == 1 or len(samples) < 2:
+        return samples
+    n = len(samples)
+    fine = fine_positions(samples.position, ratio, method)
+    period = samples.period / ratio
+    vel = np.diff(fine, axis=0, append=fine[-1:]) / period
+    acc = np.diff(vel, axis=0, prepend=vel[:1]) / period
+    jerk = np.diff(acc, axis=0, prepend=acc[:1]) / period
+    lead = ratio // 2 if method == "moving_average" else 0
+    idx = np.clip((np.arange(fine.shape[0]) - lead) // ratio, 0, n - 1)
+    return replace(
+        samples,
+        period=period,
+        t=np.arange(fine.shape[0]) * period,
+        position=fine,
+        velocity=vel,
+        acceleration=acc,
+        jerk=jerk,
+        segment=samples.segment[idx],
+        source_line=samples.source_line[idx],
     )

@@ -1,0 +1,170 @@
+"""``cnc trace PROG -o DIR``: simulate a program through acc/dec and servo, write traces.
+
+Writes ``DIR/<name>_trace.<csv|npz|parquet>`` (columns in docs/traces.md),
+``DIR/<name>_summary.json`` (largest following and contour errors and where), and with
+``--plot`` ``DIR/<name>_<axis>.png`` per axis and ``DIR/<name>_xy.png``. Existing files are
+never replaced without ``--force``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+
+import click
+
+from cli.errors import guarded
+from kernel.diagnostics import Diagnostic, Location
+from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
+
+
+def _machine(path: str | None) -> Machine:
+    if path is None:
+        return DEFAULT_MACHINE
+    with open(path, encoding="utf-8") as fh:
+        return parse_machine(fh.read(), path)
+
+
+@click.command(name="trace")
+@click.argument("program", type=click.Path(exists=True, dir_okay=False))
+@click.option(
+    "-o",
+    "--output",
+    "out_dir",
+    required=True,
+    type=click.Path(file_okay=False),
+    help="directory for traces and plots (created if missing)",
+)
+@click.option(
+    "--machine",
+    "machine_file",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="machine profile (TOML); default: built-in 3-axis mill",
+)
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(["csv", "npz", "parquet"]),
+    default="csv",
+    show_default=True,
+    help="trace file format",
+)
+@click.option("--plot", is_flag=True, help="also write PNG plots per axis and of the XY path")
+@click.option("--force", is_flag=True, help="replace existing output files")
+@click.option(
+    "--chunk",
+    type=click.IntRange(min=1),
+    default=65_536,
+    show_default=True,
+    help="rows simulated and written at a time (bounds memory)",
+)
+@guarded
+def command(
+    program: str,
+    out_dir: str,
+    machine_file: str | None,
+    fmt: str,
+    plot: bool,
+    force: bool,
+    chunk: int,
+) -> None:
+    """Simulate PROGRAM (G-code or canonical text) and write per-axis traces to DIR."""
+    from cli.programs import program_commands
+    from kernel.interpolate import sample
+    from kernel.path import build_path
+    from kernel.planner import plan
+    from kernel.trace import Trace, column_dtypes, columns, setup
+    from kernel.trace_writers import check_target, open_writer
+
+    machine = _machine(machine_file)
+    stem = os.path.splitext(os.path.basename(program))[0]
+    trace_path = os.path.join(out_dir, f"{stem}_trace.{fmt}")
+    summary_path = os.path.join(out_dir, f"{stem}_summary.json")
+    plot_paths = {a: os.path.join(out_dir, f"{stem}_{a}.png") for a in machine.axis_names}
+    xy_path = os.path.join(out_dir, f"{stem}_xy.png")
+    targets = [trace_path, summary_path]
+    if plot:
+        targets += [*plot_paths.values(), xy_path]
+    if os.path.exists(out_dir) and not os.path.isdir(out_dir):
+        raise Diagnostic("IO-NOT-DIR", "output path is not a directory", Location(out_dir))
+    for t in targets:
+        check_target(t, force)
+    if fmt == "parquet":  # fail before the simulation, not after it
+        from importlib.util import find_spec
+
+        if find_spec("pyarrow") is None:
+            raise Diagnostic(
+                "IO-PARQUET",
+                "Parquet output needs pyarrow, which is not installed; use --format csv or npz",
+                Location(trace_path),
+            )
+    path = build_path(program_commands(program), machine, program)
+    samples = sample(plan(path, machine))
+    trace = Trace(samples, setup(machine, samples.period), path.segments, chunk=chunk)
+    os.makedirs(out_dir, exist_ok=True)
+    names = columns(samples.axes)
+    data = None
+    if plot:
+        from kernel.plots import PlotData
+
+        data = PlotData(samples.axes, total_rows=trace.rows)
+    writer = open_writer(fmt, trace_path, names, force, trace.rows, column_dtypes(samples.axes))
+    rows = 0
+    try:
+        for table in trace.chunks():
+            writer.write(table)
+            rows += len(table["t"])
+            if data is not None:
+                data.add(table)
+    finally:
+        writer.close()
+    summary = {
+        "program": program,
+        "machine": machine.name,
+        "rows": rows,
+        "trace": trace_path,
+        **trace.errors.to_dict(),
+    }
+    predicted = trace.predicted()
+    if predicted is not None:
+        summary["predicted"] = predicted
+    with open(summary_path, "w", encoding="utf-8") as fh:
+        json.dump(summary, fh, indent=2)
+    written = [trace_path, summary_path]
+    if data is not None:
+        written += _plots(data, samples.axes, plot_paths, xy_path, stem)
+    ce = trace.errors.contour
+    click.echo(
+        f"{rows} rows; max contour error {ce.value * 1000:.3f} µm "
+        f"at {program}:{ce.line} (t = {ce.time:.3f} s)"
+    )
+    for a, p in trace.errors.following.items():
+        unit = "deg" if a in ("a", "b", "c") else "mm"
+        click.echo(
+            f"  {a.upper()}: max following error {p.value:+.6f} {unit} at {program}:{p.line}"
+        )
+    for w in written:
+        click.echo(f"wrote {w}")
+
+
+def _plots(
+    data: object, axes: tuple[str, ...], plot_paths: dict[str, str], xy_path: str, stem: str
+) -> list[str]:
+    import matplotlib.pyplot as plt
+
+    from kernel.plots import PlotData, axis_figure, path_figure
+
+    assert isinstance(data, PlotData)
+    out = []
+    for a in axes:
+        fig = axis_figure(data, a, f"{stem}: axis {a.upper()}, commanded vs actual")
+        fig.savefig(plot_paths[a])
+        plt.close(fig)
+        out.append(plot_paths[a])
+    if "x" in axes and "y" in axes:
+        fig = path_figure(data, f"{stem}: XY path, actual coloured by contour error")
+        fig.savefig(xy_path)
+        plt.close(fig)
+        out.append(xy_path)
+    return out
