@@ -85,7 +85,7 @@ def _simulate(
     from kernel.measure import measure
     from kernel.path import build_path
     from kernel.planner import plan
-    from kernel.trace import Trace, columns, setup
+    from kernel.trace import Trace, column_dtypes, columns, setup
 
     machine = ctx.machine
     path = build_path(commands, machine, program)
@@ -100,7 +100,14 @@ def _simulate(
         from kernel.trace_writers import open_writer
 
         tpath = os.path.join(opts.out_dir, f"{name}_trace.{opts.trace_format}")
-        writer = open_writer(opts.trace_format, tpath, columns(samples.axes), opts.force)
+        writer = open_writer(
+            opts.trace_format,
+            tpath,
+            columns(samples.axes),
+            opts.force,
+            trace.rows,
+            column_dtypes(samples.axes),
+        )
         doc["trace"] = tpath
     total, done = trace.rows, 0
     data = None
