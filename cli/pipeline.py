@@ -81,6 +81,7 @@ def _simulate(
 ) -> None:
     """Plan, interpolate, measure and servo-simulate; fill ``res``, ``doc`` (and ``images``
     with plots when an HTML report is wanted)."""
+    from kernel.accdec import planning_machine
     from kernel.interpolate import sample
     from kernel.measure import measure
     from kernel.path import build_path
@@ -89,7 +90,7 @@ def _simulate(
 
     machine = ctx.machine
     path = build_path(commands, machine, program)
-    pl = plan(path, machine)
+    pl = plan(path, planning_machine(machine))
     samples = sample(pl)
     m = measure(pl, samples)
     doc["measure"] = m.to_dict()

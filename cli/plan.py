@@ -46,12 +46,13 @@ def _machine(path: str | None) -> Machine:
 
 def run(program: str, machine: Machine) -> Report:
     """Plan, sample and measure ``program`` (the command's work, without printing)."""
+    from kernel.accdec import planning_machine
     from kernel.interpolate import sample
     from kernel.path import build_path
     from kernel.planner import plan
 
     p = build_path(_commands(program), machine, program)
-    pl = plan(p, machine)
+    pl = plan(p, planning_machine(machine))
     return measure(pl, sample(pl))
 
 

@@ -71,6 +71,7 @@ def command(
 ) -> None:
     """Simulate PROGRAM (G-code or canonical text) and write per-axis traces to DIR."""
     from cli.programs import program_commands
+    from kernel.accdec import planning_machine
     from kernel.interpolate import sample
     from kernel.path import build_path
     from kernel.planner import plan
@@ -100,7 +101,7 @@ def command(
                 Location(trace_path),
             )
     path = build_path(program_commands(program), machine, program)
-    samples = sample(plan(path, machine))
+    samples = sample(plan(path, planning_machine(machine)))
     trace = Trace(samples, setup(machine, samples.period), path.segments, chunk=chunk)
     os.makedirs(out_dir, exist_ok=True)
     names = columns(samples.axes)

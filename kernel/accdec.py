@@ -405,3 +405,23 @@ def fine_interpolate(samples: Samples, ratio: int, method: str = "linear") -> Sa
         segment=samples.segment[idx],
         source_line=samples.source_line[idx],
     )
+
+
+def planning_machine(machine: Machine) -> Machine:
+    """The limits the planner should use given where the profile puts acc/dec (book §4.1).
+
+    With acc/dec *after* interpolation only (ADCAI, fig. 4.1b) the interpolator emits the
+    programmed feed from the first period and the per-axis filters alone accelerate and
+    decelerate; the planner must then not shape the profile itself. It gets axes able to
+    reach their velocity limit within one interpolation period (and the matching jerk), so
+    it keeps only the velocity caps. Before or both: the profile is returned unchanged.
+    """
+    cfg = config_from_machine(machine)
+    if cfg.kind is AccDecKind.NONE or cfg.placement is not AccDecPlacement.AFTER:
+        return machine
+    period = machine.controller.interpolation_period
+    axes = tuple(
+        replace(a, acceleration=a.velocity / period, jerk=a.velocity / period**2)
+        for a in machine.axes
+    )
+    return replace(machine, axes=axes, controller=replace(machine.controller, accdec="trapezoid"))
