@@ -4,8 +4,8 @@ The canonical ``ARC_FEED`` takes the end point, the centre and a signed number o
 (NISTIR 5970 §3.6.1, end-center-turns format, App. A.3). RS274 gives either the centre
 (end-center-direction) or a signed radius (end-radius-direction); both are checked the way
 LinuxCNC checks them: the radius to the end may differ from the radius to the start by at
-most 0.00005 in (0.00127 mm) unless the relative difference is within 0.1 %; a radius arc
-needs ``|R|`` at least half the chord.
+most LinuxCNC's default centre-arc tolerance (0.0028 in, 0.028 mm) or by 0.1 % of the
+radius; a radius arc needs ``|R|`` at least half the chord.
 """
 
 from __future__ import annotations
@@ -14,8 +14,12 @@ import math
 
 from kernel.diagnostics import Diagnostic, Location
 
-RADIUS_TOLERANCE_INCH = 0.00005
-RADIUS_TOLERANCE_MM = RADIUS_TOLERANCE_INCH * 25.4
+#: smallest arc radius (LinuxCNC TOLERANCE_INCH / TOLERANCE_MM)
+ZERO_RADIUS_INCH = 0.0002
+ZERO_RADIUS_MM = 0.002
+#: allowed start/end radius difference, LinuxCNC's default CENTER_ARC_RADIUS_TOLERANCE
+RADIUS_TOLERANCE_INCH = 2 * 0.001 * math.sqrt(2)
+RADIUS_TOLERANCE_MM = 2 * 0.01 * math.sqrt(2)
 SPIRAL_RELATIVE_TOLERANCE = 0.001
 TINY = 1e-12
 
@@ -44,7 +48,8 @@ def centre_format(
     r1 = math.hypot(start[0] - centre[0], start[1] - centre[1])
     r2 = math.hypot(end[0] - centre[0], end[1] - centre[1])
     tol = RADIUS_TOLERANCE_INCH if inches else RADIUS_TOLERANCE_MM
-    if r1 < tol or r2 < tol:
+    zero = ZERO_RADIUS_INCH if inches else ZERO_RADIUS_MM
+    if r1 < zero or r2 < zero:
         raise Diagnostic("NGC-ARC-ZERO-RADIUS", "zero-radius arc", loc)
     abs_err = abs(r1 - r2)
     rel_err = abs_err / max(r1, r2)
@@ -60,28 +65,39 @@ def centre_format(
         )
 
 
+#: how far half the chord may exceed |R| (LinuxCNC RADIUS_TOLERANCE_INCH / _MM)
+R_REACH_INCH = 0.00005
+R_REACH_MM = R_REACH_INCH * 25.4
+
+
 def radius_format(
     start: tuple[float, float],
     end: tuple[float, float],
     radius: float,
     clockwise: bool,
     loc: Location,
+    inches: bool = False,
 ) -> tuple[float, float]:
-    """Centre of an R arc (LinuxCNC ``arc_data_r``): negative R means more than 180°."""
+    """Centre of an R arc (LinuxCNC ``arc_data_r``): negative R means more than 180°.
+
+    Half the chord may exceed ``|R|`` by 0.00005 in (0.00127 mm); the arc is then a
+    semicircle.
+    """
     if start == end:
-        raise Diagnostic(
-            "NGC-ARC-R-SAME-POINT", "current point same as end point of arc", loc
-        )
+        raise Diagnostic("NGC-ARC-R-SAME-POINT", "current point same as end point of arc", loc)
     abs_r = abs(radius)
     mid = ((end[0] + start[0]) / 2.0, (end[1] + start[1]) / 2.0)
     half = math.hypot(mid[0] - end[0], mid[1] - end[1])
-    if abs_r == 0.0 or half / abs_r > 1.0 + TINY:
+    reach = R_REACH_INCH if inches else R_REACH_MM
+    if abs_r == 0.0 or half - abs_r > reach:
         raise Diagnostic("NGC-ARC-R-TOO-SMALL", "arc radius too small to reach end point", loc)
     if half / abs_r > 1.0 - TINY:
         half = abs_r  # allow a small error for a semicircle
     theta = math.atan2(end[1] - start[1], end[0] - start[0])
-    theta += -math.pi / 2 if (clockwise and radius > 0) or (not clockwise and radius < 0) else (
-        math.pi / 2
+    theta += (
+        -math.pi / 2
+        if (clockwise and radius > 0) or (not clockwise and radius < 0)
+        else (math.pi / 2)
     )
     turn2 = math.acos(max(-1.0, min(1.0, half / abs_r)))
     offset = abs_r * math.sin(turn2)

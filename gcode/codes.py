@@ -14,8 +14,35 @@ from kernel.diagnostics import Diagnostic, Location
 G_GROUPS: dict[int, int] = {}
 for _group, _codes in {
     0: (40, 100, 280, 281, 300, 301, 520, 530, 920, 921, 922, 923),
-    1: (0, 10, 20, 30, 50, 51, 52, 53, 330, 331, 382, 383, 384, 385, 730, 740, 760,
-        800, 810, 820, 830, 840, 850, 860, 870, 880, 890),
+    1: (
+        0,
+        10,
+        20,
+        30,
+        50,
+        51,
+        52,
+        53,
+        330,
+        331,
+        382,
+        383,
+        384,
+        385,
+        730,
+        740,
+        760,
+        800,
+        810,
+        820,
+        830,
+        840,
+        850,
+        860,
+        870,
+        880,
+        890,
+    ),
     2: (170, 180, 190, 171, 181, 191),
     3: (900, 910),
     4: (901, 911),
@@ -59,9 +86,10 @@ class Words:
 
     g: dict[int, int] = field(default_factory=dict)  # group -> code*10
     m: dict[int, int] = field(default_factory=dict)  # group -> code
-    coolant: list[int] = field(default_factory=list)  # M7 and M8 may share a line
     values: dict[str, float] = field(default_factory=dict)
     columns: dict[str, int] = field(default_factory=dict)
+    #: only axis words X Y Z A B C and no G or M code (the CAM hot path)
+    plain: bool = False
 
     def has_axis(self) -> bool:
         v = self.values
@@ -88,33 +116,27 @@ def m_code(value: float, loc: Location) -> int:
 
 def add_g(words: Words, code: int, loc: Location) -> None:
     group = G_GROUPS[code]
+    if group == 1 and group in words.g and 800 in (code, words.g[1]):
+        # LinuxCNC accepts G80 beside another motion code and runs the motion
+        if code != 800:
+            words.g[1] = code
+        return
     if group in words.g:
         raise Diagnostic("NGC-G-GROUP-CONFLICT", "two G codes used from same modal group", loc)
     words.g[group] = code
 
 
 def add_m(words: Words, code: int, loc: Location) -> None:
-    if code in (7, 8):
-        if code in words.coolant:
-            raise Diagnostic("NGC-M-GROUP-CONFLICT", "two M codes used from same modal group", loc)
-        if 8 in words.m and words.m[8] == 9:
-            raise Diagnostic("NGC-M-GROUP-CONFLICT", "two M codes used from same modal group", loc)
-        words.coolant.append(code)
-        return
     group = M_GROUPS.get(code, 10 if code >= 100 else -1)
-    if group == 8 and words.coolant:
-        raise Diagnostic("NGC-M-GROUP-CONFLICT", "two M codes used from same modal group", loc)
     if group in words.m:
         raise Diagnostic("NGC-M-GROUP-CONFLICT", "two M codes used from same modal group", loc)
-    if sum(1 for _ in words.m) >= 4:
+    if len(words.m) >= 4:
         raise Diagnostic("NGC-TOO-MANY-M", "too many M codes on line", loc)
     words.m[group] = code
 
 
 def add_value(words: Words, letter: str, value: float, loc: Location) -> None:
     if letter in words.values:
-        raise Diagnostic(
-            "NGC-DUPLICATE-WORD", f"multiple {letter.upper()} words on one line", loc
-        )
+        raise Diagnostic("NGC-DUPLICATE-WORD", f"multiple {letter.upper()} words on one line", loc)
     words.values[letter] = value
     words.columns[letter] = loc.column

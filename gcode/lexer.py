@@ -14,6 +14,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
+from gcode.codes import Words
 from kernel.diagnostics import Diagnostic, Location
 
 # Expression nodes are plain tuples (fast to build and evaluate):
@@ -41,8 +42,10 @@ _LEVELS: tuple[tuple[str, ...], ...] = (
 )
 _OPERATOR_RE = re.compile(r"\*\*|[-+*/]|and|xor|or|eq|ne|gt|ge|lt|le|mod")
 _NUMBER_RE = re.compile(r"(?:\d+\.?\d*|\.\d+)")
-_SIMPLE_LINE_RE = re.compile(r"(?:[a-z][-+]?(?:\d+\.?\d*|\.\d+))+")
-_SIMPLE_WORD_RE = re.compile(r"([a-z])([-+]?(?:\d+\.?\d*|\.\d+))")
+_PLAIN_LINE_RE = re.compile(r"[ \t]*(?:[xyzabc][ \t]*[-+]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
+_PLAIN_WORD_RE = re.compile(r"([xyzabc])[ \t]*([-+]?(?:\d+\.?\d*|\.\d+))")
+_SIMPLE_LINE_RE = re.compile(r"[ \t]*(?:[a-z][ \t]*[-+]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
+_SIMPLE_WORD_RE = re.compile(r"([a-z])[ \t]*([-+]?(?:\d+\.?\d*|\.\d+))")
 _OWORD_KEYWORDS = (
     "sub",
     "endsub",
@@ -92,10 +95,17 @@ class Block:
     comments: list[tuple[str, int]] = field(default_factory=list)
     oword: OWord | None = None
     percent: bool = False
+    #: evaluated words of a block without parameters or expressions (set by the lexer for
+    #: plain axis lines, by the interpreter for other constant lines)
+    cached_words: object = None
+    #: column of the first word
+    col0: int = 1
 
     @property
     def empty(self) -> bool:
-        return not (self.words or self.assignments or self.comments or self.oword)
+        return not (
+            self.words or self.assignments or self.comments or self.oword or self.cached_words
+        )
 
 
 class _Scanner:
@@ -191,7 +201,15 @@ class _Scanner:
         if fn == "exists":
             self.i += 1
             if not self.s.startswith("#<", self.i):
-                raise self.error("NGC-EXISTS-ARG", "EXISTS needs a named parameter #<name>", start)
+                if self.peek() != "#":
+                    raise self.error(
+                        "NGC-EXISTS-ARG", "EXISTS needs a parameter #<name> or #n", start
+                    )
+                self.parameter()  # numbered parameters always exist (LinuxCNC)
+                if self.peek() != "]":
+                    raise self.error("NGC-UNCLOSED-EXPR", "expression not closed with ']'", start)
+                self.i += 1
+                return 1.0
             p = self.parameter()
             if self.peek() != "]":
                 raise self.error("NGC-UNCLOSED-EXPR", "expression not closed with ']'", start)
@@ -221,7 +239,9 @@ class _Scanner:
             op = self.operator()
             if op is None or op not in ops:
                 if op is None and self.peek() not in ("]", ""):
-                    raise self.error("NGC-BAD-OPERATOR", f"unknown operator at '{self.s[self.i:]}'")
+                    raise self.error(
+                        "NGC-BAD-OPERATOR", f"unknown operator at '{self.s[self.i :]}'"
+                    )
                 return left
             self.i += len(op)
             right = self.expression(level + 1)
@@ -267,24 +287,31 @@ def _strip_comments(
 
 def parse_line(raw: str, line: int, file: str | None = None) -> Block:
     """Parse one line of RS274/NGC into a :class:`Block` (no evaluation)."""
-    stripped = raw.strip()
+    low = raw.lower()
+    if _PLAIN_LINE_RE.fullmatch(low):
+        # the CAM line: axis words only; evaluated here once (NIST v3 §3.3: order and
+        # blanks do not matter); a repeated letter takes the general path below
+        pairs = _PLAIN_WORD_RE.findall(low)
+        values = {letter: float(number) for letter, number in pairs}
+        if len(values) == len(pairs):
+            col0 = len(raw) - len(raw.lstrip()) + 1
+            return Block(line, raw, cached_words=Words(values=values, plain=True), col0=col0)
     block = Block(line, raw)
-    if stripped.startswith("%"):
+    if "%" in raw and raw.strip().startswith("%"):
         block.percent = True
         return block
-    # fast path: CAM-style lines of plain words with numbers
-    low = stripped.lower().replace(" ", "")
-    if _SIMPLE_LINE_RE.fullmatch(low):
-        pos = 0
+    # fast path: CAM-style lines of plain words with numbers (blanks between words only)
+    if "o" not in low and _SIMPLE_LINE_RE.fullmatch(low):
+        words = block.words
         for m in _SIMPLE_WORD_RE.finditer(low):
-            letter = m.group(1)
-            col = raw.lower().find(letter, pos) + 1
-            pos = col
-            if letter == "n" and not block.words and block.n_number is None:
-                block.n_number = float(m.group(2))
-                continue
-            block.words.append(Word(letter, float(m.group(2)), col))
-        _check_letters(block, file)
+            letter, number = m.groups()
+            if letter not in _LETTERS:
+                if letter == "n" and not words and block.n_number is None:
+                    block.n_number = float(number)
+                    continue
+                words.append(Word(letter, 0.0, m.start() + 1))
+                _check_letters(block, file)
+            words.append(Word(letter, float(number), m.start() + 1))
         return block
 
     text, cols, comments = _strip_comments(raw, file, line)
@@ -303,7 +330,7 @@ def parse_line(raw: str, line: int, file: str | None = None) -> Block:
         block.oword = _parse_oword(sc)
         if sc.i < len(text):
             # only comments may follow an O-word command
-            raise sc.error("NGC-OWORD-TRAILING", f"unexpected text after O-word: '{text[sc.i:]}'")
+            raise sc.error("NGC-OWORD-TRAILING", f"unexpected text after O-word: '{text[sc.i :]}'")
         return block
     while sc.i < len(text):
         c = text[sc.i]
@@ -357,12 +384,14 @@ def _parse_oword(sc: _Scanner) -> OWord:
     else:
         value = sc.real_value()
         name = value
+    if sc.i >= len(sc.s) and not isinstance(name, str):
+        return OWord(name, "", [], col)  # "O123" alone: a program number, ignored
     for kw in sorted(_OWORD_KEYWORDS, key=len, reverse=True):
         if sc.s.startswith(kw, sc.i):
             sc.i += len(kw)
             break
     else:
-        raise sc.error("NGC-OWORD-KEYWORD", "unknown or missing O-word keyword")
+        raise sc.error("NGC-OWORD-KEYWORD", "unknown control command in O-word")
     args: list[Expr] = []
     if kw in ("call",):
         while sc.peek() == "[":

@@ -30,7 +30,9 @@ def param_index(value: float, loc: Location) -> int:
     """Check a parameter number is an integer in range (LinuxCNC rejects others)."""
     idx = round(value)
     if abs(value - idx) > 1e-4:
-        raise Diagnostic("NGC-PARAM-NOT-INTEGER", f"parameter number {value:g} is not an integer", loc)
+        raise Diagnostic(
+            "NGC-PARAM-NOT-INTEGER", f"parameter number {value:g} is not an integer", loc
+        )
     if idx < 1 or idx >= MAX_PARAMETER:
         raise Diagnostic("NGC-PARAM-RANGE", f"parameter number {idx} out of range", loc)
     return idx
@@ -58,10 +60,17 @@ class Parameters:
         self.globals: dict[str, float] = {}
         self.frames: list[_Frame] = [_Frame()]
         self.predefined = predefined
+        #: live values of read-only numbered parameters (5400-5428, ...); None: stored value
+        self.dynamic: Callable[[int], float | None] | None = None
 
     # ------------------------------------------------------------------ reads
     def numbered(self, index: float, loc: Location) -> float:
-        return self.values[param_index(index, loc)]
+        idx = param_index(index, loc)
+        if idx >= 5399 and self.dynamic is not None:
+            v = self.dynamic(idx)
+            if v is not None:
+                return v
+        return self.values[idx]
 
     def named(self, name: str, loc: Location) -> float:
         if name.startswith("_"):
@@ -90,8 +99,10 @@ class Parameters:
 
     def set_named(self, name: str, value: float, loc: Location) -> None:
         if name.startswith("_"):
-            if self.predefined is not None and self.predefined(name) is not None and (
-                name not in self.globals
+            if (
+                self.predefined is not None
+                and self.predefined(name) is not None
+                and (name not in self.globals)
             ):
                 raise Diagnostic(
                     "NGC-NAMED-READONLY", f"cannot assign to read-only parameter #<{name}>", loc

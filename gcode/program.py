@@ -7,6 +7,7 @@ subroutine calls jump back by byte offset, as LinuxCNC does. Parsed blocks are c
 
 from __future__ import annotations
 
+import io
 import os
 import re
 from collections import OrderedDict
@@ -33,34 +34,58 @@ class Position:
 class ProgramFile:
     """One open program file with line numbers and seekable offsets."""
 
-    def __init__(self, path: str) -> None:
+    def __init__(self, path: str, data: bytes | None = None) -> None:
         self.path = path
-        try:
-            self._fh: BinaryIO = open(path, "rb")  # noqa: SIM115 - closed by close()
-        except OSError as exc:
-            raise Diagnostic(
-                "IO-OPEN", f"cannot open program: {exc.strerror or exc}", Location(path)
-            ) from None
+        if data is not None:
+            self._fh: BinaryIO = io.BytesIO(data)
+        else:
+            try:
+                self._fh = open(path, "rb")  # noqa: SIM115 - closed by close()
+            except OSError as exc:
+                raise Diagnostic(
+                    "IO-OPEN", f"cannot open program: {exc.strerror or exc}", Location(path)
+                ) from None
         self.line = 0
+        self._offset = 0  # byte offset of the next line
+        self.line_offset = 0  # byte offset of the line read last
+        self.last_nonblank = 0  # number of the last line holding more than blanks
         self._cache: OrderedDict[int, Block] = OrderedDict()
+        #: keep parsed blocks for re-reading (set while loops or subroutines are active)
+        self.caching = True
 
     def close(self) -> None:
         self._fh.close()
 
     def tell(self) -> Position:
-        return Position(self.path, self._fh.tell(), self.line)
+        return Position(self.path, self._offset, self.line)
+
+    def seek_to(self, offset: int, line: int) -> None:
+        """Continue reading at byte ``offset``, which starts line ``line + 1``."""
+        self._fh.seek(offset)
+        self._offset = offset
+        self.line = line
+        self.last_nonblank = line
+
+    def current(self) -> Position:
+        """Position of the line read last (to come back to it: loops)."""
+        return Position(self.path, self.line_offset, self.line - 1)
 
     def seek(self, pos: Position) -> None:
         self._fh.seek(pos.offset)
+        self._offset = pos.offset
         self.line = pos.line
 
     def next_raw(self) -> tuple[int, bytes] | None:
         """The next raw line with its offset, or None at end of file."""
-        offset = self._fh.tell()
+        offset = self._offset
         data = self._fh.readline()
         if not data:
             return None
+        self._offset = offset + len(data)
         self.line += 1
+        self.line_offset = offset
+        if not data.isspace():
+            self.last_nonblank = self.line
         return offset, data
 
     def next_block(self) -> Block | None:
@@ -68,13 +93,21 @@ class ProgramFile:
         if raw is None:
             return None
         offset, data = raw
-        cached = self._cache.get(offset)
+        cache = self._cache
+        if not self.caching:
+            if not cache:
+                return parse_line(_decode(data, self.path, self.line), self.line, self.path)
+            cached = cache.get(offset)
+            if cached is not None:
+                return cached
+            return parse_line(_decode(data, self.path, self.line), self.line, self.path)
+        cached = cache.get(offset)
         if cached is not None:
             return cached
         block = parse_line(_decode(data, self.path, self.line), self.line, self.path)
-        if len(self._cache) >= _CACHE_SIZE:
-            self._cache.popitem(last=False)
-        self._cache[offset] = block
+        if len(cache) >= _CACHE_SIZE:
+            cache.popitem(last=False)
+        cache[offset] = block
         return block
 
     def next_oword_block(self) -> Block | None:
@@ -85,6 +118,9 @@ class ProgramFile:
                 return None
             offset, data = raw
             if _OWORD_LINE_RE.match(data):
+                cached = self._cache.get(offset)
+                if cached is not None and cached.oword is not None:
+                    return cached
                 block = parse_line(_decode(data, self.path, self.line), self.line, self.path)
                 if block.oword is not None:
                     return block

@@ -103,8 +103,9 @@ def read_nist_tool_file(lines: Iterable[str], file: str | None = None) -> ToolTa
             pocket, fms = int(parts[0]), int(parts[1])
             tlo, diam = float(parts[2]), float(parts[3])
         except (ValueError, IndexError):
-            raise Diagnostic("TOOL-SYNTAX", f"bad tool file row: '{line.strip()}'",
-                             Location(file, n, 1)) from None
+            raise Diagnostic(
+                "TOOL-SYNTAX", f"bad tool file row: '{line.strip()}'", Location(file, n, 1)
+            ) from None
         if fms == 0:
             continue
         table.tools[fms] = Tool(
@@ -115,8 +116,9 @@ def read_nist_tool_file(lines: Iterable[str], file: str | None = None) -> ToolTa
             comment=parts[4].strip() if len(parts) > 4 else "",
         )
     if not in_data:
-        raise Diagnostic("TOOL-NO-BLANK", "tool file has no blank line before its data",
-                         Location(file, 1, 1))
+        raise Diagnostic(
+            "TOOL-NO-BLANK", "tool file has no blank line before its data", Location(file, 1, 1)
+        )
     return table
 
 

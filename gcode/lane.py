@@ -1,0 +1,145 @@
+"""The interpreter's use of the compiled fast lane (:mod:`gcode.fastlane`) for large files.
+
+Runs of plain CAM lines (axis words, F, G0/G1, N) are scanned straight from the file's
+bytes by compiled code while the modal state is simple (top level of the main file, G94,
+G0 or G1, no cutter compensation, no lathe diameter mode). Everything else, and every
+diagnostic, stays with the general interpreter.
+
+One rs274 rule the lane does not know is applied here: a line with G0 or G1 and no axis
+word (``G1``, ``G1 F100``) still moves, to the current point (rs274 prints the motion); the
+run is cut before such a line so the general path takes it.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from gcode import fastlane
+from gcode.program import ProgramFile
+from kernel.diagnostics import Location
+
+if TYPE_CHECKING:
+    from gcode.interpreter import Interpreter
+
+_G01_WITHOUT_AXES = re.compile(rb"(?m)^(?![^\n]*[xyzabcXYZABC])[^\n]*[gG][ \t]*0*[01](?![0-9.])")
+#: after a try that took no line, let the general path take this many lines first
+_BACKOFF = 8
+
+
+class Lane:
+    """The fast lane over one program file, read in windows of whole lines (bounded memory)."""
+
+    WINDOW = 1 << 20
+
+    def __init__(self, pf: ProgramFile) -> None:
+        self.pf = pf
+        self._fh = open(pf.path, "rb")  # noqa: SIM115 - closed by close()
+        self._start = 0  # file offset of the window
+        self._data = b""
+        self._buf = np.frombuffer(self._data, dtype=np.uint8)
+        self._eof = False
+        self._wait = 0
+
+    @staticmethod
+    def for_file(pf: ProgramFile) -> Lane | None:
+        """A lane for ``pf`` (None if the file cannot be opened)."""
+        try:
+            return Lane(pf)
+        except OSError:
+            return None
+
+    def close(self) -> None:
+        self._fh.close()
+
+    def _window(self, offset: int) -> int:
+        """Make the window hold whole lines from ``offset``; the offset inside it."""
+        end = self._start + len(self._data)
+        if self._start <= offset and (end - offset > self.WINDOW // 4 or self._eof):
+            return offset - self._start
+        self._fh.seek(offset)
+        data = self._fh.read(self.WINDOW)
+        self._eof = len(data) < self.WINDOW
+        if not self._eof:
+            cut = data.rfind(b"\n") + 1
+            data = data[:cut] if cut else data
+        self._start, self._data = offset, data
+        self._buf = np.frombuffer(data, dtype=np.uint8)
+        return 0
+
+    def take(self, ip: Interpreter) -> fastlane.Run | None:
+        """Scan the plain lines at the current position; advance the file past them."""
+        if self._wait:
+            self._wait -= 1
+            return None
+        s = ip.s
+        flow = ip.flow
+        comp = ip.comp
+        if (
+            flow.file is not self.pf
+            or flow.calls
+            or flow.controls
+            or not flow.seen_line
+            or s.feed_mode != 0
+            or s.motion_mode not in (0, 10)
+            or s.diameter_mode
+            or (comp is not None and (comp.on or comp.holding))  # type: ignore[attr-defined]
+        ):
+            return None
+        pf = self.pf
+        start = self._window(pf._offset)
+        run = fastlane.scan(
+            self._buf,
+            start,
+            s.pos,
+            s.feed_rate,
+            incremental=not s.absolute,
+            traverse=s.motion_mode == 0,
+            first_line=pf.line + 1,
+        )
+        if run.lines:
+            run = self._cut_before_bare_g01(run, start, s.pos, s.feed_rate, s.motion_mode == 0)
+        if not run.lines:
+            self._wait = _BACKOFF
+            return None
+        pf.seek_to(self._start + start + run.consumed, pf.line + run.lines)
+        s.pos = list(run.end_position)
+        s.feed_rate = run.end_feed
+        s.motion_mode = 0 if run.end_traverse else 10
+        if len(run):
+            s.tlo_lag = None
+        ip.loc = Location(pf.path, pf.line, 1)
+        return run
+
+    def _cut_before_bare_g01(
+        self,
+        run: fastlane.Run,
+        start: int,
+        pos: list[float],
+        feed: float,
+        traverse: bool,
+    ) -> fastlane.Run:
+        data = self._data
+        m = _G01_WITHOUT_AXES.search(data, start, start + run.consumed)
+        if m is None:
+            return run
+        cut = data.rfind(b"\n", start, m.start()) + 1 if m.start() > start else start
+        lines = data.count(b"\n", start, cut)
+        last_line = self.pf.line + lines
+        keep = int(np.searchsorted(run.line, last_line, side="right"))
+        kinds = run.kind[:keep]
+        moves = np.flatnonzero(kinds != fastlane.SET_FEED)
+        end_traverse = bool(kinds[moves[-1]] == fastlane.TRAVERSE) if len(moves) else traverse
+        return fastlane.Run(
+            kinds,
+            run.position[:keep],
+            run.feed[:keep],
+            run.line[:keep],
+            cut - start,
+            lines,
+            tuple(run.position[keep - 1].tolist()) if keep else tuple(pos),
+            float(run.feed[keep - 1]) if keep else feed,
+            end_traverse,
+        )

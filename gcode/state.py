@@ -1,0 +1,116 @@
+"""The interpreter's machine model: modal state, position and offsets (NIST v3 §3.4, LinuxCNC).
+
+One mutable object per run (the interpreter is a state machine; copying it per line would
+cost more than the line). Positions are *program* coordinates in the current length units,
+as rs274 prints them in motions: machine = program + G5x offset + G92 offset + tool offset
+(the XY rotation of G10 L2 R is applied below the interpreter, as in LinuxCNC). Offsets are
+kept in current units too and converted when G20/G21 changes the units.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from kernel.canon import Direction, Plane, Units
+
+#: motion-mode codes (``round(G*10)``), see :mod:`gcode.codes`
+G0, G1, G2, G3 = 0, 10, 20, 30
+G80 = 800
+INCH_MM = 25.4
+
+
+@dataclass(slots=True)
+class CycleWords:
+    """Sticky canned-cycle values (LinuxCNC keeps R, Z, P, Q, ... between cycle blocks)."""
+
+    r: float = 0.0
+    z: float = 0.0
+    p: float = 0.0
+    q: float = 0.0
+    i: float = 0.0
+    j: float = 0.0
+    k: float = 0.0
+    l: int = 1  # noqa: E741 - the L word
+    cc: float = 0.0  # clear plane of the previous cycle block (G98)
+
+
+@dataclass(slots=True)
+class Setup:
+    """Everything the interpreter remembers between lines."""
+
+    # position (program coordinates, current units): x y z a b c
+    pos: list[float] = field(default_factory=lambda: [0.0] * 6)
+    units: Units = Units.MM
+    plane: Plane = Plane.XY
+    absolute: bool = True  # G90 / G91
+    ijk_absolute: bool = False  # G90.1 / G91.1
+    diameter_mode: bool = False  # G7 (lathe diameter) / G8 (radius)
+    feed_mode: int = 0  # 0 G94, 1 G93, 2 G95
+    feed_rate: float = 0.0
+    speed: float = 0.0
+    css: bool = False  # G96
+    css_max: float = 0.0
+    spindle: Direction = Direction.STOPPED
+    motion_mode: int | None = G80  # rs274 starts with no motion mode (axis words refused)
+    retract_r: bool = True  # G99 (retract to R, rs274's initial mode); G98 otherwise
+    cycle_series: bool = False  # inside a series of canned-cycle blocks
+    control_mode: int = 640  # G61 610, G61.1 611, G64 640
+    blend_p: float = 0.0
+    blend_q: float = 0.0
+    origin_index: int = 1  # G54 .. G59.3 -> 1..9
+    g5x: list[float] = field(default_factory=lambda: [0.0] * 6)
+    g92: list[float] = field(default_factory=lambda: [0.0] * 6)
+    #: work offsets of G54..G59.3 (index 1..9; 0 unused): x y z a b c and the XY rotation R
+    coords: list[list[float]] = field(default_factory=lambda: [[0.0] * 7 for _ in range(10)])
+    g28: list[float] = field(default_factory=lambda: [0.0] * 6)  # machine coordinates
+    g30: list[float] = field(default_factory=lambda: [0.0] * 6)
+    g92_saved: list[float] = field(default_factory=lambda: [0.0] * 6)  # G92.2 / G92.3
+    rotation: float = 0.0
+    tool_offset: list[float] = field(default_factory=lambda: [0.0] * 9)
+    tool_length_mode: int = 490  # G43 430, G43.1 431, G49 490
+    current_tool: int = 0
+    current_pocket: int = 0
+    selected_tool: int = -1
+    selected_pocket: int = -1
+    mist: bool = False
+    flood: bool = False
+    feed_override: bool = True
+    speed_override: bool = True
+    adaptive_feed: bool = False
+    feed_hold: bool = True
+    comp_side: int = 400  # G40 400, G41 410, G42 420
+    comp_radius: float = 0.0
+    cycle: CycleWords = field(default_factory=CycleWords)
+    probe_flag: bool = False
+    #: rs274's canon does not move its own position on a tool-length change: until the
+    #: next motion, canon position = ours + tlo_lag; M6/M61 take the canon position back
+    tlo_lag: list[float] | None = None
+    spline_i: float = 0.0  # G5 continuation (cycle_i / cycle_j of LinuxCNC)
+    spline_j: float = 0.0
+    nurbs_points: list[tuple[float, float, float]] = field(default_factory=list)
+    nurbs_order: int = 3
+
+    @property
+    def inches(self) -> bool:
+        return self.units is Units.INCHES
+
+    def machine_offset(self, i: int) -> float:
+        """Program -> machine offset of axis ``i`` (0..5)."""
+        return self.g5x[i] + self.g92[i] + self.tool_offset[i]
+
+    def scale_lengths(self, factor: float) -> None:
+        """G20/G21: re-express every stored length in the new units (no motion)."""
+        for v in (self.pos, self.g5x, self.g92, self.g28, self.g30, self.g92_saved, *self.coords):
+            for i in range(3):
+                v[i] *= factor
+        # the tool length offset keeps its numbers (rs274 does not convert it)
+        self.comp_radius *= factor
+        c = self.cycle
+        c.r *= factor
+        c.z *= factor
+        c.q *= factor
+        c.i *= factor
+        c.j *= factor
+        c.k *= factor
+        c.cc *= factor
+        self.nurbs_points = [(x * factor, y * factor, w) for x, y, w in self.nurbs_points]
