@@ -22,11 +22,10 @@ from kernel.measure import Report, measure
 
 def _commands(path: str) -> Iterator[canon.Command]:
     if path.endswith(".canon"):
-        # every command, LinuxCNC's work offsets and XY rotation included (read_commands
-        # drops those; the planner needs them to place the moves on the machine)
+        # LinuxCNC's work offsets and XY rotation included: the planner needs them to
+        # place the moves on the machine
         with open(path, encoding="utf-8", errors="replace") as fh:
-            for tc in canon.read_text(fh, path):
-                yield canon.parse_command(tc, path)
+            yield from canon.read_commands(fh, path, keep_linuxcnc=True)
         return
     try:
         from gcode.interpreter import interpret

@@ -11,86 +11,23 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
-from kernel.canon import Command
+from kernel.canon import (  # noqa: F401 - re-exported: the interpreter emits them as lc.*
+    ChangeToolNumber,
+    Command,
+    Finish,
+    OnReset,
+    RigidTap,
+    SetG5xOffset,
+    SetG92Offset,
+    SetToolTableEntry,
+    SetXYRotation,
+    StartChange,
+)
 
 
 def _f4(v: float) -> str:
     s = f"{v:.4f}"
     return "0.0000" if s == "-0.0000" else s
-
-
-@dataclass(frozen=True, slots=True)
-class SetG5xOffset(Command):
-    """Active work offset G54..G59.3 (``index`` 1..9) in program units."""
-
-    NAME: ClassVar[str] = "SET_G5X_OFFSET"
-    index: int
-    x: float
-    y: float
-    z: float
-    a: float = 0.0
-    b: float = 0.0
-    c: float = 0.0
-
-    def to_text(self) -> str:
-        vals = ", ".join(_f4(v) for v in (self.x, self.y, self.z, self.a, self.b, self.c))
-        return f"{self.NAME}({self.index}, {vals})"
-
-
-@dataclass(frozen=True, slots=True)
-class SetG92Offset(Command):
-    NAME: ClassVar[str] = "SET_G92_OFFSET"
-    x: float
-    y: float
-    z: float
-    a: float = 0.0
-    b: float = 0.0
-    c: float = 0.0
-
-
-@dataclass(frozen=True, slots=True)
-class SetXYRotation(Command):
-    NAME: ClassVar[str] = "SET_XY_ROTATION"
-    angle: float
-
-
-@dataclass(frozen=True, slots=True)
-class OnReset(Command):
-    NAME: ClassVar[str] = "ON_RESET"
-
-
-@dataclass(frozen=True, slots=True)
-class StartChange(Command):
-    NAME: ClassVar[str] = "START_CHANGE"
-
-
-@dataclass(frozen=True, slots=True)
-class ChangeToolNumber(Command):
-    """M61: the spindle holds tool ``number`` now (no motion, no change cycle)."""
-
-    NAME: ClassVar[str] = "CHANGE_TOOL_NUMBER"
-    number: int
-
-
-@dataclass(frozen=True, slots=True)
-class SetToolTableEntry(Command):
-    """G10 L1/L10/L11: a tool-table row rewritten (offsets x y z a b c u v w)."""
-
-    NAME: ClassVar[str] = "SET_TOOL_TABLE_ENTRY"
-    pocket: int
-    tool: int
-    offset: tuple[float, ...]
-    diameter: float
-    front_angle: float
-    back_angle: float
-    orientation: int
-
-    def to_text(self) -> str:
-        off = " ".join(_f4(v) for v in self.offset)
-        return (
-            f"{self.NAME}({self.pocket}, {self.tool}, {off}, {_f4(self.diameter)}, "
-            f"{_f4(self.front_angle)}, {_f4(self.back_angle)}, {self.orientation})"
-        )
 
 
 @dataclass(frozen=True, slots=True)
@@ -143,20 +80,3 @@ class WaitOrientComplete(Command):
 
     def to_text(self) -> str:
         return f"{self.NAME}({_f4(self.timeout)})"
-
-
-@dataclass(frozen=True, slots=True)
-class Finish(Command):
-    """End of a sequence of motions rs274 prints before a probe or an M66 wait."""
-
-    NAME: ClassVar[str] = "FINISH"
-
-
-@dataclass(frozen=True, slots=True)
-class RigidTap(Command):
-    """G33.1: spindle-synchronised tap in to the point and back (LinuxCNC ``RIGID_TAP``)."""
-
-    NAME: ClassVar[str] = "RIGID_TAP"
-    x: float
-    y: float
-    z: float

@@ -441,10 +441,20 @@ def set_tool_entry(ip: Interpreter, w: Words, lword: int) -> None:
     diameter = tool.diameter
     if "r" in v:
         diameter = 2.0 * v["r"] / k
-    new = replace(tool, offset=tuple(offset), diameter=diameter)
+    front = v.get("i", tool.front_angle)
+    back = v.get("j", tool.back_angle)
+    orientation = int(round(v["q"])) if "q" in v else tool.orientation
+    new = replace(
+        tool,
+        offset=tuple(offset),
+        diameter=diameter,
+        front_angle=front,
+        back_angle=back,
+        orientation=orientation,
+    )
     ip.tools.tools[n] = new
     if ip.compat:
-        entry = (tuple(offset), tool.diameter, tool.front_angle, tool.back_angle, tool.orientation)
+        entry = (tuple(offset), diameter, front, back, orientation)
         ip.emit(lc.SetToolTableEntry(tool.pocket, n, *entry, source=loc))
         if n == s.current_tool and n != 0:
             ip.emit(lc.SetToolTableEntry(0, n, *entry, source=loc))

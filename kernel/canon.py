@@ -27,6 +27,7 @@ printed by NIST's and LinuxCNC's interpreters), a reader for it, and a JSON-line
 from __future__ import annotations
 
 import json
+import math
 import re
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field, fields
@@ -378,12 +379,19 @@ class NurbsFeed(Command):
 
     ``order`` is degree + 1; ``points`` are (first, second, weight) in the selected plane;
     ``knots`` has ``len(points) + order`` entries (clamped uniform when G5.2 gives none).
+    Read from LinuxCNC's elided print ``NURBS_FEED(n, ...)`` the order is 0 (unknown) and
+    the ``n`` points are NaN: only their number is known (:attr:`elided`).
     """
 
     NAME: ClassVar[str] = "NURBS_FEED"
     order: int
     points: tuple[tuple[float, float, float], ...] = ()
     knots: tuple[float, ...] = ()
+
+    @property
+    def elided(self) -> bool:
+        """True when only the number of control points is known (LinuxCNC's print)."""
+        return self.order == 0
 
     def args(self) -> tuple[object, ...]:
         flat: list[object] = [self.order, len(self.points)]
@@ -599,9 +607,10 @@ class ProgramEnd(Command):
 
 
 # --------------------------------------------------------------------------- LinuxCNC additions
-# Commands LinuxCNC's rs274 prints that NISTIR 5970 lacks. The interpreter emits them in its
-# LinuxCNC-compatible mode so ``cnc canon`` reads like rs274; the kernel ignores all but
-# RIGID_TAP (a spindle-synchronised motion to a depth and back, G33.1).
+# Commands LinuxCNC's rs274 prints that NISTIR 5970 lacks and that carry data the kernel or
+# the readers of reference outputs use (offsets, rotation, rigid tapping, tool-table edits).
+# The interpreter emits them in its LinuxCNC-compatible mode so ``cnc canon`` reads like
+# rs274; print-only variants (I/O bits, nine-value tool offsets) live in gcode/linuxcnc.py.
 @dataclass(frozen=True, slots=True)
 class SetG5xOffset(Command):
     """Active work offset: index 1..9 (G54..G59.3) and its x y z a b c."""
@@ -657,24 +666,24 @@ class ChangeToolNumber(Command):
 
 @dataclass(frozen=True, slots=True)
 class SetToolTableEntry(Command):
-    """G10 L1/L10/L11: pocket, tool, offsets x y z a b c u v w, diameter, angles, orientation."""
+    """G10 L1/L10/L11: a tool-table row rewritten (offsets x y z a b c u v w)."""
 
     NAME: ClassVar[str] = "SET_TOOL_TABLE_ENTRY"
     pocket: int
     tool: int
-    x: float = 0.0
-    y: float = 0.0
-    z: float = 0.0
-    a: float = 0.0
-    b: float = 0.0
-    c: float = 0.0
-    u: float = 0.0
-    v: float = 0.0
-    w: float = 0.0
-    diameter: float = 0.0
-    front_angle: float = 0.0
-    back_angle: float = 0.0
-    orientation: int = 0
+    offset: tuple[float, ...]
+    diameter: float
+    front_angle: float
+    back_angle: float
+    orientation: int
+
+    def to_text(self) -> str:
+        """As rs274 prints it: the nine offsets separated by blanks, no diameter."""
+        off = " ".join(_fmt(v) for v in self.offset)
+        return (
+            f"{self.NAME}({self.pocket}, {self.tool}, {off}, "
+            f"{_fmt(self.front_angle)}, {_fmt(self.back_angle)}, {self.orientation})"
+        )
 
 
 @dataclass(frozen=True, slots=True)
@@ -685,56 +694,6 @@ class RigidTap(Command):
     x: float
     y: float
     z: float
-
-
-@dataclass(frozen=True, slots=True)
-class SetMotionOutputBit(Command):
-    """M62: digital output on, synchronised with the next motion."""
-
-    NAME: ClassVar[str] = "SET_MOTION_OUTPUT_BIT"
-    index: int
-
-
-@dataclass(frozen=True, slots=True)
-class ClearMotionOutputBit(Command):
-    """M63: digital output off, synchronised with the next motion."""
-
-    NAME: ClassVar[str] = "CLEAR_MOTION_OUTPUT_BIT"
-    index: int
-
-
-@dataclass(frozen=True, slots=True)
-class SetAuxOutputBit(Command):
-    """M64: digital output on, immediately."""
-
-    NAME: ClassVar[str] = "SET_AUX_OUTPUT_BIT"
-    index: int
-
-
-@dataclass(frozen=True, slots=True)
-class ClearAuxOutputBit(Command):
-    """M65: digital output off, immediately."""
-
-    NAME: ClassVar[str] = "CLEAR_AUX_OUTPUT_BIT"
-    index: int
-
-
-@dataclass(frozen=True, slots=True)
-class SetMotionOutputValue(Command):
-    """M67: analog output, synchronised with the next motion."""
-
-    NAME: ClassVar[str] = "SET_MOTION_OUTPUT_VALUE"
-    index: int
-    value: float
-
-
-@dataclass(frozen=True, slots=True)
-class SetAuxOutputValue(Command):
-    """M68: analog output, immediately."""
-
-    NAME: ClassVar[str] = "SET_AUX_OUTPUT_VALUE"
-    index: int
-    value: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -882,9 +841,12 @@ def parse_command(tc: TextCommand, file: str | None = None) -> Command:
     args = list(tc.args)
     try:
         if cls is NurbsFeed:
-            order = int(float(args[0]))
             if len(args) < 2 or args[1] == "...":
-                return NurbsFeed(order, source=loc)
+                # LinuxCNC prints NURBS_FEED(<number of control points>, ...) without the
+                # curve (saicanon.cc): order unknown (0), the count kept as blank points
+                count = int(float(args[0]))
+                return NurbsFeed(0, ((math.nan, math.nan, math.nan),) * count, source=loc)
+            order = int(float(args[0]))
             n = int(float(args[1]))
             vals = [float(a) for a in args[2:]]
             pts = tuple(tuple(vals[3 * i : 3 * i + 3]) for i in range(n))
@@ -895,6 +857,11 @@ def parse_command(tc: TextCommand, file: str | None = None) -> Command:
                 return ChangeTool(int(joined), source=loc)
             except ValueError:
                 return ChangeTool(0, joined, source=loc)
+        if cls is SetToolTableEntry and len(args) == 14:  # rs274 prints no diameter
+            f = [float(a) for a in args]
+            return SetToolTableEntry(
+                int(f[0]), int(f[1]), tuple(f[2:11]), 0.0, f[11], f[12], int(f[13]), source=loc
+            )
         if cls is UseToolLengthOffset and len(args) == 9:  # LinuxCNC: x y z, a b c, u v w
             return UseToolLengthOffset(float(args[2]), source=loc)
         if cls is SetSpindleMode and len(args) == 2 and "." not in args[0]:
@@ -924,16 +891,26 @@ def parse_command(tc: TextCommand, file: str | None = None) -> Command:
         ) from None
 
 
-def read_commands(lines: Iterable[str], file: str | None = None) -> Iterator[Command]:
-    """Read canonical text into IR commands, skipping LinuxCNC-only commands."""
+def read_commands(
+    lines: Iterable[str], file: str | None = None, *, keep_linuxcnc: bool = False
+) -> Iterator[Command]:
+    """Read canonical text into IR commands.
+
+    LinuxCNC-only commands (:data:`LINUXCNC_ONLY`) are skipped, except the feed and spindle
+    modes; with ``keep_linuxcnc`` those the IR has a class for (work offsets, XY rotation,
+    tool-table edits, ...) are kept, which a planner placing moves on the machine needs,
+    and only the print-only ones (I/O bits) are skipped.
+    """
     for tc in read_text(lines, file):
-        if tc.name in LINUXCNC_ONLY and tc.name not in (
-            "SET_FEED_MODE",
-            "SET_SPINDLE_MODE",
-            "SET_NAIVECAM_TOLERANCE",
-        ):
-            continue
+        if tc.name in LINUXCNC_ONLY:
+            if keep_linuxcnc and tc.name not in BY_NAME:
+                continue
+            if not keep_linuxcnc and tc.name not in _MODE_COMMANDS:
+                continue
         yield parse_command(tc, file)
+
+
+_MODE_COMMANDS = frozenset({"SET_FEED_MODE", "SET_SPINDLE_MODE", "SET_NAIVECAM_TOLERANCE"})
 
 
 # --------------------------------------------------------------------------- JSON lines

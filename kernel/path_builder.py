@@ -224,8 +224,10 @@ class PathBuilder:
         from kernel.nurbs import NurbsCurve, tessellate
 
         st = self.st
-        if not cmd.points:
-            raise Diagnostic("PLAN-NURBS", "NURBS_FEED without control points", cmd.source)
+        if not cmd.points or cmd.elided:
+            raise Diagnostic(
+                "PLAN-NURBS", "NURBS_FEED without its control points and knots", cmd.source
+            )
         f, s, _ = _PLANE_AXES[st.plane]
         pts = np.array([[p[0], p[1]] for p in cmd.points], dtype=float) * st.mm
         pts[:, 0] += st.g92[f]

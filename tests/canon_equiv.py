@@ -129,10 +129,11 @@ def _close(a: object, b: object) -> bool:
 
 
 def _motion_difference(ours: canon.Command, ref: canon.Command) -> str | None:
-    # LinuxCNC prints ``NURBS_FEED(order, ...)`` without the data: compare what both have.
+    # LinuxCNC prints ``NURBS_FEED(count, ...)`` without the data: compare what both have.
     nurbs = isinstance(ours, canon.NurbsFeed) and isinstance(ref, canon.NurbsFeed)
-    if nurbs and (not ours.points or not ref.points):  # type: ignore[union-attr]
-        return None if ours.order == ref.order else "NURBS order differs"
+    if nurbs and (ours.elided or ref.elided):  # type: ignore[union-attr]
+        n_ours, n_ref = len(ours.points), len(ref.points)  # type: ignore[union-attr]
+        return None if n_ours == n_ref else f"NURBS control points {n_ours} != {n_ref}"
     for f in fields(ours):
         if f.name == "source":
             continue

@@ -290,7 +290,7 @@ def test_golden_programs_plan_within_every_axis_limit():
     planned = 0
     for f in sorted(str(q) for q in (Path(__file__).parent / "golden" / "ngc").glob("*.canon")):
         with open(f) as fh:
-            cmds = [canon.parse_command(tc, f) for tc in canon.read_text(fh, f)]
+            cmds = list(canon.read_commands(fh, f, keep_linuxcnc=True))
         try:
             path = build_path(cmds, SIX_AXES, f)
         except Diagnostic as d:

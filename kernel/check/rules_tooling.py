@@ -147,7 +147,7 @@ def arc_radius_mismatch(cmd: canon.ArcFeed, st: CheckState, ctx: CheckContext) -
     kinds=(canon.NurbsFeed,),
 )
 def nurbs_invalid(cmd: canon.NurbsFeed, st: CheckState, ctx: CheckContext) -> str | None:
-    if not cmd.points:  # LinuxCNC prints NURBS_FEED(order, ...) without data
+    if cmd.elided or not cmd.points:  # LinuxCNC prints NURBS_FEED(count, ...) without data
         return None
     n, k = len(cmd.points), cmd.order
     if cmd.knots and len(cmd.knots) != n + k:
