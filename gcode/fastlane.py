@@ -13,7 +13,8 @@ emits ``SET_FEED_RATE`` each time it appears, before the line's motion; a line w
 words emits one ``STRAIGHT_TRAVERSE`` (G0) or ``STRAIGHT_FEED`` (G1) to the new position
 even when it equals the current one; in G91 the words are increments. A line is *plain*
 when it holds an optional integer ``N`` word first, then words among X Y Z A B C F and one
-G0/G1, each letter at most once, each with a plain decimal number, and ``F`` positive.
+G0/G1 (only beside an axis word), each letter at most once, each with a plain decimal
+number, and ``F`` positive.
 A run ends before the first line that is not plain or that would feed at a zero feed rate;
 the general interpreter takes that line, and owns every diagnostic.
 
@@ -173,7 +174,10 @@ def _scan(buf, start, slot_of, pow10, pos, feed, incremental, traverse, first_li
             j = _skip_blanks(buf, j, e)
         line_traverse = traverse
         if ok and have & 128:
-            if words[7] == 0.0 or words[7] == 1.0:
+            # G0/G1 with no axis word still moves, to the current point (rs274): general path
+            if not have & 63:
+                ok = False
+            elif words[7] == 0.0 or words[7] == 1.0:
                 line_traverse = words[7] == 0.0
             else:
                 ok = False

@@ -4,15 +4,10 @@ Runs of plain CAM lines (axis words, F, G0/G1, N) are scanned straight from the 
 bytes by compiled code while the modal state is simple (top level of the main file, G94,
 G0 or G1, no cutter compensation, no lathe diameter mode). Everything else, and every
 diagnostic, stays with the general interpreter.
-
-One rs274 rule the lane does not know is applied here: a line with G0 or G1 and no axis
-word (``G1``, ``G1 F100``) still moves, to the current point (rs274 prints the motion); the
-run is cut before such a line so the general path takes it.
 """
 
 from __future__ import annotations
 
-import re
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -24,7 +19,6 @@ from kernel.diagnostics import Location
 if TYPE_CHECKING:
     from gcode.interpreter import Interpreter
 
-_G01_WITHOUT_AXES = re.compile(rb"(?m)^(?![^\n]*[xyzabcXYZABC])[^\n]*[gG][ \t]*0*[01](?![0-9.])")
 #: after a try that took no line, let the general path take this many lines first
 _BACKOFF = 8
 
@@ -99,8 +93,6 @@ class Lane:
             traverse=s.motion_mode == 0,
             first_line=pf.line + 1,
         )
-        if run.lines:
-            run = self._cut_before_bare_g01(run, start, s.pos, s.feed_rate, s.motion_mode == 0)
         if not run.lines:
             self._wait = _BACKOFF
             return None
@@ -112,34 +104,3 @@ class Lane:
             s.tlo_lag = None
         ip.loc = Location(pf.path, pf.line, 1)
         return run
-
-    def _cut_before_bare_g01(
-        self,
-        run: fastlane.Run,
-        start: int,
-        pos: list[float],
-        feed: float,
-        traverse: bool,
-    ) -> fastlane.Run:
-        data = self._data
-        m = _G01_WITHOUT_AXES.search(data, start, start + run.consumed)
-        if m is None:
-            return run
-        cut = data.rfind(b"\n", start, m.start()) + 1 if m.start() > start else start
-        lines = data.count(b"\n", start, cut)
-        last_line = self.pf.line + lines
-        keep = int(np.searchsorted(run.line, last_line, side="right"))
-        kinds = run.kind[:keep]
-        moves = np.flatnonzero(kinds != fastlane.SET_FEED)
-        end_traverse = bool(kinds[moves[-1]] == fastlane.TRAVERSE) if len(moves) else traverse
-        return fastlane.Run(
-            kinds,
-            run.position[:keep],
-            run.feed[:keep],
-            run.line[:keep],
-            cut - start,
-            lines,
-            tuple(run.position[keep - 1].tolist()) if keep else tuple(pos),
-            float(run.feed[keep - 1]) if keep else feed,
-            end_traverse,
-        )

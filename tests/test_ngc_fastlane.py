@@ -63,12 +63,21 @@ def _word(letter: str, number: str) -> tuple[str, str]:
     return letter, number
 
 
-LINE = st.lists(
-    st.tuples(st.sampled_from(list(AXES) + ["x", "z", "F", "G"]), NUMBER),
-    min_size=0,
-    max_size=5,
-    unique_by=lambda w: w[0].upper(),
-).map(lambda words: [_word(letter, number) for letter, number in words])
+LINE = (
+    st.lists(
+        st.tuples(st.sampled_from(list(AXES) + ["x", "z", "F", "G"]), NUMBER),
+        min_size=0,
+        max_size=5,
+        unique_by=lambda w: w[0].upper(),
+    )
+    .map(lambda words: [_word(letter, number) for letter, number in words])
+    .filter(
+        # a G0/G1 needs an axis word beside it to be a plain line (see the bare-G test below)
+        lambda words: (
+            not any(a.upper() == "G" for a, _ in words) or any(a.upper() in AXES for a, _ in words)
+        )
+    )
+)
 
 
 @settings(max_examples=300, deadline=None)
@@ -140,3 +149,10 @@ def test_blanks_inside_words_are_ignored_as_rs274_does() -> None:
     assert run.lines == 2
     assert run.position[0].tolist() == [1.5, -2.0, 0.0, 0.0, 0.0, 0.0]
     assert run.kind.tolist() == [fastlane.FEED_MOVE, fastlane.TRAVERSE]
+
+
+def test_g0_or_g1_without_axis_words_is_left_to_the_interpreter() -> None:
+    # rs274 still moves to the current point for a bare ``G1`` (or ``G1 F100``)
+    for bare in ("G1", "G1 F100", "G0", "N5 G00"):
+        run = lane(f"X5\n{bare}\nX6\n", feed=10.0, traverse=False)
+        assert run.lines == 1, bare

@@ -1,0 +1,60 @@
+"""The fast lane changes nothing: every program gives the same commands with it as without.
+
+The interpreter uses the compiled lane (gcode/fastlane.py via gcode/lane.py) only for files
+of 1 MiB and more; here it is forced on for every golden and corpus program, whose outputs
+must be identical, command for command and source line for source line, to the general
+path's. The bench's CAM program exercises long runs.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+import gcode.interpreter as interp
+from gcode.interpreter import InterpreterOptions, interpret
+from gcode.tooltable import read_tool_table
+from kernel.diagnostics import Diagnostic
+
+ROOT = Path(__file__).resolve().parent
+sys.path.insert(0, str(ROOT.parent / "bench"))
+from cam_program import write_program  # noqa: E402
+
+GOLDEN = ROOT / "golden" / "ngc"
+CORPUS = ROOT.parent.parent / "shared" / "corpus" / "ngc"
+PROGRAMS = sorted(GOLDEN.glob("*.ngc")) + sorted(CORPUS.glob("*.ngc"))
+TOOLS = read_tool_table((GOLDEN / "sim.tbl").read_text().splitlines(), "sim.tbl")
+
+
+def run(path: Path, lane: bool) -> tuple[list[tuple[str, int]], str | None]:
+    options = InterpreterOptions(
+        tool_table=TOOLS, search_path=(str(GOLDEN / "subs"),), fast_lane=lane
+    )
+    out: list[tuple[str, int]] = []
+    try:
+        for cmd in interpret(path, options):
+            out.append((cmd.to_text(), cmd.source.line if cmd.source else 0))
+    except Diagnostic as exc:
+        return out, str(exc)
+    return out, None
+
+
+@pytest.fixture
+def lane_always(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(interp, "LANE_MIN_BYTES", 0)
+
+
+@pytest.mark.parametrize("program", PROGRAMS, ids=[p.stem for p in PROGRAMS])
+def test_lane_output_is_identical_to_the_general_path(program: Path, lane_always: None) -> None:
+    assert run(program, lane=True) == run(program, lane=False)
+
+
+def test_lane_on_a_cam_program_is_identical(tmp_path: Path, lane_always: None) -> None:
+    prog = write_program(tmp_path / "cam.ngc", 20_000)
+    fast, err_fast = run(prog, lane=True)
+    slow, err_slow = run(prog, lane=False)
+    assert err_fast is None and err_slow is None
+    assert len(fast) > 19_000
+    assert fast == slow
