@@ -1,0 +1,241 @@
+"""``cnc convert IN --from D --to D [-o OUT]``: move a program between controls via the IR.
+
+The input is read by the RS274/NGC interpreter (``--from rs274ngc``, and ``grbl`` /
+``nist_v3``, which are subsets of it), from canonical text (``--from canon``) or from the
+IR's JSON lines (``--from jsonl``). The
+output streams to ``-o OUT`` (written to a temporary file and renamed, so a refused
+conversion leaves no partial file) or to standard output. An existing OUT is never
+replaced without ``--force``. Every approximation, expansion, substitution or omission is
+printed as a note and, with ``--report R.json``, written as JSON.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+
+import click
+
+from cli.errors import guarded
+from gcode.convert_report import Change, ConversionReport
+from gcode.dialects import ALIASES, NAMES, get_dialect
+from gcode.emit import ARC_FORMATS, WriterOptions, write
+from kernel import canon
+from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
+
+#: dialects read by the RS274/NGC interpreter (their language is a subset of it)
+NGC_READABLE = ("rs274ngc", "grbl", "nist_v3")
+
+
+def read_canon(path: str, report: ConversionReport) -> Iterator[canon.Command]:
+    """Canonical text as IR; commands the IR does not know are dropped and reported."""
+    with open(path, encoding="utf-8") as fh:
+        for tc in canon.read_text(fh, path):
+            if tc.name in canon.LINUXCNC_ONLY and tc.name not in (
+                "SET_FEED_MODE",
+                "SET_SPINDLE_MODE",
+                "SET_NAIVECAM_TOLERANCE",
+            ):
+                continue
+            try:
+                yield canon.parse_command(tc, path)
+            except Diagnostic as exc:
+                if exc.code != "CANON-UNKNOWN":
+                    raise
+                report.add(
+                    Change("CONV-UNSUPPORTED", "dropped", exc.message, Location(path, tc.line, 1))
+                )
+
+
+def read_jsonl(path: str) -> Iterator[canon.Command]:
+    """The JSON-lines form of the IR (``kernel.canon.to_jsonl``), one command per line."""
+    with open(path, encoding="utf-8") as fh:
+        for number, line in enumerate(fh, 1):
+            if not line.strip():
+                continue
+            try:
+                yield canon.from_json(json.loads(line))
+            except (ValueError, TypeError, AttributeError) as exc:
+                raise Diagnostic(
+                    "CANON-SYNTAX", f"not an IR JSON line: {exc}", Location(path, number, 1)
+                ) from None
+
+
+def read_program(
+    path: str, dialect: str, tool_table: str | None, report: ConversionReport
+) -> Iterator[canon.Command]:
+    if dialect == "canon":
+        return read_canon(path, report)
+    if dialect == "jsonl":
+        return read_jsonl(path)
+    name = get_dialect(dialect).name
+    if name not in NGC_READABLE:
+        raise Diagnostic(
+            "CONV-READER",
+            f"no reader for {name} programs yet (docs/dialects.md lists what one needs); "
+            f"readable: canon, {', '.join(NGC_READABLE)}",
+        )
+    from gcode.interpreter import InterpreterOptions, interpret
+    from gcode.tooltable import read_tool_table
+
+    table = None
+    if tool_table:
+        table = read_tool_table(Path(tool_table).read_text().splitlines(), tool_table)
+    here = str(Path(path).resolve().parent)
+    commands = interpret(path, InterpreterOptions(tool_table=table, search_path=(here,)))
+    return _end_optional(commands) if name == "grbl" else commands
+
+
+def _end_optional(commands: Iterator[canon.Command]) -> Iterator[canon.Command]:
+    """Grbl streams blocks: a program needs neither M2/M30 nor % at its end."""
+    try:
+        yield from commands
+    except Diagnostic as exc:
+        if exc.code != "NGC-NO-END":
+            raise
+
+
+def _refuse_existing(path: str | None, force: bool, what: str) -> None:
+    if path and os.path.exists(path) and not force:
+        raise Diagnostic(
+            "IO-EXISTS", f"{what} {path} exists; use --force to replace it", Location(path)
+        )
+
+
+@click.command("convert")
+@click.argument("source", type=click.Path(dir_okay=False))
+@click.option(
+    "--from",
+    "src",
+    default="rs274ngc",
+    show_default=True,
+    type=click.Choice(["canon", "jsonl", *NAMES, *ALIASES], case_sensitive=False),
+    help=f"input language (readable: canon, jsonl, {', '.join(NGC_READABLE)})",
+)
+@click.option(
+    "--to",
+    "dst",
+    required=True,
+    type=click.Choice([*NAMES, *ALIASES], case_sensitive=False),
+    help="output dialect",
+)
+@click.option("-o", "--output", type=click.Path(dir_okay=False), help="output file (else stdout)")
+@click.option("--force", is_flag=True, help="replace an existing output or report file")
+@click.option(
+    "--arc-format",
+    type=click.Choice(ARC_FORMATS),
+    default="ijk",
+    show_default=True,
+    help="IJK incremental centres, absolute centres, or R",
+)
+@click.option("--units", type=click.Choice(["mm", "inch"]), help="output units (else the input's)")
+@click.option(
+    "--line-numbers", type=int, default=0, show_default=True, help="N-word increment (0: none)"
+)
+@click.option("--decimals", type=int, help="decimal places (else the dialect's)")
+@click.option("--max-line-length", type=int, help="longest block (else the dialect's limit)")
+@click.option("--header", "header", multiple=True, help="header line (repeatable)")
+@click.option("--footer", "footer", multiple=True, help="footer line (repeatable)")
+@click.option("--no-frame", is_flag=True, help="no header/footer at all")
+@click.option(
+    "--on-missing",
+    type=click.Choice(["approximate", "refuse"]),
+    default="approximate",
+    show_default=True,
+    help="what to do with a construct the target lacks",
+)
+@click.option(
+    "--tolerance",
+    type=float,
+    default=0.001,
+    show_default=True,
+    help="approximation tolerance (output length units)",
+)
+@click.option("--no-comments", is_flag=True, help="drop comments")
+@click.option(
+    "--tool-table",
+    type=click.Path(exists=True, dir_okay=False),
+    help="LinuxCNC .tbl or NIST tool file for the interpreter",
+)
+@click.option(
+    "--report",
+    "report_path",
+    type=click.Path(dir_okay=False),
+    help="write the conversion report as JSON",
+)
+@guarded
+def command(
+    source: str,
+    src: str,
+    dst: str,
+    output: str | None,
+    force: bool,
+    arc_format: str,
+    units: str | None,
+    line_numbers: int,
+    decimals: int | None,
+    max_line_length: int | None,
+    header: tuple[str, ...],
+    footer: tuple[str, ...],
+    no_frame: bool,
+    on_missing: str,
+    tolerance: float,
+    no_comments: bool,
+    tool_table: str | None,
+    report_path: str | None,
+) -> None:
+    """Convert SOURCE from one control's language to another's through the canonical IR."""
+    if not os.path.exists(source):
+        raise Diagnostic("IO-OPEN", f"no such file: {source}", Location(source))
+    if output and Path(output).resolve() == Path(source).resolve():
+        raise Diagnostic("IO-EXISTS", "output would replace the input", Location(output))
+    _refuse_existing(output, force, "output")
+    _refuse_existing(report_path, force, "report")
+    target = get_dialect(dst)
+    if tolerance <= 0 or (decimals is not None and not 0 <= decimals <= 9):
+        raise Diagnostic("CONV-OPTION", "tolerance must be > 0 and decimals within 0..9")
+    opts = WriterOptions(
+        arc_format=arc_format,
+        units=units,
+        line_numbers=line_numbers,
+        decimals=decimals,
+        header=() if no_frame else (header or None),
+        footer=() if no_frame else (footer or None),
+        max_line_length=max_line_length,
+        on_missing=on_missing,
+        tolerance=tolerance,
+        comments=not no_comments,
+    )
+    report = ConversionReport(source_dialect=src, target_dialect=target.name)
+    lines = write(read_program(source, src, tool_table, report), target, opts, report)
+    if output:
+        folder = os.path.dirname(os.path.abspath(output))
+        fd, tmp = tempfile.mkstemp(prefix=".convert-", dir=folder)
+        try:
+            with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
+                for line in lines:
+                    fh.write(line + "\n")
+            os.replace(tmp, output)
+        except BaseException:
+            os.unlink(tmp)
+            raise
+    else:
+        out = sys.stdout
+        for line in lines:
+            out.write(line + "\n")
+    for change in report.changes:
+        rec = DiagnosticRecord(
+            change.code,
+            f"{change.kind}: {change.message}",
+            change.source or Location(source),
+            Severity.NOTE,
+        )
+        click.echo(rec.format(), err=True)
+    if report_path:
+        data = report.to_dict()
+        data["options"] = {k: v for k, v in vars(opts).items() if not k.startswith("_")}
+        Path(report_path).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")

@@ -1,0 +1,190 @@
+"""Curves a target dialect lacks, replaced by arcs or lines within a stated tolerance.
+
+* NURBS (NISTIR 5970 App. A.7; book ch. 2 ``G06.2``): evaluated with the Cox-de Boor
+  recursion (book ch. 3.5) and replaced by circular arcs through three curve points,
+  split in parameter until the deviation at :data:`CHECKS` sample points per piece is
+  within the tolerance (or by chords when the target has no arcs).
+* ELLIPSE_FEED (NISTIR 5970 §3.6.3): replaced by chords; the chord count follows from the
+  sagitta of the tightest curvature radius ``max(a^2/b, b^2/a)``; the helix axis moves in
+  proportion to the angle swept about the centre (NIST's rule 2).
+
+All functions are pure and work in the plane's (first, second) coordinates.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+CHECKS = 33  # sample points checked per fitted piece
+MARGIN = 0.5  # a piece is kept when its sampled deviation is within MARGIN * tolerance
+MAX_DEPTH = 24
+
+
+@dataclass(frozen=True, slots=True)
+class Piece:
+    """One replacement segment: a line, or an arc with centre and direction."""
+
+    end: tuple[float, float]
+    centre: tuple[float, float] | None = None  # None: a line
+    ccw: bool = True
+
+
+def nurbs_basis(order: int, knots: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """B-spline basis functions ``N[i, j] = N_{i,order}(u_j)`` (Cox-de Boor recursion)."""
+    n = len(knots) - order
+    m = len(knots) - 1
+    basis = np.zeros((m, len(u)))
+    for i in range(m):
+        basis[i] = (knots[i] <= u) & (u < knots[i + 1])
+    # u at the very end belongs to the last non-empty span (clamped curves end on a point)
+    last = max(i for i in range(m) if knots[i] < knots[i + 1])
+    basis[last, u >= knots[-1]] = 1.0
+    for k in range(2, order + 1):
+        nxt = np.zeros((m - k + 1, len(u)))
+        for i in range(m - k + 1):
+            d1 = knots[i + k - 1] - knots[i]
+            d2 = knots[i + k] - knots[i + 1]
+            if d1 > 0:
+                nxt[i] += (u - knots[i]) / d1 * basis[i]
+            if d2 > 0:
+                nxt[i] += (knots[i + k] - u) / d2 * basis[i + 1]
+        basis = nxt
+    return basis[:n]
+
+
+def nurbs_evaluate(order: int, points: np.ndarray, knots: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Points (len(u), 2) of the rational curve; ``points`` rows are (first, second, weight)."""
+    basis = nurbs_basis(order, knots, u) * points[:, 2:3]
+    den = basis.sum(axis=0)
+    return (basis.T @ points[:, :2]) / den[:, None]
+
+
+def _circle(p0: np.ndarray, p1: np.ndarray, p2: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """Centre and radius of the circle through three points; None when (nearly) collinear."""
+    a, b = p1 - p0, p2 - p0
+    cross = a[0] * b[1] - a[1] * b[0]
+    chord = float(np.hypot(*(p2 - p0)))
+    if abs(cross) <= 1e-12 * max(chord, 1e-12) ** 2:
+        return None
+    aa, bb = a @ a, b @ b
+    cx = (b[1] * aa - a[1] * bb) / (2 * cross)
+    cy = (a[0] * bb - b[0] * aa) / (2 * cross)
+    centre = p0 + np.array([cx, cy])
+    return centre, float(np.hypot(cx, cy))
+
+
+def _line_deviation(p0: np.ndarray, p1: np.ndarray, pts: np.ndarray) -> float:
+    d = p1 - p0
+    length2 = float(d @ d)
+    if length2 == 0.0:
+        return float(np.max(np.hypot(*(pts - p0).T)))
+    t = np.clip(((pts - p0) @ d) / length2, 0.0, 1.0)
+    return float(np.max(np.hypot(*(pts - (p0 + t[:, None] * d)).T)))
+
+
+def _arc_deviation(
+    p0: np.ndarray, p2: np.ndarray, centre: np.ndarray, radius: float, ccw: bool, pts: np.ndarray
+) -> float:
+    """Distance of ``pts`` from the arc p0 -> p2 (inf when a point falls outside its sweep)."""
+    sign = 1.0 if ccw else -1.0
+    a0 = math.atan2(p0[1] - centre[1], p0[0] - centre[0])
+    a2 = math.atan2(p2[1] - centre[1], p2[0] - centre[0])
+    sweep = (sign * (a2 - a0)) % (2 * math.pi)
+    ang = (sign * (np.arctan2(pts[:, 1] - centre[1], pts[:, 0] - centre[0]) - a0)) % (2 * math.pi)
+    if np.any(ang > sweep + 1e-9) or np.any(np.diff(ang) < -1e-9):
+        return math.inf
+    return float(np.max(np.abs(np.hypot(*(pts - centre).T) - radius)))
+
+
+def fit_curve(curve, u0: float, u1: float, tolerance: float, arcs: bool = True, breaks=None):  # noqa: ANN001, ANN201
+    """Replace ``curve(u)`` (vectorised, returns (n, 2)) on [u0, u1] by :class:`Piece` s.
+
+    ``breaks`` (the knots) start the fit on each knot span, where the curve is one smooth
+    rational polynomial.
+
+    Returns (pieces, largest deviation found at the check points). Each piece is the arc
+    through the curve at both ends and the middle parameter, or the chord when that fits
+    better (collinear points, a corner of a degree-1 curve, or ``arcs`` false); a piece
+    whose deviation exceeds ``tolerance`` is halved in parameter, down to
+    :data:`MAX_DEPTH` levels.
+    """
+    pieces: list[Piece] = []
+    worst = 0.0
+    inner = () if breaks is None else (float(k) for k in breaks if u0 < k < u1)
+    bounds = sorted({u0, u1, *inner})
+    stack = [(a, b, 0) for a, b in reversed(list(zip(bounds[:-1], bounds[1:], strict=True)))]
+    while stack:
+        a, b, depth = stack.pop()
+        us = np.linspace(a, b, CHECKS)
+        pts = curve(us)
+        p0, pm, p2 = pts[0], pts[CHECKS // 2], pts[-1]
+        fit = _circle(p0, pm, p2) if arcs else None
+        dev = _line_deviation(p0, p2, pts)
+        piece = Piece((float(p2[0]), float(p2[1])))
+        if fit is not None and fit[1] < 1e6 * max(float(np.hypot(*(p2 - p0))), 1e-9):
+            centre, radius = fit
+            u, v = pm - p0, p2 - pm
+            ccw = float(u[0] * v[1] - u[1] * v[0]) > 0
+            arc_dev = _arc_deviation(p0, p2, centre, radius, ccw, pts)
+            if arc_dev < dev:  # a line wins only where it fits better (corners, flats)
+                dev = arc_dev
+                piece = Piece(piece.end, (float(centre[0]), float(centre[1])), ccw)
+        if dev > MARGIN * tolerance and depth < MAX_DEPTH:
+            mid = 0.5 * (a + b)
+            stack.append((mid, b, depth + 1))  # popped second: keeps pieces in order
+            stack.append((a, mid, depth + 1))
+            continue
+        pieces.append(piece)
+        worst = max(worst, dev)
+    return pieces, worst
+
+
+def ellipse_chords(
+    start: tuple[float, float],
+    end: tuple[float, float],
+    centre: tuple[float, float],
+    major: float,
+    minor: float,
+    angle_deg: float,
+    rotation: int,
+    tolerance: float,
+) -> tuple[list[tuple[float, float, float]], float]:
+    """Chord end points of an elliptical arc, with the swept-angle fraction at each.
+
+    Returns ([(first, second, fraction of the swept polar angle), ...], largest sagitta).
+    ``major``/``minor`` are full axis lengths (NISTIR 5970 §3.6.3).
+    """
+    a, b = major / 2.0, minor / 2.0
+    phi = math.radians(angle_deg)
+    cos_p, sin_p = math.cos(phi), math.sin(phi)
+
+    def param(p: tuple[float, float]) -> float:
+        dx, dy = p[0] - centre[0], p[1] - centre[1]
+        lx, ly = cos_p * dx + sin_p * dy, -sin_p * dx + cos_p * dy
+        return math.atan2(ly / b, lx / a)
+
+    t0, t1 = param(start), param(end)
+    sign = 1 if rotation > 0 else -1
+    sweep = (sign * (t1 - t0)) % (2 * math.pi)
+    if sweep <= 1e-12:
+        sweep = 2 * math.pi
+    sweep += 2 * math.pi * (abs(rotation) - 1)
+    r_max = max(a * a / b, b * b / a)
+    step = 2 * math.acos(max(-1.0, 1 - tolerance / r_max)) if tolerance < r_max else math.pi / 2
+    n = max(2, math.ceil(sweep / step))
+    t = t0 + sign * sweep * np.linspace(0.0, 1.0, n + 1)
+    lx, ly = a * np.cos(t), b * np.sin(t)
+    x = centre[0] + cos_p * lx - sin_p * ly
+    y = centre[1] + sin_p * lx + cos_p * ly
+    polar = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
+    total = polar[-1] - polar[0]
+    frac = (polar - polar[0]) / total if total != 0 else np.linspace(0.0, 1.0, n + 1)
+    tm = 0.5 * (t[:-1] + t[1:])
+    mx = centre[0] + cos_p * a * np.cos(tm) - sin_p * b * np.sin(tm)
+    my = centre[1] + sin_p * a * np.cos(tm) + cos_p * b * np.sin(tm)
+    sag = np.hypot(mx - 0.5 * (x[:-1] + x[1:]), my - 0.5 * (y[:-1] + y[1:]))
+    pts = [(float(x[i]), float(y[i]), float(frac[i])) for i in range(1, n + 1)]
+    return pts, float(sag.max())

@@ -1,0 +1,33 @@
+"""Dialects: one module per target language, each holding a :class:`Dialect` value.
+
+``get_dialect(name)`` returns it; ``NAMES`` lists them. Readers other than RS274/NGC are
+not implemented yet (docs/dialects.md lists what a Fanuc reader needs).
+"""
+
+from __future__ import annotations
+
+import importlib
+
+from gcode.dialects.spec import Dialect
+from kernel.diagnostics import Diagnostic
+
+NAMES: tuple[str, ...] = ("rs274ngc", "nist_v3", "fanuc", "grbl", "haas", "siemens840d", "sandia")
+ALIASES: dict[str, str] = {
+    "ngc": "rs274ngc",
+    "linuxcnc": "rs274ngc",
+    "nist": "nist_v3",
+    "siemens": "siemens840d",
+    "840d": "siemens840d",
+    "generic": "sandia",
+}
+
+
+def get_dialect(name: str) -> Dialect:
+    """The dialect called ``name`` (or an alias); ``CONV-DIALECT`` if there is none."""
+    key = ALIASES.get(name.lower(), name.lower())
+    if key not in NAMES:
+        raise Diagnostic("CONV-DIALECT", f"unknown dialect {name!r}; known: {', '.join(NAMES)}")
+    return importlib.import_module(f"gcode.dialects.{key}").DIALECT
+
+
+__all__ = ["NAMES", "Dialect", "get_dialect"]

@@ -1,0 +1,296 @@
+"""The Sandia generic CNC language (SAND96-2499, seed 003; research/seed-sandia.md).
+
+The seed defines commands, not a text syntax; this writer uses the proposal of
+research/seed-sandia-full.md §5.3: one command per line, the seed's command name, then
+``NAME=value`` arguments. Mapping (§5.4): rapid -> ``point_to_point_positioning`` (never
+with a speed), feed -> ``SetSpeed`` + ``MoveTo`` (world space), units -> ``SetUnits``,
+tool change -> ``GetTool``, tool length -> ``SetToolLength``, probe -> ``MoveReact``,
+``STOP`` -> ``StopMotion``. The language has no arcs: arcs, NURBS and ellipses become
+``MoveTo`` chords within the tolerance. Spindle, coolant, dwell and program flow have no
+generic command: they are dropped (with a report entry and a comment) or refused.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Iterator
+
+import numpy as np
+
+from gcode import approximate
+from gcode.convert_report import Change, ConversionReport
+from gcode.dialects.spec import Dialect
+from gcode.emit_state import PLANE_AXES, Formatter, clamped_uniform_knots
+from kernel import canon
+from kernel.diagnostics import Diagnostic, Location
+
+DIALECT = Dialect(
+    name="sandia",
+    title="Sandia generic CNC language",
+    reference="seed 003 Fig. 3 and App. A; research/seed-sandia-full.md §5.3-5.4",
+    structure="commands",
+    comment="# {}",
+    comment_forbidden="\n",
+    message=None,
+    min_decimals=1,
+    axes="XYZ",
+    xy_rotation=None,
+    cutter_comp=None,
+    work_offsets=("G54", "G55", "G56", "G57", "G58", "G59"),
+    tool_table_set=None,
+    tool_number=None,
+    rigid_tap=None,
+    io_codes=False,
+    local_offset=None,
+    origin=None,
+    notes=(
+        "no arcs, NURBS or ellipses: chords within the tolerance",
+        "no spindle, coolant, dwell, stops or program end: dropped with a report entry",
+        "MoveTo is world space: A/B/C need a kinematic model and are refused",
+    ),
+)
+
+ATTRIBUTES = "attributes=ABSOLUTE|CS_CURRENT"
+_DEFAULTS: dict[str, object] = {
+    "css": False,
+    "speed": 0.0,
+    "spindle": 0,
+    "mist": False,
+    "flood": False,
+    "work": 1,
+    "g92": (0.0,) * 6,
+    "rotation": 0.0,
+}
+
+
+class SandiaWriter:
+    """IR -> generic command lines (streaming)."""
+
+    def __init__(self, d: Dialect, opts: object, report: ConversionReport) -> None:
+        self.d, self.o, self.report = d, opts, report
+        report.target_dialect = report.target_dialect or d.name
+        self.fmt = Formatter(d, opts)  # type: ignore[arg-type]
+        self.out: list[str] = []
+        self.src: Location | None = None
+        self.units: canon.Units | None = None
+        self.plane = canon.Plane.XY
+        self.feed = 0.0
+        self.e_feed: str | None = None
+        self.pending_tool: int | None = None
+        self.cur = dict.fromkeys("XYZ", 0.0)
+        self.last = {k: f"{k}=0.0" for k in "XYZ"}
+        self.known = False
+        self.ended = False
+        self.state: dict[str, object] = {}
+
+    def run(self, commands: Iterable[canon.Command]) -> Iterator[str]:
+        yield from self.d.header if self.o.header is None else self.o.header  # type: ignore[attr-defined]
+        for cmd in commands:
+            self.report.commands += 1
+            self.src = cmd.source
+            if not self.ended:
+                self.handle(cmd)
+            if self.out:
+                self.report.blocks += len(self.out)
+                yield from self.out
+                self.out.clear()
+        yield from self.d.footer if self.o.footer is None else self.o.footer  # type: ignore[attr-defined]
+
+    # ------------------------------------------------------------------ helpers
+    def line(self, text: str) -> None:
+        self.out.append(text)
+
+    def lacking(self, code: str, what: str) -> None:
+        if self.o.on_missing == "refuse":  # type: ignore[attr-defined]
+            raise Diagnostic(code, f"{self.d.title} has no {what}", self.src)
+        self.report.add(Change(code, "dropped", f"{self.d.title} has no {what}", self.src))
+        if self.o.comments:  # type: ignore[attr-defined]
+            self.line(f"# {what}: not written")
+
+    def ensure_units(self) -> None:
+        if self.units is not None and self.fmt.units_out is None:
+            self.fmt.set_output_units(self.units)
+            self.line(f"SetUnits linear={'inch' if self.fmt.inch else 'mm'} angular=deg")
+
+    def axes(self, x: float, y: float, z: float, rot: tuple[float, ...]) -> list[str]:
+        """Words of the axes whose written value changes (all after a position reset)."""
+        if (rot[0] or rot[1] or rot[2]) and max(abs(v) for v in rot) > 1e-9:
+            raise Diagnostic(
+                "CONV-AXIS", "MoveTo is world space: rotary axes need a kinematic model", self.src
+            )
+        s = self.fmt.scale
+        words = []
+        known, cur, last = self.known, self.cur, self.last
+        for k, v in (("X", x * s), ("Y", y * s), ("Z", z * s)):
+            if known and v == cur[k]:
+                continue
+            w = f"{k}={self.fmt.number(v)}"
+            if not known or w != last[k]:
+                words.append(w)
+                last[k] = w
+            cur[k] = v
+        self.known = True
+        return words or [last["X"]]
+
+    def move(self, x: float, y: float, z: float, rot: tuple[float, ...] = (0, 0, 0)) -> None:
+        self.ensure_units()
+        speed = self.fmt.feed(self.feed * self.fmt.scale)
+        if speed != self.e_feed:
+            self.line(f"SetSpeed {speed}")
+            self.e_feed = speed
+        self.line("MoveTo " + " ".join(self.axes(x, y, z, rot)))
+
+    def chords(self, c: canon.Command, pts: list, normal_end: float, what: str, dev: float) -> None:  # noqa: ANN001
+        first, second, normal, _, _ = PLANE_AXES[self.plane]
+        s = self.fmt.scale
+        n0 = self.cur[normal] / s
+        for p1, p2, f in pts:
+            t = {first: p1, second: p2, normal: n0 + (normal_end - n0) * f}
+            self.move(t["X"], t["Y"], t["Z"])
+        self.report.add(
+            Change(
+                "CONV-ARC-LINES",
+                "approximated",
+                f"{what} as {len(pts)} MoveTo",
+                self.src,
+                len(pts),
+                dev * s,
+                self.o.tolerance,
+            )
+        )  # type: ignore[attr-defined]
+
+    # ------------------------------------------------------------------ dispatch
+    def handle(self, c: canon.Command) -> None:  # noqa: C901 - one branch per command
+        s = self.fmt.scale or 1.0
+        if isinstance(c, canon.UseLengthUnits):
+            if self.units != c.units:
+                self.units = c.units
+                if self.o.units is None or self.fmt.units_out is None:  # type: ignore[attr-defined]
+                    self.fmt.units_out = None  # declared before the next motion
+                    self.known = False
+                    self.e_feed = None
+                else:
+                    self.fmt.set_output_units(c.units)  # same target units, new scale
+        elif isinstance(c, canon.SelectPlane):
+            self.plane = c.plane
+        elif isinstance(c, canon.SetFeedRate):
+            self.feed = c.rate
+        elif isinstance(c, canon.StraightTraverse):
+            self.ensure_units()
+            words = self.axes(c.x, c.y, c.z, (c.a, c.b, c.c))
+            self.line("point_to_point_positioning " + " ".join(words) + f" {ATTRIBUTES}")
+        elif isinstance(c, canon.StraightFeed):
+            self.move(c.x, c.y, c.z, (c.a, c.b, c.c))
+        elif isinstance(c, canon.StraightProbe):
+            self.ensure_units()
+            self.line("MoveReact " + " ".join(self.axes(c.x, c.y, c.z, (c.a, c.b, c.c))))
+            self.known = False
+        elif isinstance(c, canon.ArcFeed | canon.EllipseFeed):
+            self.curve(c)
+        elif isinstance(c, canon.NurbsFeed):
+            self.nurbs(c)
+        elif isinstance(c, canon.SelectTool):
+            self.pending_tool = c.slot
+        elif isinstance(c, canon.ChangeTool):
+            tool = self.pending_tool if self.pending_tool is not None else c.slot
+            self.line(f"GetTool {c.name or tool}")
+        elif isinstance(c, canon.UseToolLengthOffset) or c.NAME == "USE_TOOL_LENGTH_OFFSET":
+            length = c.length if isinstance(c, canon.UseToolLengthOffset) else c.offset[2]  # type: ignore[attr-defined]
+            self.ensure_units()
+            self.line(f"SetToolLength {self.fmt.length(length * s)}")
+            self.known = False
+        elif isinstance(c, canon.Stop):
+            self.line("StopMotion")
+        elif isinstance(c, canon.Comment):
+            if not c.text.startswith("interpreter:") and self.o.comments:  # type: ignore[attr-defined]
+                self.line(f"# {c.text}")
+        elif isinstance(c, canon.SetFeedMode):
+            if c.mode == canon.FeedMode.UNITS_PER_REVOLUTION:
+                raise Diagnostic(
+                    "CONV-FEED-PER-REV", f"{self.d.title} has no feed per revolution", self.src
+                )
+            # inverse time: the IR's rates are per minute already (as rs274 prints them)
+        elif isinstance(c, canon.ProgramEnd):
+            self.line("# end of program")
+            self.ended = True
+        elif self.no_op(c):
+            return
+        else:
+            self.lacking("CONV-UNSUPPORTED", f"generic command for {c.NAME}")
+
+    def no_op(self, c: canon.Command) -> bool:
+        """Commands that leave the default state as it is, or only mirror LinuxCNC's state."""
+        if isinstance(
+            c,
+            canon.InitCanon
+            | canon.EndCanon
+            | canon.SetFeedReference
+            | canon.TurnProbeOn
+            | canon.TurnProbeOff
+            | canon.SetTraverseRate,
+        ) or c.NAME in ("ON_RESET", "START_CHANGE", "FINISH"):
+            return True
+        key, value = {
+            "SET_SPINDLE_MODE": ("css", getattr(c, "css", False)),
+            "SET_SPINDLE_SPEED": ("speed", getattr(c, "speed", 0.0)),
+            "START_SPINDLE_CLOCKWISE": ("spindle", 1),
+            "START_SPINDLE_COUNTERCLOCKWISE": ("spindle", -1),
+            "STOP_SPINDLE_TURNING": ("spindle", 0),
+            "MIST_ON": ("mist", True),
+            "MIST_OFF": ("mist", False),
+            "FLOOD_ON": ("flood", True),
+            "FLOOD_OFF": ("flood", False),
+            "SET_G5X_OFFSET": ("work", getattr(c, "index", 1)),
+            "SET_G92_OFFSET": ("g92", tuple(getattr(c, k, 0.0) for k in "xyzabc")),
+            "SET_XY_ROTATION": ("rotation", getattr(c, "angle", 0.0)),
+        }.get(c.NAME, (None, None))
+        if key is None:
+            return False
+        unchanged = self.state.get(key, _DEFAULTS[key]) == value
+        self.state[key] = value
+        return unchanged
+
+    def curve(self, c: canon.ArcFeed | canon.EllipseFeed) -> None:
+        if self.o.on_missing == "refuse":  # type: ignore[attr-defined]
+            raise Diagnostic("CONV-ARC-LINES", f"{self.d.title} has no arcs", self.src)
+        first, second, _, _, _ = PLANE_AXES[self.plane]
+        s = self.fmt.scale or 1.0
+        start = (self.cur[first] / s, self.cur[second] / s)
+        end, centre = (c.first_end, c.second_end), (c.first_axis, c.second_axis)
+        if isinstance(c, canon.ArcFeed):
+            if c.rotation == 0:
+                self.chords(c, [(*end, 1.0)], c.axis_end_point, "ARC_FEED (0 turns)", 0.0)
+                return
+            r = math.dist(start, centre)
+            major = minor = 2 * r
+            angle = 0.0
+        else:
+            major, minor, angle = c.major, c.minor, c.angle_to_first
+        tol = self.o.tolerance / s  # type: ignore[attr-defined]
+        pts, dev = approximate.ellipse_chords(
+            start, end, centre, major, minor, angle, c.rotation, tol
+        )
+        pts[-1] = (*end, 1.0)
+        self.chords(c, pts, c.axis_end_point, c.NAME, dev)
+
+    def nurbs(self, c: canon.NurbsFeed) -> None:
+        from gcode.emit_curves import nurbs_problem
+
+        problem = nurbs_problem(c)
+        if problem:
+            raise Diagnostic("CONV-NURBS", problem, self.src)
+        if self.o.on_missing == "refuse":  # type: ignore[attr-defined]
+            raise Diagnostic("CONV-NURBS", f"{self.d.title} has no curves", self.src)
+        first, second, normal, _, _ = PLANE_AXES[self.plane]
+        pts = np.array(c.points, dtype=float)
+        knots = np.array(c.knots or clamped_uniform_knots(len(pts), c.order), dtype=float)
+        s = self.fmt.scale or 1.0
+
+        def curve(u: np.ndarray) -> np.ndarray:
+            return approximate.nurbs_evaluate(c.order, pts, knots, u)
+
+        pieces, dev = approximate.fit_curve(
+            curve, knots[0], knots[-1], self.o.tolerance / s, False, knots
+        )  # type: ignore[attr-defined]
+        chords = [(p.end[0], p.end[1], 1.0) for p in pieces]
+        self.chords(c, chords, self.cur[normal] / s, "NURBS_FEED", dev)

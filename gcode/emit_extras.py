@@ -1,0 +1,145 @@
+"""LinuxCNC's extras in the writer: what ``rs274`` prints beyond NISTIR 5970 (gcode.linuxcnc).
+
+Work offset selection (SET_G5X_OFFSET -> G54..G59.3), the G92 offset by value (as G52),
+the offset rotation, nine-value tool offsets, tool-table edits, M61, G33.1 and M62-M68.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+from gcode.emit_handlers import ignore, tool_length
+from kernel import canon
+
+if TYPE_CHECKING:
+    from gcode.emit import BlockWriter
+
+
+def _axis_list(w: BlockWriter, values: tuple[float, ...], scale: bool = True) -> str:
+    s = w.fmt.scale if scale else 1.0
+    words = []
+    for k, v in zip("XYZABC", values, strict=False):
+        if k in w.d.axes and abs(v) > 1e-12:
+            words.append(k + (w.fmt.angle(v) if k in "ABC" else w.fmt.length(v * s)))
+    return w.d.separator.join(words)
+
+
+def work_offset(w: BlockWriter, c: canon.Command) -> None:
+    """SET_G5X_OFFSET: select the work offset; its values stay in the machine's table."""
+    index = int(c.index)  # type: ignore[attr-defined]
+    if index == w.e_work:
+        return
+    w.flush()
+    w.invalidate()
+    w.e_work = index
+    if index > len(w.d.work_offsets):
+        w.lacking("CONV-ORIGIN", f"work offset {index} (G59.{index - 6})")
+        return
+    w.block(w.d.work_offsets[index - 1])
+
+
+def local_offset(w: BlockWriter, c: canon.Command) -> None:
+    """SET_G92_OFFSET: the G92 offset by value, written as G52 (same effect, no position)."""
+    values = tuple(getattr(c, k) for k in "xyzabc")
+    if all(abs(a - b) < 1e-12 for a, b in zip(values, w.e_local, strict=True)):
+        return
+    w.flush()
+    w.invalidate()
+    w.e_local = values
+    if w.d.local_offset is None:
+        w.lacking("CONV-ORIGIN", "offset by value (G52)")
+        return
+    axes = _axis_list(w, values) or "X" + w.fmt.length(0.0)
+    w.block(w.d.local_offset.format(axes=axes))
+
+
+def xy_rotation(w: BlockWriter, c: canon.Command) -> None:
+    """SET_XY_ROTATION: the work offset's rotation (LinuxCNC G10 L2 R, Fanuc G68)."""
+    angle = float(c.angle)  # type: ignore[attr-defined]
+    if abs(angle - w.e_rotation) < 1e-12:
+        return
+    w.flush()
+    w.invalidate()
+    w.e_rotation = angle
+    if w.d.xy_rotation is None:
+        w.lacking("CONV-ORIGIN", "rotated work offset (G10 L2 R)")
+        return
+    on, _, off = w.d.xy_rotation.partition("|")
+    if abs(angle) < 1e-12 and off:
+        w.block(off)
+        return
+    w.block(on.format(index=w.e_work, angle=w.fmt.angle(angle)))
+
+
+def tool_offsets(w: BlockWriter, c: canon.Command) -> None:
+    """LinuxCNC's nine-value tool length offset: G43.1 with the non-zero axes."""
+    off = tuple(c.offset)  # type: ignore[attr-defined]
+    if w.d.tool_length == "G43.1 Z{length}" and any(abs(v) > 1e-12 for v in off[:6]):
+        w.flush()
+        w.invalidate()
+        w.block("G43.1", _axis_list(w, off[:6]))
+        return
+    tool_length(w, canon.UseToolLengthOffset(off[2], source=c.source))
+
+
+def tool_table(w: BlockWriter, c: canon.Command) -> None:
+    if w.d.tool_table_set is None:
+        w.lacking("CONV-TOOL-LENGTH", "tool table edit (G10 L1)", note=False)
+        return
+    axes = _axis_list(w, tuple(c.offset[:6]))  # type: ignore[attr-defined]
+    w.block(
+        w.d.tool_table_set.format(
+            tool=c.tool, axes=axes, radius=w.fmt.length(c.diameter / 2 * w.fmt.scale)
+        )
+    )  # type: ignore[attr-defined]
+
+
+def tool_number(w: BlockWriter, c: canon.Command) -> None:
+    if w.d.tool_number is None:
+        w.lacking("CONV-TOOL-CHANGE", "tool number setting (M61)")
+        return
+    w.flush()
+    w.tool = int(c.number)  # type: ignore[attr-defined]
+    w.block(w.d.tool_number.format(tool=w.tool))
+
+
+def rigid_tap(w: BlockWriter, c: canon.Command) -> None:
+    w.flush()
+    if w.d.rigid_tap is None or w.sync is None:
+        w.refuse("CONV-THREAD", f"{w.d.title} has no rigid tapping cycle (G33.1)")
+    t = w.target(c.x, c.y, c.z, w.cur["A"], w.cur["B"], w.cur["C"])  # type: ignore[attr-defined]
+    words = w.axis_words(t, force=True)
+    w.motion = None
+    w.block(w.d.rigid_tap, *words, "K" + w.fmt.length(w.sync or 0.0))  # type: ignore[arg-type]
+    w.invalidate()
+
+
+def output(w: BlockWriter, c: canon.Command) -> None:
+    if not w.d.io_codes:
+        w.lacking("CONV-UNSUPPORTED", "digital/analog output codes (M62-M68)")
+        return
+    if c.NAME.endswith("VALUE"):
+        code = "M67" if c.synchronised else "M68"  # type: ignore[attr-defined]
+        w.block(code, f"E{c.index}", f"Q{w.fmt.number(c.value, 6)}")  # type: ignore[attr-defined]
+        return
+    sync, on = c.synchronised, c.on  # type: ignore[attr-defined]
+    code = {(True, True): "M62", (True, False): "M63", (False, True): "M64", (False, False): "M65"}
+    w.block(code[(sync, on)], f"P{c.index}")  # type: ignore[attr-defined]
+
+
+BY_NAME: dict[str, Callable] = {
+    "SET_G5X_OFFSET": work_offset,
+    "SET_G92_OFFSET": local_offset,
+    "SET_XY_ROTATION": xy_rotation,
+    "USE_TOOL_LENGTH_OFFSET": tool_offsets,
+    "SET_TOOL_TABLE_ENTRY": tool_table,
+    "CHANGE_TOOL_NUMBER": tool_number,
+    "RIGID_TAP": rigid_tap,
+    "SET_MOTION_OUTPUT_BIT": output,
+    "SET_MOTION_OUTPUT_VALUE": output,
+    "ON_RESET": ignore,
+    "START_CHANGE": ignore,
+    "FINISH": ignore,
+    "SPINDLE.0.WAIT_ORIENT_COMPLETE": ignore,
+}

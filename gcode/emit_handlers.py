@@ -1,0 +1,440 @@
+"""One function per canonical command: how :class:`gcode.emit.BlockWriter` writes it.
+
+Arcs follow NISTIR 5970 §3.6.1 (end, centre, signed turns; XZ plane is (Z, X)); G2 is
+clockwise (rotation < 0), G3 counterclockwise. NURBS follow LinuxCNC G5.2 (current
+position = first control point, clamped uniform knots) or Fanuc G06.2 (``P`` order, ``K``
+knots, ``R`` weights); anything else is approximated (:mod:`gcode.approximate`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+from gcode.emit_state import PLANE_AXES
+from kernel import canon
+
+if TYPE_CHECKING:
+    from gcode.emit import BlockWriter
+
+TWO_PI = 2 * math.pi
+
+
+# ---------------------------------------------------------------------- state setters
+def units(w: BlockWriter, c: canon.UseLengthUnits) -> None:
+    if w.units == c.units and w.fmt.units_out is not None:
+        return
+    changed = w.units is not None and w.units != c.units
+    w.units = c.units
+    if w.o.units is None or w.fmt.units_out is None:
+        w.fmt.units_out = None  # flush writes the code and sets the scale
+        w.invalidate()
+        if changed:
+            w.e_feed = None
+    else:
+        w.fmt.set_output_units(c.units)
+
+
+def plane(w: BlockWriter, c: canon.SelectPlane) -> None:
+    w.plane = c.plane
+
+
+def feed_rate(w: BlockWriter, c: canon.SetFeedRate) -> None:
+    w.feed = c.rate
+
+
+def feed_mode(w: BlockWriter, c: canon.SetFeedMode) -> None:
+    w.feed_mode = c.mode
+
+
+def motion_mode(w: BlockWriter, c: canon.SetMotionControlMode) -> None:
+    w.mode = (c.mode, c.tolerance * w.fmt.scale)
+
+
+def naive(w: BlockWriter, c: canon.SetNaivecamTolerance) -> None:
+    w.naive = c.tolerance * w.fmt.scale
+
+
+def speed(w: BlockWriter, c: canon.SetSpindleSpeed) -> None:
+    w.speed = c.speed
+
+
+def spindle_mode(w: BlockWriter, c: canon.SetSpindleMode) -> None:
+    w.css = (c.css, c.css_max)
+
+
+def spindle(direction: canon.Direction) -> Callable[[BlockWriter, canon.Command], None]:
+    def handler(w: BlockWriter, c: canon.Command) -> None:
+        w.direction = direction
+
+    return handler
+
+
+def coolant(kind: str, on: bool) -> Callable[[BlockWriter, canon.Command], None]:
+    def handler(w: BlockWriter, c: canon.Command) -> None:
+        w.coolant[kind] = on
+
+    return handler
+
+
+def ignore(w: BlockWriter, c: canon.Command) -> None:
+    """Commands with no G-code of their own (INIT_CANON, probe power, traverse rate)."""
+
+
+def feed_reference(w: BlockWriter, c: canon.SetFeedReference) -> None:
+    if c.reference != canon.FeedReference.XYZ:
+        w.lacking("CONV-UNSUPPORTED", "workpiece feed reference", note=False)
+
+
+def sync_start(w: BlockWriter, c: canon.StartSpeedFeedSynch) -> None:
+    w.sync = c.feed_per_revolution * w.fmt.scale
+
+
+def sync_stop(w: BlockWriter, c: canon.StopSpeedFeedSynch) -> None:
+    w.sync = None
+
+
+# ---------------------------------------------------------------------- text and events
+def comment(w: BlockWriter, c: canon.Comment) -> None:
+    if not c.text.startswith("interpreter:"):  # LinuxCNC's own chatter
+        w.comment(c.text)
+
+
+def message(w: BlockWriter, c: canon.Message) -> None:
+    w.flush()
+    if w.d.message is None:
+        w.lacking("CONV-UNSUPPORTED", "operator message", "substituted", note=False)
+        w.comment(c.text)
+        return
+    text = c.text
+    for ch in w.d.comment_forbidden + ('"' if '"' in w.d.message else ""):
+        text = text.replace(ch, "'" if ch == '"' else " ")
+    w.block(w.d.message.format(text))
+
+
+def event(attr: str) -> Callable[[BlockWriter, canon.Command], None]:
+    def handler(w: BlockWriter, c: canon.Command) -> None:
+        w.flush()
+        code = getattr(w.d, attr)
+        if attr == "stop" and w.pallet and w.d.pallet:
+            code = w.d.pallet  # M60 = shuttle + stop
+        w.pallet = False
+        if code is None:
+            w.lacking("CONV-UNSUPPORTED", f"{c.NAME} code")
+            return
+        w.block(code)
+        if attr == "end":
+            w.ended = True
+
+    return handler
+
+
+def pallet(w: BlockWriter, c: canon.PalletShuttle) -> None:
+    if w.d.pallet is None:
+        w.lacking("CONV-UNSUPPORTED", "pallet shuttle code")
+    w.pallet = True
+
+
+def select_tool(w: BlockWriter, c: canon.SelectTool) -> None:
+    w.pending_select = c.slot
+
+
+def change_tool(w: BlockWriter, c: canon.ChangeTool) -> None:
+    w.flush()
+    tool = w.pending_select if w.pending_select is not None else c.slot
+    w.pending_select = None
+    w.tool = tool
+    if c.name:
+        w.comment(f"tool {c.name}")
+    if w.d.tool_change is None:
+        w.lacking("CONV-TOOL-CHANGE", "tool changer (M6)", "substituted", note=False)
+        w.comment(f"change to tool {tool}")
+        w.block(w.d.stop)
+        return
+    w.block(f"T{tool}", w.d.tool_change)
+
+
+def tool_length(w: BlockWriter, c: canon.UseToolLengthOffset) -> None:
+    w.flush()
+    w.invalidate()
+    if abs(c.length) < 1e-12:
+        w.block(w.d.tool_length_off)
+        return
+    if w.d.tool_length is None:
+        w.lacking("CONV-TOOL-LENGTH", "tool length value in a program")
+        return
+    if "{length}" not in w.d.tool_length:
+        w.lacking("CONV-TOOL-LENGTH", "tool length value (the tool table's is used)", "substituted")
+    value = w.fmt.length(c.length * w.fmt.scale)
+    for part in w.d.tool_length.split("|"):
+        w.block(part.format(length=value, tool=w.tool))
+
+
+def origin(w: BlockWriter, c: canon.SetOriginOffsets) -> None:
+    w.flush()
+    w.invalidate()
+    if w.d.origin is None:
+        w.lacking("CONV-ORIGIN", "program origin setting")
+        return
+    t = w.target(c.x, c.y, c.z, c.a, c.b, c.c)
+    words = [
+        k + (w.fmt.angle(v) if k in "ABC" else w.fmt.length(v))
+        for k, v in t.items()
+        if k in w.d.axes and (k in "XYZ" or abs(v) > 1e-12)
+    ]
+    w.block(w.d.origin.format(axes=w.d.separator.join(words)))
+    w.invalidate()
+
+
+def overrides(kind: str, on: bool) -> Callable[[BlockWriter, canon.Command], None]:
+    def handler(w: BlockWriter, c: canon.Command) -> None:
+        pair = getattr(w.d, f"{kind}_override")
+        if pair is None:
+            w.lacking("CONV-UNSUPPORTED", f"{kind} override switch", note=False)
+            return
+        w.block(pair[0] if on else pair[1])
+
+    return handler
+
+
+def orient(w: BlockWriter, c: canon.OrientSpindle) -> None:
+    w.flush()
+    if w.d.orient is None:
+        w.lacking("CONV-UNSUPPORTED", "spindle orientation")
+        return
+    direction = c.direction
+    mode = {canon.Direction.CLOCKWISE: 0, canon.Direction.COUNTERCLOCKWISE: 1}.get(
+        direction,  # type: ignore[arg-type]
+        int(direction) if isinstance(direction, float | int) else 0,
+    )
+    if "{angle}" not in w.d.orient and abs(c.orientation) > 1e-9:
+        w.lacking(
+            "CONV-UNSUPPORTED",
+            "programmed orientation angle (machine's angle used)",
+            "substituted",
+            note=False,
+        )
+    w.block(w.d.orient.format(angle=w.fmt.angle(c.orientation), mode=mode))
+
+
+def dwell(w: BlockWriter, c: canon.Dwell) -> None:
+    w.flush()
+    if w.d.dwell is None:
+        w.lacking("CONV-UNSUPPORTED", "dwell")
+        return
+    code, word, per_second = w.d.dwell
+    if w.feed_mode != canon.FeedMode.INVERSE_TIME:
+        w.block(w.feed_word())  # a dwell "sees" the feed rate too (corpus/README.md)
+    w.block(code, word + w.fmt.number(c.seconds * per_second, 3))
+
+
+def comp_radius(w: BlockWriter, c: canon.SetCutterRadiusCompensation) -> None:
+    w.comp_radius = c.radius * w.fmt.scale
+
+
+def comp_start(w: BlockWriter, c: canon.StartCutterRadiusCompensation) -> None:
+    if w.d.cutter_comp is None:
+        w.refuse("CONV-CUTTER-COMP", f"cutter compensation by value: not in {w.d.title}")
+    w.flush()
+    left, right = w.d.cutter_comp  # type: ignore[misc]
+    code = left if c.side == canon.CompSide.LEFT else right
+    diameter = 2 * w.comp_radius
+    w.block(code, "D" + w.fmt.length(diameter))
+
+
+def comp_stop(w: BlockWriter, c: canon.StopCutterRadiusCompensation) -> None:
+    w.flush()
+    w.block("G40")
+
+
+# ---------------------------------------------------------------------- motions
+def traverse(w: BlockWriter, c: canon.StraightTraverse) -> None:
+    w.flush()
+    words = w.axis_words(w.target(c.x, c.y, c.z, c.a, c.b, c.c))
+    fw = "" if w.feed_mode == canon.FeedMode.INVERSE_TIME else w.feed_word()
+    w.block(w.motion_code(w.d.rapid), *(words or _first_axis(w)), fw)
+
+
+def _first_axis(w: BlockWriter) -> list[str]:
+    return [w.words["X"] or ("X" + w.fmt.length(w.cur["X"]))]
+
+
+def feed(w: BlockWriter, c: canon.StraightFeed) -> None:
+    w.flush()
+    inverse = w.feed_mode == canon.FeedMode.INVERSE_TIME
+    start = [w.written(k) for k in "XYZ"] if inverse else None
+    words = w.axis_words(w.target(c.x, c.y, c.z, c.a, c.b, c.c))
+    length = math.dist(start, [w.cur[k] for k in "XYZ"]) if start else None
+    if w.sync is not None:
+        if w.d.thread is None:
+            w.refuse("CONV-THREAD", f"{w.d.title} has no spindle-synchronised motion")
+        code, lead = w.d.thread
+        w.motion = None
+        w.block(code, *(words or _first_axis(w)), lead + w.fmt.length(w.sync))
+        return
+    w.block(w.motion_code(w.d.linear), *(words or _first_axis(w)), w.feed_word(length))
+
+
+def probe(w: BlockWriter, c: canon.StraightProbe) -> None:
+    w.flush()
+    if w.d.probe is None:
+        w.lacking("CONV-UNSUPPORTED", "probing move")
+        return
+    words = w.axis_words(w.target(c.x, c.y, c.z, c.a, c.b, c.c), force=True)
+    w.motion = None
+    w.block(w.d.probe, *words, w.feed_word())
+    w.invalidate()  # the probe stops where it trips
+
+
+def arc(w: BlockWriter, c: canon.ArcFeed) -> None:
+    w.flush()
+    first, second, normal, ci, cj = PLANE_AXES[w.plane]
+    s = w.fmt.scale
+    end1, end2, cen1, cen2 = c.first_end * s, c.second_end * s, c.first_axis * s, c.second_axis * s
+    start1, start2 = w.written(first), w.written(second)
+    if c.rotation == 0:  # NISTIR 5970 §3.6.1: no arc, a move along the helix axis
+        w.change("CONV-ARC-TURNS", "substituted", "ARC_FEED with 0 turns written as a line")
+        _line_to(w, c, first, second, normal)
+        return
+    ccw = c.rotation > 0
+    turns = abs(c.rotation)
+    a0 = math.atan2(start2 - cen2, start1 - cen1)
+    a1 = math.atan2(end2 - cen2, end1 - cen1)
+    part = ((a1 - a0) if ccw else (a0 - a1)) % TWO_PI
+    if part < 1e-9:
+        part = TWO_PI
+    if turns > 1 and w.d.turns_word is None:
+        _expand_turns(w, c, turns, part)
+        return
+    _arc_block(w, c, (end1, end2, cen1, cen2), ccw, turns, part)
+
+
+def _arc_block(w: BlockWriter, c: canon.ArcFeed, geo, ccw: bool, turns: int, part: float) -> None:  # noqa: ANN001
+    first, second, normal, ci, cj = PLANE_AXES[w.plane]
+    end1, end2, cen1, cen2 = geo
+    start1, start2 = w.written(first), w.written(second)
+    s = w.fmt.scale
+    t = w.target(0, 0, 0, c.a, c.b, c.c)
+    t[first], t[second], t[normal] = end1, end2, c.axis_end_point * s
+    length = math.hypot(
+        math.hypot(start1 - cen1, start2 - cen2) * (part + TWO_PI * (turns - 1)),
+        t[normal] - w.written(normal),
+    )
+    end_words = w.axis_words(t)
+    inplane = [w.words[first], w.words[second]]
+    others = [x for x in end_words if x[0] not in (first, second)]
+    fmt = _arc_format(w, turns, part, (start1, start2), (end1, end2), (cen1, cen2), ccw)
+    centre: list[str] = []
+    if fmt == "r":
+        radius = math.hypot(start1 - cen1, start2 - cen2)
+        value = radius if part <= math.pi else -radius
+        centre = [w.d.radius_word + w.fmt.length(value)]
+    elif fmt == "ijk-abs":
+        if w.d.centre_absolute_word:
+            centre = [
+                w.d.centre_absolute_word.format(letter=ci, value=w.fmt.length(cen1)),
+                w.d.centre_absolute_word.format(letter=cj, value=w.fmt.length(cen2)),
+            ]
+        else:
+            if not w.centre_abs_on:
+                w.block(w.d.centre_absolute_mode[0])  # type: ignore[index]
+                w.centre_abs_on = True
+            centre = [ci + w.fmt.length(cen1), cj + w.fmt.length(cen2)]
+    else:
+        if w.centre_abs_on:
+            w.block(w.d.centre_absolute_mode[1])  # type: ignore[index]
+            w.centre_abs_on = False
+        centre = [ci + w.fmt.length(cen1 - start1), cj + w.fmt.length(cen2 - start2)]
+    turn_words = []
+    if turns > 1:
+        turn_words = [f"{w.d.turns_word}{turns - w.d.turns_offset}"]
+    code = w.d.arc_ccw if ccw else w.d.arc_cw
+    fw = w.feed_word(length)
+    ends = sorted([*inplane, *others], key=lambda word: "XYZABC".index(word[0]))  # type: ignore[index]
+    centre.sort(key=lambda word: word[0])  # I J K
+    w.block(w.motion_code(code), *ends, *centre, *turn_words, fw)
+
+
+def r_centre(
+    start: tuple[float, float], end: tuple[float, float], r: float, ccw: bool
+) -> tuple[float, float] | None:
+    """The centre a reader finds for an R-format arc (RS274: |R| > 180 degrees when R < 0)."""
+    chord = math.dist(start, end)
+    if chord < 1e-12 or abs(r) < chord / 2 - 1e-12:
+        return None
+    h = math.sqrt(max(r * r - chord * chord / 4, 0.0))
+    ux, uy = (end[0] - start[0]) / chord, (end[1] - start[1]) / chord
+    side = 1.0 if ccw == (r > 0) else -1.0  # centre left of the chord for G3 with R > 0
+    mx, my = (start[0] + end[0]) / 2, (start[1] + end[1]) / 2
+    return mx - side * h * uy, my + side * h * ux
+
+
+def _arc_format(w: BlockWriter, turns: int, part: float, start, end, centre, ccw) -> str:  # noqa: ANN001
+    want = w.o.arc_format
+    if want == "ijk-abs" and "ijk-abs" not in w.d.arc_formats:
+        if "ijk-abs" not in w.noted:
+            w.noted.add("ijk-abs")
+            w.change("CONV-ARC-FORMAT", "substituted", f"{w.d.title}: incremental centres")
+        return "ijk"
+    if want != "r":
+        return want
+    radius = math.dist(start, centre)
+    r_word = float(w.fmt.length(radius if part <= math.pi else -radius))
+    end_w = (float(w.fmt.length(end[0])), float(w.fmt.length(end[1])))
+    got = r_centre(start, end_w, r_word, ccw)
+    exact = got is not None and math.dist(got, centre) <= 0.4 * 10.0**-w.fmt.places
+    if turns > 1 or part > TWO_PI - 1e-6 or not exact:
+        w.change(
+            "CONV-ARC-FORMAT",
+            "substituted",
+            "arc written with centres: R cannot state a full circle, several turns "
+            "or a near half circle exactly",
+        )
+        return "ijk"
+    return "r"
+
+
+def _expand_turns(w: BlockWriter, c: canon.ArcFeed, turns: int, part: float) -> None:
+    """Several turns without a turns word: full circles, then the remaining arc."""
+    if w.o.on_missing == "refuse":
+        w.refuse("CONV-ARC-TURNS", f"{w.d.title} has no multi-turn arcs")
+    first, second, normal, _, _ = PLANE_AXES[w.plane]
+    s = w.fmt.scale
+    total = part + TWO_PI * (turns - 1)
+    z0, z1 = w.written(normal) / s, c.axis_end_point
+    start1, start2 = w.written(first) / s, w.written(second) / s
+    ccw = c.rotation > 0
+    for k in range(1, turns):
+        z = z0 + (z1 - z0) * (k * TWO_PI / total)
+        full = canon.ArcFeed(
+            start1,
+            start2,
+            c.first_axis,
+            c.second_axis,
+            1 if ccw else -1,
+            z,
+            c.a,
+            c.b,
+            c.c,
+            source=c.source,
+        )
+        _arc_block(
+            w, full, (start1 * s, start2 * s, c.first_axis * s, c.second_axis * s), ccw, 1, TWO_PI
+        )
+    geo = (c.first_end * s, c.second_end * s, c.first_axis * s, c.second_axis * s)
+    _arc_block(w, c, geo, ccw, 1, part)
+    w.change(
+        "CONV-ARC-TURNS", "expanded", f"{turns}-turn arc written as {turns} arcs", pieces=turns
+    )
+
+
+def _line_to(w: BlockWriter, c: canon.Command, first: str, second: str, normal: str) -> None:
+    s = w.fmt.scale
+    t = w.target(0, 0, 0, c.a, c.b, c.c)  # type: ignore[attr-defined]
+    t[first], t[second] = c.first_end * s, c.second_end * s  # type: ignore[attr-defined]
+    t[normal] = c.axis_end_point * s  # type: ignore[attr-defined]
+    start = [w.written(k) for k in "XYZ"]
+    words = w.axis_words(t)
+    length = math.dist(start, [w.cur[k] for k in "XYZ"])
+    w.block(w.motion_code(w.d.linear), *(words or _first_axis(w)), w.feed_word(length))

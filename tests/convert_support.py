@@ -1,0 +1,99 @@
+"""Helpers for the convert tests: the program corpus, reading it, and comparing IR.
+
+Canonical text is normally printed with four decimals; two values 1e-6 apart can print
+1e-4 apart and then fail the 1e-4 rule by a rounding hair. :func:`fine_text` prints
+motions, feeds and speeds with six decimals so the equivalence rule of
+``tests/canon_equiv.py`` measures the real difference.
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from collections.abc import Iterable
+from pathlib import Path
+
+from gcode.interpreter import InterpreterOptions, interpret, interpret_text
+from gcode.tooltable import read_tool_table
+from kernel import canon
+from kernel.diagnostics import Diagnostic
+
+HERE = Path(__file__).resolve().parent
+GOLDEN = HERE / "golden" / "ngc"
+CORPUS = Path("/work/shared/corpus/ngc")
+if not CORPUS.is_dir():
+    CORPUS = HERE.parent.parent / "shared" / "corpus" / "ngc"
+
+
+def programs() -> list[Path]:
+    return sorted(GOLDEN.glob("*.ngc")) + sorted(CORPUS.glob("*.ngc"))
+
+
+def canon_files() -> list[Path]:
+    return sorted(GOLDEN.glob("*.canon")) + sorted(CORPUS.glob("*.canon"))
+
+
+def options(program: Path) -> InterpreterOptions:
+    table = program.parent / "sim.tbl"
+    return InterpreterOptions(
+        tool_table=read_tool_table(table.read_text().splitlines(), str(table)),
+        search_path=(str(program.parent), str(program.parent / "subs")),
+    )
+
+
+def read_ir(program: Path) -> list[canon.Command] | None:
+    """The interpreter's IR of a program, or None when the interpreter rejects it."""
+    try:
+        return list(interpret(program, options(program)))
+    except Diagnostic:
+        return None
+
+
+def reread(text: str, program: Path) -> list[canon.Command]:
+    return list(interpret_text(text, program.name, options(program)))
+
+
+def fine_text(commands: Iterable[canon.Command]) -> list[str]:
+    out = []
+    for c in commands:
+        if isinstance(c, canon.MOTIONS + (canon.SetFeedRate, canon.SetSpindleSpeed)):
+            args = []
+            for v in c.args():
+                if isinstance(v, float):
+                    args.append(f"{v:.6f}")
+                else:
+                    args.append(str(v.value) if hasattr(v, "value") else str(v))
+            out.append(f"{c.NAME}({', '.join(args)})")
+        else:
+            out.append(c.to_text())
+    return out
+
+
+def rs274(text: str, tool_table: Path, workdir: Path) -> list[str]:
+    """LinuxCNC's stand-alone interpreter on ``text``: its canonical output lines.
+
+    ``rs274`` occasionally dies without a message, or loses its tool table, when several
+    run at once (its tool data live in shared memory); such runs are retried.
+    """
+    exe = shutil.which("rs274")
+    assert exe is not None
+    (workdir / "conv.ngc").write_text(text)
+    shutil.copy(tool_table, workdir / "sim.tbl")  # rs274 may write its tool table back
+    for _ in range(5):
+        proc = subprocess.run(
+            [exe, "-t", "sim.tbl", "-g", "conv.ngc", "conv.canon"],
+            cwd=workdir,
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+        if proc.returncode == 0:
+            return (workdir / "conv.canon").read_text().splitlines()
+        if proc.stderr.strip() not in ("", "executing") and not _transient(proc.stderr):
+            raise AssertionError(f"rs274 rejected the converted program: {proc.stderr}")
+    raise AssertionError(f"rs274 failed five times: {proc.stderr}")
+
+
+def _transient(stderr: str) -> bool:
+    """rs274 keeps its tool data in shared memory: concurrent runs can lose their table."""
+    return "not found in the tool table" in stderr

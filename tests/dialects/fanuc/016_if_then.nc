@@ -1,0 +1,11 @@
+%
+O0016 (IF [...] THEN ASSIGNMENT)
+G21 G90 G17
+G00 X0 Y0
+#1=5.
+#2=1.
+IF [#1 EQ 5.] THEN #2=3.
+IF [#1 NE 5.] THEN #2=9.
+G01 X#2 F100.
+M30
+%
