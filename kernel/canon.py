@@ -272,7 +272,14 @@ class SetNaivecamTolerance(Command):
 
 @dataclass(frozen=True, slots=True)
 class SetFeedMode(Command):
-    """G94 / G93 / G95: how the next ``SET_FEED_RATE`` numbers are to be read."""
+    """G94 / G93 / G95: the program's feed mode, and how ``SET_FEED_RATE`` numbers read.
+
+    ``UNITS_PER_MINUTE`` and ``INVERSE_TIME``: rates are length units (or degrees) per
+    minute. In G93 the interpreter turns each move's inverse-time F into the per-minute rate
+    that makes the move last 1/F minutes and emits that (NIST RS274/NGC v3 §3.5.10; rs274
+    does the same and prints mode 0); the mode only records that the program was in G93,
+    for writers. ``UNITS_PER_REVOLUTION``: rates are length units per spindle revolution.
+    """
 
     NAME: ClassVar[str] = "SET_FEED_MODE"
     mode: FeedMode
@@ -867,8 +874,12 @@ def parse_command(tc: TextCommand, file: str | None = None) -> Command:
         if cls is SetSpindleMode and len(args) == 2 and "." not in args[0]:
             # LinuxCNC: spindle index (an integer), css max (0: G97)
             return SetSpindleMode(float(args[1]), float(args[1]) > 0, source=loc)
-        if cls is SetFeedMode and len(args) == 2:  # LinuxCNC: spindle, mode
-            return SetFeedMode(FeedMode(int(float(args[1]))), source=loc)
+        if cls is SetFeedMode and len(args) == 2:
+            # LinuxCNC: spindle, mode with 0 per minute (G94, and G93 already converted)
+            # and 1 per revolution (G95)
+            per_rev = int(float(args[1])) == 1
+            mode = FeedMode.UNITS_PER_REVOLUTION if per_rev else FeedMode.UNITS_PER_MINUTE
+            return SetFeedMode(mode, source=loc)
         if cls is StartSpeedFeedSynch and len(args) == 3:  # spindle, feed/rev, velocity mode
             args = args[1:]
         if cls is SetMotionControlMode and len(args) == 1:

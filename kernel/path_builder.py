@@ -432,11 +432,8 @@ class PathBuilder:
         length = seg["length"]
         with np.errstate(invalid="ignore"):
             unit = np.where(rotary_only, 1.0, mm)
-            feed = np.where(
-                mode == 1,
-                length * rate / 60.0,
-                np.where(mode == 2, rate * unit * spindle / 60.0, rate * unit / 60.0),
-            )
+            # G93 rates arrive per minute already (kernel.canon.SetFeedMode)
+            feed = np.where(mode == 2, rate * unit * spindle / 60.0, rate * unit / 60.0)
             feed = np.where(synch > 0, synch * mm * spindle / 60.0, feed) * override
             rapid = seg["category"] == RAPID
             feed = np.where(rapid, rate * unit / 60.0, feed)

@@ -37,10 +37,6 @@ def _printed_tolerance(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(canon_equiv, "TOLERANCE", 1e-4 + 1e-9)
 
 
-#: kernel.canon reads LinuxCNC's SET_FEED_MODE(0, 1) (G95, per revolution) as inverse time
-FEED_MODE_MISREAD = {"177_cycle_g84_tapping_g95", "184_feed_per_rev_inch_arc"}
-
-
 @pytest.mark.parametrize("dialect", ["rs274ngc", "grbl"])
 @pytest.mark.parametrize("program", programs(), ids=lambda p: p.stem)
 def test_rs274_reads_our_output_as_it_reads_the_original(
@@ -64,22 +60,7 @@ def test_rs274_reads_our_output_as_it_reads_the_original(
     assert canon_equiv.compare(ours, expected) == []
 
 
-CANON_FILES = [
-    pytest.param(
-        p,
-        id=p.stem,
-        marks=[
-            pytest.mark.xfail(
-                strict=True,
-                reason="kernel.canon reads SET_FEED_MODE(0, 1) "
-                "(G95, per revolution) as inverse time",
-            )
-        ]
-        if p.stem in FEED_MODE_MISREAD
-        else [],
-    )
-    for p in canon_files()
-]
+CANON_FILES = [pytest.param(p, id=p.stem) for p in canon_files()]
 
 
 @pytest.mark.parametrize("arc_format", ["ijk", "r"])

@@ -10,6 +10,7 @@ import pytest
 from click.testing import CliRunner
 
 from cli.plan import command
+from gcode.interpreter import interpret_text
 from kernel import canon
 from kernel.diagnostics import Diagnostic
 from kernel.geometry import evaluate
@@ -39,14 +40,12 @@ def test_inch_program_and_origin_offsets_become_machine_millimetres():
     assert seg["length"][-1] == pytest.approx(math.hypot(50.8, 50.8))
 
 
-def test_inverse_time_feed_makes_the_move_last_one_over_f_minutes():
-    cmds = [
-        canon.SetFeedMode(canon.FeedMode.INVERSE_TIME),
-        canon.SetFeedRate(2.0),
-        canon.StraightFeed(30.0, 40.0, 0.0),
-    ]
+def test_inverse_time_program_moves_last_one_over_f_minutes():
+    # G1 X30 Y40 F2 in G93: 50 mm in 1/2 min; the interpreter emits 100 mm/min (as rs274)
+    cmds = list(interpret_text("G21 G90 G93\nG1 X30 Y40 F2\nM2\n"))
     seg = build_path(cmds, MILL).segments
-    assert seg["length"][0] / seg["feed"][0] == pytest.approx(30.0)  # 1/2 min
+    moves = seg[seg["length"] > 0]
+    assert moves["length"][0] / moves["feed"][0] == pytest.approx(30.0)  # seconds
 
 
 def test_feed_per_revolution_uses_the_spindle_speed():
