@@ -47,9 +47,7 @@ def run(text: str) -> None:
         assert diag.location.line <= text.count("\n") + 2
 
 
-fuzz = settings(
-    max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow]
-)
+fuzz = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 @fuzz
