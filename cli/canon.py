@@ -1,4 +1,4 @@
-"""``cnc canon PROG``: the canonical machining commands of an RS274/NGC program.
+"""``cnc canon PROG``: the canonical machining commands of a G-code or STEP-NC program.
 
 Prints (or writes with ``-o``) the canonical text form, one command per line as LinuxCNC's
 ``rs274`` prints it, or JSON lines. A program error prints as a compiler diagnostic after
@@ -16,6 +16,7 @@ from typing import Any, TextIO
 import click
 
 from cli.errors import guarded
+from cli.programs import detect_kind, read_head
 from gcode.interpreter import InterpreterOptions, interpret_chunks
 from gcode.params import read_var_text
 from gcode.tooltable import read_tool_table
@@ -212,14 +213,35 @@ def command(
     output: str | None,
     force: bool,
 ) -> None:
-    """Interpret PROGRAM (RS274/NGC, LinuxCNC dialect) into canonical machining commands."""
+    """Interpret PROGRAM into canonical machining commands (NISTIR 5970).
+
+    PROGRAM is RS274/NGC G-code (LinuxCNC dialect) or an ISO 14649 STEP-NC Part 21 file,
+    told apart by content. Output is the canonical text as LinuxCNC's rs274 prints it, or
+    JSON lines.
+
+    \b
+    Examples:
+      cnc canon part.ngc
+      cnc canon part.ngc --tool-table sim.tbl -o part.canon
+      cnc canon ex1.stp --tool-table iso14649.tool_ex1
+      cnc canon part.ngc --format jsonl | head
+    """
     if not os.path.isfile(program):
         raise Diagnostic("IO-OPEN", "cannot open program: no such file", Location(program))
-    options = _options(tool_table, params, search, nist)
-    chunks = interpret_chunks(program, options)
+    chunks: Iterator[object]
+    stepnc = detect_kind(read_head(program)) == "part21"
+    linuxcnc = not nist and not stepnc  # STEP-NC prints as NIST's ISO 14649 interpreter
+    if stepnc:
+        # ISO 14649 STEP-NC (content, not the extension, decides); --tool-table names the
+        # NIST ISO 14649 tool file, and the workplan runs in NIST-compatible mode
+        from stepnc.to_canon import canon_from_file
+
+        chunks = iter(canon_from_file(program, tool_file=tool_table, mode="nist"))
+    else:
+        chunks = interpret_chunks(program, _options(tool_table, params, search, nist))
     if output is None:
         try:
-            _write(chunks, program, fmt, not nist, sys.stdout)
+            _write(chunks, program, fmt, linuxcnc, sys.stdout)
         except BrokenPipeError:  # e.g. piped into `head`: stop quietly
             devnull = os.open(os.devnull, os.O_WRONLY)
             os.dup2(devnull, sys.stdout.fileno())
@@ -229,4 +251,4 @@ def command(
             "IO-EXISTS", "output file exists (use --force to overwrite)", Location(output)
         )
     with open(output, "w", encoding="utf-8") as fh:
-        _write(chunks, program, fmt, not nist, fh)
+        _write(chunks, program, fmt, linuxcnc, fh)
