@@ -136,6 +136,9 @@ DEFAULT_MACHINE = Machine(
         AxisLimits("y", -250.0, 250.0, velocity=250.0, acceleration=2000.0, jerk=50000.0),
         AxisLimits("z", -300.0, 200.0, velocity=200.0, acceleration=1500.0, jerk=40000.0),
     ),
+    # a P position loop of K_v 30/s with balanced speed feedforward, as current controls
+    # ship (book §5.4.3.4): following error = feed x the speed loop's delay, not feed/K_v
+    extra={"servo": {"kp": 30.0, "feedforward": "speed"}},
 )
 
 _AXIS_KEYS = {f.name for f in fields(AxisLimits)} - {"name"}

@@ -205,7 +205,10 @@ def test_cnc_trace_writes_traces_summary_and_plots(tmp_path):
     )
     summary = json.loads((out / "part_summary.json").read_text())
     assert summary["contour_error"]["line"] in (2, 3, 4, 5)
-    assert summary["following_error"]["x"]["value"] == pytest.approx(50 / 30, rel=1e-3)
+    # the default mill has balanced speed feedforward: following error = feed x the speed
+    # loop's equivalent delay, 1/K_pn less half a drive sub-step (book eq. 5.39)
+    delay = 1 / 250.0 - 0.001 / 4 / 2
+    assert summary["following_error"]["x"]["value"] == pytest.approx(50 * delay, rel=1e-3)
     for png in ("part_x.png", "part_xy.png"):
         assert (out / png).read_bytes()[:4] == b"\x89PNG"
     before = (out / "part_summary.json").read_bytes()
