@@ -15,8 +15,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-import pytest
-
 ROOT = Path(__file__).resolve().parent.parent
 README = (ROOT / "README.md").read_text()
 
@@ -44,15 +42,18 @@ def test_the_tour_has_commands() -> None:
     assert len(TOUR) >= 5
 
 
-@pytest.mark.parametrize(("line", "code"), TOUR, ids=[c for c, _ in TOUR])
-def test_tour_command_works_as_written(line: str, code: int, tmp_path: Path) -> None:
-    argv = shlex.split(line)
-    cmd = [sys.executable, "-m", "cli.main", *argv[1:]]
-    # run in a fresh directory that sees the repository's docs/ and tests/, so outputs the
-    # tour writes land there and a second run never meets files of the first
+def test_tour_commands_work_as_written_in_order(tmp_path: Path) -> None:
+    """The commands run one after the other in one fresh directory, as a newcomer types
+    them (later ones use files earlier ones wrote); it sees the repository's docs/ and
+    tests/, so a second run never meets the files of the first."""
     for name in ("docs", "tests"):
         (tmp_path / name).symlink_to(ROOT / name)
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    proc = subprocess.run(cmd, cwd=tmp_path, capture_output=True, text=True, timeout=300, env=env)
-    assert "Traceback" not in proc.stderr, proc.stderr
-    assert proc.returncode == code, proc.stdout + proc.stderr
+    for line, code in TOUR:
+        argv = shlex.split(line)
+        cmd = [sys.executable, "-m", "cli.main", *argv[1:]]
+        proc = subprocess.run(
+            cmd, cwd=tmp_path, capture_output=True, text=True, timeout=300, env=env
+        )
+        assert "Traceback" not in proc.stderr, f"{line}\n{proc.stderr}"
+        assert proc.returncode == code, f"{line}\n{proc.stdout[-2000:]}{proc.stderr[-2000:]}"
