@@ -28,7 +28,7 @@ import click
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
-from cli.programs import program_commands
+from cli.programs import jobs_option, program_commands
 from gcode.tooltable import ToolTable, read_tool_table
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
@@ -219,14 +219,7 @@ def _list_rules(ctx: CheckContext) -> str:
     show_default=True,
     help="Output format.",
 )
-@click.option(
-    "--jobs",
-    "-j",
-    type=click.IntRange(min=0),
-    default=1,
-    show_default=True,
-    help="Worker processes (0: one per CPU).",
-)
+@jobs_option
 @click.option(
     "--output",
     "-o",

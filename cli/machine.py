@@ -24,8 +24,9 @@ from typing import Any
 import click
 
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.programs import load_machine
 from kernel.diagnostics import Diagnostic, Location
-from kernel.machine import DEFAULT_MACHINE, AxisLimits, Controller, Machine, parse_machine
+from kernel.machine import DEFAULT_MACHINE, AxisLimits, Controller, Machine
 
 STARTER = """\
 # cnc machine profile (TOML). Units: mm, degrees, seconds. Reference: docs/machine-profile.md
@@ -142,11 +143,6 @@ def machine_toml(m: Machine) -> str:
 
 
 # --------------------------------------------------------------------------- commands
-def _load(path: str) -> Machine:
-    with open(path, encoding="utf-8") as fh:
-        return parse_machine(fh.read(), path)
-
-
 @click.group("machine")
 def command() -> None:
     """Show, validate or create machine profiles.
@@ -173,7 +169,7 @@ def show(profile: str | None, fmt: str) -> None:
       cnc machine show
       cnc machine show mill.toml -f json
     """
-    m = _load(profile) if profile else DEFAULT_MACHINE
+    m = load_machine(profile) if profile else DEFAULT_MACHINE
     if fmt == "json":
         click.echo(json.dumps(machine_dict(m), indent=2, default=str))
     else:
@@ -184,7 +180,7 @@ def validate_profile(path: str) -> Machine:
     """Parse ``path`` and check the tables ``cnc check`` reads; raises Diagnostic."""
     from cli.check import load_context
 
-    m = _load(path)
+    m = load_machine(path)
     try:
         load_context(path, path, None)
     except OSError as exc:  # a tool table named by the profile that cannot be read

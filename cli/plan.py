@@ -7,40 +7,15 @@ is ``--machine M.toml`` or the built-in default mill.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator
 
 import click
 from rich.console import Console
 from rich.table import Table
 
 from cli.errors import guarded
-from kernel import canon
-from kernel.diagnostics import Diagnostic, Location
-from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
+from cli.programs import load_machine, program_commands
+from kernel.machine import Machine
 from kernel.measure import Report, measure
-
-
-def _commands(path: str) -> Iterator[canon.Command]:
-    if path.endswith(".canon"):
-        # LinuxCNC's work offsets and XY rotation included: the planner needs them to
-        # place the moves on the machine
-        with open(path, encoding="utf-8", errors="replace") as fh:
-            yield from canon.read_commands(fh, path, keep_linuxcnc=True)
-        return
-    try:
-        from gcode.interpreter import interpret
-    except ImportError as exc:  # the front end is another issue's work
-        raise Diagnostic(
-            "PLAN-FRONTEND", f"G-code interpreter unavailable: {exc}", Location(path)
-        ) from None
-    yield from interpret(path)
-
-
-def _machine(path: str | None) -> Machine:
-    if path is None:
-        return DEFAULT_MACHINE
-    with open(path, encoding="utf-8") as fh:
-        return parse_machine(fh.read(), path)
 
 
 def run(program: str, machine: Machine) -> Report:
@@ -50,7 +25,7 @@ def run(program: str, machine: Machine) -> Report:
     from kernel.path import build_path
     from kernel.planner import plan
 
-    p = build_path(_commands(program), machine, program)
+    p = build_path(program_commands(program), machine, program)
     pl = plan(p, planning_machine(machine))
     return measure(pl, sample(pl))
 
@@ -124,7 +99,7 @@ def _text(report: Report, program: str, console: Console) -> None:
 @guarded
 def command(program: str, machine_file: str | None, fmt: str) -> None:
     """Plan PROGRAM (G-code or .canon): cycle-time breakdown and axis-limit hits."""
-    report = run(program, _machine(machine_file))
+    report = run(program, load_machine(machine_file))
     if fmt == "json":
         click.echo(json.dumps({"program": program, **report.to_dict()}, indent=2))
     else:

@@ -16,10 +16,13 @@ from collections.abc import Iterator
 from dataclasses import replace
 from pathlib import Path
 
+import click
+
 from gcode.tooltable import ToolTable
 from kernel import canon
 from kernel.check.canon_input import commands_with_offsets
 from kernel.diagnostics import Diagnostic, Location
+from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
 
 KINDS = ("gcode", "canon", "jsonl", "part21")
 _PART21 = re.compile(r"^\s*ISO-10303-21\s*;", re.M)
@@ -124,3 +127,22 @@ def program_commands(
         yield from _part21(path)
     else:
         yield from _gcode(path, tools, tool_mm_per_unit)
+
+
+#: ``--jobs/-j`` of the batch commands (check, run)
+jobs_option = click.option(
+    "--jobs",
+    "-j",
+    type=click.IntRange(min=0),
+    default=1,
+    show_default=True,
+    help="Worker processes (0: one per CPU).",
+)
+
+
+def load_machine(path: str | None) -> Machine:
+    """The machine profile at ``path`` (TOML), or the built-in 3-axis mill for None."""
+    if path is None:
+        return DEFAULT_MACHINE
+    with open(path, encoding="utf-8") as fh:
+        return parse_machine(fh.read(), path)

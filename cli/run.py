@@ -29,6 +29,7 @@ from cli.check import expand, load_context
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.main import verbosity
 from cli.pipeline import RunOptions, RunResult, report_names, run_program
+from cli.programs import jobs_option
 from kernel.check import CheckContext
 from kernel.diagnostics import Diagnostic, Location
 
@@ -96,14 +97,7 @@ def _summary(results: list[RunResult], console: Console, seconds: float) -> None
     show_default=True,
     help="Directory for the reports (created if missing).",
 )
-@click.option(
-    "--jobs",
-    "-j",
-    type=click.IntRange(min=0),
-    default=1,
-    show_default=True,
-    help="Worker processes (0: one per CPU).",
-)
+@jobs_option
 @click.option(
     "--html",
     is_flag=True,

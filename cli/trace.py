@@ -14,15 +14,8 @@ import os
 import click
 
 from cli.errors import guarded
+from cli.programs import load_machine, program_commands
 from kernel.diagnostics import Diagnostic, Location
-from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
-
-
-def _machine(path: str | None) -> Machine:
-    if path is None:
-        return DEFAULT_MACHINE
-    with open(path, encoding="utf-8") as fh:
-        return parse_machine(fh.read(), path)
 
 
 @click.command(name="trace")
@@ -70,7 +63,6 @@ def command(
     chunk: int,
 ) -> None:
     """Simulate PROGRAM (G-code or canonical text) and write per-axis traces to DIR."""
-    from cli.programs import program_commands
     from kernel.accdec import planning_machine
     from kernel.interpolate import sample
     from kernel.path import build_path
@@ -78,7 +70,7 @@ def command(
     from kernel.trace import Trace, column_dtypes, columns, setup
     from kernel.trace_writers import check_target, open_writer
 
-    machine = _machine(machine_file)
+    machine = load_machine(machine_file)
     stem = os.path.splitext(os.path.basename(program))[0]
     trace_path = os.path.join(out_dir, f"{stem}_trace.{fmt}")
     summary_path = os.path.join(out_dir, f"{stem}_summary.json")

@@ -13,6 +13,7 @@ from kernel import accdec
 from kernel.diagnostics import Diagnostic
 from kernel.machine import DEFAULT_MACHINE, Machine
 from kernel.samples import Samples
+from tests.test_kernel_interp_tables import B2 as TABLE_3_9_B2
 
 T = 0.008  # the book's interpolation period
 
@@ -247,40 +248,7 @@ def test_moving_average_fine_interpolation_table_3_9():
     pos = np.cumsum(np.r_[0.0, 0.0, 8, 16, 24, 24, 16, 8, 0.0])[:, None]
     fine = accdec.fine_interpolate(_samples(pos, 0.004), 4, "moving_average")
     inc = np.diff(fine.position[:, 0])
-    expected = [
-        0,
-        0,
-        0.25,
-        0.75,
-        1.25,
-        1.75,
-        2.25,
-        2.75,
-        3.25,
-        3.75,
-        4.25,
-        4.75,
-        5.25,
-        5.75,
-        6,
-        6,
-        6,
-        6,
-        5.75,
-        5.25,
-        4.75,
-        4.25,
-        3.75,
-        3.25,
-        2.75,
-        2.25,
-        1.75,
-        1.25,
-        0.75,
-        0.25,
-        0,
-        0,
-    ]
+    expected = TABLE_3_9_B2  # the book's b'' column, shared with the kernel's test
     # the output starts N/2 fine periods early: skip those two leading zeros
     assert inc[2 : 2 + 32] == pytest.approx(expected)
     assert fine.position[-1, 0] == pos[-1, 0]
