@@ -54,9 +54,9 @@ def _text(report: Report, program: str, console: Console) -> None:
     )
     p = Table(title="peak axis values")
     p.add_column("axis")
-    p.add_column("velocity", justify="right")
-    p.add_column("acceleration", justify="right")
-    p.add_column("jerk", justify="right")
+    p.add_column("velocity [mm/s]", justify="right")
+    p.add_column("acceleration [mm/s²]", justify="right")
+    p.add_column("jerk [mm/s³]", justify="right")
     for a in report.peak_velocity:
         p.add_row(
             a.upper(),
