@@ -188,7 +188,17 @@ def command(
     tool_table: str | None,
     report_path: str | None,
 ) -> None:
-    """Convert SOURCE from one control's language to another's through the canonical IR."""
+    """Convert SOURCE from one control's language to another's through the canonical IR.
+
+    Every approximation or dropped construct is reported as a note with its source line
+    (and with --report as JSON); --on-missing refuse makes them errors instead.
+
+    \b
+    Examples:
+      cnc convert part.ngc --to fanuc -o part.nc
+      cnc convert part.ngc --to grbl --arc-format r --units mm -o part.gcode
+      cnc convert part.canon --from canon --to rs274ngc --line-numbers 10
+    """
     if not os.path.exists(source):
         raise Diagnostic("IO-OPEN", f"no such file: {source}", Location(source))
     if output and Path(output).resolve() == Path(source).resolve():

@@ -98,7 +98,16 @@ def _text(report: Report, program: str, console: Console) -> None:
 )
 @guarded
 def command(program: str, machine_file: str | None, fmt: str) -> None:
-    """Plan PROGRAM (G-code or .canon): cycle-time breakdown and axis-limit hits."""
+    """Plan PROGRAM: cycle-time breakdown, path lengths, peak axis values, limit hits.
+
+    PROGRAM is G-code, STEP-NC, canonical text or JSON lines (told apart by content).
+
+    \b
+    Examples:
+      cnc plan part.ngc
+      cnc plan part.ngc --machine mill.toml --format json > plan.json
+      cnc plan ex1.stp
+    """
     report = run(program, load_machine(machine_file))
     if fmt == "json":
         click.echo(json.dumps({"program": program, **report.to_dict()}, indent=2))

@@ -51,7 +51,17 @@ def _interpreting(func):  # noqa: ANN001, ANN202
 
 @click.group("stepnc")
 def command() -> None:
-    """ISO 14649 STEP-NC programs (Part 21 files)."""
+    """ISO 14649 STEP-NC programs (Part 21 files).
+
+    \b
+    Examples:
+      cnc stepnc info ex1.stp
+      cnc stepnc check book_fragment.stp
+      cnc stepnc canon ex1.stp --tool-file iso14649.tool_ex1
+      cnc stepnc to-gcode ex1.stp --dialect fanuc -o ex1.nc
+      cnc stepnc part ex1.stp --raw 0,0,-45,100,120,5 -o part.step
+      cnc stepnc gouge ex1.stp --raw 0,0,-45,100,120,5
+    """
 
 
 @command.command("info")

@@ -62,7 +62,16 @@ def command(
     force: bool,
     chunk: int,
 ) -> None:
-    """Simulate PROGRAM (G-code or canonical text) and write per-axis traces to DIR."""
+    """Simulate PROGRAM through acc/dec and the servo loops; write per-axis traces to DIR.
+
+    Also writes DIR/<name>_summary.json (largest following and contour errors, where they
+    happen) and, with --plot, PNG plots per axis and of the XY path.
+
+    \b
+    Examples:
+      cnc trace part.ngc -o traces --plot
+      cnc trace part.ngc -o traces --format npz --machine mill.toml
+    """
     from kernel.accdec import planning_machine
     from kernel.interpolate import sample
     from kernel.path import build_path
