@@ -421,8 +421,11 @@ class PathBuilder:
             )
         # drop motions too short to matter (the position was carried on anyway)
         keep = (kind == HOLD) | (seg["length"] > MIN_LENGTH)
-        seg, d, rotary_only = seg[keep], d[keep], rotary_only[keep]
-        sel = np.flatnonzero(keep)
+        if keep.all():  # the usual case: no copy of the (wide) table
+            sel = np.arange(n)
+        else:
+            seg, d, rotary_only = seg[keep], d[keep], rotary_only[keep]
+            sel = np.flatnonzero(keep)
         rate = np.fromiter(rate, float, n)[sel]
         mode = np.fromiter(mode, float, n)[sel]
         mm = np.fromiter(mm, float, n)[sel]
