@@ -198,8 +198,7 @@ def modal_0(ip: Interpreter, w: Words) -> None:
     elif code in (920, 520):
         ip.comp_off("axis offsets")
         g92(ip, w, code == 520)
-    elif code in (921, 922):
-        ip.comp_off("axis offsets")
+    elif code in (921, 922):  # allowed with cutter comp on, as in rs274 (only G52/G92 refuse)
         s = ip.s
         for i in range(6):
             s.pos[i] += s.g92[i]
@@ -211,7 +210,6 @@ def modal_0(ip: Interpreter, w: Words) -> None:
             ip.params.values[5210] = 0.0
         _emit_offsets(ip, g5x=False)
     elif code == 923:
-        ip.comp_off("axis offsets")
         s = ip.s
         for i in range(6):
             s.pos[i] += s.g92[i] - s.g92_saved[i]
