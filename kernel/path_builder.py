@@ -1,19 +1,26 @@
 """The IR walk behind :func:`kernel.path.build_path`: modal state and one light row per
 motion or hold, vectorised into the segment table at the end (see kernel.path for the
 rules: units, offsets, feed modes, arcs, NURBS tessellation, LinuxCNC additions).
+
+Runs of consecutive ``STRAIGHT_FEED`` / ``STRAIGHT_TRAVERSE`` commands (the bulk of CAM
+output) change no modal state: the walk records each run with its state, and
+:func:`kernel.path.segment_table` converts all runs as whole columns (units, G92, XY rotation
+and G5x offset with the same floating-point operations as the command-by-command walk, so
+the table is bit-for-bit the same; tests/test_kernel_path_speedpath.py).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
-from itertools import chain
+from itertools import islice
 
 import numpy as np
 
 from kernel import canon
-from kernel.diagnostics import Diagnostic, Location
-from kernel.machine import AXIS_NAMES, Machine
+from kernel.diagnostics import Diagnostic
+from kernel.machine import Machine
 from kernel.path import (
     ARC,
     DWELL,
@@ -24,9 +31,10 @@ from kernel.path import (
     ORIENT,
     PROBE,
     RAPID,
-    SEGMENT_DTYPE,
     STOP,
     TOOL_CHANGE,
+    StraightRun,
+    segment_table,
 )
 
 _PLANE_AXES = {
@@ -60,6 +68,19 @@ class _State:
     override: float = 1.0  # the factor in force (1 while overrides are disabled)
 
 
+#: runs of straight moves at least this long take the columnar path (shorter: one by one)
+MIN_RUN = 8
+_BATCH = 1 << 16  # commands drawn at a time from a streamed program
+_STRAIGHT = frozenset((canon.StraightFeed, canon.StraightTraverse))
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.cross`` of two 3-vectors, same operations (and signed zeros), without its
+    per-call overhead."""
+    (a0, a1, a2), (b0, b1, b2) = a.tolist(), b.tolist()
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+
+
 def _loc_line(cmd: canon.Command) -> int:
     return cmd.source.line if cmd.source is not None else 0
 
@@ -78,7 +99,8 @@ class PathBuilder:
         self.st.position = tuple(machine.limit_vector("home"))
         self.st.override = machine.controller.feed_override
         self.st.blend = machine.controller.blend_tolerance  # G64 is the initial mode
-        self.rows: list[_Row] = []
+        self.rows: list[_Row] = []  # light rows not yet moved into ``chunks``
+        self.chunks: list[list[_Row] | StraightRun] = []  # light rows and runs, in program order
         self.file = file
 
     # ------------------------------------------------------------------ motions
@@ -184,7 +206,7 @@ class PathBuilder:
             centre=centre,
             normal=normal,
             e1=e1,
-            e2=np.cross(normal, e1),
+            e2=_cross(normal, e1),
             radius=r0,
             radius_end=r1,
             sweep=sweep,
@@ -265,6 +287,73 @@ class PathBuilder:
         )
 
     # ------------------------------------------------------------------ dispatch
+    def feed_all(self, commands: Iterable[canon.Command]) -> None:
+        """Walk a whole program. A streamed one is drawn in batches; if the stream fails,
+        the commands before the failure are walked first (their errors come first)."""
+        if isinstance(commands, list):
+            self._feed_batch(commands, 0)
+            return
+        it, idx = iter(commands), 0
+        while True:
+            batch: list[canon.Command] = []
+            try:
+                batch.extend(islice(it, _BATCH))  # keeps what came before a failure
+            except Exception:
+                self._feed_batch(batch, idx)
+                raise
+            if not batch:
+                return
+            self._feed_batch(batch, idx)
+            idx += len(batch)
+
+    def _feed_batch(self, cmds: list[canon.Command], idx0: int) -> None:
+        n = len(cmds)
+        types = list(map(type, cmds))
+        flags = np.fromiter(map(_STRAIGHT.__contains__, types), bool, n)
+        edges = np.flatnonzero(np.diff(flags, prepend=False, append=False)).tolist()
+        pos, feed = 0, self.feed
+        for a, b in zip(edges[0::2], edges[1::2], strict=True):
+            if b - a < MIN_RUN:
+                continue
+            for i in range(pos, a):
+                feed(idx0 + i, cmds[i])
+            self.straight_run(cmds[a:b], idx0 + a)
+            pos = b
+        for i in range(pos, n):
+            feed(idx0 + i, cmds[i])
+
+    def straight_run(self, run: list[canon.Command], idx0: int) -> None:
+        """Record consecutive STRAIGHT_FEED / STRAIGHT_TRAVERSE commands with the modal state
+        they run under; :func:`kernel.path.merged_columns` converts all runs at once."""
+        st = self.st
+        if self.rows:
+            self.chunks.append(self.rows)
+            self.rows = []
+        start = st.position
+        last = run[-1]
+        st.position = self._target((last.x, last.y, last.z, last.a, last.b, last.c))
+        self.chunks.append(
+            StraightRun(
+                run,
+                idx0,
+                start,
+                (st.mm, *st.g92),
+                (st.rot, math.cos(st.rot), math.sin(st.rot), *st.g5x),
+                bool(st.rot or any(st.g5x)),
+                (
+                    float(st.feed),
+                    float(st.traverse),
+                    st.feed_mode,
+                    st.mm,
+                    st.spindle,
+                    st.synch,
+                    st.override,
+                    st.blend,
+                ),
+                bool(st.exact_stop),
+            )
+        )
+
     def feed(self, idx: int, cmd: canon.Command) -> None:
         st = self.st
         cls = type(cmd)
@@ -360,107 +449,7 @@ class PathBuilder:
 
     # ------------------------------------------------------------------ vectorised finish
     def table(self) -> np.ndarray:
-        rows = self.rows
-        n = len(rows)
-        seg = np.zeros(n, SEGMENT_DTYPE)
-        if not n:
-            return seg
-        (
-            kind,
-            cat,
-            start,
-            end,
-            rate,
-            mode,
-            mm,
-            spindle,
-            synch,
-            override,
-            stop,
-            blend,
-            src,
-            line,
-            duration,
-            recs,
-        ) = zip(*rows, strict=True)
-        kind = np.fromiter(kind, np.int8, n)
-        start = np.fromiter(chain.from_iterable(start), float, 6 * n).reshape(n, 6)
-        end = np.fromiter(chain.from_iterable(end), float, 6 * n).reshape(n, 6)
-        seg["kind"], seg["category"] = kind, np.fromiter(cat, np.int8, n)
-        seg["start"], seg["end"] = start, end
-        seg["exact_stop"] = np.fromiter(stop, bool, n)
-        seg["blend"] = np.fromiter(blend, float, n)
-        seg["source"] = np.fromiter(src, np.int64, n)
-        seg["line"] = np.fromiter(line, np.int32, n)
-        seg["duration"] = np.fromiter(duration, float, n)
-        d = end - start
-        lin = np.sqrt(np.einsum("ij,ij->i", d[:, :3], d[:, :3]))
-        rotary_only = lin <= MIN_LENGTH
-        length = np.where(rotary_only, np.linalg.norm(d[:, 3:], axis=1), lin)
-        is_arc = kind == ARC
-        ai = np.flatnonzero(is_arc)
-        for i in ai:
-            for key, val in recs[i].items():
-                seg[key][i] = val
-        length[ai] = seg["length"][ai]
-        rotary_only[ai] = False
-        seg["length"] = np.where(kind == HOLD, 0.0, length)
-        # axes the machine lacks must not move
-        present = np.array([a in self.machine.axis_names for a in AXIS_NAMES])
-        bad = np.flatnonzero(np.any((np.abs(d) > MIN_LENGTH) & ~present, axis=1))
-        if bad.size:
-            i = int(bad[0])
-            names = ", ".join(
-                AXIS_NAMES[j].upper()
-                for j in np.flatnonzero((np.abs(d[i]) > MIN_LENGTH) & ~present)
-            )
-            raise Diagnostic(
-                "PLAN-AXIS",
-                f"the move drives axis {names}, which the machine lacks",
-                Location(self.file, int(line[i]), 1 if line[i] else 0),
-            )
-        # drop motions too short to matter (the position was carried on anyway)
-        keep = (kind == HOLD) | (seg["length"] > MIN_LENGTH)
-        if keep.all():  # the usual case: no copy of the (wide) table
-            sel = np.arange(n)
-        else:
-            seg, d, rotary_only = seg[keep], d[keep], rotary_only[keep]
-            sel = np.flatnonzero(keep)
-        rate = np.fromiter(rate, float, n)[sel]
-        mode = np.fromiter(mode, float, n)[sel]
-        mm = np.fromiter(mm, float, n)[sel]
-        spindle = np.fromiter(spindle, float, n)[sel]
-        synch = np.fromiter(synch, float, n)[sel]
-        override = np.fromiter(override, float, n)[sel]
-        length = seg["length"]
-        with np.errstate(invalid="ignore"):
-            unit = np.where(rotary_only, 1.0, mm)
-            # G93 rates arrive per minute already (kernel.canon.SetFeedMode)
-            feed = np.where(mode == 2, rate * unit * spindle / 60.0, rate * unit / 60.0)
-            feed = np.where(synch > 0, synch * mm * spindle / 60.0, feed) * override
-            rapid = seg["category"] == RAPID
-            feed = np.where(rapid, rate * unit / 60.0, feed)
-        seg["feed"] = feed
-        moving = seg["kind"] != HOLD
-        bad = np.flatnonzero(moving & ~rapid & ~(feed > 0))
-        if bad.size:
-            ln = int(seg["line"][bad[0]])
-            raise Diagnostic(
-                "PLAN-FEED",
-                "feed move with a zero feed rate",
-                Location(self.file, ln, 1 if ln else 0),
-            )
-        safe = np.where(length > 0, length, 1.0)[:, None]
-        lines = seg["kind"] == LINE
-        u = np.where(lines[:, None], d / safe, 0.0)
-        seg["u_start"], seg["u_end"] = u, u
-        arcs = np.flatnonzero(seg["kind"] == ARC)
-        if arcs.size:
-            from kernel.geometry import arc_tangent
-
-            sa = seg[arcs]
-            us, ue = arc_tangent(sa, np.zeros(arcs.size)), arc_tangent(sa, np.ones(arcs.size))
-            rot = d[arcs, 3:] / sa["length"][:, None]
-            us[:, 3:], ue[:, 3:] = rot, rot
-            seg["u_start"][arcs], seg["u_end"][arcs] = us, ue
-        return seg
+        if self.rows:
+            self.chunks.append(self.rows)
+            self.rows = []
+        return segment_table(self.chunks, self.machine, self.file)
