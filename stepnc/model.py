@@ -329,6 +329,26 @@ def _check_workingstep(ws: Entity, sink: _Sink) -> None:
                     f"pocket width {width:g} minus side allowances",
                     loc,
                 )
+    shape = getattr(feature, "swept_shape", None) if feature.type == "SLOT" else None
+    if (
+        isinstance(shape, Entity)
+        and shape.type == "SQUARE_U_PROFILE"
+        and op.is_a(
+            "BOTTOM_AND_SIDE_ROUGH_MILLING",
+            "BOTTOM_AND_SIDE_FINISH_MILLING",
+            "SIDE_ROUGH_MILLING",
+            "SIDE_FINISH_MILLING",
+        )
+    ):
+        side = op.allowance_side or 0.0  # type: ignore[attr-defined]
+        width = measure(shape.width) or 0.0  # type: ignore[attr-defined]
+        if diameter > width - 2 * side + 1e-9:
+            sink.add(
+                "STEPNC-TOOL-WIDTH",
+                f"tool diameter {diameter:g} does not fit slot {feature.its_id!r} of width "  # type: ignore[attr-defined]
+                f"{width:g} minus side allowances {side:g}",
+                loc,
+            )
     if feature.type == "ROUND_HOLE" and op.is_a(
         "DRILLING", "REAMING", "BORING", "MULTISTEP_DRILLING", "TAPPING"
     ):

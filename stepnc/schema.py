@@ -211,6 +211,8 @@ ENTITIES: dict[str, tuple[str, ...]] = {
         "second_radius:ref:TOLERANCED_LENGTH_MEASURE?",
         "second_angle:real?",
     ),
+    "RADIUSED_SLOT_END_TYPE": (),
+    "OPEN_SLOT_END_TYPE": (),
     "THROUGH_BOTTOM_CONDITION": (),
     "FLAT_HOLE_BOTTOM": (),
     "FLAT_WITH_RADIUS_HOLE_BOTTOM": ("corner_radius:ref:TOLERANCED_LENGTH_MEASURE",),

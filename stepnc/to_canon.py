@@ -22,7 +22,7 @@ from stepnc.executor import Executor
 from stepnc.frames import Frame, coords, frame_of
 from stepnc.model import Entity, Model, load
 from stepnc.tooling import ToolEntry, load_tool_file
-from stepnc.toolpaths import drilling, explicit, facing, pocket
+from stepnc.toolpaths import drilling, explicit, facing, open_pocket, pocket, slot, step
 
 FAMILIES = {
     "PLANE_ROUGH_MILLING": facing,
@@ -38,6 +38,16 @@ FAMILIES = {
     "TAPPING": drilling,
     "FREEFORM_OPERATION": explicit,
 }
+#: side and bottom-and-side milling by feature (pockets: FAMILIES above)
+_BY_FEATURE = {"SLOT": slot, "STEP": step, "OPEN_POCKET": open_pocket}
+_SIDE_MILLING = frozenset(
+    {
+        "SIDE_ROUGH_MILLING",
+        "SIDE_FINISH_MILLING",
+        "BOTTOM_AND_SIDE_ROUGH_MILLING",
+        "BOTTOM_AND_SIDE_FINISH_MILLING",
+    }
+)
 #: families that set their own coolant and technology (NIST ``cut_feature``)
 _SELF_TECHNOLOGY = frozenset({"DRILLING", "FREEFORM_OPERATION"})
 
@@ -165,6 +175,8 @@ def _execute(ex: Executor, element: Entity, wp_frame: Frame, setup_z: float) -> 
 def _machining(ex: Executor, ws: Entity, wp_frame: Frame) -> None:
     feature, op = ws.its_feature, ws.its_operation
     family = FAMILIES.get(op.type)
+    if op.type in _SIDE_MILLING and feature.type in _BY_FEATURE:
+        family = _BY_FEATURE[feature.type]
     if family is None:
         raise Diagnostic(
             "STEPNC-UNSUPPORTED", f"no toolpath generator for {op.type}", op.where(ws.id)

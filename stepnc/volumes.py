@@ -8,7 +8,8 @@ gouge check tests tool points against them with numpy (no OpenCASCADE needed).
 Feature volumes (ISO 14649-10 §4.7): PLANAR_FACE removes ``length x width x depth`` from
 its top; CLOSED_POCKET removes its boundary profile (corner radius = orthogonal radius)
 down to its depth plane; ROUND_HOLE removes a cylinder of its diameter, through the whole
-workpiece when its bottom is a THROUGH_BOTTOM_CONDITION.
+workpiece when its bottom is a THROUGH_BOTTOM_CONDITION; a straight SLOT, a STEP and an
+OPEN_POCKET are unions of prisms (:func:`feature_prisms`).
 """
 
 from __future__ import annotations
@@ -172,12 +173,47 @@ def feature_volume(feature: Entity, wp: Frame) -> Prism | None:
     raise Diagnostic("STEPNC-UNSUPPORTED", f"no solid for a {t} feature", feature.where())
 
 
+def feature_prisms(feature: Entity, wp: Frame) -> list[Prism]:
+    """The removal volume of a feature as prisms whose union it is: a straight SLOT is the
+    rectangle swept along its course plus a disc at each radiused end; a STEP is the
+    half-plane right of its wall line, between the line's ends; a rectangular OPEN_POCKET
+    extends from its back wall through its open side (conventions in
+    :mod:`stepnc.toolpaths.slot`, :mod:`~stepnc.toolpaths.step`, :mod:`~.open_pocket`)."""
+    if feature.type == "SLOT":
+        from stepnc.toolpaths.slot import slot_shape
+
+        s = slot_shape(feature)
+        frame = wp.compose(frame_of(feature.feature_placement)).compose(s.frame)
+        w, name = s.width / 2, feature.its_id
+        out = [Prism(frame, "rect", (0.0, -w, s.length, w, 0.0), 0.0, -s.depth, name)]
+        for is_open, u in ((s.open_start, 0.0), (s.open_end, s.length)):
+            if not is_open:
+                out.append(Prism(frame, "circle", (u, 0.0, w), 0.0, -s.depth, name))
+        return out
+    if feature.type == "STEP":
+        from stepnc.toolpaths.step import step_shape
+
+        length, depth, path = step_shape(feature)
+        frame = wp.compose(frame_of(feature.feature_placement)).compose(path)
+        dims = (0.0, -THROUGH, length, 0.0, 0.0)
+        return [Prism(frame, "rect", dims, 0.0, -depth, feature.its_id)]
+    if feature.type == "OPEN_POCKET":
+        from stepnc.toolpaths.open_pocket import open_pocket_shape
+
+        length, width, depth, corner, shape = open_pocket_shape(feature)
+        frame = wp.compose(frame_of(feature.feature_placement)).compose(shape)
+        dims = (-THROUGH, -width / 2, length, width / 2, corner)  # open side: beyond the part
+        return [Prism(frame, "rect", dims, 0.0, -depth, feature.its_id)]
+    return [feature_volume(feature, wp)]
+
+
 def feature_volumes(model: Model) -> list[Prism]:
     """Removal volumes of every feature of the program (file order)."""
     wp = workpiece_frame(model)
     features = GROUPS["feature"]
     return [
-        feature_volume(Entity(model, inst), wp)
+        prism
         for inst in model.p21.instances.values()
         if inst.name in features
+        for prism in feature_prisms(Entity(model, inst), wp)
     ]

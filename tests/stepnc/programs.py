@@ -177,6 +177,62 @@ class Program:
             bottom,
         )
 
+    def slot(
+        self,
+        x: float,
+        y: float,
+        length: float,
+        width: float,
+        depth: float,
+        course: tuple[float, ...] = (1, 0, 0),
+        ends: tuple[str, ...] = (),
+    ) -> int:
+        place = self.placement((x, y, 0))
+        path = self.add("LINEAR_PATH($,{},{})", self.tlm(length), self.direction(course))
+        shape = self.add("SQUARE_U_PROFILE($,{},$,$,$,$)", self.tlm(width))
+        end_refs = ",".join(f"#{self.add(f'{e}()')}" for e in ends)
+        depth_plane = self.plane_at(-depth)
+        return self.add(
+            f"SLOT('SLOT',#3,({{}}),{{}},{{}},{{}},{{}},({end_refs}))",
+            f"OPS{self.next}_",
+            place,
+            depth_plane,
+            path,
+            shape,
+        )
+
+    def step(
+        self, x: float, y: float, length: float, depth: float, along: tuple[float, ...]
+    ) -> int:
+        """Wall foot from (x, y) along ``along``; the material on its right is removed."""
+        place = self.placement((x, y, 0))
+        path = self.add("LINEAR_PATH($,{},{})", self.tlm(length), self.direction(along))
+        depth_plane = self.plane_at(-depth)
+        return self.add(
+            "STEP('STEP',#3,({}),{},{},{},$)", f"OPS{self.next}_", place, depth_plane, path
+        )
+
+    def open_pocket(
+        self, x: float, y: float, length: float, width: float, depth: float, radius: float
+    ) -> int:
+        """Open side on the feature's Y axis (x = 0), the pocket extending along +X."""
+        place = self.placement((x, y, 0))
+        w = width / 2
+        pts = [self.point(p) for p in ((0, -w, 0), (length, -w, 0), (length, w, 0), (0, w, 0))]
+        curve = self.add("POLYLINE('U',({}))".format(",".join(f"#{q}" for q in pts)))
+        boundary = self.add("GENERAL_PROFILE($,{})", curve)
+        bottom = self.add("PLANAR_POCKET_BOTTOM_CONDITION()")
+        depth_plane, corner = self.plane_at(-depth), self.tlm(radius)
+        return self.add(
+            "OPEN_POCKET('OPEN POCKET',#3,({}),{},{},(),$,{},$,{},{},$)",
+            f"OPS{self.next}_",
+            place,
+            depth_plane,
+            bottom,
+            corner,
+            boundary,
+        )
+
 
 def _r(v: float) -> str:
     return format_value(float(v))
@@ -220,6 +276,28 @@ def _pocket_op(
         p.tech(),
         p.functions(),
         appr,
+        strat,
+    )
+
+
+def _side_op(
+    p: Program,
+    kind: str,
+    strategy: str,
+    *,
+    tool: int | None = None,
+    axial: str = "$",
+    radial: str = "$",
+    side: str = "$",
+) -> int:
+    """SIDE_ROUGH/FINISH_MILLING: like bottom-and-side without the bottom allowance."""
+    t = tool if tool is not None else _mill(p)
+    strat = p.add(strategy) if strategy != "$" else "$"
+    return p.add(
+        f"{kind}($,$,'SIDE OP',5.0,$,{{}},{{}},{{}},$,$,$,{{}},{axial},{radial},{side})",
+        t,
+        p.tech(),
+        p.functions(),
         strat,
     )
 
@@ -689,6 +767,123 @@ def two_tools_face_and_pocket() -> Program:
     return p
 
 
+def slot_radiused_ramp() -> Program:
+    """A closed slot at 45 degrees: radiused ends, rough with allowances, ramp entry."""
+    p = Program("SLOT RADIUSED ROUGH RAMP")
+    p.workingstep(
+        "WS SLOT",
+        p.slot(25, 20, 40, 16, 9, course=(1, 1, 0)),
+        _pocket_op(
+            p,
+            "BOTTOM_AND_SIDE_ROUGH_MILLING",
+            "$",
+            "PLUNGE_RAMP($,15.0)",
+            axial="3.0",
+            radial="2.0",
+            side="0.5",
+            bottom="0.5",
+        ),
+    )
+    return p
+
+
+def slot_open_finish() -> Program:
+    """A through slot across the block (open ends), finish, contour-bidirectional CCW."""
+    p = Program("SLOT OPEN FINISH")
+    p.workingstep(
+        "WS SLOT",
+        p.slot(0, 40, 100, 16, 6, ends=("OPEN_SLOT_END_TYPE", "OPEN_SLOT_END_TYPE")),
+        _pocket_op(
+            p,
+            "BOTTOM_AND_SIDE_FINISH_MILLING",
+            "CONTOUR_BIDIRECTIONAL($,$,$,$,.CCW.,$)",
+            axial="3.0",
+            radial="4.0",
+        ),
+    )
+    return p
+
+
+def slot_side_full_width() -> Program:
+    """Side milling of a slot as wide as the tool (one stroke, one layer), one open end."""
+    p = Program("SLOT SIDE FULL WIDTH")
+    p.workingstep(
+        "WS SLOT",
+        p.slot(30, 60, 70, 10, 5, ends=("RADIUSED_SLOT_END_TYPE", "OPEN_SLOT_END_TYPE")),
+        _side_op(p, "SIDE_FINISH_MILLING", "BIDIRECTIONAL_MILLING($,$,$,$,$)"),
+    )
+    return p
+
+
+def step_bidirectional() -> Program:
+    """A step along the front edge (Y < 20 removed, 10 deep), rough bottom-and-side."""
+    p = Program("STEP BIDIRECTIONAL")
+    p.workingstep(
+        "WS STEP",
+        p.step(0, 20, 100, 10, (1, 0, 0)),
+        _pocket_op(
+            p,
+            "BOTTOM_AND_SIDE_ROUGH_MILLING",
+            "$",
+            tool=_mill(p, 12.0),
+            axial="4.0",
+            radial="5.0",
+            side="0.5",
+            bottom="0.3",
+        ),
+    )
+    return p
+
+
+def step_side_unidirectional() -> Program:
+    """Side finish milling of a step along the right edge (X > 85 removed, 12 deep)."""
+    p = Program("STEP SIDE UNIDIRECTIONAL")
+    p.workingstep(
+        "WS STEP",
+        p.step(85, 0, 80, 12, (0, 1, 0)),
+        _side_op(
+            p,
+            "SIDE_FINISH_MILLING",
+            "UNIDIRECTIONAL_MILLING($,$,$,.CLIMB.)",
+            axial="6.0",
+            radial="6.0",
+        ),
+    )
+    return p
+
+
+def open_pocket_from_edge() -> Program:
+    """A 40 x 30 open pocket at the block's -X edge, corner radius 8, rough, then finish
+    side milling of its walls with a smaller tool (contour-bidirectional, CCW)."""
+    p = Program("OPEN POCKET FROM THE EDGE")
+    feature = p.open_pocket(0, 40, 40, 30, 8, 8)
+    p.workingstep(
+        "WS ROUGH",
+        feature,
+        _pocket_op(
+            p,
+            "BOTTOM_AND_SIDE_ROUGH_MILLING",
+            "$",
+            axial="4.0",
+            radial="4.0",
+            side="0.5",
+            bottom="0.5",
+        ),
+    )
+    p.workingstep(
+        "WS FINISH WALLS",
+        feature,
+        _side_op(
+            p,
+            "SIDE_FINISH_MILLING",
+            "CONTOUR_BIDIRECTIONAL($,$,$,$,.CCW.,$)",
+            tool=_mill(p, 8.0),
+            radial="3.0",
+        ),
+    )
+    return p
+
+
 PROGRAMS: dict[str, Callable[[], Program]] = {
     f.__name__: f
     for f in (
@@ -720,6 +915,12 @@ PROGRAMS: dict[str, Callable[[], Program]] = {
         explicit_bspline,
         workplan_structures,
         two_tools_face_and_pocket,
+        slot_radiused_ramp,
+        slot_open_finish,
+        slot_side_full_width,
+        step_bidirectional,
+        step_side_unidirectional,
+        open_pocket_from_edge,
     )
 }
 
