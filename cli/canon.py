@@ -24,8 +24,11 @@ from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
 
 _BATCH = 4096
+_WRITE_CHARS = 1 << 18  # text is written in blocks of about this size (fewer, larger writes)
 _MOVE = "%5d N..... %s(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)"
 _RATE = "%5d N..... SET_FEED_RATE(%.4f)"
+_ARC = "%5d N..... ARC_FEED(%.4f, %.4f, %.4f, %.4f, %d, %.4f, %.4f, %.4f, %.4f)"
+_FLOATS = {float}
 
 
 def _options(
@@ -76,18 +79,28 @@ _LINUXCNC_FORMS: dict[str, Callable[[Any], str]] = {
 }
 
 
+def _arc_text(n: int, c: canon.ArcFeed) -> str | None:
+    """``ARC_FEED`` formatted inline, or None unless its numbers are floats and its turn
+    count an int (the generic writer prints an int without decimals)."""
+    v = (c.first_end, c.second_end, c.first_axis, c.second_axis, c.axis_end_point, c.a, c.b, c.c)
+    if type(c.rotation) is not int or {type(x) for x in v} != _FLOATS:
+        return None
+    return _ARC % (n, *v[:4], c.rotation, *v[4:])
+
+
 def fast_text(
     commands: Iterable[canon.Command], start: int = 1, linuxcnc: bool = False
 ) -> Iterator[str]:
     """:func:`kernel.canon.write_text` with the commonest commands formatted inline.
 
-    CAM programs are mostly ``STRAIGHT_FEED`` lines; formatting them with one f-string
-    instead of the generic per-field path triples the writer's speed. Same text; with
-    ``linuxcnc`` the commands rs274 spells differently (spindle index, feed mode) print
-    as rs274 prints them.
+    CAM programs are mostly ``STRAIGHT_FEED`` lines and arcs; formatting them with one
+    %-format instead of the generic per-field path triples the writer's speed. Same text;
+    with ``linuxcnc`` the commands rs274 spells differently (spindle index, feed mode)
+    print as rs274 prints them.
     """
     n = start
     feed, trav, rate = canon.StraightFeed, canon.StraightTraverse, canon.SetFeedRate
+    arc = canon.ArcFeed
     forms = _LINUXCNC_FORMS if linuxcnc else {}
     for cmd in commands:
         t = type(cmd)
@@ -96,10 +109,12 @@ def fast_text(
         elif t is rate:
             s = _RATE % (n, cmd.rate)  # type: ignore[attr-defined]
         else:
-            form = forms.get(cmd.NAME)
-            yield f"{n:5d} N..... {form(cmd) if form else cmd.to_text()}"
-            n += 1
-            continue
+            s = _arc_text(n, cmd) if t is arc else None  # type: ignore[arg-type]
+            if s is None:
+                form = forms.get(cmd.NAME)
+                yield f"{n:5d} N..... {form(cmd) if form else cmd.to_text()}"
+                n += 1
+                continue
         yield s.replace("-0.0000", "0.0000") if "-0.0000" in s else s
         n += 1
 
@@ -155,8 +170,22 @@ def _write(chunks: Iterator[object], path: str, fmt: str, linuxcnc: bool, out: T
             if batch:
                 out.write("\n".join(batch) + "\n")
         else:
-            for text in _text_blocks(chunks, linuxcnc):
-                out.write(text)
+            blocks: list[str] = []
+            size = 0
+            try:
+                for text in _text_blocks(chunks, linuxcnc):
+                    blocks.append(text)
+                    size += len(text)
+                    if size >= _WRITE_CHARS:
+                        data = "".join(blocks)
+                        blocks.clear()
+                        size = 0
+                        out.write(data)
+            finally:  # what came before a program error is written too
+                if blocks:
+                    data = "".join(blocks)
+                    blocks.clear()
+                    out.write(data)
     finally:
         out.flush()
 

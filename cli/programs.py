@@ -20,7 +20,6 @@ import click
 
 from gcode.tooltable import ToolTable
 from kernel import canon
-from kernel.check.canon_input import commands_with_offsets
 from kernel.diagnostics import Diagnostic, Location
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
 
@@ -77,6 +76,8 @@ def _with_source(cmd: canon.Command, loc: Location) -> canon.Command:
 
 def _canon_text(path: str) -> Iterator[canon.Command]:
     with open(path, encoding="utf-8", errors="replace") as fh:
+        from kernel.check.canon_input import commands_with_offsets  # not on the canon path
+
         yield from commands_with_offsets(fh, path)
 
 

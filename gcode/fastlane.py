@@ -23,16 +23,29 @@ value, the same as ``float()``, for mantissas of up to 15 digits (longer ones en
 Formatting matches ``f"{v:.4f}"``; the rare values on a rounding tie within floating-point
 noise are flagged and re-formatted in Python.
 
-Compilation is cached on disk by numba; the first use in a process costs a few tenths of
-a second, so the interpreter uses the lane only for large programs.
+The kernels (:mod:`gcode.fastlane_kernels`) are compiled ahead of time by numba.pycc into
+a plain extension module, built once in a child process on first use and kept in a cache
+directory (:func:`cache_dir`) under a name keyed by the kernel source and the Python and
+numpy versions; loading it takes under a millisecond and imports no numba. Where it cannot
+be built (no C compiler, read-only cache), the same kernels run through numba's JIT, whose
+start-up costs a few tenths of a second; ``CNC_FASTLANE_JIT=1`` forces that path. The
+interpreter uses the lane only for large programs either way.
 """
 
 from __future__ import annotations
 
+import contextlib
+import importlib.util
+import os
+import sys
+import sysconfig
+import zlib
 from dataclasses import dataclass
+from pathlib import Path
+from types import ModuleType
+from typing import Any
 
 import numpy as np
-from numba import njit
 
 from kernel import canon
 
@@ -94,129 +107,6 @@ class Run:
         return out
 
 
-@njit(cache=True)
-def _skip_blanks(buf, j, e):  # pragma: no cover - compiled
-    while j < e and (buf[j] == 32 or buf[j] == 9):
-        j += 1
-    return j
-
-
-@njit(cache=True)
-def _number(buf, j, e, pow10):  # pragma: no cover - compiled
-    """Parse ``[+-]digits[.digits]`` (blanks allowed inside) at ``j``.
-
-    Returns (value, next index, ok, had a point).
-    """
-    negative = False
-    if j < e and (buf[j] == 43 or buf[j] == 45):
-        negative = buf[j] == 45
-        j = _skip_blanks(buf, j + 1, e)
-    mant = 0.0
-    ndig = 0
-    nfrac = 0
-    point = False
-    while j < e:
-        c = buf[j]
-        if 48 <= c <= 57:
-            mant = mant * 10.0 + (c - 48)
-            ndig += 1
-            if point:
-                nfrac += 1
-        elif c == 46 and not point:
-            point = True
-        elif c != 32 and c != 9:
-            break
-        j += 1
-    if ndig == 0 or ndig > 15:
-        return 0.0, j, False, point
-    v = mant / pow10[nfrac]
-    return (-v if negative else v), j, True, point
-
-
-@njit(cache=True)
-def _scan(buf, start, slot_of, pow10, pos, feed, incremental, traverse, first_line, max_events):
-    # pragma: no cover - compiled
-    n = buf.shape[0]
-    kind = np.empty(max_events, dtype=np.int8)
-    out_pos = np.empty((max_events, 6), dtype=np.float64)
-    out_feed = np.empty(max_events, dtype=np.float64)
-    out_line = np.empty(max_events, dtype=np.int64)
-    cur = pos.copy()
-    words = np.zeros(9, dtype=np.float64)
-    k = 0
-    i = start
-    line_no = first_line
-    while i < n and k + 2 <= max_events:
-        line_start = i
-        e = i
-        while e < n and buf[e] != 10:
-            e += 1
-        next_line = e + 1 if e < n else n
-        if e > i and buf[e - 1] == 13:
-            e -= 1
-        have = 0
-        ok = True
-        j = _skip_blanks(buf, i, e)
-        first = True
-        while j < e:
-            c = buf[j]
-            slot = slot_of[c]
-            if slot < 0 or (have >> slot) & 1 or (slot == 8 and not first):
-                ok = False
-                break
-            first = False
-            v, j, good, point = _number(buf, _skip_blanks(buf, j + 1, e), e, pow10)
-            if not good or (slot == 8 and (point or v < 0.0)):
-                ok = False
-                break
-            words[slot] = v
-            have |= 1 << slot
-            j = _skip_blanks(buf, j, e)
-        line_traverse = traverse
-        if ok and have & 128:
-            # G0/G1 with no axis word still moves, to the current point (rs274): general path
-            if not have & 63:
-                ok = False
-            elif words[7] == 0.0 or words[7] == 1.0:
-                line_traverse = words[7] == 0.0
-            else:
-                ok = False
-        if ok and have & 64 and words[6] <= 0.0:
-            ok = False
-        line_feed = words[6] if have & 64 else feed
-        axes = have & 63
-        if ok and axes and not line_traverse and line_feed <= 0.0:
-            ok = False
-        if not ok:
-            i = line_start
-            break
-        if have & 64:
-            feed = line_feed
-            kind[k] = 2
-            out_feed[k] = feed
-            out_line[k] = line_no
-            for a in range(6):
-                out_pos[k, a] = cur[a]
-            k += 1
-        if axes:
-            for a in range(6):
-                if (axes >> a) & 1:
-                    if incremental:
-                        cur[a] += words[a]
-                    else:
-                        cur[a] = words[a]
-            kind[k] = 0 if line_traverse else 1
-            for a in range(6):
-                out_pos[k, a] = cur[a]
-            out_feed[k] = feed
-            out_line[k] = line_no
-            k += 1
-        traverse = line_traverse
-        i = next_line
-        line_no += 1
-    return kind[:k], out_pos[:k], out_feed[:k], out_line[:k], i, line_no, cur, feed, traverse
-
-
 def scan(
     buf: np.ndarray,
     start: int,
@@ -235,17 +125,20 @@ def scan(
     ends at the first line the lane cannot take, at the end of the buffer, or after about
     ``max_events`` events. ``buf`` must end at a line end or at the end of the file.
     """
-    kind, pos, feed_arr, line, end, line_no, cur, end_feed, end_trav = _scan(
-        buf,
-        start,
+    start_pos = np.array(position, dtype=np.float64)
+    if start_pos.shape != (6,) or start < 0:
+        raise ValueError("position must hold 6 axes and start must be >= 0")
+    kind, pos, feed_arr, line, end, line_no, cur, end_feed, end_trav = _kernels().scan(
+        np.ascontiguousarray(buf, dtype=np.uint8).reshape(-1),
+        int(start),
         _SLOT,
         _POW10,
-        np.asarray(position, dtype=np.float64),
+        start_pos,
         float(feed),
-        incremental,
-        traverse,
-        first_line,
-        max_events,
+        bool(incremental),
+        bool(traverse),
+        int(first_line),
+        max(int(max_events), 2),
     )
     return Run(
         kind,
@@ -258,84 +151,6 @@ def scan(
         float(end_feed),
         bool(end_trav),
     )
-
-
-# ---------------------------------------------------------------- compiled text formatting
-@njit(cache=True)
-def _put_int(out, o, v, width, fill):  # pragma: no cover - compiled
-    """Write non-negative ``v`` right-aligned in at least ``width`` columns."""
-    tmp = np.empty(20, dtype=np.uint8)
-    t = 0
-    while True:
-        tmp[t] = 48 + v % 10
-        v //= 10
-        t += 1
-        if v == 0:
-            break
-    for _ in range(width - t):
-        out[o] = fill
-        o += 1
-    for q in range(t - 1, -1, -1):
-        out[o] = tmp[q]
-        o += 1
-    return o
-
-
-@njit(cache=True)
-def _put_fixed4(out, o, v):  # pragma: no cover - compiled
-    """Write ``v`` with four decimals; returns (offset, needs Python formatting)."""
-    a = -v if v < 0.0 else v
-    if not a < 1e12:
-        return o, True
-    scaled = a * 10000.0
-    frac = scaled - np.floor(scaled)
-    tie = abs(frac - 0.5) < 1e-6
-    q = np.int64(np.floor(scaled + 0.5))
-    if v < 0.0 and q != 0:
-        out[o] = 45
-        o += 1
-    o = _put_int(out, o, q // 10000, 1, 48)
-    out[o] = 46
-    r = q % 10000
-    out[o + 1] = 48 + r // 1000
-    out[o + 2] = 48 + (r // 100) % 10
-    out[o + 3] = 48 + (r // 10) % 10
-    out[o + 4] = 48 + r % 10
-    return o + 5, tie
-
-
-@njit(cache=True)
-def _format(kind, pos, feed, seq0, names, name_len):  # pragma: no cover - compiled
-    m = kind.shape[0]
-    out = np.empty(m * 200 + 16, dtype=np.uint8)
-    python = np.zeros(m, dtype=np.bool_)
-    o = 0
-    for k in range(m):
-        o = _put_int(out, o, seq0 + k, 5, 32)
-        for c in (32, 78, 46, 46, 46, 46, 46, 32):  # " N..... "
-            out[o] = c
-            o += 1
-        kk = kind[k]
-        for q in range(name_len[kk]):
-            out[o] = names[kk, q]
-            o += 1
-        out[o] = 40
-        o += 1
-        if kk == 2:
-            o, flag = _put_fixed4(out, o, feed[k])
-            python[k] |= flag
-        else:
-            for a in range(6):
-                if a:
-                    out[o] = 44
-                    out[o + 1] = 32
-                    o += 2
-                o, flag = _put_fixed4(out, o, pos[k, a])
-                python[k] |= flag
-        out[o] = 41
-        out[o + 1] = 10
-        o += 2
-    return out[:o], python
 
 
 _NAMES = (b"STRAIGHT_TRAVERSE", b"STRAIGHT_FEED", b"SET_FEED_RATE")
@@ -353,12 +168,124 @@ def events_text(run: Run, seq0: int) -> str:
     """
     if len(run) == 0:
         return ""
-    raw, python = _format(run.kind, run.position, run.feed, seq0, _NAME_TABLE, _NAME_LEN)
+    m = len(run)
+    raw, python, flagged = _kernels().format(
+        np.ascontiguousarray(run.kind, dtype=np.int8),
+        np.ascontiguousarray(run.position, dtype=np.float64).reshape(m, 6),
+        np.ascontiguousarray(run.feed, dtype=np.float64).reshape(m),
+        int(seq0),
+        _NAME_TABLE,
+        _NAME_LEN,
+    )
     text = raw.tobytes().decode("ascii")
-    if not python.any():
+    if not flagged:
         return text
     lines = text.split("\n")
     cmds = run.commands()
     for r in np.flatnonzero(python).tolist():
         lines[r] = f"{seq0 + r:5d} N..... {cmds[r].to_text()}"
     return "\n".join(lines)
+
+
+# ---------------------------------------------------------------- loading the kernels
+_KERNEL_SOURCE = Path(__file__).with_name("fastlane_kernels.py")
+_loaded: Any = None
+
+
+def cache_dir() -> Path:
+    """Where the AOT kernel module is kept: ``$XDG_CACHE_HOME/cnc-toolchain`` (default
+    ``~/.cache/cnc-toolchain``)."""
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "cnc-toolchain"
+
+
+def aot_name() -> str:
+    """Module name of the AOT build of the current kernel source for this Python and numpy.
+
+    The key is two 32-bit checksums (zlib: no OpenSSL to load at start-up).
+    """
+    data = _KERNEL_SOURCE.read_bytes() + (
+        f"|{sys.version}|{np.__version__}|{sysconfig.get_platform()}".encode()
+    )
+    return f"_fastlane_aot_{zlib.crc32(data):08x}{zlib.adler32(data):08x}"
+
+
+def build_aot(directory: Path, name: str) -> tuple[bool, str]:
+    """Build the AOT module ``name`` into ``directory`` in a child process (its compiler
+    output never reaches ours); the file appears atomically. Returns (ok, error text).
+
+    Builds of other kernel sources stay (another checkout may share the cache).
+    """
+    import subprocess
+    import tempfile
+
+    suffix = sysconfig.get_config_var("EXT_SUFFIX")
+    package_root = str(_KERNEL_SOURCE.parent.parent)
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (package_root, env.get("PYTHONPATH")) if p)
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryDirectory(dir=directory, prefix=".build-") as tmp:
+            proc = subprocess.run(
+                [sys.executable, "-m", "gcode.fastlane_kernels", tmp, name],
+                capture_output=True,
+                env=env,
+                timeout=600,
+                stdin=subprocess.DEVNULL,
+            )
+            built = Path(tmp) / (name + suffix)
+            if proc.returncode != 0 or not built.is_file():
+                return False, (proc.stderr or proc.stdout).decode(errors="replace")[-2000:]
+            os.replace(built, directory / (name + suffix))
+    except (OSError, subprocess.SubprocessError) as exc:
+        return False, str(exc)
+    return True, ""
+
+
+def load_aot(directory: Path) -> ModuleType | None:
+    """The AOT kernel module from ``directory``, built there first if missing; None when it
+    cannot be built (the failure is remembered in ``NAME.failed``: delete it to retry)."""
+    name = aot_name()
+    path = directory / (name + sysconfig.get_config_var("EXT_SUFFIX"))
+    failed = directory / (name + ".failed")
+    if not path.is_file():
+        if failed.exists():
+            return None
+        ok, error = build_aot(directory, name)
+        if not ok:
+            with contextlib.suppress(OSError):
+                failed.write_text(error)
+            return None
+    try:
+        spec = importlib.util.spec_from_file_location(name, path)
+        if spec is None or spec.loader is None:
+            return None
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    except ImportError:
+        return None
+    return module
+
+
+def load_jit() -> ModuleType:
+    """The kernels through numba's JIT (imports numba)."""
+    from gcode import fastlane_kernels
+
+    return fastlane_kernels
+
+
+def kernel_mode() -> str:
+    """``"aot"`` or ``"jit"``: how this process runs the kernels (loads them if not yet).
+
+    Raises ImportError when neither an AOT module nor numba is available.
+    """
+    return "jit" if _kernels() is sys.modules.get("gcode.fastlane_kernels") else "aot"
+
+
+def _kernels() -> Any:
+    """The kernel module in use: AOT if possible, else JIT (loaded once per process)."""
+    global _loaded
+    if _loaded is None:
+        aot = None if os.environ.get("CNC_FASTLANE_JIT") else load_aot(cache_dir())
+        _loaded = aot if aot is not None else load_jit()
+    return _loaded

@@ -75,7 +75,7 @@ LANE_MIN_BYTES = 1 << 20
 
 
 def _lane_for(pf: ProgramFile) -> object | None:
-    """The compiled fast lane for a large program file (imported only then: numba)."""
+    """The compiled fast lane for a large program file (imported only then)."""
     try:
         if os.path.getsize(pf.path) < LANE_MIN_BYTES:
             return None

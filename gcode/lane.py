@@ -39,10 +39,11 @@ class Lane:
 
     @staticmethod
     def for_file(pf: ProgramFile) -> Lane | None:
-        """A lane for ``pf`` (None if the file cannot be opened)."""
+        """A lane for ``pf`` (None if the file cannot be opened or no kernels can load)."""
         try:
+            fastlane.kernel_mode()
             return Lane(pf)
-        except OSError:
+        except (OSError, ImportError):
             return None
 
     def close(self) -> None:

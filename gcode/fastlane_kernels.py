@@ -1,0 +1,284 @@
+"""The compiled kernels of the fast lane (:mod:`gcode.fastlane`): scanner and text formatter.
+
+The source is shared by two ways of compiling it: numba's JIT (``@njit(cache=True)``,
+imported only as a fallback) and numba.pycc ahead of time into a plain extension module
+that needs neither numba nor its compile at run time (:func:`build`, run by
+:mod:`gcode.fastlane` in a child process as ``python -m gcode.fastlane_kernels DIR NAME``).
+The AOT entry points take exactly the argument types in :data:`SIGNATURES`; an AOT module
+does not check types, so :mod:`gcode.fastlane` converts every argument before the call.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+from numba import njit
+from numba import types as nt
+
+
+@njit(cache=True)
+def _skip_blanks(buf, j, e):  # pragma: no cover - compiled
+    while j < e and (buf[j] == 32 or buf[j] == 9):
+        j += 1
+    return j
+
+
+@njit(cache=True)
+def _number(buf, j, e, pow10):  # pragma: no cover - compiled
+    """Parse ``[+-]digits[.digits]`` (blanks allowed inside) at ``j``.
+
+    Returns (value, next index, ok, had a point).
+    """
+    negative = False
+    if j < e and (buf[j] == 43 or buf[j] == 45):
+        negative = buf[j] == 45
+        j = _skip_blanks(buf, j + 1, e)
+    mant = 0.0
+    ndig = 0
+    nfrac = 0
+    point = False
+    while j < e:
+        c = buf[j]
+        if 48 <= c <= 57:
+            mant = mant * 10.0 + (c - 48)
+            ndig += 1
+            if point:
+                nfrac += 1
+        elif c == 46 and not point:
+            point = True
+        elif c != 32 and c != 9:
+            break
+        j += 1
+    if ndig == 0 or ndig > 15:
+        return 0.0, j, False, point
+    v = mant / pow10[nfrac]
+    return (-v if negative else v), j, True, point
+
+
+@njit(cache=True)
+def _scan(buf, start, slot_of, pow10, pos, feed, incremental, traverse, first_line, max_events):
+    # pragma: no cover - compiled
+    n = buf.shape[0]
+    kind = np.empty(max_events, dtype=np.int8)
+    out_pos = np.empty((max_events, 6), dtype=np.float64)
+    out_feed = np.empty(max_events, dtype=np.float64)
+    out_line = np.empty(max_events, dtype=np.int64)
+    cur = pos.copy()
+    words = np.zeros(9, dtype=np.float64)
+    k = 0
+    i = start
+    line_no = first_line
+    while i < n and k + 2 <= max_events:
+        line_start = i
+        e = i
+        while e < n and buf[e] != 10:
+            e += 1
+        next_line = e + 1 if e < n else n
+        if e > i and buf[e - 1] == 13:
+            e -= 1
+        have = 0
+        ok = True
+        j = _skip_blanks(buf, i, e)
+        first = True
+        while j < e:
+            c = buf[j]
+            slot = slot_of[c]
+            if slot < 0 or (have >> slot) & 1 or (slot == 8 and not first):
+                ok = False
+                break
+            first = False
+            v, j, good, point = _number(buf, _skip_blanks(buf, j + 1, e), e, pow10)
+            if not good or (slot == 8 and (point or v < 0.0)):
+                ok = False
+                break
+            words[slot] = v
+            have |= 1 << slot
+            j = _skip_blanks(buf, j, e)
+        line_traverse = traverse
+        if ok and have & 128:
+            # G0/G1 with no axis word still moves, to the current point (rs274): general path
+            if not have & 63:
+                ok = False
+            elif words[7] == 0.0 or words[7] == 1.0:
+                line_traverse = words[7] == 0.0
+            else:
+                ok = False
+        if ok and have & 64 and words[6] <= 0.0:
+            ok = False
+        line_feed = words[6] if have & 64 else feed
+        axes = have & 63
+        if ok and axes and not line_traverse and line_feed <= 0.0:
+            ok = False
+        if not ok:
+            i = line_start
+            break
+        if have & 64:
+            feed = line_feed
+            kind[k] = 2
+            out_feed[k] = feed
+            out_line[k] = line_no
+            for a in range(6):
+                out_pos[k, a] = cur[a]
+            k += 1
+        if axes:
+            for a in range(6):
+                if (axes >> a) & 1:
+                    if incremental:
+                        cur[a] += words[a]
+                    else:
+                        cur[a] = words[a]
+            kind[k] = 0 if line_traverse else 1
+            for a in range(6):
+                out_pos[k, a] = cur[a]
+            out_feed[k] = feed
+            out_line[k] = line_no
+            k += 1
+        traverse = line_traverse
+        i = next_line
+        line_no += 1
+    return kind[:k], out_pos[:k], out_feed[:k], out_line[:k], i, line_no, cur, feed, traverse
+
+
+@njit(cache=True)
+def _put_int(out, o, v, width, fill):  # pragma: no cover - compiled
+    """Write non-negative ``v`` right-aligned in at least ``width`` columns."""
+    t = 1
+    p = 10
+    while p <= v and t < 19:
+        p *= 10
+        t += 1
+    for _ in range(width - t):
+        out[o] = fill
+        o += 1
+    for q in range(t - 1, -1, -1):
+        out[o + q] = 48 + v % 10
+        v //= 10
+    return o + t
+
+
+@njit(cache=True, error_model="numpy")
+def _put_fixed4(out, o, v):  # pragma: no cover - compiled
+    """Write ``v`` with four decimals; returns (offset, needs Python formatting).
+
+    Digits come from unsigned arithmetic (divisions by constants compile to multiplies).
+    """
+    a = -v if v < 0.0 else v
+    if not a < 1e12:
+        return o, True
+    scaled = a * 10000.0
+    frac = scaled - np.floor(scaled)
+    tie = abs(frac - 0.5) < 1e-6
+    ten = np.uint64(10)
+    zero = np.uint64(48)  # "0"
+    q = np.uint64(np.floor(scaled + 0.5))
+    if v < 0.0 and q != 0:
+        out[o] = 45
+        o += 1
+    whole = q // np.uint64(10000)
+    r = q - whole * np.uint64(10000)
+    t = 1
+    p = ten
+    while p <= whole:  # whole < 1e8: no overflow
+        p *= ten
+        t += 1
+    for j in range(t - 1, -1, -1):
+        d = whole // ten
+        out[o + j] = zero + (whole - d * ten)
+        whole = d
+    o += t
+    out[o] = 46
+    for j in range(4, 0, -1):
+        d = r // ten
+        out[o + j] = zero + (r - d * ten)
+        r = d
+    return o + 5, tie
+
+
+@njit(cache=True)
+def _format(kind, pos, feed, seq0, names, name_len):  # pragma: no cover - compiled
+    """Canonical text of the events (bytes), which lines need Python formatting, how many."""
+    m = kind.shape[0]
+    out = np.empty(m * 200 + 16, dtype=np.uint8)
+    python = np.zeros(m, dtype=np.bool_)
+    flagged = 0
+    o = 0
+    for k in range(m):
+        o = _put_int(out, o, seq0 + k, 5, 32)
+        for c in (32, 78, 46, 46, 46, 46, 46, 32):  # " N..... "
+            out[o] = c
+            o += 1
+        kk = kind[k]
+        for q in range(name_len[kk]):
+            out[o] = names[kk, q]
+            o += 1
+        out[o] = 40
+        o += 1
+        if kk == 2:
+            o, flag = _put_fixed4(out, o, feed[k])
+            python[k] |= flag
+        else:
+            for a in range(6):
+                if a:
+                    out[o] = 44
+                    out[o + 1] = 32
+                    o += 2
+                o, flag = _put_fixed4(out, o, pos[k, a])
+                python[k] |= flag
+        if python[k]:
+            flagged += 1
+        out[o] = 41
+        out[o + 1] = 10
+        o += 2
+    return out[:o], python, flagged
+
+
+_U8 = nt.Array(nt.uint8, 1, "C")
+_I8 = nt.Array(nt.int8, 1, "C")
+_I64 = nt.Array(nt.int64, 1, "C")
+_F64 = nt.Array(nt.float64, 1, "C")
+_F64_2D = nt.Array(nt.float64, 2, "C")
+
+#: exported name -> (JIT function, explicit signature for numba.pycc)
+SIGNATURES = {
+    "scan": (
+        _scan,
+        nt.Tuple((_I8, _F64_2D, _F64, _I64, nt.int64, nt.int64, _F64, nt.float64, nt.boolean))(
+            nt.Array(nt.uint8, 1, "C", readonly=True),
+            nt.int64,
+            _I64,
+            _F64,
+            _F64,
+            nt.float64,
+            nt.boolean,
+            nt.boolean,
+            nt.int64,
+            nt.int64,
+        ),
+    ),
+    "format": (
+        _format,
+        nt.Tuple((_U8, nt.Array(nt.boolean, 1, "C"), nt.int64))(
+            _I8, _F64_2D, _F64, nt.int64, nt.Array(nt.uint8, 2, "C"), _I64
+        ),
+    ),
+}
+
+#: the JIT forms under the exported names (the fallback when no AOT module can be built)
+scan = _scan
+format = _format  # noqa: A001 - the exported name
+
+
+def build(directory: str, name: str) -> None:
+    """Compile the kernels ahead of time into extension module ``name`` in ``directory``."""
+    from numba.pycc import CC
+
+    cc = CC(name)
+    cc.output_dir = directory
+    for exported, (function, signature) in SIGNATURES.items():
+        cc.export(exported, signature)(function.py_func)
+    cc.compile()
+
+
+if __name__ == "__main__":
+    build(sys.argv[1], sys.argv[2])
