@@ -120,7 +120,9 @@ class Geometry:
         self.b = b
         self.d = b - self.a
         dd = np.einsum("ij,ij->i", self.d, self.d)
-        self.inv_dd = np.where(dd > 0, 1.0 / np.where(dd > 0, dd, 1.0), 0.0)
+        # a segment shorter than 1e-12 mm is a point (and 1/dd would overflow)
+        real = dd > 1e-24
+        self.inv_dd = np.where(real, 1.0 / np.where(real, dd, 1.0), 0.0)
         self.arc = segments["kind"] == ARC
         self.has_arcs = bool(self.arc.any())
         self.fields = {f: np.ascontiguousarray(segments[f]) for f in _FIELDS}
