@@ -226,6 +226,7 @@ def _list_rules(ctx: CheckContext) -> str:
     type=click.Path(dir_okay=False, writable=True),
     help="Write the report to this file instead of standard output.",
 )
+@click.option("--force", is_flag=True, help="Replace the -o report file if it exists.")
 @click.option("--list-rules", is_flag=True, help="List the rules with their effective severity.")
 @guarded
 def command(
@@ -236,6 +237,7 @@ def command(
     fmt: str,
     jobs: int,
     output: str | None,
+    force: bool,
     list_rules: bool,
 ) -> None:
     """Lint and verify programs without simulating them.
@@ -256,6 +258,10 @@ def command(
         return
     if not files:
         raise click.UsageError("no FILES given (see --help)")
+    if output and os.path.exists(output) and not force:
+        raise Diagnostic(
+            "IO-EXISTS", "report file exists; use --force to replace it", Location(output)
+        )
     paths = expand(files)
     if jobs == 0:
         jobs = os.cpu_count() or 1

@@ -109,6 +109,7 @@ def _summary(results: list[RunResult], console: Console, seconds: float) -> None
     default=None,
     help="Also write each program's per-axis servo trace in this format.",
 )
+@click.option("--force", is_flag=True, help="Replace reports and traces that already exist.")
 @guarded
 def command(
     files: tuple[str, ...],
@@ -117,6 +118,7 @@ def command(
     jobs: int,
     html: bool,
     traces: str | None,
+    force: bool,
 ) -> None:
     """Run programs through the whole pipeline and write a report per program.
 
@@ -132,10 +134,19 @@ def command(
     ctx = load_context(machine_path, None, None)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise Diagnostic("IO-NOT-DIR", "output path is not a directory", Location(out_dir))
-    os.makedirs(out_dir, exist_ok=True)
-    opts = RunOptions(out_dir, traces, html=html)
+    opts = RunOptions(out_dir, traces, html=html, force=force)
     paths = list(dict.fromkeys(expand(files)))  # each program once
     names = report_names(paths)
+    if not force:  # refuse before any work, so nothing of an earlier run is lost
+        taken = [t for p in paths for t in _outputs(out_dir, names[p], opts) if os.path.exists(t)]
+        if taken:
+            more = f" and {len(taken) - 1} more" if len(taken) > 1 else ""
+            raise Diagnostic(
+                "IO-EXISTS",
+                f"report exists{more}; use --force to replace, or another -o directory",
+                Location(taken[0]),
+            )
+    os.makedirs(out_dir, exist_ok=True)
     jobs = (os.cpu_count() or 1) if jobs == 0 else jobs
     console = Console(stderr=True)
     t0 = time.perf_counter()
@@ -173,3 +184,13 @@ def command(
     if any(r.status == "io-error" for r in ordered):
         sys.exit(EXIT_USAGE)
     sys.exit(EXIT_PROGRAM_ERROR if any(r.status != "ok" for r in ordered) else EXIT_OK)
+
+
+def _outputs(out_dir: str, name: str, opts: RunOptions) -> list[str]:
+    """Every file ``cnc run`` writes for the program reported as ``name``."""
+    out = [os.path.join(out_dir, f"{name}.report.json")]
+    if opts.html:
+        out.append(os.path.join(out_dir, f"{name}.report.html"))
+    if opts.trace_format:
+        out.append(os.path.join(out_dir, f"{name}_trace.{opts.trace_format}"))
+    return out
