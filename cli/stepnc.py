@@ -160,7 +160,7 @@ def canon_cmd(file: str, tool_file: str | None, mode: str, as_json: bool) -> Non
     "--dialect",
     default="rs274ngc",
     show_default=True,
-    help="a gcode.dialects name when gcode.emit is installed, else rs274ngc",
+    help="target dialect (as cnc convert --to: rs274ngc, fanuc, grbl, ...)",
 )
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="file (default stdout)")
 @click.option("--force", is_flag=True, help="overwrite OUTPUT")
@@ -174,20 +174,10 @@ def to_gcode(
 
     if output is not None:
         _write_guard(output, force)
-    cmds = canon_from_file(file, tool_file, mode)
-    try:
-        from gcode.emit import write as emit_write
-    except ImportError:
-        emit_write = None
-    if emit_write is not None:
-        lines = (f"{line}\n" for line in emit_write(cmds, dialect))
-    else:
-        from stepnc.ngc_out import to_ngc
+    from gcode.emit import write as emit_write
 
-        if dialect != "rs274ngc":
-            raise click.UsageError(f"dialect {dialect!r} needs gcode.emit (rs274ngc only)")
-        lines = to_ngc(cmds, f"from {os.path.basename(file)}")
-    text = "".join(lines)
+    cmds = canon_from_file(file, tool_file, mode)
+    text = "".join(f"{line}\n" for line in emit_write(cmds, dialect))
     if output is None:
         click.echo(text, nl=False)
         return

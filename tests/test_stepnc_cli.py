@@ -65,15 +65,6 @@ def test_to_gcode_writes_and_refuses_to_overwrite(tmp_path):
     assert run("to-gcode", EX1, "-o", str(out), "--force").exit_code == 0
 
 
-def test_own_ngc_writer_turns_arcs_into_relative_centres():
-    from stepnc.ngc_out import to_ngc
-    from stepnc.to_canon import canon_from_file
-
-    text = "".join(to_ngc(canon_from_file(EX1, TOOLS, "default")))
-    assert "T3 M6 (MILL 18MM)" in text and "G2 X77.2 Y55 Z-5.9 I5.246 J4.9315 P3" in text
-    assert "G2 X70 Y55 Z-5.9 I-3.6 J0" in text and text.rstrip().endswith("M2")
-
-
 def test_part_exports_step(tmp_path):
     out = tmp_path / "part.step"
     r = run("part", EX1, "-o", str(out), "--raw", "0,0,-45,100,120,5")
