@@ -16,10 +16,9 @@ from typing import Any, TextIO
 import click
 
 from cli.errors import guarded
-from cli.programs import detect_kind, read_head
+from cli.programs import detect_kind, load_tool_table, read_head
 from gcode.interpreter import InterpreterOptions, interpret_chunks
 from gcode.params import read_var_text
-from gcode.tooltable import read_tool_table
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
 
@@ -36,7 +35,7 @@ def _options(
 ) -> InterpreterOptions:
     tools = None
     if tool_table is not None:
-        tools = read_tool_table(Path(tool_table).read_text().splitlines(), tool_table)
+        tools = load_tool_table(tool_table)
     values = None
     if params is not None:
         values = read_var_text(Path(params).read_text().splitlines(), params)

@@ -28,8 +28,7 @@ import click
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
-from cli.programs import jobs_option, program_commands
-from gcode.tooltable import ToolTable, read_tool_table
+from cli.programs import jobs_option, load_tool_table, program_commands
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
 from kernel.diagnostics import Diagnostic, Location, Severity
@@ -51,11 +50,6 @@ def _read_toml(path: str) -> dict[str, Any]:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise Diagnostic("CHECK-CONFIG", f"not valid TOML: {exc}", Location(path)) from None
-
-
-def load_tool_table(path: str) -> ToolTable:
-    with open(path, encoding="utf-8", errors="replace") as fh:
-        return read_tool_table(fh.readlines(), path)
 
 
 def load_context(

@@ -79,12 +79,10 @@ def read_program(
             f"no reader for {name} programs yet (docs/dialects.md lists what one needs); "
             f"readable: canon, {', '.join(NGC_READABLE)}",
         )
+    from cli.programs import load_tool_table
     from gcode.interpreter import InterpreterOptions, interpret
-    from gcode.tooltable import read_tool_table
 
-    table = None
-    if tool_table:
-        table = read_tool_table(Path(tool_table).read_text().splitlines(), tool_table)
+    table = load_tool_table(tool_table) if tool_table else None
     here = str(Path(path).resolve().parent)
     commands = interpret(path, InterpreterOptions(tool_table=table, search_path=(here,)))
     return _end_optional(commands) if name == "grbl" else commands

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import click
 
-from gcode.tooltable import ToolTable
+from gcode.tooltable import ToolTable, read_tool_table
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
@@ -147,3 +147,9 @@ def load_machine(path: str | None) -> Machine:
         return DEFAULT_MACHINE
     with open(path, encoding="utf-8") as fh:
         return parse_machine(fh.read(), path)
+
+
+def load_tool_table(path: str) -> ToolTable:
+    """A tool table file: LinuxCNC ``.tbl`` or NIST tool file (``TOOL-*`` diagnostics)."""
+    with open(path, encoding="utf-8", errors="replace") as fh:
+        return read_tool_table(fh.readlines(), path)

@@ -30,13 +30,6 @@ pytestmark = [
 ]
 
 
-@pytest.fixture(autouse=True)
-def _printed_tolerance(monkeypatch: pytest.MonkeyPatch) -> None:
-    """rs274 prints four decimals: two values a hair either side of a half-way point print
-    1e-4 apart plus a binary hair, so the 1e-4 rule is applied to the printed values."""
-    monkeypatch.setattr(canon_equiv, "TOLERANCE", 1e-4 + 1e-9)
-
-
 @pytest.mark.parametrize("dialect", ["rs274ngc", "grbl"])
 @pytest.mark.parametrize("program", programs(), ids=lambda p: p.stem)
 def test_rs274_reads_our_output_as_it_reads_the_original(

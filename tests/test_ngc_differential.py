@@ -101,10 +101,7 @@ def _rs274(program: Path) -> list[str] | None:
 
 
 @pytest.mark.parametrize("seed", range(120))
-def test_random_program_matches_rs274(
-    seed: int, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    monkeypatch.setattr(canon_equiv, "TOLERANCE", 1e-4 + 1e-9)
+def test_random_program_matches_rs274(seed: int, tmp_path: Path) -> None:
     program = tmp_path / f"r{seed}.ngc"
     program.write_text(_program(seed))
     (tmp_path / "sim.tbl").write_text((GOLDEN / "sim.tbl").read_text())
