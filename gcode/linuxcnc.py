@@ -22,12 +22,8 @@ from kernel.canon import (  # noqa: F401 - re-exported: the interpreter emits th
     SetToolTableEntry,
     SetXYRotation,
     StartChange,
+    format_arg,
 )
-
-
-def _f4(v: float) -> str:
-    s = f"{v:.4f}"
-    return "0.0000" if s == "-0.0000" else s
 
 
 @dataclass(frozen=True, slots=True)
@@ -38,7 +34,7 @@ class ToolLengthOffsets(Command):
     offset: tuple[float, ...]
 
     def to_text(self) -> str:
-        o = [_f4(v) for v in self.offset]
+        o = [format_arg(v) for v in self.offset]
         return f"{self.NAME}({' '.join(o[0:3])}, {' '.join(o[3:6])}, {' '.join(o[6:9])})"
 
 
@@ -79,4 +75,4 @@ class WaitOrientComplete(Command):
     timeout: float
 
     def to_text(self) -> str:
-        return f"{self.NAME}({_f4(self.timeout)})"
+        return f"{self.NAME}({format_arg(self.timeout)})"

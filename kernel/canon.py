@@ -141,7 +141,7 @@ class Command:
 
     def to_text(self) -> str:
         """``NAME(arg, ...)`` with numbers to four decimals, as the NIST print functions do."""
-        return f"{self.NAME}({', '.join(_fmt(a) for a in self.args())})"
+        return f"{self.NAME}({', '.join(format_arg(a) for a in self.args())})"
 
     def to_json(self) -> dict[str, object]:
         out: dict[str, object] = {"cmd": self.NAME}
@@ -168,7 +168,8 @@ class Command:
         return out
 
 
-def _fmt(v: object) -> str:
+def format_arg(v: object) -> str:
+    """One argument as the NIST print functions and rs274 print it (four decimals, no -0)."""
     if isinstance(v, Enum):
         return str(v.value)
     if isinstance(v, bool):
@@ -181,7 +182,7 @@ def _fmt(v: object) -> str:
     if isinstance(v, str):
         return f'"{v}"'
     if isinstance(v, tuple):
-        return ", ".join(_fmt(x) for x in v)
+        return ", ".join(format_arg(x) for x in v)
     raise TypeError(f"cannot format {v!r}")
 
 
@@ -686,10 +687,10 @@ class SetToolTableEntry(Command):
 
     def to_text(self) -> str:
         """As rs274 prints it: the nine offsets separated by blanks, no diameter."""
-        off = " ".join(_fmt(v) for v in self.offset)
+        off = " ".join(format_arg(v) for v in self.offset)
         return (
             f"{self.NAME}({self.pocket}, {self.tool}, {off}, "
-            f"{_fmt(self.front_angle)}, {_fmt(self.back_angle)}, {self.orientation})"
+            f"{format_arg(self.front_angle)}, {format_arg(self.back_angle)}, {self.orientation})"
         )
 
 
