@@ -16,7 +16,7 @@ from typing import Any, TextIO
 import click
 
 from cli.errors import guarded
-from cli.programs import detect_kind, load_tool_table, read_head
+from cli.programs import detect_kind, dialect_option, load_tool_table, program_dialect, read_head
 from gcode.interpreter import InterpreterOptions, interpret_chunks
 from gcode.params import read_var_text
 from kernel import canon
@@ -230,6 +230,7 @@ def _write(chunks: Iterator[object], path: str, fmt: str, linuxcnc: bool, out: T
     help="Write to this file instead of standard output.",
 )
 @click.option("--force", is_flag=True, help="Overwrite an existing output file.")
+@dialect_option
 @guarded
 def command(
     program: str,
@@ -240,12 +241,13 @@ def command(
     nist: bool,
     output: str | None,
     force: bool,
+    dialect: str,
 ) -> None:
     """Interpret PROGRAM into canonical machining commands (NISTIR 5970).
 
-    PROGRAM is RS274/NGC G-code (LinuxCNC dialect) or an ISO 14649 STEP-NC Part 21 file,
-    told apart by content. Output is the canonical text as LinuxCNC's rs274 prints it, or
-    JSON lines.
+    PROGRAM is G-code (RS274/NGC as LinuxCNC reads it, or the --dialect given) or an
+    ISO 14649 STEP-NC Part 21 file, told apart by content. Output is the canonical text as
+    LinuxCNC's rs274 prints it, or JSON lines.
 
     \b
     Examples:
@@ -253,6 +255,7 @@ def command(
       cnc canon part.ngc --tool-table sim.tbl -o part.canon
       cnc canon ex1.stp --tool-table iso14649.tool_ex1
       cnc canon part.ngc --format jsonl | head
+      cnc canon O1234.nc --dialect fanuc
     """
     if not os.path.isfile(program):
         raise Diagnostic("IO-OPEN", "cannot open program: no such file", Location(program))
@@ -265,6 +268,11 @@ def command(
         from stepnc.to_canon import canon_from_file
 
         chunks = iter(canon_from_file(program, tool_file=tool_table, mode="nist"))
+    elif (language := program_dialect(program, dialect)) != "rs274ngc":
+        from gcode.readers import read
+
+        here = (*search, str(Path(program).resolve().parent))
+        chunks = iter(read(program, language, _options(tool_table, params, here, nist)))
     else:
         chunks = interpret_chunks(program, _options(tool_table, params, search, nist))
     if output is None:

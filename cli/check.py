@@ -28,13 +28,24 @@ import click
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
-from cli.programs import jobs_option, load_tool_table, program_commands
+from cli.programs import dialect_option, jobs_option, load_tool_table, program_commands
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
 from kernel.diagnostics import Diagnostic, Location, Severity
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
 
-PROGRAM_SUFFIXES = (".ngc", ".nc", ".gcode", ".tap", ".canon", ".jsonl", ".stp", ".p21")
+PROGRAM_SUFFIXES = (
+    ".ngc",
+    ".nc",
+    ".gcode",
+    ".tap",
+    ".mpf",
+    ".spf",
+    ".canon",
+    ".jsonl",
+    ".stp",
+    ".p21",
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -42,6 +53,7 @@ class Setup:
     """Everything a worker needs to check a file (picklable)."""
 
     context: CheckContext
+    dialect: str | None = None  # --dialect of G-code input
 
 
 def _read_toml(path: str) -> dict[str, Any]:
@@ -113,7 +125,7 @@ def check_file(path: str, setup: Setup | None = None) -> FileResult:
     t0 = time.perf_counter()
     ctx = setup.context
     try:
-        cmds = program_commands(path, ctx.tools, ctx.tool_mm_per_unit)
+        cmds = program_commands(path, ctx.tools, ctx.tool_mm_per_unit, setup.dialect)
         findings = check_stream(cmds, ctx, path)
     except OSError as exc:
         return FileResult(path, (), exc.strerror or str(exc), time.perf_counter() - t0)
@@ -213,6 +225,7 @@ def _list_rules(ctx: CheckContext) -> str:
     show_default=True,
     help="Output format.",
 )
+@dialect_option
 @jobs_option
 @click.option(
     "--output",
@@ -229,6 +242,7 @@ def command(
     config_path: str | None,
     tool_table: str | None,
     fmt: str,
+    dialect: str,
     jobs: int,
     output: str | None,
     force: bool,
@@ -260,7 +274,7 @@ def command(
     if jobs == 0:
         jobs = os.cpu_count() or 1
     t0 = time.perf_counter()
-    results = run_checks(paths, Setup(ctx), jobs)
+    results = run_checks(paths, Setup(ctx, dialect), jobs)
     rules = tuple(
         (r, ctx.config.severity(r.id, r.severity, r.default_enabled)) for r in RULES.values()
     )

@@ -1,8 +1,8 @@
 """``cnc convert IN --from D --to D [-o OUT]``: move a program between controls via the IR.
 
-The input is read by the RS274/NGC interpreter (``--from rs274ngc``, and ``grbl`` /
-``nist_v3``, which are subsets of it), from canonical text (``--from canon``) or from the
-IR's JSON lines (``--from jsonl``). The
+The input is read by its dialect's reader (:mod:`gcode.readers`), from canonical text
+(``--from canon``) or from the IR's JSON lines (``--from jsonl``); ``--from auto`` tells
+canonical text and JSON lines by content and a Siemens program by its suffix. The
 output streams to ``-o OUT`` (written to a temporary file and renamed, so a refused
 conversion leaves no partial file) or to standard output. An existing OUT is never
 replaced without ``--force``. Every approximation, expansion, substitution or omission is
@@ -26,9 +26,6 @@ from gcode.dialects import ALIASES, NAMES, get_dialect
 from gcode.emit import ARC_FORMATS, WriterOptions, write
 from kernel import canon
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
-
-#: dialects read by the RS274/NGC interpreter (their language is a subset of it)
-NGC_READABLE = ("rs274ngc", "grbl", "nist_v3")
 
 
 def read_canon(path: str, report: ConversionReport) -> Iterator[canon.Command]:
@@ -68,33 +65,32 @@ def read_jsonl(path: str) -> Iterator[canon.Command]:
 def read_program(
     path: str, dialect: str, tool_table: str | None, report: ConversionReport
 ) -> Iterator[canon.Command]:
+    """The program at ``path`` as IR, read by the reader of ``dialect`` (gcode.readers)."""
+    from cli.programs import load_tool_table
+
     if dialect == "canon":
         return read_canon(path, report)
     if dialect == "jsonl":
         return read_jsonl(path)
-    name = get_dialect(dialect).name
-    if name not in NGC_READABLE:
-        raise Diagnostic(
-            "CONV-READER",
-            f"no reader for {name} programs yet (docs/dialects.md lists what one needs); "
-            f"readable: canon, {', '.join(NGC_READABLE)}",
-        )
-    from cli.programs import load_tool_table
-    from gcode.interpreter import InterpreterOptions, interpret
+    from gcode.interpreter import InterpreterOptions
+    from gcode.readers import read
 
     table = load_tool_table(tool_table) if tool_table else None
     here = str(Path(path).resolve().parent)
-    commands = interpret(path, InterpreterOptions(tool_table=table, search_path=(here,)))
-    return _end_optional(commands) if name == "grbl" else commands
+    options = InterpreterOptions(tool_table=table, search_path=(here,))
+    return read(path, dialect, options)
 
 
-def _end_optional(commands: Iterator[canon.Command]) -> Iterator[canon.Command]:
-    """Grbl streams blocks: a program needs neither M2/M30 nor % at its end."""
-    try:
-        yield from commands
-    except Diagnostic as exc:
-        if exc.code != "NGC-NO-END":
-            raise
+def source_language(path: str, dialect: str) -> str:
+    """``--from`` made concrete: ``auto`` is canonical text or JSON lines by content, a
+    Siemens program by its suffix, else RS274/NGC; a dialect alias becomes its name."""
+    from cli.programs import detect_kind, program_dialect, read_head
+
+    if dialect in ("canon", "jsonl"):
+        return dialect
+    if dialect == "auto" and (kind := detect_kind(read_head(path))) in ("canon", "jsonl"):
+        return kind
+    return get_dialect(program_dialect(path, dialect)).name
 
 
 def _refuse_existing(path: str | None, force: bool, what: str) -> None:
@@ -109,10 +105,10 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
 @click.option(
     "--from",
     "src",
-    default="rs274ngc",
+    default="auto",
     show_default=True,
-    type=click.Choice(["canon", "jsonl", *NAMES, *ALIASES], case_sensitive=False),
-    help=f"input language (readable: canon, jsonl, {', '.join(NGC_READABLE)})",
+    type=click.Choice(["auto", "canon", "jsonl", *NAMES, *ALIASES], case_sensitive=False),
+    help="input language (auto: by suffix, .mpf/.spf Siemens, else rs274ngc)",
 )
 @click.option(
     "--to",
@@ -218,6 +214,7 @@ def command(
         tolerance=tolerance,
         comments=not no_comments,
     )
+    src = source_language(source, src.lower())
     report = ConversionReport(source_dialect=src, target_dialect=target.name)
     lines = write(read_program(source, src, tool_table, report), target, opts, report)
     if output:

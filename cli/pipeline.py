@@ -33,6 +33,7 @@ class RunOptions:
     trace_format: str | None = None
     force: bool = True
     html: bool = False
+    dialect: str | None = None  # --dialect of G-code input
 
 
 @dataclass(slots=True)
@@ -185,7 +186,7 @@ def run_program(
     images: dict[str, bytes] = {}
 
     def recording() -> Iterator[canon.Command]:  # check the stream, keep it for the planner
-        for cmd in program_commands(program, ctx.tools, ctx.tool_mm_per_unit):
+        for cmd in program_commands(program, ctx.tools, ctx.tool_mm_per_unit, opts.dialect):
             commands.append(cmd)
             yield cmd
 

@@ -13,19 +13,19 @@ from rich.console import Console
 from rich.table import Table
 
 from cli.errors import guarded
-from cli.programs import load_machine, program_commands
+from cli.programs import dialect_option, load_machine, program_commands
 from kernel.machine import Machine
 from kernel.measure import Report, measure
 
 
-def run(program: str, machine: Machine) -> Report:
+def run(program: str, machine: Machine, dialect: str | None = None) -> Report:
     """Plan, sample and measure ``program`` (the command's work, without printing)."""
     from kernel.accdec import planning_machine
     from kernel.interpolate import sample
     from kernel.path import build_path
     from kernel.planner import plan
 
-    p = build_path(program_commands(program), machine, program)
+    p = build_path(program_commands(program, dialect=dialect), machine, program)
     pl = plan(p, planning_machine(machine))
     return measure(pl, sample(pl))
 
@@ -96,8 +96,9 @@ def _text(report: Report, program: str, console: Console) -> None:
 @click.option(
     "--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True
 )
+@dialect_option
 @guarded
-def command(program: str, machine_file: str | None, fmt: str) -> None:
+def command(program: str, machine_file: str | None, fmt: str, dialect: str) -> None:
     """Plan PROGRAM: cycle-time breakdown, path lengths, peak axis values, limit hits.
 
     PROGRAM is G-code, STEP-NC, canonical text or JSON lines (told apart by content).
@@ -108,7 +109,7 @@ def command(program: str, machine_file: str | None, fmt: str) -> None:
       cnc plan part.ngc --machine mill.toml --format json > plan.json
       cnc plan ex1.stp
     """
-    report = run(program, load_machine(machine_file))
+    report = run(program, load_machine(machine_file), dialect)
     if fmt == "json":
         click.echo(json.dumps({"program": program, **report.to_dict()}, indent=2))
     else:

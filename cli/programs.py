@@ -18,6 +18,7 @@ from pathlib import Path
 
 import click
 
+from gcode.dialects import ALIASES, NAMES
 from gcode.tooltable import ToolTable, read_tool_table
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
@@ -94,17 +95,29 @@ def inch_tool_table(tools: ToolTable, mm_per_unit: float) -> ToolTable:
     return out
 
 
-def _gcode(path: str, tools: ToolTable | None, mm_per_unit: float) -> Iterator[canon.Command]:
+#: program file suffixes that name their dialect (``--dialect auto``)
+DIALECT_SUFFIXES = {".mpf": "siemens840d", ".spf": "siemens840d"}
+
+
+def program_dialect(path: str, dialect: str | None) -> str:
+    """The dialect a G-code file is read in: ``dialect`` when given (not ``auto``), else
+    the one its suffix names (Siemens ``.mpf``/``.spf``), else RS274/NGC."""
+    if dialect and dialect != "auto":
+        return dialect
+    return DIALECT_SUFFIXES.get(Path(path).suffix.lower(), "rs274ngc")
+
+
+def _gcode(
+    path: str, tools: ToolTable | None, mm_per_unit: float, dialect: str | None = None
+) -> Iterator[canon.Command]:
     if tools is not None:
         tools = inch_tool_table(tools, mm_per_unit)
-    try:
-        from gcode.interpreter import InterpreterOptions, interpret
-    except ImportError as exc:
-        raise Diagnostic(
-            "CHECK-FRONTEND", f"the G-code interpreter is not available: {exc}", Location(path)
-        ) from None
+    from gcode.interpreter import InterpreterOptions
+    from gcode.readers import read
+
     search = (str(Path(path).resolve().parent),)
-    yield from interpret(path, InterpreterOptions(tool_table=tools, search_path=search))
+    options = InterpreterOptions(tool_table=tools, search_path=search)
+    yield from read(path, program_dialect(path, dialect), options)
 
 
 def _part21(path: str) -> Iterator[canon.Command]:
@@ -115,10 +128,14 @@ def _part21(path: str) -> Iterator[canon.Command]:
 
 
 def program_commands(
-    path: str, tools: ToolTable | None = None, tool_mm_per_unit: float = 1.0
+    path: str,
+    tools: ToolTable | None = None,
+    tool_mm_per_unit: float = 1.0,
+    dialect: str | None = None,
 ) -> Iterator[canon.Command]:
     """Stream the canonical commands of the program at ``path`` (kind detected by content);
-    ``tools`` (lengths in units of ``tool_mm_per_unit`` mm) go to the G-code interpreter."""
+    ``tools`` (lengths in units of ``tool_mm_per_unit`` mm) go to the G-code reader of
+    ``dialect`` (:func:`program_dialect`)."""
     kind = detect_kind(read_head(path))
     if kind == "canon":
         yield from _canon_text(path)
@@ -127,8 +144,20 @@ def program_commands(
     elif kind == "part21":
         yield from _part21(path)
     else:
-        yield from _gcode(path, tools, tool_mm_per_unit)
+        yield from _gcode(path, tools, tool_mm_per_unit, dialect)
 
+
+#: ``--dialect`` of the commands that read programs (canon, check, run, plan, trace)
+dialect_option = click.option(
+    "--dialect",
+    "-d",
+    default="auto",
+    show_default=True,
+    type=click.Choice(["auto", *NAMES, *ALIASES], case_sensitive=False),
+    help="Language of G-code input: rs274ngc (LinuxCNC), nist_v3, fanuc, haas, grbl, "
+    "siemens840d, sandia; auto: by suffix (.mpf/.spf Siemens), else rs274ngc. Canonical "
+    "text, JSON lines and Part 21 are recognised by content whatever this says.",
+)
 
 #: ``--jobs/-j`` of the batch commands (check, run)
 jobs_option = click.option(

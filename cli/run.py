@@ -29,7 +29,7 @@ from cli.check import expand, load_context
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.main import verbosity
 from cli.pipeline import RunOptions, RunResult, report_names, run_program
-from cli.programs import jobs_option
+from cli.programs import dialect_option, jobs_option
 from kernel.check import CheckContext
 from kernel.diagnostics import Diagnostic, Location
 
@@ -110,6 +110,7 @@ def _summary(results: list[RunResult], console: Console, seconds: float) -> None
     help="Also write each program's per-axis servo trace in this format.",
 )
 @click.option("--force", is_flag=True, help="Replace reports and traces that already exist.")
+@dialect_option
 @guarded
 def command(
     files: tuple[str, ...],
@@ -119,6 +120,7 @@ def command(
     html: bool,
     traces: str | None,
     force: bool,
+    dialect: str,
 ) -> None:
     """Run programs through the whole pipeline and write a report per program.
 
@@ -134,7 +136,7 @@ def command(
     ctx = load_context(machine_path, None, None)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise Diagnostic("IO-NOT-DIR", "output path is not a directory", Location(out_dir))
-    opts = RunOptions(out_dir, traces, html=html, force=force)
+    opts = RunOptions(out_dir, traces, html=html, force=force, dialect=dialect)
     paths = list(dict.fromkeys(expand(files)))  # each program once
     names = report_names(paths)
     if not force:  # refuse before any work, so nothing of an earlier run is lost

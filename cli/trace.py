@@ -14,7 +14,7 @@ import os
 import click
 
 from cli.errors import guarded
-from cli.programs import load_machine, program_commands
+from cli.programs import dialect_option, load_machine, program_commands
 from kernel.diagnostics import Diagnostic, Location
 
 
@@ -52,6 +52,7 @@ from kernel.diagnostics import Diagnostic, Location
     show_default=True,
     help="rows simulated and written at a time (bounds memory)",
 )
+@dialect_option
 @guarded
 def command(
     program: str,
@@ -61,6 +62,7 @@ def command(
     plot: bool,
     force: bool,
     chunk: int,
+    dialect: str,
 ) -> None:
     """Simulate PROGRAM through acc/dec and the servo loops; write per-axis traces to DIR.
 
@@ -101,7 +103,7 @@ def command(
                 "Parquet output needs pyarrow, which is not installed; use --format csv or npz",
                 Location(trace_path),
             )
-    path = build_path(program_commands(program), machine, program)
+    path = build_path(program_commands(program, dialect=dialect), machine, program)
     samples = sample(plan(path, planning_machine(machine)))
     trace = Trace(samples, setup(machine, samples.period), path.segments, chunk=chunk)
     os.makedirs(out_dir, exist_ok=True)
