@@ -77,9 +77,7 @@ def _with_source(cmd: canon.Command, loc: Location) -> canon.Command:
 
 def _canon_text(path: str) -> Iterator[canon.Command]:
     with open(path, encoding="utf-8", errors="replace") as fh:
-        from kernel.check.canon_input import commands_with_offsets  # not on the canon path
-
-        yield from commands_with_offsets(fh, path)
+        yield from canon.read_commands(fh, path, keep_linuxcnc=True)
 
 
 def inch_tool_table(tools: ToolTable, mm_per_unit: float) -> ToolTable:

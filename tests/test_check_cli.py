@@ -162,14 +162,13 @@ def test_sarif_report_validates_against_the_sarif_2_1_0_schema(tmp_path: Path) -
 def test_program_kind_is_detected_by_content_not_extension(tmp_path: Path) -> None:
     from cli.programs import detect_kind, read_head
     from kernel import canon
-    from kernel.check.canon_input import commands_with_offsets
 
     canon_as_nc = tmp_path / "prog.nc"
     shutil.copy(PROGS / "CNC504.canon", canon_as_nc)
     gcode_as_txt = tmp_path / "prog.txt"
     shutil.copy(PROGS / "CNC504.ngc", gcode_as_txt)
     with open(PROGS / "CNC504.canon") as fh:
-        lines = list(canon.to_jsonl(commands_with_offsets(fh)))
+        lines = list(canon.to_jsonl(canon.read_commands(fh, keep_linuxcnc=True)))
     jsonl = tmp_path / "prog.data"
     jsonl.write_text("\n".join(lines) + "\n")
     stp = HERE.parents[1] / "shared" / "corpus" / "stepnc" / "ex1.stp"

@@ -15,7 +15,6 @@ from hypothesis import strategies as st
 from cli.check import load_context
 from kernel import canon
 from kernel.check import RULES, CheckContext, check_stream, config_from_dict
-from kernel.check.canon_input import commands_with_offsets
 from kernel.check.geometry import arc_extremes, arc_of, segment_hits_box
 from kernel.check.state import CheckState, advance
 from kernel.diagnostics import Diagnostic, Location, Severity
@@ -31,7 +30,10 @@ TRIGGERS = sorted(p.stem for p in HERE.glob("CNC*.canon"))
 
 def rules_fired(path: Path, ctx: CheckContext = SHOP) -> set[str]:
     with open(path) as fh:
-        return {f.rule for f in check_stream(commands_with_offsets(fh, str(path)), ctx)}
+        return {
+            f.rule
+            for f in check_stream(canon.read_commands(fh, str(path), keep_linuxcnc=True), ctx)
+        }
 
 
 def run(cmds: list[canon.Command], ctx: CheckContext = SHOP) -> list:
@@ -147,17 +149,43 @@ def test_linuxcnc_g5x_and_g92_offsets_add_up() -> None:
         "SET_G5X_OFFSET(1, 10.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
         "SET_G92_OFFSET(2.5000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
     ]
-    cmds = list(commands_with_offsets(text))
+    cmds = list(canon.read_commands(text, keep_linuxcnc=True))
     st_ = CheckState()
     for c in cmds:
         advance(st_, c)
     assert st_.origin_mm[0] == pytest.approx(12.5)
 
 
-def test_rotated_coordinates_are_refused_not_misjudged() -> None:
-    with pytest.raises(Diagnostic) as err:
-        list(commands_with_offsets(["SET_XY_ROTATION(30.0000)"], "r.canon"))
-    assert err.value.code == "CANON-ROTATION"
+def test_rotated_work_offset_places_moves_as_rs274_does() -> None:
+    """G92, then the XY rotation about the G5x origin, then the G5x offset (rs274's order):
+    X10 under a 90° rotation with G54 at X100 is machine (100, 10)."""
+    st_ = CheckState()
+    for c in canon.read_commands(
+        [
+            "SET_G5X_OFFSET(1, 100.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+            "SET_G92_OFFSET(0.0000, 5.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+            "SET_XY_ROTATION(90.0000)",
+        ],
+        keep_linuxcnc=True,
+    ):
+        advance(st_, c)
+    assert st_.machine_point((10, 0, 1, 0, 0, 0)) == pytest.approx((95, 10, 1, 0, 0, 0))
+
+
+def test_soft_limit_under_rotation_boxes_arcs_in_machine_axes() -> None:
+    """An arc of radius 10 about the origin from 30° to 60° reaches Y 8.66 at most; turned
+    by a 45° XY rotation it runs from 75° to 105° in machine axes and passes 90°, Y 10,
+    between its ends (Y 9.66). With Y travel to 9.8 only the rotated arc leaves it."""
+    machine = replace(
+        DEFAULT_MACHINE,
+        axes=tuple(replace(a, max=9.8) if a.name == "y" else a for a in DEFAULT_MACHINE.axes),
+    )
+    ctx = CheckContext(machine)
+    c30, s30 = 10 * math.cos(math.radians(30)), 10 * math.sin(math.radians(30))
+    start = [canon.StraightTraverse(c30, s30, 0.0), canon.SetFeedRate(100.0)]
+    arc = canon.ArcFeed(s30, c30, 0.0, 0.0, 1, 0.0)
+    assert "CNC101" in {f.rule for f in run([canon.SetXYRotation(45.0), *start, arc], ctx)}
+    assert "CNC101" not in {f.rule for f in run([*start, arc], ctx)}
 
 
 def test_a_run_of_offending_moves_is_one_finding_with_a_count() -> None:

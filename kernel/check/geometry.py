@@ -78,9 +78,12 @@ def arc_of(st: CheckState, cmd: canon.ArcFeed) -> Arc:
     return Arc(start, end, (c1, c2), r0, r1, t0, sweep, axes)
 
 
-def arc_extremes(arc: Arc) -> Iterator[Vec6]:
+def arc_extremes(arc: Arc, turned: float = 0.0) -> Iterator[Vec6]:
     """Points an axis-aligned box around the arc must contain: the ends and every
-    quadrant point (0°, 90°, 180°, 270°) the sweep passes, at the larger radius."""
+    quadrant point (0°, 90°, 180°, 270°) the sweep passes, at the larger radius.
+
+    ``turned`` (radians) rotates the box's frame: the quadrant points are those of a frame
+    turned by it (an XY arc under an XY rotation, boxed in machine coordinates)."""
     yield arc.start
     yield arc.end
     if arc.sweep == 0.0:
@@ -89,7 +92,7 @@ def arc_extremes(arc: Arc) -> Iterator[Vec6]:
     r = max(arc.r_start, arc.r_end)
     lo, hi = sorted((arc.theta0, arc.theta0 + arc.sweep))
     for k in range(4):
-        q = k * math.pi / 2
+        q = k * math.pi / 2 - turned
         # smallest angle >= lo congruent to q
         a = q + math.ceil((lo - q) / TWO_PI) * TWO_PI
         if a <= hi:
@@ -104,8 +107,11 @@ def swept_points(st: CheckState, cmd: canon.Command) -> list[Vec6]:
     end = motion_end(st, cmd)
     if end is None:
         return []
+    # under an XY rotation the machine's X and Y are the program's turned by -rotation,
+    # so curves in the XY plane are boxed at the machine frame's quadrant angles
+    turned = st.rotation if st.plane == canon.Plane.XY else 0.0
     if isinstance(cmd, canon.ArcFeed):
-        pts = list(arc_extremes(arc_of(st, cmd)))
+        pts = list(arc_extremes(arc_of(st, cmd), turned))
         # helix: the normal-axis travel is linear, so the end values already bound it
         return pts
     if isinstance(cmd, canon.NurbsFeed):
@@ -121,9 +127,11 @@ def swept_points(st: CheckState, cmd: canon.Command) -> list[Vec6]:
         i1, i2, _ = PLANE_AXES[st.plane]
         half = max(cmd.major, cmd.minor) / 2.0
         out = [st.position, end]
-        for d1, d2 in ((half, 0.0), (-half, 0.0), (0.0, half), (0.0, -half)):
+        for k in range(4):
+            q = k * math.pi / 2 - turned
             p = list(end)
-            p[i1], p[i2] = cmd.first_axis + d1, cmd.second_axis + d2
+            p[i1] = cmd.first_axis + half * math.cos(q)
+            p[i2] = cmd.second_axis + half * math.sin(q)
             out.append((p[0], p[1], p[2], p[3], p[4], p[5]))
         return out
     return [st.position, end]

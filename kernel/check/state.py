@@ -9,11 +9,11 @@ origin offsets and the tool length offset, the frame the travel limits live in.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from kernel import canon
 from kernel.canon import CompSide, Direction, FeedMode, Plane
-from kernel.diagnostics import Diagnostic
 
 Vec6 = tuple[float, float, float, float, float, float]
 ZERO6: Vec6 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
@@ -36,6 +36,7 @@ class CheckState:
     origin_mm: Vec6 = ZERO6  # program origin in machine coordinates, mm / degrees
     g5x_mm: Vec6 = ZERO6  # LinuxCNC's split of the origin: work offset ...
     g92_mm: Vec6 = ZERO6  # ... plus G92 offset (SET_G5X_OFFSET / SET_G92_OFFSET)
+    rotation: float = 0.0  # SET_XY_ROTATION (G10 L2 R), radians about Z
     tlo_mm: float = 0.0
     tlo_set: bool = False  # a USE_TOOL_LENGTH_OFFSET came since the last tool change
     plane: Plane = Plane.XY
@@ -60,8 +61,22 @@ class CheckState:
     extra: dict[str, object] = field(default_factory=dict)
 
     def machine_point(self, p: Vec6) -> Vec6:
-        """Program point -> machine coordinates (mm, degrees): origin offset plus tool length."""
+        """Program point -> machine coordinates (mm, degrees): origin offset plus tool length.
+
+        With an XY rotation the order is rs274's: G92 offset, rotation about Z, G5x offset."""
         k = self.mm_per_unit
+        if self.rotation:
+            g92, g5x = self.g92_mm, self.g5x_mm
+            x, y = p[0] * k + g92[0], p[1] * k + g92[1]
+            c, s = math.cos(self.rotation), math.sin(self.rotation)
+            return (
+                c * x - s * y + g5x[0],
+                s * x + c * y + g5x[1],
+                p[2] * k + g92[2] + g5x[2] + self.tlo_mm,
+                p[3] + self.origin_mm[3],
+                p[4] + self.origin_mm[4],
+                p[5] + self.origin_mm[5],
+            )
         o = self.origin_mm
         return (
             p[0] * k + o[0],
@@ -107,12 +122,7 @@ def _linuxcnc(st: CheckState, cmd: canon.Command) -> bool:
         st.tool_name = f"T{st.tool}"
         return True
     if name == "SET_XY_ROTATION":
-        if abs(cmd.angle) > 1e-9:  # type: ignore[attr-defined]
-            raise Diagnostic(
-                "CANON-ROTATION",
-                "rotated coordinate systems (G10 L2 R) are not supported by check",
-                cmd.source,
-            )
+        st.rotation = math.radians(cmd.angle)  # type: ignore[attr-defined]
         return True
     return False
 
