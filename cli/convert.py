@@ -72,6 +72,10 @@ def read_program(
         return read_canon(path, report)
     if dialect == "jsonl":
         return read_jsonl(path)
+    if dialect == "stepnc":
+        from stepnc.to_canon import canon_from_file
+
+        return iter(canon_from_file(path, tool_file=tool_table, mode="default"))
     from gcode.interpreter import InterpreterOptions
     from gcode.readers import read
 
@@ -81,15 +85,26 @@ def read_program(
     return read(path, dialect, options)
 
 
+#: ``--from`` values that name a kind of file rather than a G-code dialect
+KINDS = {"canon": "canon", "jsonl": "jsonl", "part21": "stepnc"}
+
+
 def source_language(path: str, dialect: str) -> str:
-    """``--from`` made concrete: ``auto`` is canonical text or JSON lines by content, a
-    Siemens program by its suffix, else RS274/NGC; a dialect alias becomes its name."""
+    """``--from`` made concrete: ``auto`` is canonical text, JSON lines or STEP-NC Part 21
+    by content, a Siemens program by its suffix, else RS274/NGC; an alias becomes its
+    dialect's name. A file that is not of the kind named is refused (``CONV-INPUT``)."""
     from cli.programs import detect_kind, program_dialect, read_head
 
-    if dialect in ("canon", "jsonl"):
-        return dialect
-    if dialect == "auto" and (kind := detect_kind(read_head(path))) in ("canon", "jsonl"):
+    kind = KINDS.get(detect_kind(read_head(path)))
+    if dialect == "auto" and kind:
         return kind
+    if dialect in KINDS.values() and kind != dialect:
+        raise Diagnostic(
+            "CONV-INPUT",
+            f"not a {dialect} file (its content reads as {kind or 'G-code'}); "
+            "use --from auto to tell by content",
+            Location(path),
+        )
     return get_dialect(program_dialect(path, dialect)).name
 
 
@@ -107,8 +122,9 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
     "src",
     default="auto",
     show_default=True,
-    type=click.Choice(["auto", "canon", "jsonl", *NAMES, *ALIASES], case_sensitive=False),
-    help="input language (auto: by suffix, .mpf/.spf Siemens, else rs274ngc)",
+    type=click.Choice(["auto", "canon", "jsonl", "stepnc", *NAMES, *ALIASES], case_sensitive=False),
+    help="input language (auto: canonical text, JSON lines and STEP-NC by content, "
+    ".mpf/.spf Siemens, else rs274ngc)",
 )
 @click.option(
     "--to",
