@@ -98,13 +98,15 @@ def source_language(path: str, dialect: str) -> str:
     kind = KINDS.get(detect_kind(read_head(path)))
     if dialect == "auto" and kind:
         return kind
-    if dialect in KINDS.values() and kind != dialect:
-        raise Diagnostic(
-            "CONV-INPUT",
-            f"not a {dialect} file (its content reads as {kind or 'G-code'}); "
-            "use --from auto to tell by content",
-            Location(path),
-        )
+    if dialect in KINDS.values():
+        if kind != dialect:
+            raise Diagnostic(
+                "CONV-INPUT",
+                f"not a {dialect} file (its content reads as {kind or 'G-code'}); "
+                "use --from auto to tell by content",
+                Location(path),
+            )
+        return dialect
     return get_dialect(program_dialect(path, dialect)).name
 
 

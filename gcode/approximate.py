@@ -99,6 +99,43 @@ def _arc_deviation(
     return float(np.max(np.abs(np.hypot(*(pts - centre).T) - radius)))
 
 
+def _turning_point(curve, a: float, b: float, chord: np.ndarray) -> float | None:  # noqa: ANN001
+    """Where the curve turns back along ``chord`` inside (a, b), if it leaves or arrives
+    backwards; None when it runs forwards at both ends.
+
+    Sampled deviations cannot see a curve that overshoots an end of its piece and returns
+    between two samples (a sharp NURBS turn at a knot); its velocity at that end, projected
+    on the chord, is negative. The piece is split where that projection changes sign
+    (bisection), so each part runs one way along its chord.
+    """
+    h = (b - a) * 1e-7
+    if h <= 0.0 or not chord.any():
+        return None
+    us = np.linspace(a, b, CHECKS)
+    lo, hi = np.maximum(us - h, a), np.minimum(us + h, b)
+    speed = (curve(hi) - curve(lo)) @ chord
+    # backwards means faster than 1e-3 of the mean forward speed (not round-off at a stop)
+    speed[np.abs(speed) <= 1e-3 * float(chord @ chord) * 2e-7] = 0.0
+    if speed[0] >= 0.0 and speed[-1] >= 0.0:
+        return None
+    moving = np.flatnonzero(speed)
+    signs = np.sign(speed[moving])
+    change = np.flatnonzero(signs[1:] != signs[:-1])
+    if change.size == 0:
+        return None
+    k = int(change[0] if speed[0] < 0.0 else change[-1])
+    left, right, sign = float(us[moving[k]]), float(us[moving[k + 1]]), signs[k]
+    for _ in range(40):
+        mid = 0.5 * (left + right)
+        pair = curve(np.array([max(mid - h, a), min(mid + h, b)]))
+        if np.sign((pair[1] - pair[0]) @ chord) == sign:
+            left = mid
+        else:
+            right = mid
+    turn = 0.5 * (left + right)
+    return turn if a + 1e-6 * (b - a) < turn < b - 1e-6 * (b - a) else None
+
+
 def fit_curve(curve, u0: float, u1: float, tolerance: float, arcs: bool = True, breaks=None):  # noqa: ANN001, ANN201
     """Replace ``curve(u)`` (vectorised, returns (n, 2)) on [u0, u1] by :class:`Piece` s.
 
@@ -109,7 +146,8 @@ def fit_curve(curve, u0: float, u1: float, tolerance: float, arcs: bool = True, 
     through the curve at both ends and the middle parameter, or the chord when that fits
     better (collinear points, a corner of a degree-1 curve, or ``arcs`` false); a piece
     whose deviation exceeds ``tolerance`` is halved in parameter, down to
-    :data:`MAX_DEPTH` levels.
+    :data:`MAX_DEPTH` levels; a chord the curve runs past and back along (unseen between
+    check points) is split at the turn.
     """
     pieces: list[Piece] = []
     worst = 0.0
@@ -132,11 +170,14 @@ def fit_curve(curve, u0: float, u1: float, tolerance: float, arcs: bool = True, 
             if arc_dev < dev:  # a line wins only where it fits better (corners, flats)
                 dev = arc_dev
                 piece = Piece(piece.end, (float(centre[0]), float(centre[1])), ccw)
-        if dev > MARGIN * tolerance and depth < MAX_DEPTH:
-            mid = 0.5 * (a + b)
-            stack.append((mid, b, depth + 1))  # popped second: keeps pieces in order
-            stack.append((a, mid, depth + 1))
-            continue
+        if depth < MAX_DEPTH:
+            split = 0.5 * (a + b) if dev > MARGIN * tolerance else None
+            if split is None and piece.centre is None:  # runs past an end and back?
+                split = _turning_point(curve, a, b, p2 - p0)
+            if split is not None:
+                stack.append((split, b, depth + 1))  # popped second: keeps pieces in order
+                stack.append((a, split, depth + 1))
+                continue
         pieces.append(piece)
         worst = max(worst, dev)
     return pieces, worst

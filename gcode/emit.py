@@ -105,6 +105,7 @@ class BlockWriter:
         self.e_work = 1  # G54
         self.e_rotation = 0.0
         self.e_local: tuple[float, ...] = (0.0,) * 6
+        self.frame: tuple[str, ...] = ()  # the blocks of the last frame written (_frame)
         self.comp_radius = 0.0
         self.motion: str | None = None
         # positions in output units: the IR's (exact) and what the text set (rounded)

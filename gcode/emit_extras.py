@@ -34,7 +34,8 @@ def work_offset(w: BlockWriter, c: canon.Command) -> None:
     w.invalidate()
     w.e_work = index
     if index > len(w.d.work_offsets):
-        w.lacking("CONV-ORIGIN", f"work offset {index} (G59.{index - 6})")
+        code = f"G{53 + index}" if index <= 6 else f"G59.{index - 6}"
+        w.lacking("CONV-ORIGIN", f"work offset {index} ({code})")
         return
     w.block(w.d.work_offsets[index - 1])
 
@@ -50,8 +51,33 @@ def local_offset(w: BlockWriter, c: canon.Command) -> None:
     if w.d.local_offset is None:
         w.lacking("CONV-ORIGIN", "offset by value (G52)")
         return
+    if w.d.rotated_offset is not None:
+        _frame(w)
+        return
     axes = _axis_list(w, values) or "X" + w.fmt.length(0.0)
     w.block(w.d.local_offset.format(axes=axes))
+
+
+def _frame(w: BlockWriter) -> None:
+    """Rotation and offset as one frame (Siemens: ``ROT Z a`` then ``ATRANS`` the offset
+    in the rotated system, so a point p is at R (p + offset) as after LinuxCNC's G92 and
+    G10 L2 R; ``TRANS`` alone without rotation)."""
+    assert w.d.xy_rotation is not None and w.d.local_offset is not None
+    on = w.d.xy_rotation.partition("|")[0]
+    axes = _axis_list(w, w.e_local)
+    if abs(w.e_rotation) < 1e-12:
+        blocks = (w.d.local_offset.format(axes=axes or "X" + w.fmt.length(0.0)),)
+    else:
+        blocks = (on.format(index=w.e_work, angle=w.fmt.angle(w.e_rotation)),)
+        if axes:
+            blocks += (w.d.rotated_offset.format(axes=axes),)  # type: ignore[union-attr]
+    if blocks == w.frame:
+        return
+    # an ATRANS after the frame in force adds to it: only the new tail is written
+    start = len(w.frame) if w.frame and blocks[: len(w.frame)] == w.frame else 0
+    w.frame = blocks
+    for text in blocks[start:]:
+        w.block(text)
 
 
 def xy_rotation(w: BlockWriter, c: canon.Command) -> None:
@@ -64,6 +90,9 @@ def xy_rotation(w: BlockWriter, c: canon.Command) -> None:
     w.e_rotation = angle
     if w.d.xy_rotation is None:
         w.lacking("CONV-ORIGIN", "rotated work offset (G10 L2 R)")
+        return
+    if w.d.rotated_offset is not None and w.d.local_offset is not None:
+        _frame(w)
         return
     on, _, off = w.d.xy_rotation.partition("|")
     if abs(angle) < 1e-12 and off:

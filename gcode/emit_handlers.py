@@ -272,6 +272,13 @@ def feed(w: BlockWriter, c: canon.StraightFeed) -> None:
         code, lead = w.d.thread
         w.motion = None
         w.block(code, *(words or _first_axis(w)), lead + w.fmt.length(w.sync))
+        if lead == "F":  # Fanuc: the lead F is the modal F too; the next feed restates it
+            if abs(w.feed - w.sync) > 1e-12:
+                what = "the thread lead F is also the feed rate"
+                if w.o.on_missing == "refuse":
+                    w.refuse("CONV-THREAD", what)
+                w.change("CONV-THREAD", "substituted", what)
+            w.e_feed = None
         return
     w.block(w.motion_code(w.d.linear), *(words or _first_axis(w)), w.feed_word(length))
 
@@ -384,12 +391,17 @@ def _arc_format(w: BlockWriter, turns: int, part: float, start, end, centre, ccw
     end_w = (float(w.fmt.length(end[0])), float(w.fmt.length(end[1])))
     got = r_centre(start, end_w, r_word, ccw)
     exact = got is not None and math.dist(got, centre) <= 0.4 * 10.0**-w.fmt.places
-    if turns > 1 or part > TWO_PI - 1e-6 or not exact:
+    # A reader finds the centre from 4R^2 - chord^2 of the written numbers, without a
+    # tolerance (Grbl's gcode.c stops with error:33 below 0): near a half circle that term
+    # is a tiny difference of large numbers, so keep it clear of 0 by 1e-4 of 4R^2 (the arc
+    # at least 1.15 degrees away from 180).
+    conditioned = 4 * r_word * r_word - math.dist(start, end_w) ** 2 > 4e-4 * r_word * r_word
+    if turns > 1 or part > TWO_PI - 1e-6 or not exact or not conditioned:
         w.change(
             "CONV-ARC-FORMAT",
             "substituted",
             "arc written with centres: R cannot state a full circle, several turns "
-            "or a near half circle exactly",
+            "or a near half circle reliably",
         )
         return "ijk"
     return "r"

@@ -85,4 +85,8 @@ def blend_corners(path: Path) -> Path:
     rows["start"][corners + 1, :3] = end
     rows["length"][corners + 1] -= d
     out = np.insert(rows, corners + 1, arcs)
+    # a line shortened from both ends by half its length is gone (not -1e-16 long)
+    gone = (out["kind"] == LINE) & (out["length"] <= 1e-12)
+    if gone.any():
+        out = out[~gone]
     return Path(out, path.file)

@@ -32,6 +32,7 @@ from typing import NamedTuple
 import numpy as np
 
 from kernel import canon
+from kernel.bulk import bulk_array
 from kernel.diagnostics import Diagnostic, Location
 from kernel.machine import AXIS_NAMES, Machine
 
@@ -279,36 +280,29 @@ def merged_columns(chunks: list) -> tuple[list[np.ndarray], dict[int, dict]]:
 def segment_table(chunks: list, machine: Machine, file: str | None) -> np.ndarray:
     """The builder's chunks (kernel.path_builder) vectorised into the segment table:
     lengths, tangents and feeds in mm/s (or deg/s), with the ``PLAN-AXIS`` and
-    ``PLAN-FEED`` checks; motions shorter than MIN_LENGTH are dropped."""
+    ``PLAN-FEED`` checks; motions shorter than MIN_LENGTH are dropped.
+
+    Everything is computed on plain columns; the (wide, packed) table is written once per
+    field at the end (in a :func:`kernel.bulk.bulk_array`) and never read back."""
     cols, recs = merged_columns(chunks)
     if not cols:
         return np.zeros(0, SEGMENT_DTYPE)
     kind, cat, start, end, rate, mode, mm, spindle, synch, override = cols[:10]
     stop, blend, src, line, duration = cols[10:]
-    n = len(kind)
-    seg = np.zeros(n, SEGMENT_DTYPE)
-    seg["kind"], seg["category"] = kind, cat
-    seg["start"], seg["end"] = start, end
-    seg["exact_stop"] = stop
-    seg["blend"] = blend
-    seg["source"] = src
-    seg["line"] = line
-    seg["duration"] = duration
     d = end - start
     lin = np.sqrt(np.einsum("ij,ij->i", d[:, :3], d[:, :3]))
     rotary_only = lin <= MIN_LENGTH
     length = lin.copy()
     if rotary_only.any():
         length[rotary_only] = np.linalg.norm(d[rotary_only, 3:], axis=1)
-    is_arc = kind == ARC
-    ai = np.flatnonzero(is_arc)
+    ai = np.flatnonzero(kind == ARC)
+    arc_cols: dict[str, np.ndarray] = {}
     if ai.size:
         arcs = [recs[i] for i in ai.tolist()]
-        for key in arcs[0]:
-            seg[key][ai] = np.array([r[key] for r in arcs])
-    length[ai] = seg["length"][ai]
+        arc_cols = {key: np.array([r[key] for r in arcs], dtype=float) for key in arcs[0]}
+        length[ai] = arc_cols["length"]
     rotary_only[ai] = False
-    seg["length"] = np.where(kind == HOLD, 0.0, length)
+    length = np.where(kind == HOLD, 0.0, length)
     # axes the machine lacks must not move
     present = np.array([a in machine.axis_names for a in AXIS_NAMES])
     bad = np.flatnonzero(np.any(np.abs(d[:, ~present]) > MIN_LENGTH, axis=1))
@@ -323,40 +317,54 @@ def segment_table(chunks: list, machine: Machine, file: str | None) -> np.ndarra
             Location(file, int(line[i]), 1 if line[i] else 0),
         )
     # drop motions too short to matter (the position was carried on anyway)
-    keep = (kind == HOLD) | (seg["length"] > MIN_LENGTH)
-    if not keep.all():  # the usual case keeps all: no copy of the (wide) table
-        seg, d, rotary_only = seg[keep], d[keep], rotary_only[keep]
+    keep = (kind == HOLD) | (length > MIN_LENGTH)
+    if not keep.all():  # the usual case keeps all: no copies
+        kept_arc = keep[ai]
+        ai = (np.cumsum(keep) - 1)[ai[kept_arc]]
+        arc_cols = {key: v[kept_arc] for key, v in arc_cols.items()}
+        kind, cat, start, end, stop, blend, src, line, duration = (
+            c[keep] for c in (kind, cat, start, end, stop, blend, src, line, duration)
+        )
+        d, rotary_only, length = d[keep], rotary_only[keep], length[keep]
         rate, mode, mm = rate[keep], mode[keep], mm[keep]
         spindle, synch, override = spindle[keep], synch[keep], override[keep]
-    length = seg["length"]
     with np.errstate(invalid="ignore"):
         unit = np.where(rotary_only, 1.0, mm)
         # G93 rates arrive per minute already (kernel.canon.SetFeedMode)
         feed = np.where(mode == 2, rate * unit * spindle / 60.0, rate * unit / 60.0)
         feed = np.where(synch > 0, synch * mm * spindle / 60.0, feed) * override
-        rapid = seg["category"] == RAPID
+        rapid = cat == RAPID
         feed = np.where(rapid, rate * unit / 60.0, feed)
-    seg["feed"] = feed
-    moving = seg["kind"] != HOLD
-    bad = np.flatnonzero(moving & ~rapid & ~(feed > 0))
+    bad = np.flatnonzero((kind != HOLD) & ~rapid & ~(feed > 0))
     if bad.size:
-        ln = int(seg["line"][bad[0]])
+        ln = int(line[bad[0]])
         raise Diagnostic(
             "PLAN-FEED",
             "feed move with a zero feed rate",
             Location(file, ln, 1 if ln else 0),
         )
     safe = np.where(length > 0, length, 1.0)[:, None]
-    lines = seg["kind"] == LINE
-    u = np.where(lines[:, None], d / safe, 0.0)
+    u = np.where((kind == LINE)[:, None], d / safe, 0.0)
+    seg = bulk_array(len(kind), SEGMENT_DTYPE)
+    seg["kind"], seg["category"] = kind, cat
+    seg["start"], seg["end"] = start, end
+    seg["length"] = length
     seg["u_start"], seg["u_end"] = u, u
-    arcs = np.flatnonzero(seg["kind"] == ARC)
-    if arcs.size:
+    seg["feed"] = feed
+    seg["duration"] = duration
+    seg["exact_stop"] = stop
+    seg["blend"] = blend
+    seg["source"] = src
+    seg["line"] = line
+    if ai.size:
         from kernel.geometry import arc_tangent
 
-        sa = seg[arcs]
-        us, ue = arc_tangent(sa, np.zeros(arcs.size)), arc_tangent(sa, np.ones(arcs.size))
-        rot = d[arcs, 3:] / sa["length"][:, None]
+        sa = np.zeros(ai.size, SEGMENT_DTYPE)  # the arc rows, for arc_tangent
+        for key, v in arc_cols.items():
+            sa[key] = v
+            seg[key][ai] = v
+        us, ue = arc_tangent(sa, np.zeros(ai.size)), arc_tangent(sa, np.ones(ai.size))
+        rot = d[ai, 3:] / arc_cols["length"][:, None]
         us[:, 3:], ue[:, 3:] = rot, rot
-        seg["u_start"][arcs], seg["u_end"][arcs] = us, ue
+        seg["u_start"][ai], seg["u_end"][ai] = us, ue
     return seg

@@ -33,6 +33,7 @@ from kernel.path import (
     RAPID,
     STOP,
     TOOL_CHANGE,
+    Path,
     StraightRun,
     segment_table,
 )
@@ -263,6 +264,44 @@ class PathBuilder:
             w[f], w[s] = float(q[0]), float(q[1])
             self.line_to(cmd, self._to_machine(w), FEED, idx)
 
+    def ellipse(self, cmd: canon.EllipseFeed, idx: int) -> None:
+        """ELLIPSE_FEED as chords within the chord tolerance (kernel.ellipse), every one a
+        feed line mapped back to the command's index; the helix axis follows the swept
+        polar angle (NIST rule 2), rotary axes move linearly along the path."""
+        from kernel.ellipse import ellipse_chords
+
+        st = self.st
+        f, s, ax = _PLANE_AXES[st.plane]
+        mm, off = st.mm, st.g92
+        start = self._to_work(st.position)
+        end = start.copy()
+        end[f] = cmd.first_end * mm + off[f]
+        end[s] = cmd.second_end * mm + off[s]
+        end[ax] = cmd.axis_end_point * mm + off[ax]
+        end[3:] = np.array([cmd.a, cmd.b, cmd.c]) + off[3:]
+        chords = ellipse_chords(
+            (float(start[f]), float(start[s])),
+            (float(end[f]), float(end[s])),
+            (cmd.first_axis * mm + off[f], cmd.second_axis * mm + off[s]),
+            cmd.major * mm,
+            cmd.minor * mm,
+            cmd.angle_to_first,
+            cmd.rotation,
+            float(end[ax] - start[ax]),
+            self.machine.controller.chord_tolerance,
+            cmd.source,
+        )
+        w = np.repeat(start[None], len(chords.first), axis=0)
+        w[:, f], w[:, s] = chords.first, chords.second
+        w[:, ax] += chords.axial_fraction * (end[ax] - start[ax])
+        w[:, 3:] += chords.length_fraction[:, None] * (end[3:] - start[3:])
+        w[-1] = end  # exactly the programmed end point
+        if st.rot:
+            w[:, :3] = self._rot(w[:, :3])
+        w += np.array(st.g5x)
+        for p in w.tolist():
+            self.line_to(cmd, tuple(p), FEED, idx)
+
     def hold(self, cmd: canon.Command, seconds: float, category: int, idx: int) -> None:
         p = self.st.position
         self.rows.append(
@@ -413,9 +452,7 @@ class PathBuilder:
             case canon.DisableFeedOverride():
                 st.override = 1.0
             case canon.EllipseFeed():
-                raise Diagnostic(
-                    "PLAN-UNSUPPORTED", "ELLIPSE_FEED is not planned by this kernel", cmd.source
-                )
+                self.ellipse(cmd, idx)
             case _:
                 self._linuxcnc(cmd, idx)
 
@@ -449,7 +486,16 @@ class PathBuilder:
 
     # ------------------------------------------------------------------ vectorised finish
     def table(self) -> np.ndarray:
+        """The segment table; for an S-curve machine with its corners blended (G64 P,
+        kernel.blend, idempotent) and its lines cut next to curvature joints
+        (kernel.curvature.cut_for_machine)."""
         if self.rows:
             self.chunks.append(self.rows)
             self.rows = []
-        return segment_table(self.chunks, self.machine, self.file)
+        seg = segment_table(self.chunks, self.machine, self.file)
+        if self.machine.controller.accdec != "scurve":
+            return seg
+        from kernel.blend import blend_corners
+        from kernel.curvature import cut_for_machine
+
+        return cut_for_machine(blend_corners(Path(seg, self.file)), self.machine).segments

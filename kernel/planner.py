@@ -15,6 +15,10 @@ Book ch. 4.3-4.4 and 6.3 with the corrections of research/seed-book-motion.md §
   (sliding minima for a finite window), so 200 000 segments plan without a Python loop;
 * trapezoidal profiles per segment (eqs. 4.51-4.54 and the eight block-pair cases of
   §4.3.2, which are what the look-ahead boundary speeds reduce to);
+* S-curve, at every curvature discontinuity (line-arc, arc-line, arc-arc, helix joints):
+  the speed at which the step of the axis acceleration over one period stays within half
+  the jerk limit (kernel.curvature, own derivation); paths built for an S-curve machine
+  have their lines cut ``T_f v`` from such joints, so only that stretch is slowed;
 * S-curve: the trapezoidal path profile smoothed by a moving average of ``T_f = 2A/J``
   along the path (the linear filter of eq. 4.4 applied to the path parameter, so the path
   itself is not changed): jerk ``= (a(t) - a(t - T_f))/T_f <= 2A/T_f = J`` even where the
@@ -34,6 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kernel.blend import blend_corners
+from kernel.curvature import curvature_joint_caps, erode_joint_caps
 from kernel.diagnostics import Diagnostic, Location
 from kernel.machine import Machine
 from kernel.path import ARC, HOLD, RAPID, Path
@@ -379,8 +384,8 @@ def _erode(
 def plan(path: Path, machine: Machine) -> Plan:
     """Plan ``path`` on ``machine`` (controller settings from the profile)."""
     path = blend_corners(path)  # no-op for paths from build_path (already blended)
-    seg = path.segments
     ctl = machine.controller
+    seg = path.segments
     n = len(seg)
     length = seg["length"]
     cap, acc = segment_limits(path, machine)
@@ -398,6 +403,11 @@ def plan(path: Path, machine: Machine) -> Plan:
         hi = np.searchsorted(s[:-1], s[1:] + d0, "left") - 1
         dist = tf * -range_min(-fin, lo, np.maximum(hi, lo))
         cap, jcap = _erode(s, cap, jcap, dist, moving)
+        # acceleration steps at curvature joints (kernel.curvature), eroded over the
+        # distance travelled in T_f at their own (low) speed
+        _, _, jmax = _machine_vectors(machine)
+        v_curv = curvature_joint_caps(seg, jmax, ctl.interpolation_period)
+        cap, jcap = erode_joint_caps(s, cap, jcap, v_curv, tf)
         jcap[1:-1] = np.minimum.reduce([jcap[1:-1], cap[:-1], cap[1:]])
         acc_e, _ = _erode(s, np.where(moving, acc, np.inf), np.zeros(n + 1), dist, moving)
         acc = np.where(moving, acc_e, acc)

@@ -20,8 +20,9 @@ class Samples:
 
     ``position``, ``velocity``, ``acceleration`` and ``jerk`` have shape ``(n, len(axes))``
     (mm or deg, per second powers). ``segment`` is the index of the path segment each
-    sample belongs to (-1 while dwelling or stopped at a barrier), ``source_line`` the
-    1-based program line it came from (0 when unknown). ``t[i] == i * period``.
+    sample belongs to (-1 while dwelling or stopped at a barrier; int32 from
+    :func:`kernel.interpolate.sample`), ``source_line`` the 1-based program line it came
+    from (0 when unknown, int32). ``t[i] == i * period``.
     """
 
     period: float

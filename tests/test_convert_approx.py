@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from gcode import approximate as ap
@@ -61,6 +61,12 @@ def test_conic_nurbs_quarter_circle_becomes_one_exact_arc():
 
 
 @settings(max_examples=60, deadline=None)
+@example(  # a sharp turn on a line: overshoots the knot between two check points
+    ctrl=[(-7.0, 0.0, 1.0), (1.0, 0.0, 0.25), (0.0, 0.0, 0.21875), (0.0, 0.0, 1.0)],
+    order=3,
+    tol=1e-3,
+    arcs=False,
+)
 @given(
     st.lists(
         st.tuples(st.floats(-50, 50), st.floats(-50, 50), st.floats(0.2, 5)), min_size=4, max_size=8

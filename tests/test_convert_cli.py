@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
 from click.testing import CliRunner
 
 from cli.convert import command
@@ -87,10 +88,16 @@ def test_from_canon_and_options(tmp_path: Path) -> None:
     assert lines[:3] == ["N5 G20", "N10 G90 G17", "N15 G0 X0 Y0 Z0.197"]
 
 
-def test_unknown_dialect_and_missing_reader_are_errors(tmp_path: Path) -> None:
+def test_unknown_dialect_and_missing_reader_are_errors(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from gcode import readers
+
     src = tmp_path / "p.ngc"
     src.write_text(SQUARE)
     assert run(str(src), "--to", "heidenhain").exit_code == 2
+    # every dialect has a reader today; one uninstalled must be an error, not a traceback
+    monkeypatch.setitem(readers.READER_MODULES, "fanuc", "gcode.dialects.no_such_reader")
     result = run(str(src), "--from", "fanuc", "--to", "rs274ngc")
     assert result.exit_code == 1 and "CONV-READER" in result.output
 

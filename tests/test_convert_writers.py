@@ -136,6 +136,23 @@ def test_full_circle_in_r_format_falls_back_to_centres_and_is_reported():
     assert [ch.code for ch in report.changes] == ["CONV-ARC-FORMAT"]
 
 
+@pytest.mark.parametrize(
+    ("end", "r_format"),
+    [((-10.0, 0.0), False), ((0.0, 10.0), True), ((-8.0, 6.0), True), ((-9.6, 2.8), True)],
+)
+def test_r_format_keeps_clear_of_the_half_circle(end: tuple[float, float], r_format: bool):
+    """At 180 degrees 4R^2 - chord^2 is 0 in decimal and may be below 0 in a reader's floating
+    point (Grbl's error:33): a half circle gets centres even when R would be exact. 143.1 and
+    163.7 degrees (ends exact in decimal) keep R."""
+    arc = c.ArcFeed(end[0], end[1], 0, 0, 1, 0)
+    report = ConversionReport()
+    cmds = [MM, c.StraightTraverse(10, 0, 0), c.SetFeedRate(50), arc]
+    out = emit(cmds, "grbl", report, arc_format="r", decimals=6)
+    block = next(b for b in out if b.startswith("G3"))
+    assert ("R10" in block) is r_format and ("I-10" in block) is not r_format
+    assert [ch.code for ch in report.changes] == ([] if r_format else ["CONV-ARC-FORMAT"])
+
+
 HELIX = [MM, c.StraightTraverse(5, 0, 0), c.SetFeedRate(60), c.ArcFeed(5, 0, 0, 0, 3, -3)]
 
 

@@ -226,7 +226,7 @@ def test_a_failing_stream_reports_an_earlier_builder_error_first():
 
     with pytest.raises(Diagnostic) as e:
         build_path(stream(), DEFAULT_MACHINE)
-    assert e.value.code == "PLAN-UNSUPPORTED"
+    assert e.value.code == "PLAN-ELLIPSE"
 
     def stream_ok():
         yield canon.SetFeedRate(600.0)

@@ -1,9 +1,11 @@
 """Properties of planned and sampled motion for random programs and random machines.
 
-For every program: no sample exceeds an axis velocity or acceleration limit (nor jerk with
-S-curve acc/dec) beyond rounding; the path speed never exceeds the programmed feed; samples
-lie on the programmed path (no blending: tolerance 0); the speed is zero at every barrier;
-the last sample is the program's end point exactly.
+For every program (lines, rapids, arcs and helices, tangent or not): no sample exceeds an
+axis velocity or acceleration limit (nor jerk with S-curve acc/dec, including the change of
+acceleration over the period that crosses a tangent line-arc or arc-arc joint, where the
+curvature jumps: kernel.curvature) beyond rounding; the path speed never exceeds the
+programmed feed; samples lie on the programmed path (no blending: tolerance 0); the speed is
+zero at every barrier; the last sample is the program's end point exactly.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from kernel import canon
@@ -28,26 +30,49 @@ coord = st.floats(-40, 40, allow_nan=False).map(lambda v: round(v, 3))
 
 
 @st.composite
-def programs(draw):
-    """Random line / arc / dwell programs starting at the origin, all in mm, XY arcs."""
+def programs(draw, rapids: bool = True, chain: bool = False):
+    """Random programs starting at the origin, all in mm, XY arcs: lines, rapids, arcs and
+    helices (free, or tangent to the move before: tangent line-arc, arc-arc and arc-line
+    joints), dwells and feed changes. ``chain``: a line along X, then only tangent planar
+    lines and arcs (every joint tangent)."""
     cmds: list[canon.Command] = [canon.SetFeedRate(draw(st.floats(300, 6000)))]
     x = y = z = 0.0
+    tangent = None  # XY unit direction at the end of the last move, if it is planar
+    kinds = ["feed", "feed", "tangent_feed", "arc", "tangent_arc", "tangent_arc", "dwell"]
+    kinds += ["feedrate", "rapid"] if rapids else ["feedrate"]
+    if chain:
+        x, tangent = draw(st.floats(1, 60)), (1.0, 0.0)
+        cmds.append(canon.StraightFeed(x, y, z))
+        kinds = ["tangent_feed", "tangent_arc", "tangent_arc"]
     for _ in range(draw(st.integers(1, 7))):
-        kind = draw(st.sampled_from(["feed", "feed", "rapid", "arc", "dwell", "feedrate"]))
-        if kind in ("feed", "rapid"):
-            x, y, z = draw(coord), draw(coord), draw(coord)
-            cls = canon.StraightFeed if kind == "feed" else canon.StraightTraverse
+        kind = draw(st.sampled_from(kinds))
+        if kind == "tangent_feed" and tangent is not None:
+            step = draw(st.floats(0.5, 40))
+            x, y = x + step * tangent[0], y + step * tangent[1]
+            cmds.append(canon.StraightFeed(x, y, z))
+        elif kind in ("feed", "rapid", "tangent_feed"):
+            nx, ny, nz = draw(coord), draw(coord), draw(coord)
+            h = math.hypot(nx - x, ny - y)
+            tangent = ((nx - x) / h, (ny - y) / h) if h > 1e-6 and nz == z else None
+            x, y, z = nx, ny, nz
+            cls = canon.StraightTraverse if kind == "rapid" else canon.StraightFeed
             cmds.append(cls(x, y, z))
-        elif kind == "arc":
+        elif kind in ("arc", "tangent_arc"):
             r = draw(st.floats(0.5, 30))
-            a0 = draw(st.floats(0, 2 * math.pi))
             sweep = draw(st.floats(0.2, 2 * math.pi - 0.2))
             rot = draw(st.sampled_from([1, -1]))
-            cx, cy = x - r * math.cos(a0), y - r * math.sin(a0)
+            if kind == "tangent_arc" and tangent is not None:  # centre on the left (CCW)
+                cx, cy = x - rot * r * tangent[1], y + rot * r * tangent[0]
+                a0 = math.atan2(y - cy, x - cx)
+            else:
+                a0 = draw(st.floats(0, 2 * math.pi))
+                cx, cy = x - r * math.cos(a0), y - r * math.sin(a0)
             a1 = a0 + rot * sweep
             x, y = cx + r * math.cos(a1), cy + r * math.sin(a1)
-            z = draw(coord) if draw(st.booleans()) else z
+            helix = not chain and draw(st.booleans())
+            z = draw(coord) if helix else z
             cmds.append(canon.ArcFeed(x, y, cx, cy, rot, z))
+            tangent = None if helix else (-rot * math.sin(a1), rot * math.cos(a1))
         elif kind == "dwell":
             cmds.append(canon.Dwell(draw(st.floats(0, 0.05))))
         else:
@@ -106,11 +131,24 @@ def _on_path(path, samples) -> float:
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(programs(), machines())
 def test_sampled_motion_respects_every_limit_and_the_program(cmds, machine):
+    _assert_limits_and_program(cmds, machine)
+
+
+@settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(programs(rapids=False, chain=True), machines())
+def test_trapezoid_tangent_line_arc_chains_respect_every_limit_and_the_program(cmds, machine):
+    from kernel.machine import with_controller
+
+    _assert_limits_and_program(cmds, with_controller(machine, accdec="trapezoid"))
+
+
+def _assert_limits_and_program(cmds, machine):
     path = build_path(cmds, machine)
     if not len(path):
         return
     p = plan(path, machine)
     s = sample(p)
+    path = p.path  # the planned path (the same rows as built)
     for j, name in enumerate(s.axes):
         ax = machine.axis(name)
         assert np.abs(s.velocity[:, j]).max() <= ax.velocity * (1 + RTOL) + ATOL
@@ -150,6 +188,179 @@ def test_s_curve_line_programs_respect_the_jerk_limit(points, machine, feed):
         assert np.abs(s.jerk[:, j]).max() <= ax.jerk * (1 + RTOL) + ATOL
         assert np.abs(s.velocity[:, j]).max() <= ax.velocity * (1 + RTOL) + ATOL
         assert np.abs(s.acceleration[:, j]).max() <= ax.acceleration * (1 + RTOL) + ATOL
+
+
+def _joint_crossings(path, s):
+    """Sample pairs ``(k, k + 1)`` that cross exactly one junction between two motions, and
+    the per-axis step of d2p/ds2 (curvature vector) and of the tangent at that junction."""
+    seg = path.segments
+    a, b = s.segment[:-1], s.segment[1:]
+    k = np.flatnonzero((b == a + 1) & (a >= 0))
+    a, b = a[k], b[k]
+
+    def geometry(idx, at):
+        _, d1, curved, d2c, _ = evaluate(seg, idx, at, "exact", 1.0, [0, 1, 2])
+        d2 = np.zeros((idx.size, 3))
+        d2[curved] = d2c
+        return d1, d2
+
+    u_a, k_a = geometry(a, seg["length"][a].copy())
+    u_b, k_b = geometry(b, np.zeros(b.size))
+    return k, np.abs(k_b - k_a), np.linalg.norm(u_b - u_a, axis=1)
+
+
+def _assert_s_curve_jerk(path, machine):
+    p = plan(path, machine)
+    s, path = sample(p), p.path
+    jmax = np.array([machine.axis(n).jerk for n in s.axes])
+    for j, name in enumerate(s.axes):
+        ax = machine.axis(name)
+        assert np.abs(s.jerk[:, j]).max() <= ax.jerk * (1 + RTOL) + ATOL
+        assert np.abs(s.velocity[:, j]).max() <= ax.velocity * (1 + RTOL) + ATOL
+        assert np.abs(s.acceleration[:, j]).max() <= ax.acceleration * (1 + RTOL) + ATOL
+    k, dcurv, dtan = _joint_crossings(path, s)
+    if not k.size:
+        return
+    # the acceleration step at a curvature joint, at the speed the joint is crossed with
+    # (at least the lower of the two samples' speeds), is at most J T / 2 per axis
+    v = np.minimum(np.linalg.norm(s.velocity[k], axis=1), np.linalg.norm(s.velocity[k + 1], axis=1))
+    step = dcurv * (v * v)[:, None]
+    assert np.all(step <= 0.5 * jmax * s.period * (1 + RTOL) + ATOL)
+    # across a tangent joint the axis acceleration is one motion: its change over the
+    # sampling period (smooth part + curvature step) stays within the jerk limit
+    tan = dtan < 1e-9
+    fd = np.abs(s.acceleration[k[tan] + 1] - s.acceleration[k[tan]]) / s.period
+    assert np.all(fd <= jmax * (1 + RTOL) + ATOL)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(programs(rapids=False), machines())
+def test_s_curve_programs_with_arcs_respect_the_jerk_limit(cmds, machine):
+    """Lines, arcs and helices, tangent or not: the sampled axis jerk within the limit, and
+    at every line-arc / arc-arc joint the curvature step within half the jerk budget of a
+    period (kernel.curvature)."""
+    from kernel.machine import with_controller
+
+    machine = with_controller(machine, accdec="scurve")
+    path = build_path(cmds, machine)
+    if len(path):
+        _assert_s_curve_jerk(path, machine)
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(programs(rapids=False, chain=True), machines())
+def test_s_curve_tangent_line_arc_chains_respect_the_jerk_limit(cmds, machine):
+    """Every joint tangent: the change of axis acceleration over each period that crosses a
+    joint (where the curvature jumps) stays within the jerk limit."""
+    from kernel.machine import with_controller
+
+    machine = with_controller(machine, accdec="scurve")
+    _assert_s_curve_jerk(build_path(cmds, machine), machine)
+
+
+@pytest.mark.slow
+@settings(max_examples=400, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(programs(rapids=False), machines())
+def test_s_curve_programs_with_arcs_respect_the_jerk_limit_many(cmds, machine):
+    from kernel.machine import with_controller
+
+    machine = with_controller(machine, accdec="scurve")
+    path = build_path(cmds, machine)
+    if len(path):
+        _assert_s_curve_jerk(path, machine)
+
+
+def test_tangent_line_arc_joint_speed_is_the_jerk_cap():
+    """Line -> tangent arc of R 30 mm at F 6000 mm/min, J 2e4 mm/s^3, T 1 ms: the centripetal
+    step v^2/R over one period is held to J T / 2, so v = sqrt(J T R / 2) = 17.32 mm/s (it
+    would be 100 mm/s without the cap: a 16.7 J jerk spike)."""
+    from kernel.machine import with_controller
+
+    m = Machine(
+        "t",
+        tuple(AxisLimits(n, velocity=300, acceleration=5000, jerk=2e4) for n in "xyz"),
+        Controller(accdec="scurve"),
+    )
+    cmds = [
+        canon.SetFeedRate(6000),
+        canon.StraightFeed(100, 0, 0),
+        canon.ArcFeed(100, 60, 100, 30, 1, 0),
+    ]
+    path = build_path(cmds, m)  # built for the S-curve machine: the line is cut
+    p = plan(path, m)
+    assert p.path is path  # the planner keeps the built rows (samples index them)
+    v = math.sqrt(2e4 * 1e-3 * 30 / 2)
+    joint = int(np.flatnonzero(p.path.segments["kind"] == ARC)[0])
+    assert joint == 2
+    assert p.v_junction[joint] == pytest.approx(v)
+    trap = with_controller(m, accdec="trapezoid")
+    assert plan(build_path(cmds, trap), trap).v_junction[1] == pytest.approx(100.0)
+    # only the last T_f v of the line is slowed (the line is cut there, T_f = 2A/J): the
+    # line runs at the feed and reaches the joint at v, in far less time than 100 mm at v
+    s = sample(p)
+    on_line = np.flatnonzero(s.segment < joint)
+    speed = np.linalg.norm(s.velocity[on_line], axis=1)
+    assert p.path.segments["length"][joint - 1] == pytest.approx(2 * 5000 / 2e4 * v)
+    assert speed.max() == pytest.approx(100.0)
+    assert speed[-1] <= v * (1 + RTOL)
+    assert on_line.size * s.period < 0.4 * 100 / v  # 1.8 s against 5.8 s
+
+
+def test_cut_lines_keep_the_geometry_feeds_and_stops():
+    """S-curve cuts (kernel.curvature.split_lines_at_joints): the pieces of a line are
+    collinear, contiguous and add up to it; only its last piece keeps a G61 stop; a joint
+    that is a stop anyway is not cut for."""
+    from kernel.curvature import split_lines_at_joints
+
+    cmds = [
+        canon.SetFeedRate(3000),
+        canon.StraightFeed(50, 0, 0),
+        canon.ArcFeed(60, 10, 50, 10, 1, 0),
+        canon.SetMotionControlMode(canon.MotionMode.EXACT_STOP),
+        canon.StraightFeed(60, 70, 5),
+        canon.StraightFeed(60, 80, 5),
+        canon.ArcFeed(70, 90, 70, 80, -1, 5),  # after a G61 line: that joint is a stop
+    ]
+    path = build_path(cmds, Machine("t", tuple(AxisLimits(n) for n in "xyz"), Controller()))
+    v = np.array([4.0, 2.0, np.inf, 3.0])  # caps at the joints of the arcs
+    cut_path, v_cut = split_lines_at_joints(path, v, 0.5)
+    cut = cut_path.segments
+    assert list(v_cut) == [np.inf, 4.0, 2.0, np.inf, np.inf, np.inf]  # G61 joint: a stop
+    seg = path.segments
+    assert list(cut["kind"]) == [LINE, LINE, ARC, LINE, LINE, LINE, ARC]
+    assert cut["length"][[1, 3]] == pytest.approx([2.0, 1.0])  # T_f v before / after
+    assert cut["length"][[0, 1]].sum() == pytest.approx(seg["length"][0])
+    assert cut["length"][[3, 4]].sum() == pytest.approx(seg["length"][2])
+    assert np.array_equal(cut["end"][[1, 2, 4, 5, 6]], seg["end"])
+    assert np.array_equal(cut["start"][1:], cut["end"][:-1])
+    assert list(cut["exact_stop"]) == [False, False, False, False, True, True, True]
+    assert list(cut["source"]) == [1, 1, 2, 4, 4, 5, 6]
+    u = (cut["end"][:, :3] - cut["start"][:, :3])[[0, 1]]
+    assert np.allclose(np.cross(u[0], u[1]), 0)
+
+
+def test_curvature_cap_uses_the_axes_the_curvature_step_falls_on():
+    """Line along +X into a tangent quarter arc in the XZ plane (R 5, centre above): the
+    curvature step 1/R is on Z only, so the joint speed is sqrt(J_z T R / 2) with Z's jerk
+    (X's much lower jerk limit does not enter); the arc -> end joint is a stop."""
+    axes = (
+        AxisLimits("x", velocity=300, acceleration=5000, jerk=1e4),
+        AxisLimits("y", velocity=300, acceleration=5000, jerk=1e4),
+        AxisLimits("z", velocity=300, acceleration=5000, jerk=8e4),
+    )
+    m = Machine("t", axes, Controller(accdec="scurve"))
+    r = 5.0
+    cmds = [
+        canon.SetFeedRate(6000),
+        canon.SelectPlane(canon.Plane.XZ),
+        canon.StraightFeed(10, 0, 0),
+        canon.ArcFeed(r, 10 + r, r, 10, -1, 0),  # (Z, X) order; CW about +Y: +X then up
+    ]
+    path = build_path(cmds, m)
+    assert np.allclose(path.segments["u_start"][1][:3], [1, 0, 0])
+    p = plan(path, m)
+    joint = int(np.flatnonzero(p.path.segments["kind"] == ARC)[0])
+    assert p.v_junction[joint] == pytest.approx(math.sqrt(8e4 * 1e-3 * r / 2))
 
 
 @settings(max_examples=30, deadline=None)
@@ -198,6 +409,16 @@ def _distance_to_polyline(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
     machines(),
     st.floats(0.001, 2.0),
     st.floats(300, 6000),
+)
+@example(  # two blends eat a whole line: it must go, not stay -1e-16 long (NaN profile)
+    points=[(0.0, 0.0, 2.0), (0.0, 0.0, 0.0), (0.0, 1.0, 1.0), (0.0, 0.0, 2.0)],
+    machine=Machine(
+        "short",
+        tuple(AxisLimits(n, velocity=20.0, acceleration=200.0, jerk=2e4) for n in "xyz"),
+        Controller(lookahead=1, accdec="trapezoid", corner_rule="axis"),
+    ),
+    tol=1.0,
+    feed=300.0,
 )
 def test_g64_p_blending_stays_within_the_tolerance_and_the_limits(points, machine, tol, feed):
     head = [canon.SetFeedRate(feed)]

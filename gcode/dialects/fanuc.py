@@ -54,7 +54,7 @@ DIALECT = Dialect(
     tool_number=None,
     rigid_tap=None,
     io_codes=False,
-    xy_rotation="G68 X0 Y0 R{angle}|G69",
+    xy_rotation=None,  # G68 rotates the commanded path itself; the IR keeps it apart
     cutter_comp=None,
     notes=(
         "absolute arc centres (G90.1), multi-turn arcs (P): not in Fanuc; incremental "

@@ -22,7 +22,7 @@ DIALECT = Dialect(
     linear="G01",
     arc_cw="G02",
     arc_ccw="G03",
-    exact_stop="G09",
+    exact_stop="G61",  # G09 is one-shot on Haas; G61 is the modal exact stop
     exact_path="G61",
     continuous="G64",
     blend_word=None,
@@ -52,7 +52,7 @@ DIALECT = Dialect(
     tool_number=None,
     rigid_tap=None,
     io_codes=False,
-    xy_rotation="G68 X0 Y0 R{angle}|G69",
+    xy_rotation=None,  # G68 rotates the commanded path itself; the IR keeps it apart
     cutter_comp=None,
     notes=(
         "NURBS, ELLIPSE_FEED: approximated by arcs/lines",

@@ -5,20 +5,30 @@ research/seed-sandia-full.md §5.3: one command per line, the seed's command nam
 ``NAME=value`` arguments. Mapping (§5.4): rapid -> ``point_to_point_positioning`` (never
 with a speed), feed -> ``SetSpeed`` + ``MoveTo`` (world space), units -> ``SetUnits``,
 tool change -> ``GetTool``, tool length -> ``SetToolLength``, probe -> ``MoveReact``,
-``STOP`` -> ``StopMotion``. The language has no arcs: arcs, NURBS and ellipses become
-``MoveTo`` chords within the tolerance. Spindle, coolant, dwell and program flow have no
-generic command: they are dropped (with a report entry and a comment) or refused.
+``STOP`` -> ``StopMotion``, program end -> ``Deactivate`` (the device goes inactive).
+The language has no arcs: arcs, NURBS and ellipses become ``MoveTo`` chords within the
+tolerance; runs of straight feeds and arcs are computed and formatted together
+(:mod:`gcode.dialects.sandia_chords`: an arc is tens of lines). Spindle, coolant, dwell
+and program stops have no generic command: they are dropped (with a report entry and a
+comment); spindle-synchronised motion is refused. The reader is
+:mod:`gcode.dialects.sandia_reader`.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Iterator
 
 import numpy as np
 
 from gcode import approximate
 from gcode.convert_report import Change, ConversionReport
+from gcode.dialects.sandia_chords import (
+    batch_points,
+    circle_chords,
+    format_many,
+    move_lines,
+    plane_lines,
+)
 from gcode.dialects.spec import Dialect
 from gcode.emit_state import PLANE_AXES, Formatter, clamped_uniform_knots
 from kernel import canon
@@ -51,6 +61,8 @@ DIALECT = Dialect(
 )
 
 ATTRIBUTES = "attributes=ABSOLUTE|CS_CURRENT"
+#: straight feeds and arcs written together at most (bounded memory, streaming output)
+RUN = 512
 _DEFAULTS: dict[str, object] = {
     "css": False,
     "speed": 0.0,
@@ -76,25 +88,91 @@ class SandiaWriter:
         self.plane = canon.Plane.XY
         self.feed = 0.0
         self.e_feed: str | None = None
+        self.speed_key: tuple[float, float] | None = None  # (feed, scale) of e_feed
         self.pending_tool: int | None = None
         self.cur = dict.fromkeys("XYZ", 0.0)
         self.last = {k: f"{k}=0.0" for k in "XYZ"}
         self.known = False
+        self.out_mm: float | None = None  # mm per output length unit, once set
         self.ended = False
         self.state: dict[str, object] = {}
 
     def run(self, commands: Iterable[canon.Command]) -> Iterator[str]:
         yield from self.d.header if self.o.header is None else self.o.header  # type: ignore[attr-defined]
+        out, report = self.out, self.report
+        feed, arc = canon.StraightFeed, canon.ArcFeed
+        arcs_too = self.o.on_missing != "refuse"  # type: ignore[attr-defined]
+        run: list[canon.Command] = []  # straight feeds and arcs, written together (the hot path)
         for cmd in commands:
-            self.report.commands += 1
-            self.src = cmd.source
-            if not self.ended:
+            report.commands += 1
+            if self.ended:
+                continue
+            kind = type(cmd)
+            if (kind is feed or (kind is arc and arcs_too and cmd.rotation)) and not (
+                cmd.a or cmd.b or cmd.c  # type: ignore[attr-defined]
+            ):
+                run.append(cmd)
+                if len(run) < RUN:
+                    continue
+            if run:
+                self.feeds(run)
+                run.clear()
+            if kind is not feed and kind is not arc or cmd.a or cmd.b or cmd.c:  # type: ignore[attr-defined]
+                self.src = cmd.source
                 self.handle(cmd)
-            if self.out:
-                self.report.blocks += len(self.out)
-                yield from self.out
-                self.out.clear()
+            if out:
+                report.blocks += len(out)
+                yield from out
+                out.clear()
+        if run:
+            self.feeds(run)
+        report.blocks += len(out)
+        yield from out
+        out.clear()
         yield from self.d.footer if self.o.footer is None else self.o.footer  # type: ignore[attr-defined]
+
+    def feeds(self, run: list[canon.Command]) -> None:
+        """A run of straight feeds and arcs: all chords computed and formatted at once."""
+        self.ensure_units()
+        s, places = self.fmt.scale, self.fmt.places
+        if places < 1:  # the batch formatter keeps one decimal, as the dialect does
+            for c in run:
+                self.src = c.source
+                self.handle(c)
+            return
+        self.speed()
+        first, second, normal, _, _ = PLANE_AXES[self.plane]
+        axes = ("XYZ".index(first), "XYZ".index(second), "XYZ".index(normal))
+        start = (self.cur["X"] / s, self.cur["Y"] / s, self.cur["Z"] / s)
+        tol = self.o.tolerance  # type: ignore[attr-defined]
+        pts, counts, sag = batch_points(run, axes, start, tol / s)
+        pts *= s
+        known = self.known
+        last: list[str | None] = [self.last[k][2:] for k in "XYZ"] if known else [None] * 3
+        moving = [
+            i
+            for i in range(3)
+            if not known
+            or not (pts[:, i] == pts[0, i]).all()
+            or self.fmt.number(float(pts[0, i])) != last[i]
+        ]
+        if len(moving) == 2 and known:  # the usual case: motion in a plane, one % for all
+            pair = [("XYZ"[i], pts[:, i]) for i in moving]
+            self.out.extend(plane_lines(pair[0], pair[1], places, last))  # type: ignore[arg-type]
+        else:
+            columns = [format_many(pts[:, i], places) if i in moving else None for i in range(3)]
+            if not moving:  # nothing moves: the lines repeat X
+                columns[0] = format_many(pts[:, 0], places)
+            self.out.extend(move_lines(*columns, last))
+        self.last = {k: f"{k}={v}" for k, v in zip("XYZ", last, strict=True)}
+        self.cur = {k: float(pts[-1, i]) for i, k in enumerate("XYZ")}
+        self.known = True
+        for c, n, dev in zip(run, counts.tolist(), sag.tolist(), strict=True):
+            if type(c) is canon.ArcFeed:
+                message = f"ARC_FEED as {n} MoveTo"
+                self.report.add(
+                    Change("CONV-ARC-LINES", "approximated", message, c.source, n, dev * s, tol)
+                )
 
     # ------------------------------------------------------------------ helpers
     def line(self, text: str) -> None:
@@ -110,6 +188,10 @@ class SandiaWriter:
     def ensure_units(self) -> None:
         if self.units is not None and self.fmt.units_out is None:
             self.fmt.set_output_units(self.units)
+            out_mm = self.fmt.units_out.mm_per_unit  # type: ignore[union-attr]
+            if self.out_mm and out_mm != self.out_mm:  # the same place in the new units
+                self.cur = {k: v * self.out_mm / out_mm for k, v in self.cur.items()}
+            self.out_mm = out_mm
             self.line(f"SetUnits linear={'inch' if self.fmt.inch else 'mm'} angular=deg")
 
     def axes(self, x: float, y: float, z: float, rot: tuple[float, ...]) -> list[str]:
@@ -132,12 +214,20 @@ class SandiaWriter:
         self.known = True
         return words or [last["X"]]
 
-    def move(self, x: float, y: float, z: float, rot: tuple[float, ...] = (0, 0, 0)) -> None:
-        self.ensure_units()
+    def speed(self) -> None:
+        """``SetSpeed`` when the written speed differs (MoveTo and MoveReact move at it)."""
+        key = (self.feed, self.fmt.scale)
+        if key == self.speed_key and self.e_feed is not None:
+            return
         speed = self.fmt.feed(self.feed * self.fmt.scale)
         if speed != self.e_feed:
             self.line(f"SetSpeed {speed}")
             self.e_feed = speed
+        self.speed_key = key
+
+    def move(self, x: float, y: float, z: float, rot: tuple[float, ...] = (0, 0, 0)) -> None:
+        self.ensure_units()
+        self.speed()
         self.line("MoveTo " + " ".join(self.axes(x, y, z, rot)))
 
     def chords(self, c: canon.Command, pts: list, normal_end: float, what: str, dev: float) -> None:  # noqa: ANN001
@@ -177,12 +267,15 @@ class SandiaWriter:
             self.feed = c.rate
         elif isinstance(c, canon.StraightTraverse):
             self.ensure_units()
+            if self.feed or self.e_feed is not None:
+                self.speed()  # state only: a rapid never moves at it (App. A §1.2)
             words = self.axes(c.x, c.y, c.z, (c.a, c.b, c.c))
             self.line("point_to_point_positioning " + " ".join(words) + f" {ATTRIBUTES}")
         elif isinstance(c, canon.StraightFeed):
             self.move(c.x, c.y, c.z, (c.a, c.b, c.c))
         elif isinstance(c, canon.StraightProbe):
             self.ensure_units()
+            self.speed()
             self.line("MoveReact " + " ".join(self.axes(c.x, c.y, c.z, (c.a, c.b, c.c))))
             self.known = False
         elif isinstance(c, canon.ArcFeed | canon.EllipseFeed):
@@ -210,7 +303,12 @@ class SandiaWriter:
                     "CONV-FEED-PER-REV", f"{self.d.title} has no feed per revolution", self.src
                 )
             # inverse time: the IR's rates are per minute already (as rs274 prints them)
+        elif isinstance(c, canon.StartSpeedFeedSynch) or c.NAME == "RIGID_TAP":
+            raise Diagnostic(
+                "CONV-THREAD", f"{self.d.title} has no spindle-synchronised motion", self.src
+            )
         elif isinstance(c, canon.ProgramEnd):
+            self.line("Deactivate")  # the device goes inactive (Figure 3): nothing runs after
             self.line("# end of program")
             self.ended = True
         elif self.no_op(c):
@@ -253,20 +351,26 @@ class SandiaWriter:
     def curve(self, c: canon.ArcFeed | canon.EllipseFeed) -> None:
         if self.o.on_missing == "refuse":  # type: ignore[attr-defined]
             raise Diagnostic("CONV-ARC-LINES", f"{self.d.title} has no arcs", self.src)
+        if max(abs(c.a), abs(c.b), abs(c.c)) > 1e-9:
+            raise Diagnostic(
+                "CONV-AXIS", "MoveTo is world space: rotary axes need a kinematic model", self.src
+            )
+        self.ensure_units()
         first, second, _, _, _ = PLANE_AXES[self.plane]
         s = self.fmt.scale or 1.0
         start = (self.cur[first] / s, self.cur[second] / s)
         end, centre = (c.first_end, c.second_end), (c.first_axis, c.second_axis)
+        tol = self.o.tolerance / s  # type: ignore[attr-defined]
         if isinstance(c, canon.ArcFeed):
             if c.rotation == 0:
                 self.chords(c, [(*end, 1.0)], c.axis_end_point, "ARC_FEED (0 turns)", 0.0)
                 return
-            r = math.dist(start, centre)
-            major = minor = 2 * r
-            angle = 0.0
-        else:
-            major, minor, angle = c.major, c.minor, c.angle_to_first
-        tol = self.o.tolerance / s  # type: ignore[attr-defined]
+            # one at a time only when not in a run (SandiaWriter.feeds): decimals=0
+            f, g, frac, dev = circle_chords(start, end, centre, c.rotation, tol)
+            pts = list(zip(f.tolist(), g.tolist(), frac.tolist(), strict=True))
+            self.chords(c, pts, c.axis_end_point, c.NAME, dev)
+            return
+        major, minor, angle = c.major, c.minor, c.angle_to_first
         pts, dev = approximate.ellipse_chords(
             start, end, centre, major, minor, angle, c.rotation, tol
         )

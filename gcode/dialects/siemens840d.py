@@ -3,9 +3,11 @@
 Comments after ``;``, ``MSG("...")`` messages, G710/G700 (metric/inch including feeds),
 ``CR=`` radius arcs, ``I=AC(..)`` absolute centres, ``TURN=`` extra full turns,
 ``G4 F`` dwell in seconds, G60/G64 exact stop/continuous, ``SPOS=`` orientation,
-``G96 S.. LIMS=..`` constant surface speed, ``TRANS`` programmable offset, ``MEAS=1``
-probing. BSPLINE exists but its knot form (PL intervals) is not written: NURBS are
-approximated by arcs.
+``G96 S.. LIMS=..`` constant surface speed, ``TRANS`` programmable offset (absolute:
+the G92/G52 offset by value), ``MEAS=1`` probing. ``M6 D0`` and ``D1``/``D0``: the 840D
+activates cutting edge D1 after a tool change (machine data CUTTING_EDGE_DEFAULT = 1), so
+the writer says when the tool table's length applies. BSPLINE exists but its knot form
+(PL intervals) is not written: NURBS are approximated by arcs.
 """
 
 from gcode.dialects.spec import Dialect
@@ -38,23 +40,31 @@ DIALECT = Dialect(
     thread=("G33", "K"),
     orient="SPOS={angle}",
     css="G96 S{speed} LIMS={max}",
-    tool_length=None,
+    tool_change="M6 D0",
+    tool_length="D1",
+    tool_length_off="D0",
     origin="TRANS {axes}",
     feed_override=None,
     speed_override=None,
     end="M30",
     pallet=None,
-    work_offsets=("G54", "G55", "G56", "G57"),
+    work_offsets=("G54", "G55", "G56", "G57", "G505", "G506", "G507", "G508", "G509"),
     tool_table_set=None,
     tool_number=None,
     rigid_tap=None,
     io_codes=False,
-    local_offset="ATRANS {axes}",
-    xy_rotation="ROT RPL={angle}|ROT",
+    local_offset="TRANS {axes}",
+    xy_rotation="ROT Z{angle}|ROT",
+    rotated_offset="ATRANS {axes}",
     cutter_comp=None,
     notes=(
         "NURBS, ELLIPSE_FEED: approximated by arcs",
-        "tool length as a value: not in the part program (tool data D numbers)",
+        "tool length as a value: not in the part program; D1 activates the tool table's "
+        "(reported as substituted), D0 switches it off",
+        "M6 is written M6 D0: the 840D activates D1 after a change by default, the IR "
+        "has no tool length until it says so",
+        "G92/G52 offset: TRANS; with a G10 L2 R rotation ROT Z then ATRANS (each of ROT "
+        "and TRANS replaces the whole programmable frame)",
         "G61.1 vs G61: both written G60",
         "G64 tolerance, override switches, pallet shuttle: not written",
     ),

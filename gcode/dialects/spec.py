@@ -88,6 +88,10 @@ class Dialect:
     )
     local_offset: str | None = "G52 {axes}"  # the G92/G52 offset, set by value
     xy_rotation: str | None = "G10 L2 P{index} R{angle}"  # rotated work offset; "|" = off
+    # a rotation and an offset that share one frame (Siemens ROT/TRANS each replace the
+    # programmable frame): both are written together, the offset with this additive form
+    # after the rotation (None: the two are independent words)
+    rotated_offset: str | None = None
     tool_table_set: str | None = "G10 L1 P{tool} {axes} R{radius}"
     tool_number: str | None = "M61 Q{tool}"
     rigid_tap: str | None = "G33.1"

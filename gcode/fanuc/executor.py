@@ -1,0 +1,463 @@
+"""Executing one evaluated Fanuc block on the RS274/NGC machine model.
+
+The Fanuc layer handles what the RS274/NGC executor (:mod:`gcode.interpreter`) does not
+know or means differently, and hands it the rest as :class:`gcode.codes.Words`, so motion,
+arcs (:mod:`gcode.arcs`), canned cycles (:mod:`gcode.cycles`), cutter compensation
+(:mod:`gcode.cutter_comp`), offsets (:mod:`gcode.offsets`) and M codes run exactly as
+there. Fanuc-only here: G04 X/P, G05.1, G06.2 NURBS, G09, G10 L10-L13 offsets, G15/G16,
+G31 skip (one shot), G50/G51, G50.1/G51.1, G61 = exact stop, G68/G69, G92 S, G44, K repeat
+counts, M98/M99/G65/G66 (returned to the flow as actions), Haas G187/G47/M97/M50.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from gcode.codes import G_GROUPS, Words
+from gcode.fanuc import cycles, moves
+from gcode.fanuc.options import Flavour
+from gcode.fanuc.transforms import Transforms
+from gcode.fanuc.words import ARGUMENTS, CYCLES, MOTION, resolve
+from gcode.interpreter import Interpreter
+from kernel import canon
+from kernel.canon import MotionMode, Plane, Units
+from kernel.diagnostics import Diagnostic, Location
+
+#: NGC-known codes the Fanuc layer passes on unchanged (round(G*10))
+_PASS = frozenset(
+    {0, 10, 20, 30, 170, 180, 190, 200, 210, 400, 410, 420, 490, 540, 550, 560, 570, 580, 590}
+    | {640, 730, 740, 800, 810, 820, 830, 840, 850, 860, 880, 890, 900, 910, 930, 940, 950}
+    | {960, 970, 980, 990, 280, 300, 520, 530, 920}
+)
+#: Fanuc codes handled here
+_OWN = frozenset(
+    {40, 51, 62, 90, 100, 150, 160, 310, 330, 430, 440, 500, 510, 501, 511, 610, 630, 650}
+    | {660, 670, 680, 690, 760, 870, 541}
+)
+#: codes whose X Y Z ... words are settings (centre, axis, offset), not a move
+_SETTING = frozenset({100, 500, 501, 510, 511, 680})
+_HAAS = frozenset({1870, 470, 1030, 1540})
+_M_PASS = {0: 4, 1: 4, 2: 4, 30: 4, 60: 4, 3: 7, 4: 7, 5: 7, 19: 7, 6: 6, 7: 8, 8: 8, 9: 8}
+_M_PASS.update({48: 9, 49: 9})
+_M_FLOW = frozenset({98, 99, 97})
+_PLAIN_LETTERS = {a: a.lower() for a in "XYZIJKRF"}
+_PLANES = {170: Plane.XY, 180: Plane.XZ, 190: Plane.YZ}
+
+
+@dataclass
+class Action:
+    """What the flow does after the block: call, return, end."""
+
+    kind: str  # "m98" "g65" "m97" "m99" "end" "g66"
+    number: int = 0
+    repeats: int = 1
+    args: dict[int, float] = field(default_factory=dict)
+    seq: int | None = None
+
+
+@dataclass
+class ModalCall:
+    """G66 P L arguments: the macro called after each move."""
+
+    number: int
+    repeats: int
+    args: dict[int, float]
+    depth: int
+
+
+class Executor:
+    """Per-run Fanuc state around the RS274/NGC machine model ``ip``."""
+
+    def __init__(self, ip: Interpreter, flavour: Flavour) -> None:
+        self.ip = ip
+        self.fl = flavour
+        self.tf = Transforms()
+        self.motion: int | None = 0  # Fanuc modal group 1 (power-on G00)
+        self.nurbs: moves.NurbsCollector | None = None
+        self.lengths: dict[int, list[float]] = {}  # G10 L10/L11: [geometry, wear]
+        self.radii: dict[int, list[float]] = {}  # G10 L12/L13
+        self.modal_call: ModalCall | None = None
+        self.extended: dict[int, list[float]] = {}  # G10 L20 / G54.1 P offsets
+        self.extended_selected: int | None = None
+        self.control = 640  # G61 / G64 for G05.1 Q0 and G09
+        self.lathe = None  # gcode.fanuc.lathe.Lathe when the flavour is a lathe
+        self.depth = 0  # macro call depth (set by the flow)
+        self.last_comment: str | None = None
+        ip.s.retract_r = False  # Fanuc mills power on in G98 (initial level)
+        ip.s.motion_mode = 0
+
+    # ------------------------------------------------------------------ entry
+    def block(self, items: list[tuple[str, object, int]], loc: Location) -> list[Action]:
+        """Execute the evaluated words of one block; the flow actions it asks for."""
+        ip = self.ip
+        s = ip.s
+        ip.loc = loc
+        if self.plain_ok and self._plain(items):
+            return []
+        gs: list[int] = []
+        ms: list[int] = []
+        raw: dict[str, object] = {}
+        cols: dict[str, int] = {}
+        for letter, val, col in items:
+            at = Location(loc.file, loc.line, col)
+            if letter == "G":
+                gs.append(_code(val, "G", at))
+                cols.setdefault(f"G{gs[-1]}", col)
+            elif letter == "M":
+                m = _code(val, "M", at)
+                if m % 10:
+                    raise Diagnostic("FANUC-BAD-M", f"bad M code M{val}", at)
+                ms.append(m // 10)
+                cols.setdefault(f"M{m // 10}", col)
+            elif letter in ("N", "O"):
+                raise Diagnostic("FANUC-SYNTAX", f"{letter} word inside a block", at)
+            else:
+                if letter in raw:
+                    raise Diagnostic(
+                        "FANUC-DUPLICATE-WORD", f"more than one {letter} word in a block", at
+                    )
+                raw[letter] = val
+                cols[letter] = col
+        gset = set(gs)
+        for code in gs:
+            if self.lathe is not None:
+                known = code in self.lathe.codes
+            else:
+                known = code in _PASS or code in _OWN or (self.fl.name == "haas" and code in _HAAS)
+            if not known:
+                name = f"G{code // 10:02d}" + (f".{code % 10}" if code % 10 else "")
+                at = Location(loc.file, loc.line, cols[f"G{code}"])
+                raise Diagnostic("FANUC-UNKNOWN-G", f"unsupported G code {name}", at)
+        if 470 in gset:
+            raise Diagnostic(
+                "HAAS-ENGRAVING", "G47 engraving is not read (text to strokes is out of scope)", loc
+            )
+        inch = 200 in gset or (210 not in gset and s.units is Units.INCHES)
+        motion = next((c for c in reversed(gs) if c in MOTION), None)
+        has_axis = any(a in raw for a in "XYZABCUVW")
+        run_motion = motion if motion is not None else (self.motion if has_axis else None)
+        cycle = run_motion in CYCLES and self.lathe is None
+        nurbs = 62 in gset or (self.nurbs is not None and motion is None)
+        v = resolve(raw, inch, gset, cycle, nurbs, self.fl.dwell_p_point_seconds)
+        if self.lathe is not None:
+            return self.lathe.block(self, gs, ms, v, cols, raw, loc)
+        return self.mill(gs, ms, v, cols, loc, motion, has_axis)
+
+    @property
+    def plain_ok(self) -> bool:
+        """No state that makes a plain G00-G03 block special (the CAM hot path)."""
+        tf = self.tf
+        return (
+            self.lathe is None
+            and self.nurbs is None
+            and self.modal_call is None
+            and not tf.polar
+            and not tf.scale_on
+            and not tf.rotate_on
+            and tf.mirror == [None, None, None]
+        )
+
+    def _plain(self, items: list[tuple[str, object, int]]) -> bool:
+        """Run a block of only G00-G03 and X Y Z I J K R F words; False if it is not one."""
+        ip = self.ip
+        s = ip.s
+        code = None
+        values: dict[str, float] = {}
+        inc = 0.0001 if s.units is Units.INCHES else 0.001
+        for letter, val, _ in items:
+            if letter == "G":
+                if code is not None or type(val) is not int or val > 3:
+                    return False
+                code = val * 10
+            elif letter in _PLAIN_LETTERS:
+                low = _PLAIN_LETTERS[letter]
+                if low in values:
+                    return False
+                if type(val) is int:
+                    values[low] = float(val) if low == "f" else val * inc
+                else:
+                    values[low] = val  # type: ignore[assignment]
+            else:
+                return False
+        if code is None:
+            if self.motion not in (0, 10, 20, 30) and len(values) != ("f" in values):
+                return False
+            w = Words(values=values)
+            if "f" not in values and values and s.motion_mode == self.motion:
+                w.plain = True  # the RS274/NGC executor's own hot path: modal motion
+            elif len(values) != ("f" in values):
+                w.g[1] = self.motion  # type: ignore[assignment]
+        else:
+            w = Words(g={1: code}, values=values)
+            self.motion = code
+        ip.execute(w)
+        s.motion_mode = self.motion
+        return True
+
+    # ------------------------------------------------------------------ mill
+    def mill(
+        self,
+        gs: list[int],
+        ms: list[int],
+        v: dict[str, float],
+        cols: dict[str, int],
+        loc: Location,
+        motion: int | None,
+        has_axis: bool,
+    ) -> list[Action]:
+        ip = self.ip
+        s = ip.s
+        gset = set(gs)
+        actions: list[Action] = []
+        if 650 in gset:  # G65 P L arguments: a call and nothing else
+            return [self._g65(v, loc)]
+        if 660 in gset:
+            self.modal_call = self._g66(v, loc)
+            return []
+        if 670 in gset:
+            self.modal_call = None
+        if self.nurbs is not None and (gs or ms) and 62 not in gset:
+            raise Diagnostic(
+                "FANUC-NURBS-INCOMPLETE", "G06.2 curve ended before its last knots", loc
+            )
+        if 62 in gset or (self.nurbs is not None and not gs and not ms):
+            self.nurbs = moves.nurbs_block(self, v, loc, start=62 in gset)
+            self.motion = 62 if self.nurbs is not None else 10
+            return []
+        for letter in "UVW":
+            if letter in v and not (letter == "U" and 40 in gset):
+                raise Diagnostic(
+                    "FANUC-WORD", f"{letter} word: no such axis or use on this mill", loc
+                )
+        if "E" in v and 1870 not in gset:
+            raise Diagnostic("FANUC-WORD", "E word with no code that uses it", loc)
+        # ---- modal settings the NGC executor does not have
+        plane = next((_PLANES[c] for c in reversed(gs) if c in _PLANES), s.plane)
+        distance = [c for c in gs if c in (900, 910)]
+        absolute = distance[-1] == 900 if distance else s.absolute
+        if 150 in gset or 160 in gset:
+            on = 160 in gset
+            self.tf.polar = (not on) if self.fl.polar_book_convention else on
+        if 510 in gset:
+            moves.start_scaling(self, v, loc)
+        elif 500 in gset:
+            self.tf.scale_on = False
+        if 511 in gset:
+            moves.start_mirror(self, v, loc, absolute)
+        elif 501 in gset:
+            moves.stop_mirror(self, v)
+        if 680 in gset:
+            moves.start_rotation(self, v, plane, absolute, loc)
+        elif 690 in gset:
+            self.tf.rotate_on = False
+        if 51 in gset:
+            self._g05_1(v, loc)
+        if 1870 in gset:
+            self._g187(v, loc)
+        if 541 in gset or 1540 in gset:
+            from gcode.fanuc import offsets
+
+            offsets.extended_select(self, v, loc)
+        elif any(540 <= c <= 590 for c in gset):
+            self.extended_selected = None
+        if 100 in gset:
+            self._g10(v, loc, absolute)
+            if len(gset) == 1 and not ms:
+                return []
+        if gset & _SETTING:  # their axis and value words are data, not a move
+            for letter in "XYZABCIJKRPQL":
+                v.pop(letter, None)
+        # ---- words for the NGC executor
+        w = Words()
+        for code in gs:
+            if code in _PASS:
+                w.g[G_GROUPS[code]] = code  # Fanuc: of one group, the last code counts
+        if 610 in gset:
+            w.g[13] = 611  # Fanuc G61 = exact stop check mode
+        for code in (610, 640):
+            if code in gset:
+                self.control = code
+        if 40 in gset:
+            w.g[0] = 40
+            if "X" in v or "P" in v or "U" in v:
+                w.values["p"] = v.pop("X", v.pop("U", v.pop("P", 0.0)))
+            else:
+                raise Diagnostic("FANUC-DWELL", "G04 without X, U or P", loc)
+        if 430 in gset or 440 in gset or ("H" in v and s.tool_length_mode in (430, 431)):
+            self._tool_length(w, v, 440 in gset, loc)
+        if "D" in v and (410 in gset or 420 in gset):
+            self._radius(w, v)
+        has_axis = any(a in v for a in "XYZABC")
+        pass_letters = "XYZABCFSTIJKRQ"
+        for code in (760, 870):
+            if code in gset:
+                w.g[1] = code
+        if w.g.get(1) in CYCLES or (motion is None and self.motion in CYCLES and has_axis):
+            pass_letters += "PL"
+            if "K" in v:
+                k = v.pop("K")
+                if k != round(k) or not 0 <= k <= 9999:
+                    raise Diagnostic("FANUC-CYCLE-L", f"repeat count K{k:g} not in 0-9999", loc)
+                w.values["l"] = k
+        if 920 in gset and not any(a in v for a in "XYZABC") and "S" in v:
+            self._spindle_clamp(v.pop("S"), loc)
+            w.g.pop(0, None)
+        for letter in pass_letters:
+            if letter in v:
+                w.values[letter.lower()] = v[letter]
+                w.columns[letter.lower()] = cols.get(letter, loc.column)
+        if 330 in gset or (motion is None and self.motion == 330 and has_axis):
+            w.g[1] = 330  # G33 Z F(lead): F is the lead (and stays the modal F)
+            w.values["k"] = w.values.get("f", s.feed_rate)
+        if 310 in gset:
+            w.g[1] = 382  # G31 skip: a one-shot probing move
+        if 90 in gset:
+            ip.emit(canon.SetMotionControlMode(MotionMode.EXACT_STOP, source=loc))
+        if 530 in gset:
+            w.g[1] = 0  # G53 positions at rapid traverse (one shot)
+        # ---- M codes
+        for m in ms:
+            if m in _M_FLOW:
+                continue
+            if m == 29:  # rigid tapping mode: G84 taps synchronised anyway
+                continue
+            if m == 50 and self.fl.pallet_m50:
+                m = 60
+            group = _M_PASS.get(m)
+            if group is None:
+                at = Location(loc.file, loc.line, cols.get(f"M{m}", loc.column))
+                raise Diagnostic("FANUC-UNKNOWN-M", f"unsupported M code M{m:02d}", at)
+            if group in w.m:
+                raise Diagnostic("FANUC-M-GROUP-CONFLICT", "two M codes of one group", loc)
+            w.m[group] = m
+            if m == 19 and "P" in v and self.fl.name == "haas":
+                w.values["r"] = v["P"] % 360.0  # Haas M19 P angle
+            if m == 19 and "q" in w.values:
+                w.values.pop("q")
+        # ---- motion group bookkeeping and transforms
+        if 1 in w.g and w.g[1] != 382 and 530 not in gset:
+            self.motion = w.g[1]
+        one_shot = 310 in gset or 530 in gset
+        previous = s.motion_mode if s.cycle_series else None
+        moving = (1 in w.g and w.g[1] != 800) or (
+            has_axis and w.g.get(0) not in (280, 300, 920, 520, 100)
+        )
+        transformed = moving and (self.tf.active or self.tf.polar) and w.g.get(0) is None
+        if transformed and not one_shot:
+            moves.transform_block(self, w, plane, absolute, loc)
+        if moving and 1 not in w.g and self.motion is not None:
+            w.g[1] = self.motion  # Fanuc's modal motion (the NGC one may be a one-shot)
+        tapping = w.g.get(1) if w.g.get(1) in cycles.OWN else None
+        if tapping is not None:  # Fanuc tapping: the motion runs here, the rest in NGC
+            motion_words = Words(values=w.values)
+            w = Words(g={k: c for k, c in w.g.items() if k != 1}, m=w.m)
+            for letter in "fs":
+                if letter in motion_words.values:
+                    w.values[letter] = motion_words.values.pop(letter)
+        ended = ip.execute(w) if (w.g or w.m or w.values) else False
+        if tapping is not None:
+            cycles.run(self, motion_words, tapping, sticky=previous == tapping)
+        if transformed:
+            s.absolute = absolute
+        s.motion_mode = self.motion
+        if 90 in gset:
+            ip.emit(canon.SetMotionControlMode(_mode(self.control), source=loc))
+        if ended:
+            return [Action("end")]
+        # ---- flow after the block
+        if self.modal_call is not None and moving and self.depth == self.modal_call.depth:
+            mc = self.modal_call
+            actions.append(Action("g65", mc.number, mc.repeats, dict(mc.args)))
+        actions += self._flow_m(ms, v, loc)
+        return actions
+
+    # ------------------------------------------------------------------ helpers
+    def _flow_m(self, ms: list[int], v: dict[str, float], loc: Location) -> list[Action]:
+        out = []
+        for m in ms:
+            if m == 98:
+                out.append(self._m98(v, loc))
+            elif m == 97:
+                if not self.fl.local_call:
+                    raise Diagnostic("FANUC-UNKNOWN-M", "unsupported M code M97", loc)
+                if "P" not in v:
+                    raise Diagnostic("FANUC-CALL", "M97 without P (sequence number)", loc)
+                out.append(Action("m97", 0, _count(v.get("L", 1.0), loc), seq=int(v["P"])))
+            elif m == 99:
+                seq = int(v["P"]) if "P" in v else None
+                out.append(Action("m99", seq=seq))
+        return out
+
+    def _m98(self, v: dict[str, float], loc: Location) -> Action:
+        if "P" not in v:
+            raise Diagnostic("FANUC-CALL", "M98 without P (program number)", loc)
+        p = int(v["P"])
+        repeats = _count(v.get("L", 1.0), loc)
+        if self.fl.repeat_in_p and "L" not in v and p > 9999:
+            repeats, p = p // 10000, p % 10000
+        return Action("m98", p, repeats)
+
+    def _g65(self, v: dict[str, float], loc: Location) -> Action:
+        if "P" not in v:
+            raise Diagnostic("FANUC-CALL", "G65 without P (program number)", loc)
+        args = {ARGUMENTS[k]: val for k, val in v.items() if k in ARGUMENTS}
+        return Action("g65", int(v["P"]), _count(v.get("L", 1.0), loc), args)
+
+    def _g66(self, v: dict[str, float], loc: Location) -> ModalCall:
+        act = self._g65(v, loc)
+        return ModalCall(act.number, act.repeats, act.args, self.depth)
+
+    def _g05_1(self, v: dict[str, float], loc: Location) -> None:
+        q = v.get("Q")
+        if q is None or q not in (0.0, 1.0):
+            raise Diagnostic("FANUC-G05-1", "G05.1 needs Q1 (on) or Q0 (off)", loc)
+        mode = MotionMode.CONTINUOUS if q == 1.0 else _mode(self.control)
+        self.ip.emit(canon.SetMotionControlMode(mode, source=loc))
+
+    def _g187(self, v: dict[str, float], loc: Location) -> None:
+        """Haas G187 P1-P3 smoothness, E corner tolerance: continuous blending."""
+        tol = v.get("E", 0.0)
+        if "P" in v and int(v["P"]) not in (1, 2, 3):
+            raise Diagnostic("HAAS-G187", "G187 P must be 1, 2 or 3", loc)
+        self.ip.emit(canon.SetMotionControlMode(MotionMode.CONTINUOUS, tol, source=loc))
+
+    def _g10(self, v: dict[str, float], loc: Location, absolute: bool) -> None:
+        from gcode.fanuc import offsets
+
+        offsets.g10(self, v, loc, absolute)
+
+    def _tool_length(self, w: Words, v: dict[str, float], negative: bool, loc: Location) -> None:
+        from gcode.fanuc import offsets
+
+        offsets.tool_length(self, w, v, negative, loc)
+
+    def _radius(self, w: Words, v: dict[str, float]) -> None:
+        from gcode.fanuc import offsets
+
+        offsets.radius(self, w, v)
+
+    def _spindle_clamp(self, value: float, loc: Location) -> None:
+        s = self.ip.s
+        s.css_max = value
+        if s.css:
+            self.ip.emit(canon.SetSpindleMode(value, True, source=loc))
+
+
+def _mode(control: int) -> MotionMode:
+    return MotionMode.EXACT_STOP if control == 610 else MotionMode.CONTINUOUS
+
+
+def _code(val: object, letter: str, loc: Location) -> int:
+    if type(val) is int:
+        return val * 10
+    code = round(val * 10)  # type: ignore[operator]
+    if abs(val * 10 - code) > 1e-6 or code < 0:  # type: ignore[operator]
+        raise Diagnostic(f"FANUC-BAD-{letter}", f"bad {letter} code {letter}{val}", loc)
+    return code
+
+
+def _count(value: float, loc: Location) -> int:
+    n = round(value)
+    if abs(value - n) > 1e-6 or n < 0 or n > 9999:
+        raise Diagnostic("FANUC-CALL", f"bad repeat count L{value:g}", loc)
+    return n

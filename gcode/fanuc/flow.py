@@ -1,0 +1,360 @@
+"""Program flow of a Fanuc run: blocks in order, macro statements, loops, jumps and calls.
+
+``GOTOn`` and ``M99 Pn`` jump to sequence number n of the current (calling) program;
+``WHILE [c] DOm`` ... ``ENDm`` loops (m = 1..3, the first ``ENDm`` after the ``DOm``);
+``M98 P L`` calls O P L times with the same local variables, ``G65 P L`` with a new local
+level holding the arguments, ``G66`` after every move of the calling level, Haas ``M97 P``
+jumps to sequence P of the current program and returns at M99. ``M99`` in the main program
+would restart it forever: the reader stops there. Fanuc 0i-MF manual, "Subprogram" and
+"Custom macro" chapters.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field, replace
+
+from gcode.fanuc.executor import Action, Executor
+from gcode.fanuc.lexer import FBlock
+from gcode.fanuc.macro import Variables, evaluate, truth
+from gcode.fanuc.options import Flavour
+from gcode.fanuc.program import Source, find_program_file, read_source
+from gcode.fanuc.sysvars import SystemVariables
+from gcode.fanuc.words import resolve
+from gcode.interpreter import Interpreter, InterpreterOptions
+from kernel import canon
+from kernel.canon import Units
+from kernel.diagnostics import Diagnostic, Location
+
+MAX_DEPTH = 32
+#: files up to this many lines keep every parsed block (larger ones: loop/subprogram lines)
+KEEP_ALL_LINES = 50_000
+
+
+@dataclass
+class Frame:
+    """One running program: where it is, how often it runs again, its open loops."""
+
+    src: Source
+    pc: int
+    start: int  # index of its O line (-1: none)
+    entry: int
+    kind: str  # main m98 g65 m97
+    repeats: int = 0
+    args: dict[int, float] | None = None
+    loops: dict[int, int] = field(default_factory=dict)
+    started: bool = False
+    number: int = 0
+
+
+class Reader:
+    """One run of one program file."""
+
+    def __init__(self, src: Source, options: InterpreterOptions, flavour: Flavour) -> None:
+        ngc = replace(options, linuxcnc_compat=False, fast_lane=False)
+        self.options = options
+        self.fl = flavour
+        self.ip = Interpreter(ngc)
+        self.ex = Executor(self.ip, flavour)
+        if flavour.lathe:
+            from gcode.fanuc.lathe import Lathe
+
+            self.ex.lathe = Lathe(self.ex)
+            self.ex.lathe.contour_blocks = self._contour_blocks
+        self.vars = Variables(SystemVariables(self), options.parameters)
+        self.main = src
+        self.loaded: dict[int, tuple[Source, int]] = {}
+        self.frames = [Frame(src, 0, src.main_program_line(), 0, "main")]
+        self.jumps = 0
+        self.current_seq: int | None = None
+        self.current_program = 0
+
+    # ------------------------------------------------------------------ run
+    def run(self) -> Iterator[canon.Command]:
+        try:
+            yield from self._run()
+        except Diagnostic as exc:
+            out = self.ip.out
+            yield from list(out)  # what the failing block made before its error
+            out.clear()
+            if exc.code.startswith("NGC-"):
+                raise Diagnostic("FANUC-" + exc.code[4:], exc.message, exc.location) from None
+            raise
+
+    def _run(self) -> Iterator[canon.Command]:
+        ip = self.ip
+        out = ip.out
+        ip.loc = Location(self.main.path, 0, 0)
+        ip._preamble()
+        if self.ex.lathe is not None:
+            self.ex.lathe.start()
+        keep_all = len(self.main.lines) <= KEEP_ALL_LINES
+        frames = self.frames
+        while True:
+            if out:
+                yield from out
+                out.clear()
+            fr = frames[-1]
+            src = fr.src
+            if fr.pc >= len(src.lines):
+                if self._end_of_text(fr):
+                    break
+                continue
+            idx = fr.pc
+            fr.pc += 1
+            blk = src.block(idx, keep_all or len(frames) > 1 or bool(fr.loops))
+            kind = blk.kind
+            if kind == "empty":
+                if blk.comment is not None:
+                    self._comment(blk, src)
+                continue
+            if kind in ("percent", "program"):
+                if not fr.started and (fr.kind == "main" or fr.start == -1):
+                    if kind == "program":
+                        self.current_program = blk.label
+                    continue
+                if self._end_of_text(fr):
+                    break
+                continue
+            if blk.deleted and self.fl.block_delete:
+                continue
+            fr.started = True
+            self.ex.last_comment = blk.comment  # the message of #3000 / #3006
+            if blk.seq is not None:
+                self.current_seq = blk.seq
+            if blk.comment is not None:
+                self._comment(blk, src)
+            if kind == "words":
+                if self._words(blk, fr):
+                    break
+            else:
+                self._statement(blk, fr, idx)
+        yield from out
+        out.clear()
+
+    def _comment(self, blk: FBlock, src: Source) -> None:
+        self.ex.last_comment = blk.comment
+        loc = Location(src.path, blk.line, 1)
+        self.ip.emit(canon.Comment(blk.comment or "", source=loc))
+
+    # ------------------------------------------------------------------ blocks
+    def _words(self, blk: FBlock, fr: Frame) -> bool:
+        path = fr.src.path
+        items: list[tuple[str, object, int]] = []
+        if blk.plain:
+            loc = Location(path, blk.line, 1)
+            ex = self.ex
+            if ex.plain_ok:  # the CAM hot path: constant G00-G03 X Y Z I J K R F words
+                ex.ip.loc = loc
+                if ex._plain(blk.words):
+                    return False
+            items = [(letter, val, blk.column(index)) for letter, val, index in blk.words]
+        else:
+            loc = Location(path, blk.line, blk.column(blk.words[0][2]) if blk.words else 1)
+            for letter, val, index in blk.words:
+                col = blk.column(index)
+                if type(val) is not int and type(val) is not float:
+                    val = evaluate(val, self.vars, Location(path, blk.line, col))
+                    if val is None:
+                        continue  # a vacant variable: the word is not there
+                items.append((letter, val, col))
+        self.ex.depth = self.vars.depth
+        self.ex.last_comment = blk.comment
+        return any(self._act(action, fr, loc) for action in self.ex.block(items, loc))
+
+    def _statement(self, blk: FBlock, fr: Frame, idx: int) -> None:
+        loc = Location(fr.src.path, blk.line, 1)
+        kind = blk.kind
+        vars = self.vars
+        if kind == "assign":
+            target = evaluate(blk.target, vars, loc)
+            vars.write(target or 0.0, evaluate(blk.expr, vars, loc), loc)
+        elif kind == "if_goto":
+            if truth(blk.expr, vars, loc):
+                self._goto(fr, evaluate(blk.target, vars, loc), loc)
+        elif kind == "if_then":
+            if truth(blk.expr, vars, loc):
+                assert blk.then is not None
+                target = evaluate(blk.then[0], vars, loc)
+                vars.write(target or 0.0, evaluate(blk.then[1], vars, loc), loc)
+        elif kind == "goto":
+            self._goto(fr, evaluate(blk.target, vars, loc), loc)
+        elif kind == "while":
+            self._check_loop_id(blk.label, loc)
+            if truth(blk.expr, vars, loc):
+                fr.loops[blk.label] = idx
+            else:
+                fr.loops.pop(blk.label, None)
+                fr.pc = self._find_end(fr, idx, blk.label, loc) + 1
+        elif kind == "do":
+            self._check_loop_id(blk.label, loc)
+            fr.loops[blk.label] = idx
+        elif kind == "end":
+            start = fr.loops.get(blk.label)
+            if start is None:
+                raise Diagnostic("FANUC-LOOP", f"END{blk.label} without DO{blk.label}", loc)
+            fr.pc = start
+            self._count_jump(loc)
+
+    @staticmethod
+    def _check_loop_id(label: int, loc: Location) -> None:
+        if not 1 <= label <= 3:
+            raise Diagnostic("FANUC-LOOP", f"DO{label}: the loop number must be 1, 2 or 3", loc)
+
+    def _find_end(self, fr: Frame, idx: int, label: int, loc: Location) -> int:
+        src = fr.src
+        for i in range(idx + 1, len(src.lines)):
+            blk = src.block(i, True)
+            if blk.kind == "end" and blk.label == label:
+                return i
+            if blk.kind in ("program", "percent"):
+                break
+        raise Diagnostic("FANUC-LOOP", f"DO{label} without END{label}", loc)
+
+    def _goto(self, fr: Frame, target: float | None, loc: Location) -> None:
+        if target is None or target != round(target) or target < 0:
+            raise Diagnostic("FANUC-GOTO", f"bad sequence number in GOTO: {target}", loc)
+        line = fr.src.find_sequence(fr.start, int(target))
+        if line is None:
+            raise Diagnostic("FANUC-GOTO", f"sequence number N{int(target)} not found", loc)
+        if line < fr.pc:
+            self._count_jump(loc)
+        fr.pc = line
+        for m, start in list(fr.loops.items()):
+            if start >= line:  # jumping out of (or back before) a loop ends it
+                del fr.loops[m]
+
+    def _count_jump(self, loc: Location) -> None:
+        self.jumps += 1
+        if self.jumps > self.fl.max_loops:
+            raise Diagnostic(
+                "FANUC-LOOP-LIMIT", f"more than {self.fl.max_loops} jumps back: endless loop?", loc
+            )
+
+    # ------------------------------------------------------------------ calls
+    def _act(self, a: Action, fr: Frame, loc: Location) -> bool:
+        if a.kind == "end":
+            return True
+        if a.kind in ("m98", "g65"):
+            if a.repeats > 0:
+                self._call(a.number, a.repeats, a.kind, a.args if a.kind == "g65" else None, loc)
+        elif a.kind == "m97":
+            assert a.seq is not None
+            line = fr.src.find_sequence(fr.start, a.seq)
+            if line is None:
+                raise Diagnostic("FANUC-CALL", f"M97: sequence number N{a.seq} not found", loc)
+            if a.repeats > 0:
+                self._push(Frame(fr.src, line, fr.start, line, "m97", a.repeats - 1), loc)
+        elif a.kind == "m99":
+            return self._return(a.seq, loc)
+        elif a.kind == "skip":  # after G71-G73: on after the contour's last block
+            assert a.seq is not None
+            line = self._sequence(fr, a.seq, loc)
+            fr.pc = max(fr.pc, line + 1)
+        return False
+
+    def _sequence(self, fr: Frame, seq: int, loc: Location) -> int:
+        line = fr.src.find_sequence(fr.start, seq)
+        if line is None:
+            raise Diagnostic("FANUC-CYCLE-PQ", f"sequence number N{seq} not found", loc)
+        return line
+
+    def _contour_blocks(
+        self, p: int, q: int, loc: Location
+    ) -> Iterator[tuple[int, dict[str, float], list[int]]]:
+        """The words of blocks N p .. N q (a G70-G73 contour), evaluated and resolved."""
+        fr = self.frames[-1]
+        first, last = self._sequence(fr, p, loc), self._sequence(fr, q, loc)
+        if last < first:
+            raise Diagnostic("FANUC-CYCLE-PQ", f"N{q} comes before N{p}", loc)
+        inch = self.ip.s.units is Units.INCHES
+        for i in range(first, last + 1):
+            blk = fr.src.block(i, True)
+            at = Location(fr.src.path, blk.line, 1)
+            if blk.kind == "empty" or (blk.deleted and self.fl.block_delete):
+                continue
+            if blk.kind != "words":
+                raise Diagnostic("FANUC-CYCLE-CONTOUR", "macro statement in a contour", at)
+            raw: dict[str, object] = {}
+            gs: list[int] = []
+            for letter, val, _ in blk.words:
+                if type(val) is not int and type(val) is not float:
+                    val = evaluate(val, self.vars, at)
+                    if val is None:
+                        continue
+                if letter == "G":
+                    gs.append(round(val * 10))  # type: ignore[operator]
+                elif letter != "N":
+                    raw[letter] = val
+            yield blk.line, resolve(raw, inch, set(gs), False, False, False), gs
+
+    def _push(self, frame: Frame, loc: Location) -> None:
+        if len(self.frames) >= MAX_DEPTH:
+            raise Diagnostic("FANUC-CALL-DEPTH", f"more than {MAX_DEPTH} nested calls", loc)
+        self.frames.append(frame)
+
+    def _call(
+        self, number: int, repeats: int, kind: str, args: dict[int, float] | None, loc: Location
+    ) -> None:
+        src, oline = self._find_program(number, loc)
+        frame = Frame(src, oline + 1, oline, oline + 1, kind, repeats - 1, args, number=number)
+        self._push(frame, loc)
+        frame.started = oline >= 0
+        if kind == "g65":
+            self.vars.enter(args or {})
+
+    def _find_program(self, number: int, loc: Location) -> tuple[Source, int]:
+        for src in (self.frames[-1].src, self.main):
+            if number in src.programs:
+                return src, src.programs[number]
+        if number in self.loaded:
+            return self.loaded[number]
+        path = find_program_file(number, self.options.search_path, self.main.path)
+        if path is None:
+            raise Diagnostic("FANUC-NO-PROGRAM", f"program O{number:04d} not found", loc)
+        src = read_source(path)
+        found = (src, src.programs.get(number, -1))
+        self.loaded[number] = found
+        return found
+
+    def _return(self, seq: int | None, loc: Location) -> bool:
+        fr = self.frames[-1]
+        if fr.kind == "main":
+            if seq is None:
+                return True  # M99 in a main program repeats it forever: stop reading
+            self._goto(fr, float(seq), loc)
+            return False
+        if fr.repeats > 0:
+            fr.repeats -= 1
+            fr.pc = fr.entry
+            fr.started = fr.start >= 0
+            fr.loops.clear()
+            self._count_jump(loc)
+            if fr.kind == "g65":
+                self.vars.leave()
+                self.vars.enter(fr.args or {})
+            return False
+        self.frames.pop()
+        if fr.kind == "g65":
+            self.vars.leave()
+        if seq is not None:
+            caller = self.frames[-1]
+            self._goto(caller, float(seq), loc)
+        return False
+
+    def _end_of_text(self, fr: Frame) -> bool:
+        """The program's text ran out (next O number, %, end of file)."""
+        if fr.kind == "main":
+            return True
+        loc = Location(fr.src.path, min(fr.pc, len(fr.src.lines)), 1)
+        return self._return(None, loc)
+
+
+def read(path: str, options: InterpreterOptions, flavour: Flavour) -> Iterator[canon.Command]:
+    yield from Reader(read_source(path), options, flavour).run()
+
+
+def read_text(
+    text: str, name: str, options: InterpreterOptions, flavour: Flavour
+) -> Iterator[canon.Command]:
+    yield from Reader(Source.from_text(name, text), options, flavour).run()

@@ -1,0 +1,34 @@
+"""What distinguishes one Fanuc-family control from another, as data (reader side)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Flavour:
+    """Reader options of one control (Fanuc 0i/30i or Haas) and the user's choices."""
+
+    name: str = "fanuc"
+    lathe: bool = False  # lathe mode (book Table A.1): X diameter, U/W, G98/G99 feed
+    polar_book_convention: bool = False  # book Table A.2: G15 polar on, G16 off
+    block_delete: bool = True  # "/" blocks are skipped (block skip switch on)
+    #: M98 P with more than four digits holds the repeat count (0i: P30100 = 3 x O0100)
+    repeat_in_p: bool = True
+    #: G04 P with a decimal point is seconds (Haas); else P is always milliseconds
+    dwell_p_point_seconds: bool = False
+    local_call: bool = False  # M97 P (N label) L (Haas)
+    smoothness: bool = False  # G187 (Haas)
+    pallet_m50: bool = False  # M50 = pallet change (Haas)
+    max_loops: int = 2_000_000  # backward jumps before FANUC-LOOP-LIMIT
+
+
+FANUC = Flavour()
+HAAS = Flavour(
+    name="haas",
+    repeat_in_p=False,
+    dwell_p_point_seconds=True,
+    local_call=True,
+    smoothness=True,
+    pallet_m50=True,
+)

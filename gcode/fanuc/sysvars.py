@@ -1,0 +1,160 @@
+"""System variables of custom macro B that a shop program uses (Fanuc 0i-MF manual,
+"System variables"): ``#3000`` alarm, ``#3006`` stop with message, ``#3001``/``#3002``
+clocks, ``#4001``-``#4022`` modal G codes, ``#4107``-``#4120`` modal D F H M N O S T,
+``#5001``-``#5006`` block end position, ``#5021``-``#5026`` machine position,
+``#5041``-``#5046`` current position, ``#5201``-``#5326`` work offsets (``#5221`` + 20 (n - 1)
+for G54 + n - 1), ``#2001``-``#2400`` and ``#10001``-``#13400`` tool offsets (memory C:
+length wear, length geometry, radius wear, radius geometry).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from gcode.codes import Words
+from kernel import canon
+from kernel.canon import Plane, Units
+from kernel.diagnostics import Diagnostic, Location
+
+if TYPE_CHECKING:
+    from gcode.fanuc.flow import Reader
+
+_PLANE_CODE = {Plane.XY: 17.0, Plane.XZ: 18.0, Plane.YZ: 19.0}
+
+
+class SystemVariables:
+    """Reads and writes the machine state behind ``#1000`` and up."""
+
+    def __init__(self, reader: Reader) -> None:
+        self.r = reader
+
+    def read(self, i: int, loc: Location) -> float | None:
+        ex = self.r.ex
+        s = ex.ip.s
+        if i in (3001, 3002, 3011, 3012, 3901, 3902):
+            return 0.0
+        if 4001 <= i <= 4022 or 4201 <= i <= 4222:
+            return self._modal(i % 200 if i > 4200 else i - 4000)
+        if i in (4109, 4309):
+            return s.feed_rate
+        if i in (4119, 4319):
+            return s.speed
+        if i in (4120, 4320):
+            return float(s.current_tool)
+        if i in (4114, 4314):
+            return float(self.r.current_seq or 0)
+        if i in (4115, 4315):
+            return float(self.r.current_program)
+        if 5001 <= i <= 5006:
+            pos = ex.tf.inverse(s.pos[:3]) + list(s.pos[3:])
+            return pos[i - 5001]
+        if 5021 <= i <= 5026 or 5041 <= i <= 5046:
+            k = i - (5021 if i < 5040 else 5041)
+            if i < 5040:
+                return s.pos[k] + s.machine_offset(k)
+            return s.pos[k]
+        if 5221 <= i <= 5326:
+            n, k = divmod(i - 5221, 20)
+            if k < 6:
+                return s.coords[n + 1][k]
+        if 5201 <= i <= 5206:
+            return 0.0
+        if 7001 <= i <= 7946:
+            n, k = divmod(i - 7001, 20)
+            if k < 6:
+                from gcode.fanuc.offsets import extended_value
+
+                return extended_value(ex, n + 1, k)
+        if 2001 <= i <= 2400 or 10001 <= i <= 13400:
+            return self._offset(i)
+        raise Diagnostic("FANUC-SYSTEM-VARIABLE", f"system variable #{i} is not available", loc)
+
+    def write(self, i: int, value: float | None, loc: Location) -> None:
+        r = self.r
+        ip = r.ex.ip
+        if i == 3000:
+            n = int(value or 0)
+            text = r.ex.last_comment or ""
+            raise Diagnostic("FANUC-ALARM", f"macro alarm {3000 + n}: {text}".rstrip(": "), loc)
+        if i == 3006:
+            ip.emit(canon.Message(r.ex.last_comment or f"stop {int(value or 0)}", source=loc))
+            ip.emit(canon.ProgramStop(source=loc))
+            return
+        if i in (3001, 3002, 3003, 3004, 3901, 3902, 3011, 3012):
+            return
+        if 5221 <= i <= 5326:
+            n, k = divmod(i - 5221, 20)
+            if k < 6:
+                axis = "xyzabc"[k]
+                values = {"l": 2.0, "p": float(n + 1), axis: value or 0.0}
+                ip.execute(Words(g={0: 100}, values=values))
+                return
+        if 2001 <= i <= 2400 or 10001 <= i <= 13400:
+            self._set_offset(i, value or 0.0, loc)
+            return
+        if 7001 <= i <= 7946:
+            n, k = divmod(i - 7001, 20)
+            if k < 6:
+                from gcode.fanuc.offsets import extended_set
+
+                axis = "XYZABC"[k]
+                extended_set(r.ex, n + 1, {axis: value or 0.0}, loc, True)
+                return
+        raise Diagnostic("FANUC-SYSTEM-VARIABLE", f"system variable #{i} cannot be set", loc)
+
+    # ------------------------------------------------------------------ helpers
+    def _modal(self, group: int) -> float | None:
+        ex = self.r.ex
+        s = ex.ip.s
+        if group == 1:
+            m = ex.motion
+            return None if m is None else m / 10.0
+        if group == 2:
+            return _PLANE_CODE[s.plane]
+        if group == 3:
+            return 90.0 if s.absolute else 91.0
+        if group == 5:
+            return {0: 94.0, 1: 93.0, 2: 95.0}[s.feed_mode]
+        if group == 6:
+            return 20.0 if s.units is Units.INCHES else 21.0
+        if group == 7:
+            return s.comp_side / 10.0
+        if group == 8:
+            return 43.0 if s.tool_length_mode in (430, 431) else 49.0
+        if group == 9:
+            m = ex.motion
+            return m / 10.0 if m is not None and m >= 730 else 80.0
+        if group == 10:
+            return 99.0 if s.retract_r else 98.0
+        if group == 12:
+            return 66.0 if ex.modal_call is not None else 67.0
+        if group == 14:
+            return 53.0 + s.origin_index
+        if group == 15:
+            return ex.control / 10.0
+        if group == 16:
+            return 68.0 if ex.tf.rotate_on else 69.0
+        if group == 17:
+            return 16.0 if ex.tf.polar else 15.0
+        return 0.0
+
+    def _which(self, i: int) -> tuple[dict[int, list[float]], int, int]:
+        ex = self.r.ex
+        if i <= 2200:
+            return ex.lengths, i - 2000, 0
+        if i <= 2400:
+            return ex.lengths, i - 2200, 1
+        bank, n = divmod(i - 10000, 1000)
+        table = ex.lengths if bank in (0, 1) else ex.radii
+        return table, n, 1 if bank in (0, 2) else 0
+
+    def _offset(self, i: int) -> float:
+        table, n, slot = self._which(i)
+        return table.get(n, [0.0, 0.0])[slot]
+
+    def _set_offset(self, i: int, value: float, loc: Location) -> None:
+        from gcode.fanuc import offsets
+
+        table, n, slot = self._which(i)
+        lword = (10 + slot) if table is self.r.ex.lengths else (12 + slot)
+        offsets.g10(self.r.ex, {"L": float(lword), "P": float(n), "R": value}, loc, True)

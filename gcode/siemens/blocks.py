@@ -1,0 +1,461 @@
+"""One Siemens 840D block (a line) -> a :class:`Block`: its N number, label, comment and
+either a control statement or the ordered words and assignments of an NC block.
+
+Block structure after the 840D sl programming manual (fundamentals, "Block structure";
+job planning, "Program jumps", "Control structures", "Variable definition"): ``N10``,
+``LABEL:``, ``IF cond GOTOF label``, ``IF``/``ELSE``/``ENDIF``, ``WHILE``/``ENDWHILE``,
+``FOR i=a TO b``/``ENDFOR``, ``REPEAT``/``UNTIL``, ``LOOP``/``ENDLOOP``, ``DEF REAL a=1``,
+``MSG("...")``, frames (``TRANS X10`` ...), cycle calls (``CYCLE81(...)``) and subprogram
+calls (``L100``, ``NAME P3``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from gcode.siemens.expr import Node, Parser
+from gcode.siemens.lexer import NAME, OP, STR, WORD, Token, tokenize
+from kernel.diagnostics import Diagnostic, Location
+
+#: addresses written ``X=expr`` or ``CR=expr`` (besides the single letters of words)
+EXTENDED = frozenset({"CR", "AR", "TURN", "SPOS", "LIMS", "ADIS", "RPL", "MEAS", "I1", "J1", "K1"})
+LETTERS = frozenset("XYZABCIJKFSTDGMP")
+AXIS_MODES = frozenset({"AC", "IC"})
+FRAMES = frozenset({"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR"})
+ALONE = frozenset({"ELSE", "ENDIF", "ENDWHILE", "ENDFOR", "REPEAT", "LOOP", "ENDLOOP", "RET"})
+JUMPS = frozenset({"GOTOF", "GOTOB", "GOTO", "GOTOC"})
+TYPES = frozenset({"REAL", "INT", "BOOL"})
+KEYWORDS = (
+    FRAMES
+    | ALONE
+    | JUMPS
+    | TYPES
+    | {"IF", "WHILE", "FOR", "TO", "UNTIL", "DEF", "PROC", "MSG", "MCALL", "NOT", "AND", "OR"}
+)
+#: 840D instructions this reader knows it does not implement (refused, never taken for
+#: subprogram names): transformations, path and dynamic modes, splines, calls
+UNSUPPORTED = frozenset(
+    [
+        "SUPA",
+        "DIAMON",
+        "DIAMOF",
+        "DIAM90",
+        "TRAORI",
+        "TRAFOOF",
+        "TRANSMIT",
+        "TRACYL",
+        "TRAANG",
+        "CFC",
+        "CFTCP",
+        "CFIN",
+        "SOFT",
+        "BRISK",
+        "DRIVE",
+        "FFWON",
+        "FFWOF",
+        "COMPON",
+        "COMPCURV",
+        "COMPCAD",
+        "COMPOF",
+        "CT",
+        "ASPLINE",
+        "BSPLINE",
+        "CSPLINE",
+        "POLY",
+        "OFFN",
+        "WORKPIECE",
+        "STOPRE",
+        "SETMS",
+        "SPCON",
+        "SPCOF",
+        "CTAB",
+        "CALL",
+        "PCALL",
+        "EXTCALL",
+        "ORIWKS",
+        "ORIMKS",
+        "BRISKA",
+        "SOFTA",
+        "CPRECON",
+        "CPRECOF",
+        "G153",
+        "CHF",
+        "CHR",
+        "RND",
+        "RNDM",
+        "WAITM",
+        "WAITE",
+        "SAVE",
+        "DISPLOF",
+    ]
+)
+#: drilling cycles expanded into moves (gcode.siemens.cycles)
+CYCLES = frozenset({"CYCLE81", "CYCLE82", "CYCLE83"})
+
+
+@dataclass(slots=True)
+class Word:
+    """``address`` (``X``, ``G``, ``CR``...) = ``value``; ``mode`` AC/IC for ``X=AC(..)``."""
+
+    address: str
+    value: Node
+    col: int
+    mode: str | None = None
+
+
+@dataclass(slots=True)
+class Assign:
+    """``R1=expr``, ``R[i]=expr`` or ``NAME=expr``: ``target`` ("R", index node) or ("V", name)."""
+
+    target: tuple[str, object]
+    value: Node
+    col: int
+
+
+@dataclass(slots=True)
+class Block:
+    line: int
+    col: int = 1
+    number: int | None = None
+    label: str | None = None
+    comment: str | None = None
+    kind: str = "nc"  # nc | IF | ELSE | ... | GOTO | DEF | PROC | MSG | FRAME | CYCLE | CALL
+    items: list[Word | Assign] = field(default_factory=list)
+    args: tuple = ()  # statement data (condition, label, cycle arguments, ...)
+
+    @property
+    def empty(self) -> bool:
+        return self.kind == "nc" and not self.items
+
+
+def parse_block(text: str, file: str | None, line: int) -> Block:
+    """The block on one line (raises a located ``SIEM-*`` Diagnostic on bad syntax)."""
+    tokens, comment = tokenize(text, file, line)
+    block = Block(line, comment=comment)
+    i = 0
+    if i < len(tokens) and tokens[i].kind == WORD and tokens[i].text[0] == "N":
+        n = tokens[i].value
+        if n < 0 or n != int(n):
+            raise Diagnostic(
+                "SIEM-BLOCK-NUMBER",
+                "block number must be a whole number",
+                _at(file, line, tokens[i]),
+            )
+        block.number = int(n)
+        i += 1
+    if i + 1 < len(tokens) and tokens[i].kind == NAME and _op(tokens[i + 1], ":"):
+        block.label = tokens[i].text
+        i += 2
+    if i < len(tokens):
+        block.col = tokens[i].col
+    _Statement(tokens, i, file, line, block).parse()
+    return block
+
+
+def _op(tok: Token, text: str) -> bool:
+    return tok.kind == OP and tok.text == text
+
+
+def _at(file: str | None, line: int, tok: Token) -> Location:
+    return Location(file, line, tok.col)
+
+
+class _Statement:
+    def __init__(self, tokens: list[Token], i: int, file: str | None, line: int, b: Block) -> None:
+        self.t, self.i, self.file, self.line, self.b = tokens, i, file, line, b
+
+    def loc(self) -> Location:
+        t = self.t
+        col = t[self.i].col if self.i < len(t) else (t[-1].col + len(t[-1].text) if t else 1)
+        return Location(self.file, self.line, col)
+
+    def error(self, code: str, message: str) -> Diagnostic:
+        return Diagnostic(code, message, self.loc())
+
+    def expr(self) -> Node:
+        p = Parser(self.t, self.i, self.file, self.line)
+        node = p.expression()
+        self.i = p.pos
+        return node
+
+    def done(self) -> bool:
+        return self.i >= len(self.t)
+
+    def end(self) -> None:
+        if not self.done():
+            raise self.error("SIEM-SYNTAX", f"unexpected {self.t[self.i].text!r}")
+
+    def name(self) -> str:
+        if self.done() or self.t[self.i].kind != NAME:
+            raise self.error(
+                "SIEM-SYNTAX", "a name is expected (names begin with two letters or _)"
+            )
+        self.i += 1
+        return self.t[self.i - 1].text
+
+    def take(self, text: str) -> None:
+        if self.done() or self.t[self.i].text != text:
+            raise self.error("SIEM-SYNTAX", f"{text!r} expected")
+        self.i += 1
+
+    def is_op(self, text: str) -> bool:
+        return not self.done() and _op(self.t[self.i], text)
+
+    # ------------------------------------------------------------------ statements
+    def parse(self) -> None:
+        if self.done():
+            return
+        tok = self.t[self.i]
+        b = self.b
+        if tok.kind == NAME and not self._assignment_ahead():
+            head = tok.text
+            if head in ALONE:
+                self.i += 1
+                self.end()
+                b.kind = head
+                return
+            handler = getattr(self, "_" + head.lower(), None)
+            if head in KEYWORDS and handler is not None:
+                self.i += 1
+                handler()
+                return
+            if head in FRAMES:
+                self.i += 1
+                self._frame(head)
+                return
+            if head in JUMPS:
+                self.i += 1
+                b.kind, b.args = "GOTO", (head, self._label())
+                self.end()
+                return
+            if (
+                head.startswith("CYCLE")
+                and self.i + 1 < len(self.t)
+                and _op(self.t[self.i + 1], "(")
+            ):
+                self.i += 1
+                b.kind, b.args = "CYCLE", (head, self._arguments(head))
+                self.end()
+                return
+            if head in UNSUPPORTED or head.startswith("$"):
+                raise self.error("SIEM-UNSUPPORTED", f"{head} is not supported by this reader")
+            if head not in EXTENDED and head not in LETTERS and head not in KEYWORDS | {"CIP"}:
+                self.i += 1
+                self._call(head)
+                return
+        if tok.kind == WORD and tok.text[0] == "L":
+            self.i += 1
+            self._call(tok.text)
+            return
+        self._nc()
+
+    def _assignment_ahead(self) -> bool:
+        j = self.i + 1
+        return j < len(self.t) and (_op(self.t[j], "=") or _op(self.t[j], "["))
+
+    def _label(self) -> str:
+        if self.done():
+            raise self.error("SIEM-SYNTAX", "jump target (label or block number) expected")
+        tok = self.t[self.i]
+        self.i += 1
+        if tok.kind == NAME or (tok.kind == WORD and tok.text[0] == "N"):
+            return tok.text if tok.kind == NAME else f"N{int(tok.value)}"
+        raise Diagnostic(
+            "SIEM-SYNTAX",
+            "jump target (label or block number) expected",
+            _at(self.file, self.line, tok),
+        )
+
+    def _if(self) -> None:
+        cond = self.expr()
+        if self.done():
+            self.b.kind, self.b.args = "IF", (cond,)
+            return
+        jump = self.name()
+        if jump not in JUMPS:
+            raise Diagnostic(
+                "SIEM-SYNTAX", f"GOTOF or GOTOB expected after IF condition, not {jump}", self.loc()
+            )
+        self.b.kind, self.b.args = "IFGOTO", (cond, jump, self._label())
+        self.end()
+
+    def _while(self) -> None:
+        self.b.kind, self.b.args = "WHILE", (self.expr(),)
+        self.end()
+
+    def _until(self) -> None:
+        self.b.kind, self.b.args = "UNTIL", (self.expr(),)
+        self.end()
+
+    def _for(self) -> None:
+        target = self._target()
+        self.take("=")
+        start = self.expr()
+        self.take("TO")
+        stop = self.expr()
+        self.end()
+        self.b.kind, self.b.args = "FOR", (target, start, stop)
+
+    def _def(self) -> None:
+        kind = self.name()
+        if kind not in TYPES:
+            raise Diagnostic(
+                "SIEM-UNSUPPORTED", f"DEF {kind}: only REAL, INT and BOOL variables", self.loc()
+            )
+        names = []
+        while True:
+            name = self.name()
+            if self.is_op("["):
+                raise self.error("SIEM-UNSUPPORTED", f"array variables ({name}[...])")
+            value: Node | None = None
+            if self.is_op("="):
+                self.i += 1
+                value = self.expr()
+            names.append((name, value))
+            if not self.is_op(","):
+                break
+            self.i += 1
+        self.end()
+        self.b.kind, self.b.args = "DEF", (kind, tuple(names))
+
+    def _proc(self) -> None:
+        name = self.name()
+        if self.is_op("("):
+            self.i += 1
+            if not self.is_op(")"):
+                raise self.error(
+                    "SIEM-UNSUPPORTED", "subprograms with parameters are not supported"
+                )
+            self.i += 1
+        self.end()
+        self.b.kind, self.b.args = "PROC", (name,)
+
+    def _msg(self) -> None:
+        self.take("(")
+        text = ""
+        if not self.done() and self.t[self.i].kind == STR:
+            text = self.t[self.i].text
+            self.i += 1
+        self.take(")")
+        self.end()
+        self.b.kind, self.b.args = "MSG", (text,)
+
+    def _mcall(self) -> None:
+        if self.done():
+            self.b.kind, self.b.args = "MCALL", (None, ())
+            return
+        head = self.name()
+        if not head.startswith("CYCLE"):
+            raise self.error(
+                "SIEM-UNSUPPORTED", f"MCALL {head}: only drilling cycles are supported"
+            )
+        self.b.kind, self.b.args = "MCALL", (head, self._arguments(head))
+        self.end()
+
+    def _frame(self, head: str) -> None:
+        self._nc()
+        for item in self.b.items:
+            if isinstance(item, Assign) or item.address not in ("X", "Y", "Z", "RPL"):
+                raise Diagnostic(
+                    "SIEM-FRAME",
+                    f"{head} takes X, Y, Z (and RPL= for rotations) only",
+                    Location(self.file, self.line, item.col),
+                )
+        self.b.kind, self.b.args = "FRAME", (head,)
+
+    def _call(self, name: str) -> None:
+        repeat: Node = ("num", 1.0)
+        if not self.done() and self.t[self.i].kind == WORD and self.t[self.i].text[0] == "P":
+            repeat = ("num", self.t[self.i].value)
+            self.i += 1
+        elif self.is_op("("):
+            raise self.error("SIEM-UNSUPPORTED", f"{name}: subprogram parameters are not supported")
+        self.end()
+        self.b.kind, self.b.args = "CALL", (name, repeat)
+
+    def _arguments(self, head: str) -> tuple[Node | None, ...]:
+        self.take("(")
+        args: list[Node | None] = []
+        while True:
+            if self.is_op(",") or self.is_op(")"):
+                args.append(None)
+            else:
+                args.append(self.expr())
+            if self.is_op(")"):
+                self.i += 1
+                return tuple(args)
+            self.take(",")
+
+    def _target(self) -> tuple[str, object]:
+        tok = self.t[self.i] if not self.done() else None
+        if tok is None or tok.kind != NAME:
+            raise self.error("SIEM-SYNTAX", "a variable or R parameter is expected")
+        self.i += 1
+        name = tok.text
+        if name == "R" and self.is_op("["):
+            self.i += 1
+            index = self.expr()
+            self.take("]")
+            return ("R", index)
+        if name[0] == "R" and name[1:].isdigit():
+            return ("R", ("num", float(name[1:])))
+        return ("V", name)
+
+    # ------------------------------------------------------------------ NC words
+    def _nc(self) -> None:
+        items = self.b.items
+        t = self.t
+        while not self.done():
+            tok = t[self.i]
+            if tok.kind == WORD:
+                letter = tok.text[0]
+                if letter not in LETTERS:
+                    raise self.error("SIEM-WORD", f"unknown address {letter} in {tok.text}")
+                items.append(Word(letter, ("num", tok.value), tok.col))
+                self.i += 1
+                continue
+            if tok.kind != NAME:
+                raise self.error("SIEM-SYNTAX", f"unexpected {tok.text!r}")
+            name = tok.text
+            if name.startswith("$"):
+                raise self.error("SIEM-UNSUPPORTED", f"system variable {name} is not supported")
+            if name == "CIP" and not self._assignment_ahead():
+                items.append(Word("CIP", ("num", 1.0), tok.col))
+                self.i += 1
+                continue
+            if not self._assignment_ahead():
+                if name in UNSUPPORTED:
+                    raise self.error("SIEM-UNSUPPORTED", f"{name} is not supported by this reader")
+                if name in KEYWORDS or name.startswith("CYCLE"):
+                    raise self.error("SIEM-BLOCK", f"{name} must stand alone in its block")
+                raise self.error("SIEM-WORD", f"unknown word {name}")
+            if name in UNSUPPORTED:
+                raise self.error("SIEM-UNSUPPORTED", f"{name}= is not supported by this reader")
+            if name in LETTERS or name in EXTENDED:
+                self.i += 2
+                items.append(self._value(name, tok.col))
+                continue
+            target = self._target()
+            self.take("=")
+            items.append(Assign(target, self.expr(), tok.col))
+
+    def _value(self, address: str, col: int) -> Word:
+        mode = None
+        if not self.done() and self.t[self.i].kind == STR:
+            raise self.error(
+                "SIEM-UNSUPPORTED",
+                f'{address}="...": names (tool management) are not supported; use numbers',
+            )
+        tok = self.t[self.i] if not self.done() else None
+        nxt = self.t[self.i + 1] if self.i + 1 < len(self.t) else None
+        if tok is not None and tok.text in AXIS_MODES and nxt is not None and _op(nxt, "("):
+            mode = tok.text
+            if address not in ("X", "Y", "Z", "A", "B", "C", "I", "J", "K", "I1", "J1", "K1"):
+                raise self.error(
+                    "SIEM-WORD", f"{mode}() is for axis and centre words, not {address}"
+                )
+            self.i += 2
+            node = self.expr()
+            self.take(")")
+            return Word(address, node, col, mode)
+        return Word(address, self.expr(), col, mode)

@@ -1,0 +1,412 @@
+"""Execution of one Siemens 840D NC block: its words -> modal state changes and IR.
+
+The order within a block follows the RS274/NGC interpreter's (gcode.interpreter, NIST v3
+Table 8) so the IR reads the same: feed mode, spindle mode, F, S, T, M6/D, spindle and
+coolant M codes, dwell, plane, units, work offset, path control, distance mode, motion,
+program end. 840D vocabulary: 840D sl programming manual, fundamentals, "List of G
+functions" and "List of addresses".
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from gcode import linuxcnc as lc
+from gcode.interpreter import InterpreterOptions
+from gcode.siemens import motion
+from gcode.siemens.blocks import Assign, Block, Word
+from gcode.siemens.expr import Variables, evaluate
+from gcode.siemens.state import PLANES, State
+from gcode.tooltable import ToolTable
+from kernel import canon
+from kernel.diagnostics import Diagnostic, Location
+
+INCH_MM = 25.4
+#: G code -> modal group (840D groups: 1 motion, 2 non-modal, 6 plane, 8 settable frame,
+#: 10 path control, 13 units, 14 distance, 15 feed type, 11 exact stop non-modal)
+G_GROUPS: dict[int, int] = {
+    0: 1, 1: 1, 2: 1, 3: 1, 33: 1,
+    4: 2, 9: 11,
+    17: 6, 18: 6, 19: 6,
+    40: 7,
+    54: 8, 55: 8, 56: 8, 57: 8, 500: 8,
+    60: 10, 64: 10, 641: 10, 642: 10,
+    70: 13, 71: 13, 700: 13, 710: 13,
+    90: 14, 91: 14,
+    93: 15, 94: 15, 95: 15,
+    96: 29, 97: 29,
+}  # fmt: skip
+G_GROUPS.update(dict.fromkeys(range(505, 600), 8))
+M_CODES = frozenset({0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 19, 30})
+#: addresses an NC block may carry besides G and M
+ADDRESSES = frozenset(
+    {"X", "Y", "Z", "A", "B", "C", "I", "J", "K", "F", "S", "T", "D"}
+    | {"CR", "AR", "TURN", "SPOS", "LIMS", "ADIS", "MEAS", "I1", "J1", "K1"}
+)
+_PLANE_OF = {17: "XY", 18: "ZX", 19: "YZ"}
+
+
+@dataclass
+class Values:
+    """The evaluated words of one block."""
+
+    g: dict[int, int] = field(default_factory=dict)  # group -> code
+    m: list[int] = field(default_factory=list)
+    v: dict[str, float] = field(default_factory=dict)
+    modes: dict[str, str] = field(default_factory=dict)  # letter -> AC / IC
+    cols: dict[str, int] = field(default_factory=dict)
+
+
+class Executor:
+    """Modal machine of one run; :attr:`out` collects the IR of the block being executed."""
+
+    def __init__(self, options: InterpreterOptions) -> None:
+        self.options = options
+        self.compat = options.linuxcnc_compat
+        self.tools: ToolTable | None = options.tool_table
+        self.params = options.parameters or {}
+        self.s = State()
+        self.out: list[canon.Command] = []
+        self.loc = Location()
+        self.r: dict[int, float] = {}
+
+    def emit(self, cmd: canon.Command) -> None:
+        self.out.append(cmd)
+
+    def at(self, vals: Values, letter: str) -> Location:
+        return Location(self.loc.file, self.loc.line, vals.cols.get(letter, self.loc.column))
+
+    # ------------------------------------------------------------------ start
+    def preamble(self, loc: Location) -> None:
+        s = self.s
+        self.loc = loc
+        s.g5x = self._g5x_values(1)
+        self.emit(canon.UseLengthUnits(s.units, source=loc))
+        self.emit_offsets(g5x=True)
+        self.emit(canon.SetFeedReference(canon.FeedReference.XYZ, source=loc))
+        if self.compat:
+            self.emit(lc.OnReset(source=loc))
+
+    def _g5x_values(self, index: int) -> tuple[float, ...]:
+        """A settable frame's offsets: RS274/NGC parameters 5221 + 20 (i - 1) + k from the
+        options (the machine's offset table), else zero; G500 is zero."""
+        if index == 0:
+            return (0.0,) * 6
+        base = 5221 + 20 * (index - 1)
+        return tuple(float(self.params.get(base + k, 0.0)) for k in range(6))
+
+    def emit_offsets(self, g5x: bool = False) -> None:
+        """Offsets after a change of the settable frame (``g5x``) or of the programmable
+        frame's translation (SET_G92_OFFSET, as RS274/NGC does for G52)."""
+        s, loc = self.s, self.loc
+        t = (*s.frame.t, 0.0, 0.0, 0.0)
+        if not self.compat:
+            self.emit(
+                canon.SetOriginOffsets(*(a + b for a, b in zip(s.g5x, t, strict=True)), source=loc)
+            )
+            return
+        if g5x:
+            if s.work == 0:
+                self.emit(canon.SetOriginOffsets(0.0, 0.0, 0.0, source=loc))
+            else:
+                self.emit(lc.SetG5xOffset(s.work, *s.g5x, source=loc))
+        self.emit(lc.SetG92Offset(*t, source=loc))
+        if g5x and s.work != 0:
+            self.emit(lc.SetXYRotation(0.0, source=loc))
+
+    # ------------------------------------------------------------------ one block
+    def evaluate(self, block: Block, scope: Variables) -> Values:
+        """Words in their order; assignments take effect where they stand."""
+        vals = Values()
+        file = self.loc.file
+        for item in block.items:
+            if isinstance(item, Assign):
+                value = evaluate(item.value, scope)
+                loc = Location(file, block.line, item.col)
+                kind, target = item.target
+                if kind == "R":
+                    scope.r_set(evaluate(target, scope), value, loc)  # type: ignore[arg-type]
+                else:
+                    scope.set(target, value, loc)  # type: ignore[arg-type]
+                continue
+            self._word(vals, item, scope, block.line)
+        return vals
+
+    def _word(self, vals: Values, w: Word, scope: Variables, line: int) -> None:
+        node = w.value
+        value = node[1] if node[0] == "num" else evaluate(node, scope)
+        self.word(vals, w.address, value, w.col, w.mode)
+
+    def word(self, vals: Values, a: str, value: float, col: int, mode: str | None = None) -> None:
+        """Add one evaluated word to the block's values (G and M codes checked here)."""
+        if a == "CIP":
+            if 1 in vals.g:
+                raise Diagnostic("SIEM-G-GROUP", "CIP with another motion G code", self._col(col))
+            vals.g[1] = motion.CIP
+            return
+        if a == "G":
+            code = int(value) if value == int(value) else -1
+            group = G_GROUPS.get(code)
+            if group is None:
+                raise Diagnostic(
+                    "SIEM-G-CODE", f"G{value:g} is not supported by this reader", self._col(col)
+                )
+            if group in vals.g:
+                raise Diagnostic(
+                    "SIEM-G-GROUP", f"G{vals.g[group]} and G{code} are of one group", self._col(col)
+                )
+            vals.g[group] = code
+            return
+        if a == "M":
+            code = int(value) if value == int(value) else -1
+            if code not in M_CODES:
+                raise Diagnostic(
+                    "SIEM-M-CODE", f"M{value:g} is not supported by this reader", self._col(col)
+                )
+            if code in vals.m:
+                raise Diagnostic("SIEM-M-CODE", f"M{code} twice in one block", self._col(col))
+            vals.m.append(code)
+            return
+        if a in vals.v:
+            raise Diagnostic("SIEM-WORD", f"{a} twice in one block", self._col(col))
+        if a not in ADDRESSES:
+            raise Diagnostic("SIEM-WORD", f"{a} has no meaning in an NC block here", self._col(col))
+        vals.v[a] = value
+        vals.cols[a] = col
+        if mode:
+            vals.modes[a] = mode
+
+    def _col(self, col: int) -> Location:
+        return Location(self.loc.file, self.loc.line, col)
+
+    def execute(self, block: Block, scope: Variables) -> bool:
+        """Execute an NC block; True at the end of the program level (M2/M17/M30)."""
+        return self.execute_values(self.evaluate(block, scope), scope)
+
+    def execute_words(self, words: list[tuple[str, float, int]], scope: Variables) -> bool:
+        """Execute a plain block read by the fast path (gcode.siemens.fastpath)."""
+        vals = Values()
+        for address, value, col in words:
+            self.word(vals, address, value, col)
+        return self.execute_values(vals, scope)
+
+    def execute_values(self, vals: Values, scope: Variables) -> bool:
+        """Execute a block's evaluated words (in the RS274/NGC interpreter's order)."""
+        s = self.s
+        g, v, m = vals.g, vals.v, vals.m
+        dwell = g.get(2) == 4
+        if 13 in g:
+            self.set_units(g[13])  # the block's own lengths and F are in the new units
+        if 15 in g:
+            self._feed_mode(g[15])
+        if 29 in g:
+            self._spindle_mode(g[29], vals)
+        elif "LIMS" in v:
+            s.css_max = v["LIMS"]
+            if s.css:
+                self.emit(canon.SetSpindleMode(s.css_max, True, source=self.loc))
+        if "F" in v and not dwell:
+            self._feed(vals)
+        if "S" in v and not dwell:
+            if v["S"] < 0:
+                raise Diagnostic("SIEM-NEGATIVE", "negative spindle speed", self.at(vals, "S"))
+            s.speed = v["S"]
+            self.emit(canon.SetSpindleSpeed(s.speed, source=self.loc))
+        if "T" in v:
+            self._select_tool(vals)
+        if 6 in m:
+            self._change_tool(vals)
+        if "D" in v:
+            self._edge(vals)
+        self._spindle(vals)
+        if dwell:
+            motion.dwell(self, vals)
+        if 6 in g:
+            self._plane(_PLANE_OF[g[6]])
+        if 8 in g:
+            self.select_work(g[8])
+        if "ADIS" in v:
+            if v["ADIS"] < 0:
+                raise Diagnostic("SIEM-NEGATIVE", "negative ADIS=", self.at(vals, "ADIS"))
+            s.adis = v["ADIS"]
+        if 10 in g:
+            self._control(g[10], vals)
+        elif "ADIS" in v and s.control == 641:
+            self._control(641, vals)
+        if 14 in g:
+            s.absolute = g[14] == 90
+        if 1 in g:
+            s.motion = g[1]
+        moved = motion.execute(self, vals, g.get(11) == 9)
+        if moved and s.mcall is not None:
+            from gcode.siemens.cycles import run_cycle
+
+            run_cycle(self, s.mcall[0], s.mcall[1], scope)
+        for code in (0, 1):
+            if code in m:
+                cls = canon.ProgramStop if code == 0 else canon.OptionalProgramStop
+                self.emit(cls(source=self.loc))
+        return any(code in m for code in (2, 17, 30))
+
+    # ------------------------------------------------------------------ state words
+    def _feed_mode(self, code: int) -> None:
+        s = self.s
+        s.feed_mode = {94: 0, 93: 1, 95: 2}[code]
+        self.emit(canon.SetFeedMode(canon.FeedMode(s.feed_mode), source=self.loc))
+        if s.feed_mode != 1:
+            s.feed = 0.0  # F must be programmed again after a change of feed type
+            self.emit(canon.SetFeedRate(0.0, source=self.loc))
+
+    def _spindle_mode(self, code: int, vals: Values) -> None:
+        s = self.s
+        s.css = code == 96
+        if "LIMS" in vals.v:
+            s.css_max = vals.v["LIMS"]
+        self.emit(canon.SetSpindleMode(s.css_max if s.css else 0.0, s.css, source=self.loc))
+
+    def _feed(self, vals: Values) -> None:
+        s = self.s
+        f = vals.v["F"]
+        if f < 0:
+            raise Diagnostic("SIEM-NEGATIVE", "negative feed", self.at(vals, "F"))
+        if s.units_code == 70 and s.feed_mode != 1:
+            f /= INCH_MM  # G70: lengths in inches, feed still in the metric basic system
+        if s.feed_mode == 1:
+            return  # G93: F belongs to the block's motion
+        s.feed = f
+        self.emit(canon.SetFeedRate(f, source=self.loc))
+
+    def _select_tool(self, vals: Values) -> None:
+        t = vals.v["T"]
+        n = int(round(t))
+        if t < 0 or abs(t - n) > 1e-9:
+            raise Diagnostic(
+                "SIEM-TOOL", "tool number must be a whole number >= 0", self.at(vals, "T")
+            )
+        if self.tools is not None and n not in self.tools:
+            raise Diagnostic("SIEM-TOOL", f"tool {n} is not in the tool table", self.at(vals, "T"))
+        self.s.selected_tool = n
+        self.emit(canon.SelectTool(n, source=self.loc))
+
+    def _change_tool(self, vals: Values) -> None:
+        """M6: the selected tool goes in the spindle (the change cycle stops the spindle);
+        its cutting edge D1 becomes active unless the block programs another D."""
+        s = self.s
+        n = s.selected_tool if s.selected_tool is not None else s.tool
+        s.direction = canon.Direction.STOPPED
+        if self.compat:
+            self.emit(lc.StartChange(source=self.loc))
+        self.emit(canon.StopSpindleTurning(source=self.loc))
+        pocket = n
+        if self.tools is not None:
+            tool = self.tools.get(n)
+            pocket = tool.pocket if tool is not None else n
+        self.emit(canon.ChangeTool(pocket, source=self.loc))
+        s.tool = n
+        s.selected_tool = None
+        if "D" not in vals.v:
+            self.activate_edge(1 if n else 0)
+
+    def _edge(self, vals: Values) -> None:
+        d = vals.v["D"]
+        n = int(round(d))
+        if abs(d - n) > 1e-9 or n not in (0, 1):
+            raise Diagnostic(
+                "SIEM-TOOL-EDGE",
+                f"D{d:g}: the tool table holds one cutting edge per tool (D1; D0 off)",
+                self.at(vals, "D"),
+            )
+        self.activate_edge(n)
+
+    def activate_edge(self, n: int) -> None:
+        """Tool length of the active edge from the tool table (its Z offset)."""
+        s = self.s
+        s.edge = n
+        length = 0.0
+        if n and self.tools is not None:
+            tool = self.tools.get(s.tool)
+            length = tool.z_offset if tool is not None else 0.0
+        s.pos[2] += s.tool_length - length
+        s.tool_length = length
+        self.emit(canon.UseToolLengthOffset(length, source=self.loc))
+
+    def _spindle(self, vals: Values) -> None:
+        s = self.s
+        loc = self.loc
+        for code in vals.m:
+            if code == 3:
+                s.direction = canon.Direction.CLOCKWISE
+                self.emit(canon.StartSpindleClockwise(source=loc))
+            elif code == 4:
+                s.direction = canon.Direction.COUNTERCLOCKWISE
+                self.emit(canon.StartSpindleCounterclockwise(source=loc))
+            elif code == 5:
+                s.direction = canon.Direction.STOPPED
+                self.emit(canon.StopSpindleTurning(source=loc))
+            elif code == 19:
+                self._orient(0.0)
+        if "SPOS" in vals.v:
+            self._orient(vals.v["SPOS"])
+        for code in vals.m:
+            if code == 7:
+                self.emit(canon.MistOn(source=loc))
+            elif code == 8:
+                self.emit(canon.FloodOn(source=loc))
+            elif code == 9:
+                self.emit(canon.MistOff(source=loc))
+                self.emit(canon.FloodOff(source=loc))
+
+    def _orient(self, angle: float) -> None:
+        """SPOS= (M19: the setting-data angle, taken as 0): spindle in position mode."""
+        if not 0.0 <= angle < 360.0:
+            raise Diagnostic("SIEM-SPOS", f"SPOS={angle:g} must be within 0..360 degrees", self.loc)
+        self.s.direction = canon.Direction.STOPPED
+        self.emit(canon.OrientSpindle(angle, canon.Direction.CLOCKWISE, source=self.loc))
+
+    def _plane(self, name: str) -> None:
+        self.s.plane = name
+        self.emit(canon.SelectPlane(PLANES[name][0], source=self.loc))
+
+    def set_units(self, code: int) -> None:
+        s = self.s
+        units = canon.Units.INCHES if code in (70, 700) else canon.Units.MM
+        if units is not s.units:
+            k = 1 / INCH_MM if units is canon.Units.INCHES else INCH_MM
+            for i in range(3):
+                s.pos[i] *= k
+            s.frame = s.frame.scaled(k)
+            s.g5x = tuple(v * k if i < 3 else v for i, v in enumerate(s.g5x))
+            s.units = units
+            self.emit(canon.UseLengthUnits(units, source=self.loc))
+            if s.feed and s.feed_mode != 1:  # the programmed feed keeps its speed
+                s.feed *= k
+                self.emit(canon.SetFeedRate(s.feed, source=self.loc))
+        else:
+            self.emit(canon.UseLengthUnits(units, source=self.loc))
+        s.units_code = code
+
+    def select_work(self, code: int) -> None:
+        """G54-G57, G505-G599 (settable frames 1-4, 5-99) and G500 (none)."""
+        s = self.s
+        index = 0 if code == 500 else code - 53 if code < 100 else code - 500
+        if index > 9:
+            raise Diagnostic(
+                "SIEM-WORK-OFFSET",
+                f"G{code}: settable frames beyond the 9 of RS274/NGC (G509) have no IR equivalent",
+                self.loc,
+            )
+        old = s.g5x
+        s.work = index
+        s.g5x = self._g5x_values(index)
+        for i in range(3):
+            s.pos[i] += old[i] - s.g5x[i]
+        self.emit_offsets(g5x=True)
+
+    def _control(self, code: int, vals: Values) -> None:
+        s = self.s
+        s.control = code
+        if code == 60:
+            self.emit(canon.SetMotionControlMode(canon.MotionMode.EXACT_STOP, source=self.loc))
+            return
+        tol = s.adis if code == 641 else 0.0
+        self.emit(canon.SetMotionControlMode(canon.MotionMode.CONTINUOUS, tol, source=self.loc))

@@ -1,0 +1,340 @@
+"""Program flow of the 840D reader: blocks in order, jumps, control structures,
+subprogram calls and program end (840D sl programming manual, job planning, "Program
+jumps" and "Control structures"; fundamentals, "Subprograms").
+
+* ``GOTOF``/``GOTOB`` search forward/backward, ``GOTO`` forward then backward, ``GOTOC``
+  like GOTO without an error when the target is missing; targets are labels or N numbers.
+* ``IF``/``ELSE``/``ENDIF``, ``WHILE``/``ENDWHILE``, ``FOR``/``ENDFOR`` (the counter
+  steps by 1; no pass when the start exceeds the end), ``REPEAT``/``UNTIL``,
+  ``LOOP``/``ENDLOOP``. A jump out of a structure leaves it.
+* ``L100``/``NAME`` call ``L100.SPF``/``NAME.SPF``, ``P n`` times; ``M17``, ``RET``, ``M2``
+  or ``M30`` (or the file's end) return. R parameters are global, DEF variables local.
+* Bounded: at most :data:`MAX_LOOPS` backward jumps and loop passes in a run, and
+  :data:`MAX_DEPTH` program levels (SIEM-LOOP-LIMIT, SIEM-CALL-DEPTH).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+from gcode.siemens.blocks import Block
+from gcode.siemens.cycles import check_cycle, run_cycle
+from gcode.siemens.executor import Executor
+from gcode.siemens.expr import Variables, evaluate
+from gcode.siemens.fastpath import plain_words
+from gcode.siemens.frames import change
+from gcode.siemens.program import Program, find_subprogram
+from kernel import canon
+from kernel.diagnostics import Diagnostic, Location
+
+MAX_LOOPS = 1_000_000
+END = Block(0)  # the block that ended a level (M2/M17/M30), when read by the fast path
+MAX_DEPTH = 16
+
+
+@dataclass
+class Open:
+    """An entered control structure: its kind, opening and closing line."""
+
+    kind: str
+    start: int
+    end: int
+    data: tuple = ()
+
+
+@dataclass
+class Level:
+    program: Program
+    scope: Variables
+    index: int = 0
+    repeat: int = 1
+    structures: list[Open] = field(default_factory=list)
+    call: Location | None = None
+
+
+class Runner:
+    def __init__(self, ex: Executor, main: Program) -> None:
+        self.ex = ex
+        self.levels = [Level(main, Variables(ex.r))]
+        self.programs: dict[str, Program] = {main.name: main}
+        self.loops = 0
+
+    def run(self) -> Iterator[canon.Command]:
+        ex = self.ex
+        out = ex.out
+        main = self.levels[0].program
+        ex.preamble(Location(main.name, 0, 0))
+        yield from out
+        out.clear()
+        try:
+            while self.levels:
+                level = self.levels[-1]
+                program = level.program
+                if not program.has_line(level.index):
+                    if self._return(level, None):
+                        break
+                    continue
+                index = level.index
+                level.index += 1
+                words = plain_words(program.line(index))
+                if words is not None:
+                    if words:
+                        ex.loc = Location(program.name, index + 1, words[0][2])
+                        if ex.execute_words(words, level.scope) and self._return(level, END):
+                            break
+                        if out:
+                            yield from out
+                            out.clear()
+                    continue
+                block = program.block(index)
+                ex.loc = Location(program.name, block.line, block.col)
+                if block.comment is not None:
+                    out.append(canon.Comment(block.comment, source=ex.loc))
+                if block.kind == "nc":
+                    ended = bool(block.items) and ex.execute(block, level.scope)
+                    if ended and self._return(level, block):
+                        break
+                else:
+                    self.statement(level, block, index)
+                if out:
+                    yield from out
+                    out.clear()
+        except Diagnostic:
+            yield from out
+            out.clear()
+            raise
+        yield from out
+        out.clear()
+
+    # ------------------------------------------------------------------ levels
+    def _return(self, level: Level, block: Block | None) -> bool:
+        """End of a program level (M2/M17/M30/RET or its end); True at the program's end."""
+        if level.repeat > 1:
+            level.repeat -= 1
+            level.index = 0
+            level.structures.clear()
+            level.scope = Variables(self.ex.r)
+            return False
+        self.levels.pop()
+        if self.levels:
+            return False
+        if block is not None:
+            self._end()
+        return True
+
+    def _end(self) -> None:
+        """M2/M30 of the main program: the 840D resets the channel's modal state."""
+        ex = self.ex
+        s, loc = ex.s, ex.loc
+        if s.plane != "XY":
+            s.plane = "XY"
+            ex.emit(canon.SelectPlane(canon.Plane.XY, source=loc))
+        s.feed = 0.0
+        ex.emit(canon.SetFeedRate(0.0, source=loc))
+        s.direction = canon.Direction.STOPPED
+        ex.emit(canon.StopSpindleTurning(source=loc))
+        ex.emit(canon.ProgramEnd(source=loc))
+
+    def call(self, level: Level, block: Block) -> None:
+        name, repeat_node = block.args
+        ex = self.ex
+        repeat = evaluate(repeat_node, level.scope)
+        if repeat < 1 or repeat != int(repeat):
+            raise Diagnostic(
+                "SIEM-CALL", f"{name} P{repeat:g}: the pass count is a whole number >= 1", ex.loc
+            )
+        if len(self.levels) >= MAX_DEPTH:
+            raise Diagnostic("SIEM-CALL-DEPTH", f"more than {MAX_DEPTH} program levels", ex.loc)
+        path = find_subprogram(name, ex.options.search_path, level.program.name)
+        if path is None:
+            raise Diagnostic("SIEM-SUBPROGRAM", f"subprogram {name} ({name}.SPF) not found", ex.loc)
+        program = self.programs.get(path)
+        if program is None:
+            program = self.programs[path] = Program.load(path)
+        program.caching = True
+        self.levels.append(Level(program, Variables(ex.r), repeat=int(repeat), call=ex.loc))
+
+    # ------------------------------------------------------------------ statements
+    def statement(self, level: Level, block: Block, index: int) -> None:
+        ex = self.ex
+        kind = block.kind
+        scope = level.scope
+        if kind == "GOTO":
+            self.jump(level, block.args[0], block.args[1], index)
+        elif kind == "IFGOTO":
+            if evaluate(block.args[0], scope):
+                self.jump(level, block.args[1], block.args[2], index)
+        elif kind in (
+            "IF",
+            "WHILE",
+            "FOR",
+            "REPEAT",
+            "LOOP",
+            "ELSE",
+            "ENDIF",
+            "ENDWHILE",
+            "ENDFOR",
+            "UNTIL",
+            "ENDLOOP",
+        ):
+            self.structure(level, block, index)
+        elif kind == "DEF":
+            kind_name, names = block.args
+            for name, node in names:
+                scope.define(
+                    kind_name, name, evaluate(node, scope) if node is not None else 0.0, ex.loc
+                )
+        elif kind == "MSG":
+            if block.args[0]:
+                ex.emit(canon.Message(block.args[0], source=ex.loc))
+        elif kind == "FRAME":
+            self.frame(level, block)
+        elif kind == "CYCLE":
+            run_cycle(ex, block.args[0], block.args[1], scope)
+        elif kind == "MCALL":
+            if block.args[0] is not None:
+                check_cycle(ex, block.args[0], block.args[1])
+            ex.s.mcall = None if block.args[0] is None else (block.args[0], block.args[1])
+        elif kind == "CALL":
+            self.call(level, block)
+        elif kind == "RET":
+            if len(self.levels) == 1:
+                raise Diagnostic("SIEM-RET", "RET in the main program", ex.loc)
+            self._return(level, block)
+        elif kind == "PROC" and index != _first_code_line(level.program, index):
+            raise Diagnostic("SIEM-PROC", "PROC must be the first block of a subprogram", ex.loc)
+
+    def frame(self, level: Level, block: Block) -> None:
+        ex = self.ex
+        s = ex.s
+        values: dict[str, float] = {}
+        rpl = None
+        for item in block.items:
+            value = evaluate(item.value, level.scope)  # type: ignore[union-attr]
+            if item.address == "RPL":  # type: ignore[union-attr]
+                rpl = value
+            else:
+                values[item.address] = value  # type: ignore[union-attr]
+        op = block.args[0]
+        if rpl is not None and not op.endswith("ROT"):
+            raise Diagnostic("SIEM-FRAME", f"RPL= belongs to ROT/AROT, not {op}", ex.loc)
+        if rpl is not None and values:
+            raise Diagnostic("SIEM-FRAME", "ROT takes RPL= or axis angles, not both", ex.loc)
+        if op.endswith("SCALE") and any(abs(v) < 1e-12 for v in values.values()):
+            raise Diagnostic("SIEM-FRAME", "scale factor 0", ex.loc)
+        old = s.frame.t
+        s.frame = change(s.frame, op, values, rpl, s.plane)
+        if s.frame.t != old:
+            for i in range(3):
+                s.pos[i] += old[i] - s.frame.t[i]
+            ex.emit_offsets()
+
+    def jump(self, level: Level, how: str, label: str, here: int) -> None:
+        target = level.program.jump(label, how, here, self.ex.loc)
+        if target < 0:
+            return
+        if target <= here:
+            self._count()
+            level.program.caching = True
+        level.structures = [o for o in level.structures if o.start < target <= o.end]
+        level.index = target
+
+    def _count(self) -> None:
+        self.loops += 1
+        if self.loops > MAX_LOOPS:
+            raise Diagnostic(
+                "SIEM-LOOP-LIMIT",
+                f"more than {MAX_LOOPS} loop passes or backward jumps",
+                self.ex.loc,
+            )
+
+    def structure(self, level: Level, block: Block, index: int) -> None:
+        ex = self.ex
+        kind = block.kind
+        scope = level.scope
+        program = level.program
+        opened = level.structures
+        if kind in ("IF", "WHILE", "FOR", "REPEAT", "LOOP"):
+            end, other = program.structure(index, ex.loc)
+            if kind == "IF":
+                if evaluate(block.args[0], scope):
+                    opened.append(Open("IF", index, end))
+                elif other is not None:
+                    opened.append(Open("IF", index, end))
+                    level.index = other + 1
+                else:
+                    level.index = end + 1
+            elif kind == "WHILE":
+                if evaluate(block.args[0], scope):
+                    opened.append(Open("WHILE", index, end))
+                else:
+                    level.index = end + 1
+            elif kind == "FOR":
+                target, first, last = block.args
+                self._assign(scope, target, evaluate(first, scope))
+                stop = evaluate(last, scope)
+                if self._read(scope, target) > stop:
+                    level.index = end + 1
+                else:
+                    opened.append(Open("FOR", index, end, (target, stop)))
+            else:
+                opened.append(Open(kind, index, end))
+            return
+        want = {
+            "ELSE": "IF",
+            "ENDIF": "IF",
+            "ENDWHILE": "WHILE",
+            "ENDFOR": "FOR",
+            "UNTIL": "REPEAT",
+            "ENDLOOP": "LOOP",
+        }[kind]
+        if not opened or opened[-1].kind != want or opened[-1].end < index:
+            raise Diagnostic("SIEM-STRUCTURE", f"{kind} without {want}", ex.loc)
+        top = opened[-1]
+        if kind in ("ELSE", "ENDIF"):
+            opened.pop()
+            level.index = top.end + 1
+        elif kind == "ENDWHILE":
+            opened.pop()
+            self._count()
+            level.index = top.start
+        elif kind == "ENDFOR":
+            target, stop = top.data
+            self._assign(scope, target, self._read(scope, target) + 1)
+            if self._read(scope, target) <= stop:
+                self._count()
+                level.index = top.start + 1
+            else:
+                opened.pop()
+        elif kind == "UNTIL":
+            if evaluate(block.args[0], scope):
+                opened.pop()
+            else:
+                self._count()
+                level.index = top.start + 1
+        else:  # ENDLOOP
+            self._count()
+            level.index = top.start + 1
+        program.caching = True
+
+    def _assign(self, scope: Variables, target: tuple, value: float) -> None:
+        kind, what = target
+        if kind == "R":
+            scope.r_set(evaluate(what, scope), value, self.ex.loc)
+        else:
+            scope.set(what, value, self.ex.loc)
+
+    def _read(self, scope: Variables, target: tuple) -> float:
+        kind, what = target
+        if kind == "R":
+            return scope.r_get(evaluate(what, scope), self.ex.loc)
+        return scope.get(what, self.ex.loc)
+
+
+def _first_code_line(program: Program, index: int) -> int:
+    for i in range(index + 1):
+        text = program.line(i).split(";", 1)[0].strip()
+        if text:
+            return i
+    return index

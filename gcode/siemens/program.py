@@ -1,0 +1,199 @@
+"""Program files of a Siemens 840D run: text lines, parsed blocks (cached while loops run),
+jump targets (labels and N numbers) and the matching ends of control structures.
+
+Main programs are ``.MPF`` files, subprograms ``.SPF`` (840D sl programming manual,
+fundamentals, "Subprograms"): ``L100`` and ``NAME`` are looked for as ``L100.SPF`` and
+``NAME.SPF`` (also ``.MPF`` and lower case) in the search path and beside the calling file.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from array import array
+from collections import OrderedDict
+
+from gcode.siemens.blocks import Block, parse_block
+from kernel.diagnostics import Diagnostic, Location
+
+_HEAD = re.compile(r"\s*(?:N\d+\s*)?(?:([A-Z_][A-Z0-9_]*)\s*:(?!=)\s*)?([A-Z_]+)?", re.IGNORECASE)
+_NUMBER = re.compile(r"\s*N(\d+)", re.IGNORECASE)
+_ARCHIVE_HEADER = re.compile(r"%_N_\w+_(?:MPF|SPF)\s*$", re.IGNORECASE)
+#: structure openers and their closers (840D sl job planning, "Control structures")
+CLOSERS = {
+    "IF": "ENDIF",
+    "WHILE": "ENDWHILE",
+    "FOR": "ENDFOR",
+    "REPEAT": "UNTIL",
+    "LOOP": "ENDLOOP",
+}
+_CACHE = 4096
+
+
+class Program:
+    """One program file's text; its lines are found and parsed when executed (a compact
+    array of line offsets, no list of line objects)."""
+
+    def __init__(self, name: str, text: str) -> None:
+        self.name = name
+        self.text = text
+        self._starts = array("q", [0])  # offsets of the lines found so far
+        self._complete = not text
+        self._blocks: OrderedDict[int, Block] = OrderedDict()
+        self._targets: dict[str, list[int]] | None = None
+        self._ends: dict[int, tuple[int, int | None]] = {}
+        self.caching = False  # set once a backward jump happened
+
+    def has_line(self, index: int) -> bool:
+        """Whether line ``index`` (0-based) exists; finds line ends only as far as needed."""
+        starts = self._starts
+        text = self.text
+        while len(starts) <= index + 1 and not self._complete:
+            end = text.find("\n", starts[-1])
+            if end < 0:
+                self._complete = True
+                if starts[-1] < len(text):
+                    starts.append(len(text) + 1)
+                break
+            starts.append(end + 1)
+        return index + 1 < len(starts)
+
+    def line(self, index: int) -> str:
+        """The text of line ``index`` (0-based) without its line end."""
+        if not self.has_line(index):
+            return ""
+        line = self.text[self._starts[index] : self._starts[index + 1] - 1].rstrip("\r")
+        if index == 0 and _ARCHIVE_HEADER.match(line):
+            return ""  # "%_N_PART1_MPF": the 840D's file header when programs are transferred
+        return line
+
+    @classmethod
+    def load(cls, path: str) -> Program:
+        try:
+            with open(path, "rb") as fh:
+                data = fh.read()
+        except OSError as exc:
+            raise Diagnostic(
+                "IO-OPEN", f"cannot open program: {exc.strerror or exc}", Location(path)
+            ) from None
+        try:
+            text = data.decode("utf-8")
+        except UnicodeDecodeError:
+            text = data.decode("latin-1")
+        return cls(path, text)
+
+    def block(self, index: int) -> Block:
+        """The parsed block of line ``index`` (0-based)."""
+        if not self.caching:
+            return parse_block(self.line(index), self.name, index + 1)
+        found = self._blocks.get(index)
+        if found is None:
+            found = parse_block(self.line(index), self.name, index + 1)
+            if len(self._blocks) >= _CACHE:
+                self._blocks.popitem(last=False)
+            self._blocks[index] = found
+        return found
+
+    def head(self, index: int) -> str:
+        """The first keyword of a line (after N number and label), upper case, or ''."""
+        line = self.line(index)
+        semi = line.find(";")
+        m = _HEAD.match(line if semi < 0 else line[:semi])
+        return (m.group(2) or "").upper() if m else ""
+
+    # ------------------------------------------------------------------ jumps
+    def targets(self) -> dict[str, list[int]]:
+        """Line indexes of each label (``LAB1``) and block number (``N10``)."""
+        if self._targets is None:
+            found: dict[str, list[int]] = {}
+            index = 0
+            while self.has_line(index):
+                line = self.line(index)
+                m = _HEAD.match(line)
+                n = _NUMBER.match(line)
+                if n:
+                    found.setdefault(f"N{int(n.group(1))}", []).append(index)
+                if m and m.group(1):
+                    found.setdefault(m.group(1).upper(), []).append(index)
+                index += 1
+            self._targets = found
+        return self._targets
+
+    def jump(self, label: str, direction: str, here: int, loc: Location) -> int:
+        """The line a GOTOF/GOTOB/GOTO/GOTOC to ``label`` from line ``here`` continues at,
+        or -1 when GOTOC finds none (840D: GOTO searches forward first, then backward)."""
+        lines = self.targets().get(label, [])
+        forward = [i for i in lines if i > here]
+        backward = [i for i in lines if i < here]
+        if direction == "GOTOF" and forward:
+            return forward[0]
+        if direction == "GOTOB" and backward:
+            return backward[-1]
+        if direction in ("GOTO", "GOTOC"):
+            if forward:
+                return forward[0]
+            if backward:
+                return backward[-1]
+            if direction == "GOTOC":
+                return -1
+        where = {"GOTOF": "after this block", "GOTOB": "before this block"}
+        raise Diagnostic(
+            "SIEM-LABEL",
+            f"jump target {label} not found {where.get(direction, 'in the program')}",
+            loc,
+        )
+
+    # ------------------------------------------------------------------ structures
+    def structure(self, index: int, loc: Location) -> tuple[int, int | None]:
+        """(closing line, ELSE line or None) of the structure opened on line ``index``."""
+        found = self._ends.get(index)
+        if found is not None:
+            return found
+        opener = self.head(index)
+        closer = CLOSERS[opener]
+        stack: list[str] = []
+        other: int | None = None
+        i = index
+        while self.has_line(i + 1):
+            i += 1
+            head = self.head(i)
+            if head in CLOSERS and not (head == "IF" and _is_jump_if(self.line(i))):
+                stack.append(head)
+            elif head in CLOSERS.values():
+                if not stack:
+                    if head != closer:
+                        raise Diagnostic(
+                            "SIEM-STRUCTURE", f"{opener} closed by {head} on line {i + 1}", loc
+                        )
+                    self._ends[index] = (i, other)
+                    return i, other
+                top = stack.pop()
+                if CLOSERS[top] != head:
+                    raise Diagnostic(
+                        "SIEM-STRUCTURE",
+                        f"{top} closed by {head} on line {i + 1}",
+                        Location(self.name, i + 1, 1),
+                    )
+            elif head == "ELSE" and not stack and opener == "IF":
+                if other is not None:
+                    raise Diagnostic("SIEM-STRUCTURE", f"second ELSE on line {i + 1}", loc)
+                other = i
+        raise Diagnostic("SIEM-STRUCTURE", f"{opener} without {closer}", loc)
+
+
+def _is_jump_if(line: str) -> bool:
+    code = line.split(";", 1)[0].upper()
+    return re.search(r"\bGOTO[FBC]?\b", code) is not None
+
+
+def find_subprogram(name: str, search_path: tuple[str, ...], current: str) -> str | None:
+    """The file of subprogram ``name``: NAME.SPF (or .MPF, any case) on the search path,
+    then beside the calling program."""
+    dirs = [*search_path, os.path.dirname(os.path.abspath(current)) if current else "."]
+    for d in dirs:
+        for ext in (".SPF", ".spf", ".MPF", ".mpf"):
+            for stem in (name, name.lower()):
+                p = os.path.join(d, stem + ext)
+                if os.path.isfile(p):
+                    return p
+    return None

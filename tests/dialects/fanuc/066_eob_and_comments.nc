@@ -1,0 +1,7 @@
+%
+O0066 (SEMICOLON END OF BLOCK, SEQUENCE NUMBERS, BLANKS IN WORDS)
+N1 G21 G90 G17 ;
+N2 G 00 X 0 Y 0 ; (rapid)
+N3 G01 X 1 2 . 5 F100. (blanks are ignored)
+N4 M30 ;
+%

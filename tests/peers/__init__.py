@@ -1,0 +1,1 @@
+"""Independent peer readers (pygcode, cncjs's gcode-toolpath) run on our writers' output."""
