@@ -24,6 +24,7 @@ from cli.errors import guarded
 from gcode.convert_report import Change, ConversionReport
 from gcode.dialects import ALIASES, NAMES, get_dialect
 from gcode.emit import ARC_FORMATS, WriterOptions, write
+from gcode.readers import INPUTS, reader_name
 from kernel import canon
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
 
@@ -107,7 +108,7 @@ def source_language(path: str, dialect: str) -> str:
                 Location(path),
             )
         return dialect
-    return get_dialect(program_dialect(path, dialect)).name
+    return reader_name(program_dialect(path, dialect))
 
 
 def _refuse_existing(path: str | None, force: bool, what: str) -> None:
@@ -124,7 +125,9 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
     "src",
     default="auto",
     show_default=True,
-    type=click.Choice(["auto", "canon", "jsonl", "stepnc", *NAMES, *ALIASES], case_sensitive=False),
+    type=click.Choice(
+        ["auto", "canon", "jsonl", "stepnc", *INPUTS, *ALIASES], case_sensitive=False
+    ),
     help="input language (auto: canonical text, JSON lines and STEP-NC by content, "
     ".mpf/.spf Siemens, else rs274ngc)",
 )

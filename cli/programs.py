@@ -18,7 +18,8 @@ from pathlib import Path
 
 import click
 
-from gcode.dialects import ALIASES, NAMES
+from gcode.dialects import ALIASES
+from gcode.readers import INPUTS
 from gcode.tooltable import ToolTable, read_tool_table
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
@@ -151,9 +152,9 @@ dialect_option = click.option(
     "-d",
     default="auto",
     show_default=True,
-    type=click.Choice(["auto", *NAMES, *ALIASES], case_sensitive=False),
-    help="Language of G-code input: rs274ngc (LinuxCNC), nist_v3, fanuc, haas, grbl, "
-    "siemens840d, sandia; auto: by suffix (.mpf/.spf Siemens), else rs274ngc. Canonical "
+    type=click.Choice(["auto", *INPUTS, *ALIASES], case_sensitive=False),
+    help="Language of G-code input: rs274ngc (LinuxCNC), nist_v3, fanuc, fanuc_lathe, haas, "
+    "grbl, siemens840d, sandia; auto: by suffix (.mpf/.spf Siemens), else rs274ngc. Canonical "
     "text, JSON lines and Part 21 are recognised by content whatever this says.",
 )
 

@@ -177,6 +177,14 @@ def origin(w: BlockWriter, c: canon.SetOriginOffsets) -> None:
     if w.d.origin is None:
         w.lacking("CONV-ORIGIN", "program origin setting")
         return
+    if w.d.origin.startswith("G10") and "origin-table" not in w.noted:
+        w.noted.add("origin-table")  # once per program: the shop must know
+        w.change(
+            "CONV-ORIGIN",
+            "substituted",
+            "program origin (SET_ORIGIN_OFFSETS) written as G10 L2 P1: running the program "
+            "sets work offset 1 (G54) of the machine",
+        )
     t = w.target(c.x, c.y, c.z, c.a, c.b, c.c)
     words = [
         k + (w.fmt.angle(v) if k in "ABC" else w.fmt.length(v))

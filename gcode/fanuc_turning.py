@@ -2,7 +2,7 @@
 
 The Fanuc reader (gcode/dialects/fanuc_reader.py) resolves the words of a cycle call and,
 for G70-G73, the contour blocks P..Q, and calls :func:`cycle_moves`; it turns the returned
-:class:`LatheMove` list into canonical commands (interface: /tmp/brief/turning_api.md).
+:class:`LatheMove` list into canonical commands.
 Nothing here parses text. The cycles are listed in the book's Table A.1 (seed 004,
 Appendix A; research/seed-book-interp.md) and classified in Table 8.6 (single: G90, G92,
 G94; complex: G70-G76); the seeds give formats only, so each module states the 0i-TF

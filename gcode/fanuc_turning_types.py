@@ -1,5 +1,5 @@
 """Data shared by the Fanuc 0i-TF lathe cycles (gcode/fanuc_turning*.py): the contour step
-and lathe move records of the reader/cycle interface (/tmp/brief/turning_api.md), the
+and lathe move records of the reader/cycle interface, the
 machine parameters a first cycle block stands for, and word access with diameter handling.
 
 Coordinates are (x, z) with x a RADIUS in program length units; arcs lie in the ZX plane

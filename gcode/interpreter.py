@@ -8,7 +8,7 @@ G43/G49, G54-G59.3, G61/G61.1/G64, G90/G91, G90.1/G91.1, G98/G99, G10/G28/G30/G9
 motion (G0-G3, G5.x, G33, G38.x, G73-G89), then M0/M1/M2/M30/M60. O-word lines go to
 :mod:`gcode.oword`. Output matches LinuxCNC's ``rs274`` (``../shared/corpus/README.md``).
 
-Public API (``/tmp/brief/interp_api.md``): :func:`interpret`, :func:`interpret_text`,
+Public API: :func:`interpret`, :func:`interpret_text`,
 :class:`InterpreterOptions`.
 """
 

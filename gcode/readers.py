@@ -14,11 +14,14 @@ import importlib
 import os
 from collections.abc import Iterator
 from types import ModuleType
+from typing import TYPE_CHECKING
 
-from gcode.dialects import get_dialect
-from gcode.interpreter import InterpreterOptions
-from kernel import canon
+from gcode.dialects import NAMES, get_dialect
 from kernel.diagnostics import Diagnostic, Location
+
+if TYPE_CHECKING:  # the interpreter is imported with the first program read
+    from gcode.interpreter import InterpreterOptions
+    from kernel import canon
 
 #: the module reading each dialect (by its canonical name, gcode.dialects.NAMES)
 READER_MODULES: dict[str, str] = {
@@ -29,12 +32,23 @@ READER_MODULES: dict[str, str] = {
     "haas": "gcode.dialects.haas_reader",
     "siemens840d": "gcode.dialects.siemens840d_reader",
     "sandia": "gcode.dialects.sandia_reader",
+    # input only (no writer): the Fanuc reader in lathe mode (diameter X, U/W, G70-G76)
+    "fanuc_lathe": "gcode.dialects.fanuc_lathe_reader",
 }
+#: every name a program can be read in: the dialects and the input-only readers
+INPUTS: tuple[str, ...] = tuple(READER_MODULES)
+
+
+def reader_name(dialect: str) -> str:
+    """The canonical name of an input language (a dialect name or alias, or an
+    input-only reader such as ``fanuc_lathe``)."""
+    key = dialect.lower()
+    return key if key in READER_MODULES else get_dialect(key).name
 
 
 def reader_module(dialect: str) -> ModuleType:
     """The reader of ``dialect`` (a name or alias); ``CONV-READER`` if it has none."""
-    name = get_dialect(dialect).name
+    name = reader_name(dialect)
     module = READER_MODULES.get(name)
     if module is None:
         raise Diagnostic("CONV-READER", f"no reader for {name} programs")
@@ -47,9 +61,11 @@ def reader_module(dialect: str) -> ModuleType:
 
 
 def readable() -> tuple[str, ...]:
-    """The dialects that have a reader installed."""
+    """The dialects (writable too: gcode.dialects.NAMES) that have a reader installed."""
     names = []
     for name, module in READER_MODULES.items():
+        if name not in NAMES:
+            continue
         try:
             importlib.import_module(module)
         except ModuleNotFoundError:
@@ -66,11 +82,18 @@ def read(
         module = reader_module(dialect)
     except Diagnostic as exc:  # name the program the choice of dialect was made for
         raise Diagnostic(exc.code, exc.message, Location(os.fspath(path))) from None
-    return module.interpret(path, options or InterpreterOptions())
+    return module.interpret(path, options or _default_options())
 
 
 def read_text(
     text: str, dialect: str, name: str = "<input>", options: InterpreterOptions | None = None
 ) -> Iterator[canon.Command]:
     """Canonical commands of a program given as text (``name`` is used in locations)."""
-    return reader_module(dialect).interpret_text(text, name, options or InterpreterOptions())
+    module = reader_module(dialect)
+    return module.interpret_text(text, name, options or _default_options())
+
+
+def _default_options() -> InterpreterOptions:
+    from gcode.interpreter import InterpreterOptions
+
+    return InterpreterOptions()

@@ -1,6 +1,6 @@
 """Reader of Fanuc 0i/30i programs (milling; lathe mode with ``lathe=True``) into the IR.
 
-The contract of /tmp/brief/readers.md: :func:`interpret` and :func:`interpret_text` return
+The readers' contract (:mod:`gcode.readers`): :func:`interpret` and :func:`interpret_text` return
 generators of canonical commands and raise :class:`~kernel.diagnostics.Diagnostic`
 (``FANUC-*``) at the first error. Semantics: docs/readers/fanuc.md; implementation in
 :mod:`gcode.fanuc`.
