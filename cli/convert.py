@@ -23,7 +23,7 @@ import click
 from cli.errors import guarded
 from gcode.convert_report import Change, ConversionReport
 from gcode.dialects import ALIASES, NAMES, get_dialect
-from gcode.emit import ARC_FORMATS, WriterOptions, write
+from gcode.emit import ARC_FORMATS, CYCLE_MODES, WriterOptions, write
 from gcode.readers import INPUTS, reader_name
 from kernel import canon
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
@@ -64,9 +64,14 @@ def read_jsonl(path: str) -> Iterator[canon.Command]:
 
 
 def read_program(
-    path: str, dialect: str, tool_table: str | None, report: ConversionReport
+    path: str,
+    dialect: str,
+    tool_table: str | None,
+    report: ConversionReport,
+    cycle_marks: bool = False,
 ) -> Iterator[canon.Command]:
-    """The program at ``path`` as IR, read by the reader of ``dialect`` (gcode.readers)."""
+    """The program at ``path`` as IR, read by the reader of ``dialect`` (gcode.readers);
+    ``cycle_marks`` brackets canned-cycle expansions for a writer that keeps them."""
     from cli.programs import load_tool_table
 
     if dialect == "canon":
@@ -82,7 +87,7 @@ def read_program(
 
     table = load_tool_table(tool_table) if tool_table else None
     here = str(Path(path).resolve().parent)
-    options = InterpreterOptions(tool_table=table, search_path=(here,))
+    options = InterpreterOptions(tool_table=table, search_path=(here,), cycle_marks=cycle_marks)
     return read(path, dialect, options)
 
 
@@ -170,6 +175,14 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
     show_default=True,
     help="approximation tolerance (output length units)",
 )
+@click.option(
+    "--cycles",
+    type=click.Choice(CYCLE_MODES),
+    default="keep",
+    show_default=True,
+    help="drilling cycles (G73 G81-G83 G85 G89) as cycle blocks where the target has "
+    "them, or expanded into moves",
+)
 @click.option("--no-comments", is_flag=True, help="drop comments")
 @click.option(
     "--tool-table",
@@ -199,6 +212,7 @@ def command(
     no_frame: bool,
     on_missing: str,
     tolerance: float,
+    cycles: str,
     no_comments: bool,
     tool_table: str | None,
     report_path: str | None,
@@ -234,10 +248,12 @@ def command(
         on_missing=on_missing,
         tolerance=tolerance,
         comments=not no_comments,
+        cycles=cycles,
     )
     src = source_language(source, src.lower())
     report = ConversionReport(source_dialect=src, target_dialect=target.name)
-    lines = write(read_program(source, src, tool_table, report), target, opts, report)
+    ir = read_program(source, src, tool_table, report, cycles == "keep")
+    lines = write(ir, target, opts, report)
     if output:
         folder = os.path.dirname(os.path.abspath(output))
         fd, tmp = tempfile.mkstemp(prefix=".convert-", dir=folder)

@@ -6,6 +6,7 @@ Exit codes: 0 clean, 1 errors in the program(s), 2 usage or I/O error.
 from __future__ import annotations
 
 import functools
+import os
 import sys
 from collections.abc import Callable
 from typing import ParamSpec, TypeVar
@@ -17,6 +18,7 @@ from kernel.diagnostics import Diagnostic
 EXIT_OK = 0
 EXIT_PROGRAM_ERROR = 1
 EXIT_USAGE = 2
+EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE
 
 P = ParamSpec("P")
 R = TypeVar("R")
@@ -37,6 +39,12 @@ def guarded(func: Callable[P, R]) -> Callable[P, R]:
         except Diagnostic as diag:
             report(diag)
             sys.exit(EXIT_USAGE if diag.code.startswith("IO-") else EXIT_PROGRAM_ERROR)
+        except BrokenPipeError:
+            # the reader of standard output went away (``| head``): stop quietly with the
+            # status of a C tool killed by SIGPIPE, and keep Python from complaining at exit
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            sys.exit(EXIT_BROKEN_PIPE)
         except OSError as exc:
             name = getattr(exc, "filename", None) or ""
             click.echo(f"{name}: error[IO-ERROR]: {exc.strerror or exc}", err=True)

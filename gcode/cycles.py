@@ -20,6 +20,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from gcode.codes import Words
+from gcode.cycle_marks import CycleEnd, CycleStart
 from gcode.motion import AXES, PLANE_AXES
 from kernel import canon
 from kernel.canon import Direction, MotionMode, Units
@@ -158,6 +159,24 @@ def canned_cycle(ip: Interpreter, w: Words, code: int, previous: int | None) -> 
     if code == 740 and s.spindle is not Direction.COUNTERCLOCKWISE:
         raise Diagnostic("NGC-CYCLE-SPINDLE", "spindle not turning counterclockwise in G74", loc)
 
+    marks = ip.options.cycle_marks
+    if marks:
+        ip.emit(
+            CycleStart(
+                code,
+                s.plane,
+                s.retract_r,
+                a1 + inc1,
+                a2 + inc2,
+                r,
+                bottom,
+                c.q,
+                c.p,
+                repeats,
+                (inc1, inc2),
+                source=loc,
+            )
+        )
     if old < r:
         cyc.traverse(pos[f1], pos[f2], r)
         old = height = r
@@ -180,6 +199,8 @@ def canned_cycle(ip: Interpreter, w: Words, code: int, previous: int | None) -> 
     if exact:
         words = Words(values={"p": s.blend_p, "q": s.blend_q})
         ip._control_mode(s.control_mode, words, check=False)
+    if marks:
+        ip.emit(CycleEnd(tuple(s.pos), source=loc))
 
 
 PLANE_CENTRE_LETTERS = {

@@ -19,6 +19,7 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 from gcode.convert_report import Change, ConversionReport
+from gcode.cycle_marks import CycleEnd
 from gcode.dialects import get_dialect
 from gcode.dialects.spec import Dialect
 from gcode.emit_state import Formatter
@@ -28,6 +29,7 @@ from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
 
 ARC_FORMATS = ("ijk", "ijk-abs", "r")
+CYCLE_MODES = ("keep", "expand")
 _PLAIN_MOTIONS = frozenset({canon.StraightFeed, canon.StraightTraverse, canon.ArcFeed})
 
 
@@ -45,6 +47,7 @@ class WriterOptions:
     on_missing: str = "approximate"  # approximate | refuse
     tolerance: float = 0.001  # approximation tolerance, output length units
     comments: bool = True
+    cycles: str = "expand"  # keep: drilling cycles as cycle blocks where the target has them
 
 
 def write(
@@ -60,6 +63,8 @@ def write(
         raise Diagnostic("CONV-OPTION", f"arc format {opts.arc_format!r}: use {ARC_FORMATS}")
     if opts.on_missing not in ("approximate", "refuse") or opts.tolerance <= 0:
         raise Diagnostic("CONV-OPTION", "on_missing is approximate or refuse; tolerance > 0")
+    if opts.cycles not in CYCLE_MODES:
+        raise Diagnostic("CONV-OPTION", f"cycles {opts.cycles!r}: use {CYCLE_MODES}")
     if d.structure == "commands":
         from gcode.dialects.sandia import SandiaWriter
 
@@ -114,6 +119,8 @@ class BlockWriter:
         self.words.update({k: k + self.fmt.angle(0.0) for k in "ABC"})  # rotaries start at 0
         self.started = False
         self.noted: set[str] = set()
+        self.cycle: tuple[object, ...] | None = None  # the modal cycle block last written
+        self.skipping = False  # inside a kept cycle's moves (gcode.emit_cycles)
         self.dirty = True
 
     # ------------------------------------------------------------------ output
@@ -173,6 +180,8 @@ class BlockWriter:
             self.src = cmd.source
             if self.ended:
                 continue  # LinuxCNC prints M2's resets after it: nothing more to write
+            if self.skipping and type(cmd) is not CycleEnd:
+                continue  # a kept cycle's own moves: the target expands the block itself
             if self.pending_select is not None and not isinstance(
                 cmd, canon.ChangeTool | canon.Comment
             ):

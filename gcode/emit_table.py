@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from gcode.cycle_marks import CycleEnd, CycleStart
 from gcode.emit_curves import ellipse, nurbs
+from gcode.emit_cycles import cycle_end, cycle_start
 from gcode.emit_extras import BY_NAME
 from gcode.emit_handlers import (
     arc,
@@ -43,6 +45,8 @@ from gcode.emit_handlers import (
 from kernel import canon
 
 HANDLERS: dict[type, Callable] = {
+    CycleStart: cycle_start,
+    CycleEnd: cycle_end,
     canon.InitCanon: ignore,
     canon.EndCanon: ignore,
     canon.TurnProbeOn: ignore,

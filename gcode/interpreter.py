@@ -42,6 +42,7 @@ class InterpreterOptions:
     search_path: tuple[str, ...] = ()  # subroutine file search path
     linuxcnc_compat: bool = True  # emit LinuxCNC-only commands as rs274 does
     fast_lane: bool = True  # large files: plain CAM lines through gcode.fastlane (compiled)
+    cycle_marks: bool = False  # bracket canned-cycle expansions (gcode.cycle_marks)
 
 
 def interpret(

@@ -137,3 +137,20 @@ def test_from_json_lines_keeps_source_lines_for_the_report(tmp_path: Path) -> No
     bad.write_text('{"cmd": "STRAIGHT_FEED", "x": 1}\nnot json\n')
     result = run(str(bad), "--from", "jsonl", "--to", "fanuc")
     assert result.exit_code == 1 and "bad.jsonl:" in result.output
+
+
+def test_a_closed_pipe_stops_quietly(tmp_path: Path) -> None:
+    """``cnc convert big.ngc --to fanuc | head``: no traceback, no error message, the
+    status of a tool stopped by SIGPIPE."""
+    import subprocess
+    import sys
+
+    src = tmp_path / "big.ngc"
+    src.write_text("G21 G90\n" + "".join(f"G1 X{i} Y{i % 7} F500\n" for i in range(50000)) + "M2\n")
+    cmd = [sys.executable, "-c", "from cli.main import main; main()", "convert", str(src)]
+    proc = subprocess.Popen([*cmd, "--to", "fanuc"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert proc.stdout is not None and proc.stderr is not None
+    assert proc.stdout.readline() == b"%\n"
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=60) == 141 and err == ""

@@ -18,6 +18,7 @@ from pathlib import Path
 import pytest
 
 import tests.canon_equiv as canon_equiv
+import tests.test_convert_cycles_keep as cycles_keep
 from cli.convert import read_canon
 from gcode.convert_report import ConversionReport
 from gcode.emit import WriterOptions, write
@@ -70,3 +71,21 @@ def test_from_canon_text_through_rs274(canon_file: Path, arc_format: str, tmp_pa
         return
     ours = rs274(text + "\n", canon_file.parent / "sim.tbl", tmp_path)
     assert canon_equiv.compare(ours, text_in.splitlines()) == []
+
+
+CYCLE_PROGRAMS = [pytest.param(p, id=p.stem) for p in cycles_keep.PROGRAMS]
+
+
+@pytest.mark.parametrize("program", CYCLE_PROGRAMS)
+def test_rs274_expands_our_kept_cycles_as_the_original(program: Path, tmp_path: Path) -> None:
+    """``--cycles keep``: the cycle blocks we write make ``rs274`` print the canon it prints
+    for the original program."""
+    ir = cycles_keep.marked_ir(program)
+    if ir is None:
+        pytest.skip("the interpreter rejects this program")
+    report = ConversionReport()
+    opts = WriterOptions(decimals=6, cycles="keep")
+    text = "\n".join(write(ir, "rs274ngc", opts, report)) + "\n"
+    ours = rs274(text, program.parent / "sim.tbl", tmp_path)
+    expected = program.with_suffix(".canon").read_text().splitlines()
+    assert canon_equiv.compare(ours, expected) == []

@@ -39,6 +39,7 @@ DIALECT = Dialect(
     css="G92 S{max}|G96 S{speed}",
     tool_change="M06",
     tool_length="G10 L10 P{tool} R{length}|G43 H{tool}",
+    cycle_dwell_ms=True,
     origin="G10 L2 P1 {axes}",
     mist="M07",
     flood="M08",

@@ -54,6 +54,7 @@ DIALECT = Dialect(
     io_codes=False,
     xy_rotation=None,  # G68 rotates the commanded path itself; the IR keeps it apart
     cutter_comp=None,
+    cycle_dwell_ms=True,
     notes=(
         "NURBS, ELLIPSE_FEED: approximated by arcs/lines",
         "G33 threading: not on Haas mills (refused)",

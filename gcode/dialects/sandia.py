@@ -52,6 +52,7 @@ DIALECT = Dialect(
     rigid_tap=None,
     io_codes=False,
     local_offset=None,
+    cycles=frozenset(),
     origin=None,
     notes=(
         "no arcs, NURBS or ellipses: chords within the tolerance",
@@ -326,7 +327,7 @@ class SandiaWriter:
             | canon.TurnProbeOn
             | canon.TurnProbeOff
             | canon.SetTraverseRate,
-        ) or c.NAME in ("ON_RESET", "START_CHANGE", "FINISH"):
+        ) or c.NAME in ("ON_RESET", "START_CHANGE", "FINISH", "CANNED_CYCLE", "CANNED_CYCLE_END"):
             return True
         key, value = {
             "SET_SPINDLE_MODE": ("css", getattr(c, "css", False)),

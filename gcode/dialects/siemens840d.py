@@ -43,6 +43,7 @@ DIALECT = Dialect(
     tool_change="M6 D0",
     tool_length="D1",
     tool_length_off="D0",
+    cycles=frozenset(),
     origin="TRANS {axes}",
     feed_override=None,
     speed_override=None,

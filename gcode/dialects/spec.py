@@ -74,6 +74,12 @@ class Dialect:
     tool_change: str | None = "M6"
     tool_length: str | None = "G43.1 Z{length}"  # or "G10 L10 P{tool} R{length}|G43 H{tool}"
     tool_length_off: str = "G49"
+    # ---- canned cycles kept by ``--cycles keep`` (gcode.cycle_marks): the drilling cycles
+    # whose motion is the same in this dialect as in RS274/NGC; (G98, G99) retract codes;
+    # the dwell P of a cycle in milliseconds (Fanuc) instead of seconds
+    cycles: frozenset[str] = frozenset({"G73", "G81", "G82", "G83", "G85", "G89"})
+    cycle_retract: tuple[str, str] = ("G98", "G99")
+    cycle_dwell_ms: bool = False
     origin: str | None = "G10 L2 P1 {axes}"
     work_offsets: tuple[str, ...] = (
         "G54",
