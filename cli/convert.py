@@ -69,9 +69,11 @@ def read_program(
     tool_table: str | None,
     report: ConversionReport,
     cycle_marks: bool = False,
+    keep_cutter_comp: bool = False,
 ) -> Iterator[canon.Command]:
     """The program at ``path`` as IR, read by the reader of ``dialect`` (gcode.readers);
-    ``cycle_marks`` brackets canned-cycle expansions for a writer that keeps them."""
+    ``cycle_marks`` brackets canned-cycle expansions for a writer that keeps them, and
+    ``keep_cutter_comp`` leaves G41/G42 to the target (gcode.comp_keep)."""
     from cli.programs import load_tool_table
 
     if dialect == "canon":
@@ -87,7 +89,12 @@ def read_program(
 
     table = load_tool_table(tool_table) if tool_table else None
     here = str(Path(path).resolve().parent)
-    options = InterpreterOptions(tool_table=table, search_path=(here,), cycle_marks=cycle_marks)
+    options = InterpreterOptions(
+        tool_table=table,
+        search_path=(here,),
+        cycle_marks=cycle_marks,
+        keep_cutter_comp=keep_cutter_comp,
+    )
     return read(path, dialect, options)
 
 
@@ -183,6 +190,14 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
     help="drilling cycles (G73 G81-G83 G85 G89) as cycle blocks where the target has "
     "them, or expanded into moves",
 )
+@click.option(
+    "--cutter-comp",
+    type=click.Choice(["keep", "apply"]),
+    default="keep",
+    show_default=True,
+    help="G41/G42 kept with the programmed path where the target has cutter compensation "
+    "(LinuxCNC by value, Fanuc/Haas with the radius set by G10 L12), or applied here",
+)
 @click.option("--no-comments", is_flag=True, help="drop comments")
 @click.option(
     "--tool-table",
@@ -213,6 +228,7 @@ def command(
     on_missing: str,
     tolerance: float,
     cycles: str,
+    cutter_comp: str,
     no_comments: bool,
     tool_table: str | None,
     report_path: str | None,
@@ -252,7 +268,8 @@ def command(
     )
     src = source_language(source, src.lower())
     report = ConversionReport(source_dialect=src, target_dialect=target.name)
-    ir = read_program(source, src, tool_table, report, cycles == "keep")
+    keep_comp = cutter_comp == "keep" and target.cutter_comp is not None
+    ir = read_program(source, src, tool_table, report, cycles == "keep", keep_comp)
     lines = write(ir, target, opts, report)
     if output:
         folder = os.path.dirname(os.path.abspath(output))

@@ -112,6 +112,7 @@ class BlockWriter:
         self.e_local: tuple[float, ...] = (0.0,) * 6
         self.frame: tuple[str, ...] = ()  # the blocks of the last frame written (_frame)
         self.comp_radius = 0.0
+        self.comp_on = False  # G41/G42 written and not yet G40
         self.motion: str | None = None
         # positions in output units: the IR's (exact) and what the text set (rounded)
         self.cur = dict.fromkeys("XYZABC", 0.0)

@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from gcode.emit_handlers import ignore, tool_length
+from gcode.emit_handlers import comp_active, ignore, tool_length
 from kernel import canon
 
 if TYPE_CHECKING:
@@ -30,6 +30,7 @@ def work_offset(w: BlockWriter, c: canon.Command) -> None:
     index = int(c.index)  # type: ignore[attr-defined]
     if index == w.e_work:
         return
+    comp_active(w, "work offset change")
     w.flush()
     w.invalidate()
     w.e_work = index
@@ -45,6 +46,7 @@ def local_offset(w: BlockWriter, c: canon.Command) -> None:
     values = tuple(getattr(c, k) for k in "xyzabc")
     if all(abs(a - b) < 1e-12 for a, b in zip(values, w.e_local, strict=True)):
         return
+    comp_active(w, "offset change")
     w.flush()
     w.invalidate()
     w.e_local = values

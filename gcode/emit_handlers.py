@@ -242,18 +242,46 @@ def comp_radius(w: BlockWriter, c: canon.SetCutterRadiusCompensation) -> None:
 
 
 def comp_start(w: BlockWriter, c: canon.StartCutterRadiusCompensation) -> None:
+    """G41/G42 with the radius of SET_CUTTER_RADIUS_COMPENSATION: by value (LinuxCNC
+    G41.1 D diameter), or written into the offset register of the tool in the spindle
+    first (Fanuc, Haas: G10 L12, then G41 D), which the report says."""
     if w.d.cutter_comp is None:
-        w.refuse("CONV-CUTTER-COMP", f"cutter compensation by value: not in {w.d.title}")
+        w.refuse(
+            "CONV-CUTTER-COMP",
+            f"{w.d.title} has no cutter compensation; convert with --cutter-comp apply",
+        )
     w.flush()
     left, right = w.d.cutter_comp  # type: ignore[misc]
     code = left if c.side == canon.CompSide.LEFT else right
-    diameter = 2 * w.comp_radius
-    w.block(code, "D" + w.fmt.length(diameter))
+    register = w.tool or 1
+    if w.d.comp_radius_set is not None:
+        radius = w.fmt.length(w.comp_radius)
+        w.block(w.d.comp_radius_set.format(register=register, radius=radius))
+        w.change(
+            "CONV-CUTTER-COMP",
+            "substituted",
+            f"compensation radius {radius} written into offset register {register} (the "
+            "program sets it; adjust wear there)",
+        )
+    word = w.d.comp_word.format(register=register, diameter=w.fmt.length(2 * w.comp_radius))
+    w.block(code, word)
+    w.comp_on = True
+
+
+def comp_active(w: BlockWriter, what: str) -> None:
+    """Controls refuse an offset change while G41/G42 is on (LinuxCNC, Fanuc): a program
+    whose compensation was kept cannot say it; applying compensation can."""
+    if w.comp_on:
+        w.refuse(
+            "CONV-CUTTER-COMP",
+            f"{what} with cutter compensation on: convert with --cutter-comp apply",
+        )
 
 
 def comp_stop(w: BlockWriter, c: canon.StopCutterRadiusCompensation) -> None:
     w.flush()
     w.block("G40")
+    w.comp_on = False
 
 
 # ---------------------------------------------------------------------- motions

@@ -43,6 +43,7 @@ class InterpreterOptions:
     linuxcnc_compat: bool = True  # emit LinuxCNC-only commands as rs274 does
     fast_lane: bool = True  # large files: plain CAM lines through gcode.fastlane (compiled)
     cycle_marks: bool = False  # bracket canned-cycle expansions (gcode.cycle_marks)
+    keep_cutter_comp: bool = False  # G41/G42 as canonical commands (gcode.comp_keep)
 
 
 def interpret(

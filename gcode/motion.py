@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 from gcode import arcs
 from gcode import linuxcnc as lc
 from gcode.codes import Words
+from gcode.comp_keep import KeptCompensation
 from gcode.cutter_comp import CutterCompensator
 from gcode.state import INCH_MM, Setup
 from kernel import canon
@@ -456,7 +457,8 @@ def cutter_comp_mode(ip: Interpreter, w: Words) -> None:
     code = w.g[7]
     loc = ip.loc
     if ip.comp is None:
-        ip.comp = CutterCompensator(comments=ip.compat)
+        kind = KeptCompensation if ip.options.keep_cutter_comp else CutterCompensator
+        ip.comp = kind(comments=ip.compat)
         ip.comp.set_units(s.units is Units.INCHES)
     comp: CutterCompensator = ip.comp  # type: ignore[assignment]
     if code == 400:

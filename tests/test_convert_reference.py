@@ -18,6 +18,7 @@ from pathlib import Path
 import pytest
 
 import tests.canon_equiv as canon_equiv
+import tests.test_convert_comp_keep as comp_keep
 import tests.test_convert_cycles_keep as cycles_keep
 from cli.convert import read_canon
 from gcode.convert_report import ConversionReport
@@ -86,6 +87,26 @@ def test_rs274_expands_our_kept_cycles_as_the_original(program: Path, tmp_path: 
     report = ConversionReport()
     opts = WriterOptions(decimals=6, cycles="keep")
     text = "\n".join(write(ir, "rs274ngc", opts, report)) + "\n"
+    ours = rs274(text, program.parent / "sim.tbl", tmp_path)
+    expected = program.with_suffix(".canon").read_text().splitlines()
+    assert canon_equiv.compare(ours, expected) == []
+
+
+COMP_PROGRAMS = [pytest.param(p, id=p.stem) for p in comp_keep.PROGRAMS]
+
+
+@pytest.mark.parametrize("program", COMP_PROGRAMS)
+def test_rs274_compensates_our_kept_g41_as_the_original(program: Path, tmp_path: Path) -> None:
+    """``--cutter-comp keep``: our G41.1/G42.1 with the programmed path make ``rs274`` print
+    the compensated canon it prints for the original program."""
+    ir = comp_keep.kept_ir(program)
+    if ir is None:
+        pytest.skip("the interpreter rejects this program")
+    try:
+        text = "\n".join(write(ir, "rs274ngc", WriterOptions(decimals=6))) + "\n"
+    except Diagnostic as exc:  # an offset change under kept compensation
+        assert exc.code == "CONV-CUTTER-COMP" and exc.location.line > 0
+        return
     ours = rs274(text, program.parent / "sim.tbl", tmp_path)
     expected = program.with_suffix(".canon").read_text().splitlines()
     assert canon_equiv.compare(ours, expected) == []

@@ -411,19 +411,28 @@ def test_siemens_message_quotes_are_kept_inside_msg():
     assert out[-1] == "MSG(\"say 'hi'\")"
 
 
-def test_cutter_compensation_by_value_only_where_the_dialect_has_it():
+def test_cutter_compensation_by_value_register_or_refused():
+    """LinuxCNC states the radius by value (G41.1 D diameter); Fanuc and Haas put it in the
+    offset register of the tool in the spindle (G10 L12 P R, then G41 D); Grbl has none."""
     cmds = [
         MM,
+        c.SetFeedRate(10),
+        c.ChangeTool(4),
         c.SetCutterRadiusCompensation(2.5),
         c.StartCutterRadiusCompensation(c.CompSide.LEFT),
         c.StraightFeed(1, 0, 0),
         c.StopCutterRadiusCompensation(),
     ]
-    out = emit([*cmds[:1], c.SetFeedRate(10), *cmds[1:]], "rs274ngc")
-    assert out[3:7] == ["G41.1 D5", "G1 X1 Y0 Z0 F10", "G40", "%"]
+    out = emit(cmds, "rs274ngc")
+    assert out[-5:] == ["T4 M6", "G41.1 D5", "G1 X1 Y0 Z0 F10", "G40", "%"]
+    report = ConversionReport()
+    fanuc = emit(cmds, "fanuc", report)
+    i = fanuc.index("G10 L12 P4 R2.5")
+    assert fanuc[i + 1 : i + 4] == ["G41 D4", "G01 X1. Y0. Z0. F10.", "G40"]
+    assert [ch.code for ch in report.changes] == ["CONV-CUTTER-COMP"]
     with pytest.raises(Diagnostic) as err:
-        emit(cmds, "fanuc")
-    assert err.value.code == "CONV-CUTTER-COMP"
+        emit(cmds, "grbl")
+    assert err.value.code == "CONV-CUTTER-COMP" and "--cutter-comp apply" in err.value.message
 
 
 def test_nurbs_without_data_is_refused_with_its_location():

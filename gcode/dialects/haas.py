@@ -53,7 +53,9 @@ DIALECT = Dialect(
     rigid_tap=None,
     io_codes=False,
     xy_rotation=None,  # G68 rotates the commanded path itself; the IR keeps it apart
-    cutter_comp=None,
+    cutter_comp=("G41", "G42"),
+    comp_word="D{register}",
+    comp_radius_set="G10 L12 P{register} R{radius}",
     cycle_dwell_ms=True,
     notes=(
         "NURBS, ELLIPSE_FEED: approximated by arcs/lines",
