@@ -154,3 +154,33 @@ def test_a_closed_pipe_stops_quietly(tmp_path: Path) -> None:
     proc.stdout.close()
     err = proc.stderr.read().decode()
     assert proc.wait(timeout=60) == 141 and err == ""
+
+
+DRILL_AND_CONTOUR = (
+    "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X-10 Y-10 Z5\nG99 G81 X0 Y0 Z-3 R1 F100\nG0 X-10 Y-10 Z5\n"
+    "G1 Z-1 F200\nG41.1 D6 G1 X0 Y0\nX40\nY30\nG40 G1 X50 Y40\nG0 Z5\nM2\n"
+)
+
+
+def test_cycles_and_compensation_are_kept_by_default_and_expanded_on_request(
+    tmp_path: Path,
+) -> None:
+    src = tmp_path / "p.ngc"
+    src.write_text(DRILL_AND_CONTOUR)
+    kept = run(str(src), "--to", "fanuc", "--no-frame")
+    assert kept.exit_code == 0, kept.output
+    assert "G99 G81 X0. Y0. Z-3. R1. F100." in kept.output
+    assert "G41 D1" in kept.output and "note[CONV-CUTTER-COMP]" in kept.output
+    plain = run(str(src), "--to", "fanuc", "--no-frame", "--cycles", "expand")
+    assert "G81" not in plain.output and "G01 Z-3." in plain.output
+    applied = run(str(src), "--to", "fanuc", "--cutter-comp", "apply")
+    assert applied.exit_code == 0 and "G41" not in applied.output and "G40" not in applied.output
+    grbl = run(str(src), "--to", "grbl")  # no cycles, no compensation: both applied here
+    assert grbl.exit_code == 0, grbl.output
+    assert "G41" not in grbl.output and "note[CONV-CYCLE]" in grbl.output
+    bad = tmp_path / "short.ngc"  # entry move shorter than the radius: refused as rs274 does
+    bad.write_text(DRILL_AND_CONTOUR.replace("G41.1 D6 G1 X0 Y0", "G41.1 D6 G1 X-9 Y-9"))
+    refused = run(str(bad), "--to", "fanuc")
+    assert refused.exit_code == 1 and "short.ngc:8:1: error[NGC-COMP-ENTRY-TOO-SHORT]" in (
+        refused.output
+    )

@@ -25,6 +25,7 @@ from gcode.readers import read_text
 from kernel import canon
 from kernel.diagnostics import Diagnostic
 from tests.convert_support import fine_text, options, programs, read_ir
+from tests.test_ngc_cutter_comp import ERROR_PROGRAMS
 
 COMP = re.compile(r"G\s*4[12](?![0-9])", re.IGNORECASE)
 PROGRAMS = [p for p in programs() if COMP.search(p.read_text(errors="replace"))]
@@ -49,8 +50,9 @@ def test_programs_with_compensation_are_there() -> None:
 @pytest.mark.parametrize("program", PROGRAMS, ids=lambda p: p.stem)
 def test_kept_compensation_reads_back_as_the_compensated_path(program: Path, dialect: str):
     ir, applied = kept_ir(program), read_ir(program)
-    if ir is None or applied is None:
-        assert (ir is None) == (applied is None) or applied is None
+    # keep mode refuses exactly what applying refuses (its shadow compensator checks)
+    assert (ir is None) == (applied is None)
+    if ir is None:
         pytest.skip("the interpreter rejects this program")
     report = ConversionReport()
     try:
@@ -95,3 +97,13 @@ def test_fanuc_gets_the_radius_in_a_register_and_the_report_says_so() -> None:
     (change,) = report.changes
     assert change.code == "CONV-CUTTER-COMP" and change.source.line == 6
     assert "G41.1 D6\nX0 Y0\n" in "\n".join(write(ir, "rs274ngc"))
+
+
+@pytest.mark.parametrize(("text", "code", "line"), ERROR_PROGRAMS)
+def test_keep_mode_refuses_what_rs274_refuses_at_the_same_line(text: str, code: str, line: int):
+    """The error programs of tests/test_ngc_cutter_comp.py (rs274's code and line): the
+    shadow compensator makes keep mode stop exactly where applying compensation stops."""
+    keep = dataclasses.replace(options(PROGRAMS[0]), keep_cutter_comp=True)
+    with pytest.raises(Diagnostic) as exc:
+        list(interpret_text(text, "e.ngc", keep))
+    assert (exc.value.code, exc.value.location.line) == (code, line)
