@@ -268,7 +268,8 @@ def command(
     )
     src = source_language(source, src.lower())
     report = ConversionReport(source_dialect=src, target_dialect=target.name)
-    keep_comp = cutter_comp == "keep" and target.cutter_comp is not None
+    has_comp = target.cutter_comp is not None or target.comp_register is not None
+    keep_comp = cutter_comp == "keep" and has_comp
     ir = read_program(source, src, tool_table, report, cycles == "keep", keep_comp)
     lines = write(ir, target, opts, report)
     if output:

@@ -17,11 +17,24 @@ it.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import ClassVar
 
 from gcode.comp_rules import LEFT, ToolLookup, comp_setting
 from gcode.cutter_comp import CutterCompensator
 from kernel import canon
 from kernel.diagnostics import Location
+
+
+@dataclass(frozen=True, slots=True)
+class CompRegister(canon.Command):
+    """Where a kept G41/G42 takes its radius: the tool-table entry / offset register
+    ``register`` (G41 D n, or the tool in the spindle without D), or None for a radius
+    given by value (G41.1 D diameter). Emitted just before SET_CUTTER_RADIUS_COMPENSATION
+    so a writer can keep ``D n`` instead of stating the value."""
+
+    NAME: ClassVar[str] = "CUTTER_COMP_REGISTER"
+    register: int | None
 
 
 class KeptCompensation(CutterCompensator):

@@ -113,6 +113,7 @@ class BlockWriter:
         self.frame: tuple[str, ...] = ()  # the blocks of the last frame written (_frame)
         self.comp_radius = 0.0
         self.comp_on = False  # G41/G42 written and not yet G40
+        self.comp_register: int | None = None  # the next G41/G42's D register (CompRegister)
         self.motion: str | None = None
         # positions in output units: the IR's (exact) and what the text set (rounded)
         self.cur = dict.fromkeys("XYZABC", 0.0)
@@ -184,8 +185,8 @@ class BlockWriter:
             if self.skipping and type(cmd) is not CycleEnd:
                 continue  # a kept cycle's own moves: the target expands the block itself
             if self.pending_select is not None and not isinstance(
-                cmd, canon.ChangeTool | canon.Comment
-            ):
+                cmd, canon.ChangeTool | canon.Comment | canon.StartChange | canon.StopSpindleTurning
+            ):  # T alone only when no change follows (M6 is SELECT, START_CHANGE, ...)
                 self.block(f"T{self.pending_select}")
                 self.pending_select = None
             if type(cmd) not in _PLAIN_MOTIONS:

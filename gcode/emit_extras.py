@@ -115,15 +115,23 @@ def tool_offsets(w: BlockWriter, c: canon.Command) -> None:
 
 
 def tool_table(w: BlockWriter, c: canon.Command) -> None:
+    """SET_TOOL_TABLE_ENTRY as G10 L1. Its values are in the tool table's units, inches
+    (LinuxCNC's ``rs274`` and gcode.interpreter), whatever the program's units: they are
+    written in the program's, after the units word."""
     if w.d.tool_table_set is None:
         w.lacking("CONV-TOOL-LENGTH", "tool table edit (G10 L1)", note=False)
         return
-    axes = _axis_list(w, tuple(c.offset[:6]))  # type: ignore[attr-defined]
+    w.flush()
+    table = 25.4 if w.units is canon.Units.MM else 1.0  # inch -> program units
+    offset = tuple(v * table for v in c.offset[:6])  # type: ignore[attr-defined]
+    radius = c.diameter / 2 * table * w.fmt.scale  # type: ignore[attr-defined]
     w.block(
         w.d.tool_table_set.format(
-            tool=c.tool, axes=axes, radius=w.fmt.length(c.diameter / 2 * w.fmt.scale)
+            tool=c.tool,  # type: ignore[attr-defined]
+            axes=_axis_list(w, offset),
+            radius=w.fmt.length(radius),
         )
-    )  # type: ignore[attr-defined]
+    )
 
 
 def tool_number(w: BlockWriter, c: canon.Command) -> None:

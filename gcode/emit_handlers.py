@@ -12,6 +12,7 @@ import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from gcode.comp_keep import CompRegister
 from gcode.emit_state import PLANE_AXES
 from kernel import canon
 
@@ -241,30 +242,48 @@ def comp_radius(w: BlockWriter, c: canon.SetCutterRadiusCompensation) -> None:
     w.comp_radius = c.radius * w.fmt.scale
 
 
+def comp_register(w: BlockWriter, c: CompRegister) -> None:
+    w.comp_register = c.register
+
+
 def comp_start(w: BlockWriter, c: canon.StartCutterRadiusCompensation) -> None:
-    """G41/G42 with the radius of SET_CUTTER_RADIUS_COMPENSATION: by value (LinuxCNC
-    G41.1 D diameter), or written into the offset register of the tool in the spindle
-    first (Fanuc, Haas: G10 L12, then G41 D), which the report says."""
-    if w.d.cutter_comp is None:
+    """G41/G42 kept: with the source's register where the reader said which (``G41 D1``:
+    the target's table or offset register supplies the radius, as on the source), else
+    with the radius of SET_CUTTER_RADIUS_COMPENSATION by value (LinuxCNC G41.1 D diameter)
+    or written into the register of the tool in the spindle first (Fanuc, Haas: G10 L12,
+    then G41 D; reported, since it changes the machine's offset memory)."""
+    register, w.comp_register = w.comp_register, None
+    left = c.side == canon.CompSide.LEFT
+    w.flush()
+    if register is not None and w.d.comp_register is not None:
+        w.block(w.d.comp_register[0 if left else 1], f"D{register}")
+        if w.d.comp_radius_set is not None and "comp-register" not in w.noted:
+            w.noted.add("comp-register")
+            w.change(
+                "CONV-CUTTER-COMP",
+                "substituted",
+                f"G41/G42 D{register}: the radius comes from the machine's offset register "
+                f"(the source's tool table gave {w.fmt.length(w.comp_radius)})",
+            )
+    elif w.d.cutter_comp is not None:
+        diameter = w.fmt.length(2 * w.comp_radius)
+        w.block(w.d.cutter_comp[0 if left else 1], "D" + diameter)
+    elif w.d.comp_radius_set is not None and w.d.comp_register is not None:
+        register = w.tool or 1
+        radius = w.fmt.length(w.comp_radius)
+        w.block(w.d.comp_radius_set.format(register=register, radius=radius))
+        w.block(w.d.comp_register[0 if left else 1], f"D{register}")
+        w.change(
+            "CONV-CUTTER-COMP",
+            "substituted",
+            f"compensation radius {radius} by value written into offset register {register} "
+            "(G10 L12): running the program changes that register",
+        )
+    else:
         w.refuse(
             "CONV-CUTTER-COMP",
             f"{w.d.title} has no cutter compensation; convert with --cutter-comp apply",
         )
-    w.flush()
-    left, right = w.d.cutter_comp  # type: ignore[misc]
-    code = left if c.side == canon.CompSide.LEFT else right
-    register = w.tool or 1
-    if w.d.comp_radius_set is not None:
-        radius = w.fmt.length(w.comp_radius)
-        w.block(w.d.comp_radius_set.format(register=register, radius=radius))
-        w.change(
-            "CONV-CUTTER-COMP",
-            "substituted",
-            f"compensation radius {radius} written into offset register {register} (the "
-            "program sets it; adjust wear there)",
-        )
-    word = w.d.comp_word.format(register=register, diameter=w.fmt.length(2 * w.comp_radius))
-    w.block(code, word)
     w.comp_on = True
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from gcode.comp_keep import CompRegister
 from gcode.cycle_marks import CycleEnd, CycleStart
 from gcode.emit_curves import ellipse, nurbs
 from gcode.emit_cycles import cycle_end, cycle_start
@@ -13,6 +14,7 @@ from gcode.emit_handlers import (
     change_tool,
     comment,
     comp_radius,
+    comp_register,
     comp_start,
     comp_stop,
     coolant,
@@ -47,6 +49,7 @@ from kernel import canon
 HANDLERS: dict[type, Callable] = {
     CycleStart: cycle_start,
     CycleEnd: cycle_end,
+    CompRegister: comp_register,
     canon.InitCanon: ignore,
     canon.EndCanon: ignore,
     canon.TurnProbeOn: ignore,

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 from gcode import arcs
 from gcode import linuxcnc as lc
 from gcode.codes import Words
-from gcode.comp_keep import KeptCompensation
+from gcode.comp_keep import CompRegister, KeptCompensation
 from gcode.cutter_comp import CutterCompensator
 from gcode.state import INCH_MM, Setup
 from kernel import canon
@@ -475,5 +475,10 @@ def cutter_comp_mode(ip: Interpreter, w: Words) -> None:
         return tool.diameter * scale, tool.orientation
 
     name = _g(code)
+    if isinstance(comp, KeptCompensation):
+        d = v.get("d")
+        by_value = name.endswith(".1")
+        register = None if by_value else (int(d) if d else s.current_tool)
+        ip.emit(CompRegister(register, source=loc))
     ip.out.extend(comp.start(name, s.plane, d=v.get("d"), l=v.get("l"), tool=lookup, source=loc))
     s.comp_side = code

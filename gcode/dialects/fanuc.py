@@ -56,8 +56,7 @@ DIALECT = Dialect(
     rigid_tap=None,
     io_codes=False,
     xy_rotation=None,  # G68 rotates the commanded path itself; the IR keeps it apart
-    cutter_comp=("G41", "G42"),
-    comp_word="D{register}",
+    cutter_comp=None,
     comp_radius_set="G10 L12 P{register} R{radius}",
     notes=(
         "absolute arc centres (G90.1), multi-turn arcs (P): not in Fanuc; incremental "

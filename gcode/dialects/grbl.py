@@ -39,6 +39,7 @@ DIALECT = Dialect(
     local_offset=None,
     xy_rotation=None,
     cutter_comp=None,
+    comp_register=None,
     cycles=frozenset(),
     notes=(
         "no tool changer: a tool change becomes M0 with a comment (manual change)",

@@ -34,6 +34,7 @@ DIALECT = Dialect(
     local_offset=None,
     xy_rotation=None,
     cutter_comp=None,
+    comp_register=None,
     cycles=frozenset({"G81", "G82", "G83", "G85", "G89"}),  # G73 is LinuxCNC's
     notes=(
         "NURBS, ELLIPSE_FEED: approximated; multi-turn arcs (LinuxCNC's P): expanded",

@@ -46,6 +46,7 @@ DIALECT = Dialect(
     axes="XYZ",
     xy_rotation=None,
     cutter_comp=None,
+    comp_register=None,
     work_offsets=("G54", "G55", "G56", "G57", "G58", "G59"),
     tool_table_set=None,
     tool_number=None,
@@ -327,7 +328,14 @@ class SandiaWriter:
             | canon.TurnProbeOn
             | canon.TurnProbeOff
             | canon.SetTraverseRate,
-        ) or c.NAME in ("ON_RESET", "START_CHANGE", "FINISH", "CANNED_CYCLE", "CANNED_CYCLE_END"):
+        ) or c.NAME in (
+            "ON_RESET",
+            "START_CHANGE",
+            "FINISH",
+            "CANNED_CYCLE",
+            "CANNED_CYCLE_END",
+            "CUTTER_COMP_REGISTER",
+        ):
             return True
         key, value = {
             "SET_SPINDLE_MODE": ("css", getattr(c, "css", False)),

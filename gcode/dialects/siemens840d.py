@@ -58,6 +58,7 @@ DIALECT = Dialect(
     xy_rotation="ROT Z{angle}|ROT",
     rotated_offset="ATRANS {axes}",
     cutter_comp=None,
+    comp_register=None,
     notes=(
         "NURBS, ELLIPSE_FEED: approximated by arcs",
         "tool length as a value: not in the part program; D1 activates the tool table's "

@@ -102,9 +102,10 @@ class Dialect:
     tool_number: str | None = "M61 Q{tool}"
     rigid_tap: str | None = "G33.1"
     cutter_comp: tuple[str, str] | None = ("G41.1", "G42.1")  # left, right, with D diameter
-    # the D word of cutter_comp: by value ({diameter}) or an offset register ({register})
-    # whose radius comp_radius_set writes first (Fanuc G10 L12: radius geometry)
-    comp_word: str = "D{diameter}"
+    # left, right with D = tool-table entry / offset register (G41 D1), and how to write a
+    # radius given by value into that register when there is no by-value form (Fanuc
+    # G10 L12: radius geometry)
+    comp_register: tuple[str, str] | None = ("G41", "G42")
     comp_radius_set: str | None = None
     io_codes: bool = True  # M62-M68 digital and analog outputs
     mist: str | None = "M7"
