@@ -1,7 +1,8 @@
-"""Dialects: one module per target language, each holding a :class:`Dialect` value.
+"""Dialects: one module per language, each holding the :class:`Dialect` value its writer
+uses; the reader of each is ``<name>_reader.py`` beside it (registered in
+:mod:`gcode.readers`, which also lists the input-only ``fanuc_lathe``).
 
-``get_dialect(name)`` returns it; ``NAMES`` lists them. Readers other than RS274/NGC are
-not implemented yet (docs/dialects.md lists what a Fanuc reader needs).
+``get_dialect(name)`` returns a dialect by name or alias; ``NAMES`` lists them.
 """
 
 from __future__ import annotations
