@@ -4,8 +4,9 @@
   recursion (book ch. 3.5) and replaced by circular arcs through three curve points,
   split in parameter until the deviation at :data:`CHECKS` sample points per piece is
   within the tolerance (or by chords when the target has no arcs).
-* ELLIPSE_FEED (NISTIR 5970 §3.6.3): replaced by chords; the chord count follows from the
-  sagitta of the tightest curvature radius ``max(a^2/b, b^2/a)``; the helix axis moves in
+* ELLIPSE_FEED (NISTIR 5970 §3.6.3): replaced by the planner's chords
+  (:mod:`kernel.ellipse`: uniform eccentric-anomaly steps ``2 acos(1 - E / max(a, b))``,
+  doubled until the helix is within the tolerance too); the helix axis moves in
   proportion to the angle swept about the centre (NIST's rule 2).
 
 All functions are pure and work in the plane's (first, second) coordinates.
@@ -17,6 +18,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from kernel.diagnostics import Location
 
 CHECKS = 33  # sample points checked per fitted piece
 MARGIN = 0.5  # a piece is kept when its sampled deviation is within MARGIN * tolerance
@@ -192,40 +195,17 @@ def ellipse_chords(
     angle_deg: float,
     rotation: int,
     tolerance: float,
+    axial: float = 0.0,
+    location: Location | None = None,
 ) -> tuple[list[tuple[float, float, float]], float]:
-    """Chord end points of an elliptical arc, with the swept-angle fraction at each.
-
-    Returns ([(first, second, fraction of the swept polar angle), ...], largest sagitta).
-    ``major``/``minor`` are full axis lengths (NISTIR 5970 §3.6.3).
+    """Chord end points of an elliptical arc (helix: ``axial`` travel along the normal),
+    with the fraction of the axial travel done at each (NIST rule 2: the swept polar
+    angle), and the largest deviation found. The planner's chords
+    (:func:`kernel.ellipse.ellipse_chords`), so a converted program and a planned one cut
+    the same lines; ``major``/``minor`` are full axis lengths (NISTIR 5970 §3.6.3).
     """
-    a, b = major / 2.0, minor / 2.0
-    phi = math.radians(angle_deg)
-    cos_p, sin_p = math.cos(phi), math.sin(phi)
+    from kernel.ellipse import ellipse_chords as chords
 
-    def param(p: tuple[float, float]) -> float:
-        dx, dy = p[0] - centre[0], p[1] - centre[1]
-        lx, ly = cos_p * dx + sin_p * dy, -sin_p * dx + cos_p * dy
-        return math.atan2(ly / b, lx / a)
-
-    t0, t1 = param(start), param(end)
-    sign = 1 if rotation > 0 else -1
-    sweep = (sign * (t1 - t0)) % (2 * math.pi)
-    if sweep <= 1e-12:
-        sweep = 2 * math.pi
-    sweep += 2 * math.pi * (abs(rotation) - 1)
-    r_max = max(a * a / b, b * b / a)
-    step = 2 * math.acos(max(-1.0, 1 - tolerance / r_max)) if tolerance < r_max else math.pi / 2
-    n = max(2, math.ceil(sweep / step))
-    t = t0 + sign * sweep * np.linspace(0.0, 1.0, n + 1)
-    lx, ly = a * np.cos(t), b * np.sin(t)
-    x = centre[0] + cos_p * lx - sin_p * ly
-    y = centre[1] + sin_p * lx + cos_p * ly
-    polar = np.unwrap(np.arctan2(y - centre[1], x - centre[0]))
-    total = polar[-1] - polar[0]
-    frac = (polar - polar[0]) / total if total != 0 else np.linspace(0.0, 1.0, n + 1)
-    tm = 0.5 * (t[:-1] + t[1:])
-    mx = centre[0] + cos_p * a * np.cos(tm) - sin_p * b * np.sin(tm)
-    my = centre[1] + sin_p * a * np.cos(tm) + cos_p * b * np.sin(tm)
-    sag = np.hypot(mx - 0.5 * (x[:-1] + x[1:]), my - 0.5 * (y[:-1] + y[1:]))
-    pts = [(float(x[i]), float(y[i]), float(frac[i])) for i in range(1, n + 1)]
-    return pts, float(sag.max())
+    ch = chords(start, end, centre, major, minor, angle_deg, rotation, axial, tolerance, location)
+    pts = list(zip(ch.first.tolist(), ch.second.tolist(), ch.axial_fraction.tolist(), strict=True))
+    return pts, ch.deviation

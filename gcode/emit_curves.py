@@ -162,6 +162,8 @@ def ellipse(w: BlockWriter, c: canon.EllipseFeed) -> None:
         c.angle_to_first,
         c.rotation,
         w.o.tolerance / s,
+        c.axis_end_point - z0,
+        c.source,
     )
     pts[-1] = (c.first_end, c.second_end, 1.0)
     a0 = (w.cur["A"], w.cur["B"], w.cur["C"])

@@ -124,7 +124,7 @@ def test_from_json_lines_keeps_source_lines_for_the_report(tmp_path: Path) -> No
 
     cmds = [
         canon.UseLengthUnits(canon.Units.MM),
-        canon.StraightTraverse(0, 0, 0),
+        canon.StraightTraverse(10, 0, 0),  # on the ellipse: a = 10 along X
         canon.SetFeedRate(100),
         canon.EllipseFeed(20, 10, 0, -10, 0, 0, 0, 1, 0, source=Location("part.ngc", 9, 1)),
     ]

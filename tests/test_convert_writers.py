@@ -443,3 +443,15 @@ def test_nurbs_without_data_is_refused_with_its_location():
         with pytest.raises(Diagnostic) as err:
             emit([MM, c.StraightTraverse(0, 0, 0), cmd], dialect)
         assert err.value.code == "CONV-NURBS" and err.value.location.line == 1
+
+
+def test_an_ellipse_that_does_not_start_on_its_curve_is_refused_at_its_line():
+    """The writer cuts the planner's chords (kernel.ellipse): an ELLIPSE_FEED whose current
+    point is off the ellipse is an error there too, not a silent approximation."""
+    bad = c.EllipseFeed(20, 10, 0, -10, 0, 0, 0, 1, 0, source=Location("e.ngc", 4, 1))
+    for dialect in ("fanuc", "sandia"):
+        with pytest.raises(Diagnostic) as err:
+            emit([MM, c.StraightTraverse(0, 0, 0), c.SetFeedRate(100), bad], dialect)
+        assert err.value.code == "PLAN-ELLIPSE" and err.value.location.line == 4
+    ok = emit([MM, c.StraightTraverse(10, 0, 0), c.SetFeedRate(100), bad], "fanuc")
+    assert ok[-2:] == ["X-10. Y0.", "%"]  # the chords end exactly at the programmed end

@@ -365,7 +365,7 @@ class SandiaWriter:
                 "CONV-AXIS", "MoveTo is world space: rotary axes need a kinematic model", self.src
             )
         self.ensure_units()
-        first, second, _, _, _ = PLANE_AXES[self.plane]
+        first, second, normal, _, _ = PLANE_AXES[self.plane]
         s = self.fmt.scale or 1.0
         start = (self.cur[first] / s, self.cur[second] / s)
         end, centre = (c.first_end, c.second_end), (c.first_axis, c.second_axis)
@@ -380,8 +380,9 @@ class SandiaWriter:
             self.chords(c, pts, c.axis_end_point, c.NAME, dev)
             return
         major, minor, angle = c.major, c.minor, c.angle_to_first
+        axial = c.axis_end_point - self.cur[normal] / s
         pts, dev = approximate.ellipse_chords(
-            start, end, centre, major, minor, angle, c.rotation, tol
+            start, end, centre, major, minor, angle, c.rotation, tol, axial, c.source
         )
         pts[-1] = (*end, 1.0)
         self.chords(c, pts, c.axis_end_point, c.NAME, dev)
