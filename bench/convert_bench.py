@@ -10,8 +10,8 @@ writer; then, in this process and on that file:
   RS274/NGC interpreter's chunks with the compiled fast-lane formatter for rs274ngc, the
   FROM reader's commands otherwise; canonical text written in large blocks);
 * ``convert`` does what ``cnc convert FILE --from FROM --to TO -o OUT`` does (cli/convert.py:
-  the FROM reader's IR through the TO writer, one line written at a time, and one note
-  formatted per conversion-report entry, as the CLI prints them).
+  the FROM reader's IR through the TO writer's text chunks (``gcode.emit.write_text``), and
+  one note formatted per conversion-report entry, as the CLI prints them).
 
 Each pair is timed back to back three times; printed are the best wall seconds of each
 side, the median wall ratio (robust to load from other processes), and the CPU-time
@@ -33,8 +33,8 @@ from pathlib import Path
 from cli.canon import _write as canon_write
 from gcode import readers
 from gcode.convert_report import ConversionReport
-from gcode.dialects import NAMES
-from gcode.emit import WriterOptions, write
+from gcode.dialects import NAMES, get_dialect
+from gcode.emit import WriterOptions, write, write_text
 from gcode.interpreter import InterpreterOptions, interpret, interpret_chunks
 from kernel.diagnostics import DiagnosticRecord, Location, Severity
 
@@ -86,13 +86,17 @@ def canon_run(path: Path, dialect: str, sink: Path) -> None:
 
 
 def convert_run(path: Path, src: str, dst: str, sink: Path, notes: Path) -> None:
-    """``cnc convert PATH --from SRC --to DST -o SINK`` (notes: the CLI's stderr)."""
-    options = InterpreterOptions(search_path=(str(path.parent),))
+    """``cnc convert PATH --from SRC --to DST -o SINK`` (notes: the CLI's stderr), with the
+    CLI's defaults: cycles kept, cutter compensation kept where the target has it."""
+    target = get_dialect(dst)
+    keep_comp = target.cutter_comp is not None or target.comp_register is not None
+    options = InterpreterOptions(
+        search_path=(str(path.parent),), cycle_marks=True, keep_cutter_comp=keep_comp
+    )
     report = ConversionReport(source_dialect=src, target_dialect=dst)
-    lines = write(readers.read(path, src, options), dst, WriterOptions(), report)
+    ir = readers.read(path, src, options)
     with open(sink, "w", encoding="utf-8", newline="\n") as fh:
-        for line in lines:
-            fh.write(line + "\n")
+        fh.writelines(write_text(ir, dst, WriterOptions(cycles="keep"), report))
     with open(notes, "w") as err:
         for change in report.changes:
             rec = DiagnosticRecord(

@@ -23,7 +23,7 @@ import click
 from cli.errors import guarded
 from gcode.convert_report import Change, ConversionReport
 from gcode.dialects import ALIASES, NAMES, get_dialect
-from gcode.emit import ARC_FORMATS, CYCLE_MODES, WriterOptions, write
+from gcode.emit import ARC_FORMATS, CYCLE_MODES, WriterOptions, write_text
 from gcode.readers import INPUTS, reader_name
 from kernel import canon
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
@@ -271,22 +271,19 @@ def command(
     has_comp = target.cutter_comp is not None or target.comp_register is not None
     keep_comp = cutter_comp == "keep" and has_comp
     ir = read_program(source, src, tool_table, report, cycles == "keep", keep_comp)
-    lines = write(ir, target, opts, report)
+    chunks = write_text(ir, target, opts, report)
     if output:
         folder = os.path.dirname(os.path.abspath(output))
         fd, tmp = tempfile.mkstemp(prefix=".convert-", dir=folder)
         try:
             with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
-                for line in lines:
-                    fh.write(line + "\n")
+                fh.writelines(chunks)
             os.replace(tmp, output)
         except BaseException:
             os.unlink(tmp)
             raise
     else:
-        out = sys.stdout
-        for line in lines:
-            out.write(line + "\n")
+        sys.stdout.writelines(chunks)
     for change in report.changes:
         rec = DiagnosticRecord(
             change.code,

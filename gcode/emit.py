@@ -57,6 +57,36 @@ def write(
     report: ConversionReport | None = None,
 ) -> Iterator[str]:
     """Yield the program text, one block per line (no line terminators)."""
+    return _writer(dialect, options, report).run(commands)
+
+
+def write_text(
+    commands: Iterable[canon.Command],
+    dialect: str | Dialect,
+    options: WriterOptions | None = None,
+    report: ConversionReport | None = None,
+    batch: int = 4096,
+) -> Iterator[str]:
+    """The program text as chunks of whole lines, each line ending with a newline: what a
+    file or a pipe wants (one write per line costs as much as formatting a Sandia line);
+    still streamed, ``batch`` lines at a time."""
+    writer = _writer(dialect, options, report)
+    if hasattr(writer, "run_text"):
+        yield from writer.run_text(commands)
+        return
+    buf: list[str] = []
+    for line in writer.run(commands):
+        buf.append(line)
+        if len(buf) >= batch:
+            buf.append("")
+            yield "\n".join(buf)
+            buf.clear()
+    if buf:
+        buf.append("")
+        yield "\n".join(buf)
+
+
+def _writer(dialect: str | Dialect, options: WriterOptions | None, report: ConversionReport | None):  # noqa: ANN202 - BlockWriter | SandiaWriter
     d = get_dialect(dialect) if isinstance(dialect, str) else dialect
     opts = options or WriterOptions()
     if opts.arc_format not in ARC_FORMATS:
@@ -68,8 +98,8 @@ def write(
     if d.structure == "commands":
         from gcode.dialects.sandia import SandiaWriter
 
-        return SandiaWriter(d, opts, report or ConversionReport()).run(commands)
-    return BlockWriter(d, opts, report or ConversionReport()).run(commands)
+        return SandiaWriter(d, opts, report or ConversionReport())
+    return BlockWriter(d, opts, report or ConversionReport())
 
 
 class BlockWriter:

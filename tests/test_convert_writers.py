@@ -455,3 +455,20 @@ def test_an_ellipse_that_does_not_start_on_its_curve_is_refused_at_its_line():
         assert err.value.code == "PLAN-ELLIPSE" and err.value.location.line == 4
     ok = emit([MM, c.StraightTraverse(10, 0, 0), c.SetFeedRate(100), bad], "fanuc")
     assert ok[-2:] == ["X-10. Y0.", "%"]  # the chords end exactly at the programmed end
+
+
+@pytest.mark.parametrize("dialect", ["rs274ngc", "fanuc", "sandia"])
+def test_text_chunks_are_the_lines_with_newlines(dialect: str):
+    """``write_text`` (what ``cnc convert`` writes) is exactly ``write``'s lines, each with
+    a newline, in chunks of whole lines, also across the batch size."""
+    from gcode.emit import write_text
+
+    cmds = [MM, c.StraightTraverse(0, 0, 5), c.SetFeedRate(100)]
+    cmds += [
+        c.ArcFeed(10.0 * (k % 2), 5.0 * k, 5.0 * (k % 2), 5.0 * k, 1, -1) for k in range(1, 40)
+    ]
+    cmds += [c.ProgramEnd()]
+    lines = emit(cmds, dialect)
+    chunks = list(write_text(cmds, dialect, WriterOptions(), ConversionReport(), batch=7))
+    assert "".join(chunks) == "".join(f"{line}\n" for line in lines)
+    assert len(chunks) > 1 and all(chunk.endswith("\n") for chunk in chunks)

@@ -100,7 +100,22 @@ class SandiaWriter:
         self.state: dict[str, object] = {}
 
     def run(self, commands: Iterable[canon.Command]) -> Iterator[str]:
-        yield from self.d.header if self.o.header is None else self.o.header  # type: ignore[attr-defined]
+        """The program, one line at a time."""
+        for text in self.run_text(commands, lines=True):
+            yield from text  # type: ignore[misc]
+
+    def run_text(self, commands: Iterable[canon.Command], lines: bool = False) -> Iterator:
+        """The program as text chunks of whole lines ending with newlines (``lines``: as
+        lists of lines): the chords of a run of moves are joined once, not yielded one
+        by one (the Sandia output is about ten times as long as its G-code source)."""
+        head = self.d.header if self.o.header is None else self.o.header  # type: ignore[attr-defined]
+        foot = self.d.footer if self.o.footer is None else self.o.footer  # type: ignore[attr-defined]
+
+        def chunk(block: list[str]) -> object:
+            return list(block) if lines else "\n".join(block) + "\n"
+
+        if head:
+            yield chunk(list(head))
         out, report = self.out, self.report
         feed, arc = canon.StraightFeed, canon.ArcFeed
         arcs_too = self.o.on_missing != "refuse"  # type: ignore[attr-defined]
@@ -124,14 +139,16 @@ class SandiaWriter:
                 self.handle(cmd)
             if out:
                 report.blocks += len(out)
-                yield from out
+                yield chunk(out)
                 out.clear()
         if run:
             self.feeds(run)
         report.blocks += len(out)
-        yield from out
+        if out:
+            yield chunk(out)
         out.clear()
-        yield from self.d.footer if self.o.footer is None else self.o.footer  # type: ignore[attr-defined]
+        if foot:
+            yield chunk(list(foot))
 
     def feeds(self, run: list[canon.Command]) -> None:
         """A run of straight feeds and arcs: all chords computed and formatted at once."""
