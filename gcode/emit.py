@@ -120,7 +120,7 @@ class BlockWriter:
         self.feed = 0.0
         self.e_feed: str | None = "F" + self.fmt.feed(0.0)  # INIT_CANON: feed 0
         self.feed_mode = canon.FeedMode.UNITS_PER_MINUTE
-        self.e_feed_mode = canon.FeedMode.UNITS_PER_MINUTE
+        self.e_feed_mode = canon.FeedMode(d.initial_feed_mode)
         self.mode: tuple[canon.MotionMode, float] | None = None
         self.naive: float | None = None
         self.e_mode: tuple[canon.MotionMode, float, float | None] | None = None
@@ -237,11 +237,7 @@ class BlockWriter:
         if not self.dirty:
             return
         self.dirty = False
-        if self.units is None and self.o.units is not None:
-            self.refuse("CONV-OPTION", "the program sets no length units: cannot convert them")
-        if self.units is not None and self.fmt.units_out is None:
-            self.fmt.set_output_units(self.units)
-            self.block(self.d.inch if self.fmt.inch else self.d.mm)
+        self.flush_units()
         if self.plane != self.e_plane:
             start = "" if self.started else self.d.absolute
             self.block(start, self.d.planes[list(canon.Plane).index(self.plane)])
@@ -251,6 +247,14 @@ class BlockWriter:
         self.flush_motion_mode()
         self.flush_coolant()
         self.flush_spindle()
+
+    def flush_units(self) -> None:
+        """The units word, once, before the first number (an offset needs no plane yet)."""
+        if self.units is None and self.o.units is not None:
+            self.refuse("CONV-OPTION", "the program sets no length units: cannot convert them")
+        if self.units is not None and self.fmt.units_out is None:
+            self.fmt.set_output_units(self.units)
+            self.block(self.d.inch if self.fmt.inch else self.d.mm)
 
     def flush_feed_mode(self) -> None:
         if self.feed_mode == self.e_feed_mode:
@@ -372,7 +376,7 @@ class BlockWriter:
     def axis_words(self, target: dict[str, float], force: bool = False) -> list[str]:
         """Words for the axes whose written value changes (all when ``force``)."""
         words = []
-        cur, known, axes = self.cur, self.words, self.d.axes
+        cur, known, axes, diameter = self.cur, self.words, self.d.axes, self.d.diameter
         for letter in "XYZABC":
             value = target[letter]
             if letter not in axes:
@@ -381,7 +385,7 @@ class BlockWriter:
                 continue
             w = known[letter]
             if w is None or value != cur[letter]:  # unchanged floats need no formatting
-                w = letter + self.fmt.number(value)
+                w = letter + self.fmt.number(2 * value if letter in diameter else value)
                 if w != known[letter]:
                     known[letter] = w
                     cur[letter] = value
@@ -395,7 +399,13 @@ class BlockWriter:
     def written(self, letter: str) -> float:
         """The coordinate the text leaves the interpreter at (rounded), else the IR's."""
         w = self.words[letter]
-        return float(w[1:]) if w else self.cur[letter]
+        if not w:
+            return self.cur[letter]
+        return float(w[1:]) / 2 if letter in self.d.diameter else float(w[1:])
+
+    def axis_text(self, letter: str, value: float) -> str:
+        """One axis word for ``value`` (output units): doubled on a diameter axis."""
+        return letter + self.fmt.length(2 * value if letter in self.d.diameter else value)
 
     def invalidate(self) -> None:
         """An offset changed: the interpreter's current program position is unknown."""

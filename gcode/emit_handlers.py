@@ -153,7 +153,7 @@ def change_tool(w: BlockWriter, c: canon.ChangeTool) -> None:
         w.comment(f"change to tool {tool}")
         w.block(w.d.stop)
         return
-    w.block(f"T{tool}", w.d.tool_change)
+    w.block(w.d.tool_word.format(tool=tool), w.d.tool_change)
 
 
 def tool_length(w: BlockWriter, c: canon.UseToolLengthOffset) -> None:
@@ -173,7 +173,7 @@ def tool_length(w: BlockWriter, c: canon.UseToolLengthOffset) -> None:
 
 
 def origin(w: BlockWriter, c: canon.SetOriginOffsets) -> None:
-    w.flush()
+    w.flush_units()  # an offset block needs numbers, not the plane or feed mode yet
     w.invalidate()
     if w.d.origin is None:
         w.lacking("CONV-ORIGIN", "program origin setting")
@@ -312,7 +312,7 @@ def traverse(w: BlockWriter, c: canon.StraightTraverse) -> None:
 
 
 def _first_axis(w: BlockWriter) -> list[str]:
-    return [w.words["X"] or ("X" + w.fmt.length(w.cur["X"]))]
+    return [w.words["X"] or w.axis_text("X", w.cur["X"])]
 
 
 def feed(w: BlockWriter, c: canon.StraightFeed) -> None:

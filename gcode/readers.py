@@ -32,8 +32,7 @@ READER_MODULES: dict[str, str] = {
     "haas": "gcode.dialects.haas_reader",
     "siemens840d": "gcode.dialects.siemens840d_reader",
     "sandia": "gcode.dialects.sandia_reader",
-    # input only (no writer): the Fanuc reader in lathe mode (diameter X, U/W, G70-G76)
-    "fanuc_lathe": "gcode.dialects.fanuc_lathe_reader",
+    "fanuc_lathe": "gcode.dialects.fanuc_lathe_reader",  # the Fanuc reader in lathe mode
 }
 #: every name a program can be read in: the dialects and the input-only readers
 INPUTS: tuple[str, ...] = tuple(READER_MODULES)

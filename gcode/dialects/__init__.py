@@ -1,6 +1,6 @@
 """Dialects: one module per language, each holding the :class:`Dialect` value its writer
 uses; the reader of each is ``<name>_reader.py`` beside it (registered in
-:mod:`gcode.readers`, which also lists the input-only ``fanuc_lathe``).
+:mod:`gcode.readers`).
 
 ``get_dialect(name)`` returns a dialect by name or alias; ``NAMES`` lists them.
 """
@@ -12,7 +12,16 @@ import importlib
 from gcode.dialects.spec import Dialect
 from kernel.diagnostics import Diagnostic
 
-NAMES: tuple[str, ...] = ("rs274ngc", "nist_v3", "fanuc", "grbl", "haas", "siemens840d", "sandia")
+NAMES: tuple[str, ...] = (
+    "rs274ngc",
+    "nist_v3",
+    "fanuc",
+    "fanuc_lathe",
+    "grbl",
+    "haas",
+    "siemens840d",
+    "sandia",
+)
 ALIASES: dict[str, str] = {
     "ngc": "rs274ngc",
     "linuxcnc": "rs274ngc",

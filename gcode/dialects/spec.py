@@ -37,6 +37,9 @@ class Dialect:
     header: tuple[str, ...] = ()
     footer: tuple[str, ...] = ()
     axes: str = "XYZABC"
+    diameter: str = ""  # axes programmed as a diameter (a lathe's X): their words are 2x
+    initial_feed_mode: int = 0  # the control's feed mode at power-on (FeedMode value)
+    tool_word: str = "T{tool}"  # the T word of a tool change (a lathe: T0101)
     # ---- modal codes
     rapid: str = "G0"
     linear: str = "G1"
