@@ -17,7 +17,7 @@ Each pair is timed back to back three times; printed are the best wall seconds o
 side, the median wall ratio (robust to load from other processes), and the CPU-time
 ratio (``time.process_time``: this process only, the fairest figure on a busy machine).
 
-    python bench/convert_bench.py [LINES] [--from D|all] [--to D|all]
+    python bench/convert_bench.py [LINES] [--from D|all] [--to D|all] [--shape mill|lathe]
 """
 
 from __future__ import annotations
@@ -36,10 +36,17 @@ from gcode.convert_report import ConversionReport
 from gcode.dialects import NAMES, get_dialect
 from gcode.emit import WriterOptions, write, write_text
 from gcode.interpreter import InterpreterOptions, interpret, interpret_chunks
-from kernel.diagnostics import DiagnosticRecord, Location, Severity
+from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
 
 REPEATS = 3
-SUFFIX = {"fanuc": ".nc", "haas": ".nc", "grbl": ".gcode", "siemens840d": ".mpf", "sandia": ".txt"}
+SUFFIX = {
+    "fanuc": ".nc",
+    "fanuc_lathe": ".nc",
+    "haas": ".nc",
+    "grbl": ".gcode",
+    "siemens840d": ".mpf",
+    "sandia": ".txt",
+}
 
 
 def program(lines: int) -> str:
@@ -60,11 +67,33 @@ def program(lines: int) -> str:
     return "\n".join(out) + "\n"
 
 
-def source_file(folder: Path, lines: int, dialect: str) -> Path:
+def lathe_program(lines: int) -> str:
+    """Turning passes in the ZX plane (G18): feeds along Z and X with a G2/G3 radius every
+    fifth block, absolute mm, per-minute feed (every target can state it)."""
+    out = ["G21 G90 G18 G94", "F300 S1200 M3", "G0 X30 Z2", "G1 Z0"]
+    x, z = 30.0, 0.0
+    for i in range(lines - 6):
+        if i % 5 == 4:
+            r = 1.0 + (i % 7) * 0.1
+            code = "G2" if i % 2 else "G3"
+            out.append(f"{code} X{x:.4f} Z{z - 2 * r:.4f} R{1.2 * r:.4f}")
+            z -= 2 * r
+        else:
+            z -= 0.5 + 0.1 * math.sin(i * 0.01)
+            x = 20.0 + 5.0 * math.sin(i * 0.003)
+            out.append(f"G1 X{x:.4f} Z{z:.4f}")
+        if z < -400.0:
+            out += ["G0 X35", "G0 Z0", f"G0 X{x:.4f}"]  # back to the start of the next pass
+            z = 0.0
+    out += ["G0 X40", "M2"]
+    return "\n".join(out[: lines - 1] + ["M2"]) + "\n"
+
+
+def source_file(folder: Path, lines: int, dialect: str, shape: str = "mill") -> Path:
     """The generated program written in ``dialect`` (by our writer unless RS274/NGC)."""
     ngc = folder / "big.ngc"
     if not ngc.exists():
-        ngc.write_text(program(lines))
+        ngc.write_text(program(lines) if shape == "mill" else lathe_program(lines))
     if dialect == "rs274ngc":
         return ngc
     path = folder / f"big_{dialect}{SUFFIX.get(dialect, '.ngc')}"
@@ -120,6 +149,12 @@ def main() -> None:
     parser.add_argument("lines", nargs="?", type=int, default=200_000)
     parser.add_argument("--from", dest="src", default="rs274ngc", help="dialect or 'all'")
     parser.add_argument("--to", dest="dst", default="all", help="dialect or 'all'")
+    parser.add_argument(
+        "--shape",
+        choices=("mill", "lathe"),
+        default="mill",
+        help="the generated program: XY milling, or ZX turning (for the lathe dialect)",
+    )
     args = parser.parse_args()
     readable = readers.readable()
     sources = readable if args.src == "all" else (args.src,)
@@ -134,11 +169,20 @@ def main() -> None:
             if src not in readable:
                 print(f"  from {src}: no reader installed, skipped")
                 continue
-            path = source_file(folder, args.lines, src)
+            try:
+                path = source_file(folder, args.lines, src, args.shape)
+            except Diagnostic as exc:  # a lathe has no Y axis for this milling program
+                print(f"from {src}: cannot state the program ({exc.code}), skipped")
+                continue
             with open(path, "rb") as fh:
                 count = sum(1 for _ in fh)
             print(f"from {src}: {path.name}, {count} lines")
             for dst in targets:
+                try:
+                    convert_run(path, src, dst, sink, notes)  # warm-up, and refusals
+                except Diagnostic as exc:
+                    print(f"  to {dst:12s} refused ({exc.code}), skipped")
+                    continue
                 pairs = []
                 for _ in range(REPEATS):
                     base = timed(lambda p=path, s=src: canon_run(p, s, sink))

@@ -385,9 +385,13 @@ def test_sandia_reports_spindle_it_cannot_state_and_refuses_feed_per_revolution(
     # three state changes have no generic command; the second stop changes nothing
     assert [ch.code for ch in report.changes] == ["CONV-UNSUPPORTED"] * 3
     assert out[-1] == "# end of program"
-    with pytest.raises(Diagnostic) as err:
-        emit([MM, c.SetFeedMode(c.FeedMode.UNITS_PER_REVOLUTION)], "sandia")
-    assert err.value.code == "CONV-FEED-PER-REV"
+    per_rev = [MM, c.SetFeedMode(c.FeedMode.UNITS_PER_REVOLUTION), c.SetFeedRate(0.2)]
+    emit([*per_rev, c.StraightTraverse(1, 2, 3)], "sandia")  # no feed motion in it: fine
+    feed = c.StraightFeed(1, 2, 3, source=Location("p.nc", 5, 1))
+    for motion in (feed, c.ArcFeed(0, 0, 1, 0, 1, 0, source=Location("p.nc", 5, 1))):
+        with pytest.raises(Diagnostic) as err:
+            emit([*per_rev, motion], "sandia")
+        assert err.value.code == "CONV-FEED-PER-REV" and err.value.location.line == 5
 
 
 def test_sandia_arcs_become_chords_within_tolerance():

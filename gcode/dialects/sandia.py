@@ -98,6 +98,7 @@ class SandiaWriter:
         self.out_mm: float | None = None  # mm per output length unit, once set
         self.ended = False
         self.state: dict[str, object] = {}
+        self.per_rev = False  # SET_FEED_MODE per revolution in force
 
     def run(self, commands: Iterable[canon.Command]) -> Iterator[str]:
         """The program, one line at a time."""
@@ -159,6 +160,8 @@ class SandiaWriter:
                 self.src = c.source
                 self.handle(c)
             return
+        self.src = run[0].source
+        self.feeding()
         self.speed()
         first, second, normal, _, _ = PLANE_AXES[self.plane]
         axes = ("XYZ".index(first), "XYZ".index(second), "XYZ".index(normal))
@@ -244,12 +247,21 @@ class SandiaWriter:
             self.e_feed = speed
         self.speed_key = key
 
+    def feeding(self) -> None:
+        """A feed motion: refused in feed per revolution (the generic language has none)."""
+        if self.per_rev:
+            raise Diagnostic(
+                "CONV-FEED-PER-REV", f"{self.d.title} has no feed per revolution", self.src
+            )
+
     def move(self, x: float, y: float, z: float, rot: tuple[float, ...] = (0, 0, 0)) -> None:
+        self.feeding()
         self.ensure_units()
         self.speed()
         self.line("MoveTo " + " ".join(self.axes(x, y, z, rot)))
 
     def chords(self, c: canon.Command, pts: list, normal_end: float, what: str, dev: float) -> None:  # noqa: ANN001
+        self.feeding()
         first, second, normal, _, _ = PLANE_AXES[self.plane]
         s = self.fmt.scale
         n0 = self.cur[normal] / s
@@ -317,11 +329,9 @@ class SandiaWriter:
             if not c.text.startswith("interpreter:") and self.o.comments:  # type: ignore[attr-defined]
                 self.line(f"# {c.text}")
         elif isinstance(c, canon.SetFeedMode):
-            if c.mode == canon.FeedMode.UNITS_PER_REVOLUTION:
-                raise Diagnostic(
-                    "CONV-FEED-PER-REV", f"{self.d.title} has no feed per revolution", self.src
-                )
-            # inverse time: the IR's rates are per minute already (as rs274 prints them)
+            # refused at the first feed motion in it (a lathe reader starts in G99 and may
+            # never feed in it); inverse time: the IR's rates are per minute already
+            self.per_rev = c.mode == canon.FeedMode.UNITS_PER_REVOLUTION
         elif isinstance(c, canon.StartSpeedFeedSynch) or c.NAME == "RIGID_TAP":
             raise Diagnostic(
                 "CONV-THREAD", f"{self.d.title} has no spindle-synchronised motion", self.src
