@@ -6,9 +6,9 @@ cycles expanded into moves), written as a lathe program and read back; the IR mu
 equivalent within 1e-4 (tests/canon_equiv.py). The hand-derived programs that feed per
 revolution without starting the spindle are read with ``G97 S500 M03`` added after their
 first block: the reader, like rs274, refuses a G01 per revolution with the spindle
-stopped (``FANUC-ZERO-SPEED-FPR``), which it does not check inside a cycle. Two notes are
-expected of every program: the program origin written as ``G10 L2 P1`` and M30's pallet
-shuttle (the reader's IR follows rs274's M30) not written.
+stopped (``FANUC-ZERO-SPEED-FPR``), which it does not check inside a cycle. One note is
+expected of every program: the program origin (the reader's ``SET_ORIGIN_OFFSETS``)
+written as ``G10 L2 P1``.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from tests.convert_support import fine_text
 
 HERE = Path(__file__).resolve().parent
 TURNING = sorted((HERE / "dialects" / "fanuc").glob("1*_turn_*.nc"))
-EXPECTED = {"CONV-ORIGIN", "CONV-UNSUPPORTED"}
+EXPECTED = {"CONV-ORIGIN"}
 
 
 def spindle_on(text: str) -> str:

@@ -40,6 +40,19 @@ _HAAS = frozenset({1870, 470, 1030, 1540})
 _M_PASS = {0: 4, 1: 4, 2: 4, 30: 4, 60: 4, 3: 7, 4: 7, 5: 7, 19: 7, 6: 6, 7: 8, 8: 8, 9: 8}
 _M_PASS.update({48: 9, 49: 9})
 _M_FLOW = frozenset({98, 99, 97})
+
+
+def ngc_m_code(m: int, pallet_m50: bool) -> int:
+    """The RS274/NGC machine model's M code for a Fanuc one: M30 ends and rewinds like
+    M2 (LinuxCNC's M30 also shuttles the pallets, a Fanuc's does not); Haas M50 is the
+    pallet change M60."""
+    if m == 30:
+        return 2
+    if m == 50 and pallet_m50:
+        return 60
+    return m
+
+
 _PLAIN_LETTERS = {a: a.lower() for a in "XYZIJKRF"}
 _PLANES = {170: Plane.XY, 180: Plane.XZ, 190: Plane.YZ}
 
@@ -321,8 +334,7 @@ class Executor:
                 continue
             if m == 29:  # rigid tapping mode: G84 taps synchronised anyway
                 continue
-            if m == 50 and self.fl.pallet_m50:
-                m = 60
+            m = ngc_m_code(m, self.fl.pallet_m50)
             group = _M_PASS.get(m)
             if group is None:
                 at = Location(loc.file, loc.line, cols.get(f"M{m}", loc.column))

@@ -119,12 +119,12 @@ class Lathe:
         for m in ms:
             if m in (98, 99, 97, 29):
                 continue
-            from gcode.fanuc.executor import _M_PASS
+            from gcode.fanuc.executor import _M_PASS, ngc_m_code
 
             group = _M_PASS.get(m)
             if group is None:
                 raise Diagnostic("FANUC-UNKNOWN-M", f"unsupported M code M{m:02d}", loc)
-            w.m[group] = m
+            w.m[group] = ngc_m_code(m, False)
         run = motion if motion is not None else (ex.motion if has_axis else None)
         moving = has_axis and w.g.get(0) is None
         if run in _SINGLE and (motion is not None or moving):
