@@ -44,6 +44,10 @@ class InterpreterOptions:
     fast_lane: bool = True  # large files: plain CAM lines through gcode.fastlane (compiled)
     cycle_marks: bool = False  # bracket canned-cycle expansions (gcode.cycle_marks)
     keep_cutter_comp: bool = False  # G41/G42 as canonical commands (gcode.comp_keep)
+    # work offsets as SET_G5X_OFFSET / SET_G92_OFFSET / SET_XY_ROTATION (which offset is
+    # selected, as rs274 says it) even without linuxcnc_compat, instead of NIST's one
+    # SET_ORIGIN_OFFSETS total (a writer can then say G54 rather than set the table)
+    g5x_offsets: bool = False
 
 
 def interpret(
@@ -104,6 +108,7 @@ class Interpreter:
     def __init__(self, options: InterpreterOptions) -> None:
         self.options = options
         self.compat = options.linuxcnc_compat
+        self.g5x_style = options.linuxcnc_compat or options.g5x_offsets
         if options.tool_table is None:
             self.tools: ToolTable = AnyTool()
         else:  # a copy: G10 L1 edits stay in this run
@@ -188,7 +193,7 @@ class Interpreter:
         s = self.s
         src = self.loc
         self.emit(canon.UseLengthUnits(s.units, source=src))
-        if self.compat:
+        if self.g5x_style:
             offsets.emit_g5x(self)
             self.emit(lc.SetG92Offset(*s.g92, source=src))
             self.emit(lc.SetXYRotation(s.rotation, source=src))

@@ -96,7 +96,7 @@ def emit_origin(ip: Interpreter) -> None:
 
 
 def _emit_offsets(ip: Interpreter, g5x: bool = True, g92: bool = True) -> None:
-    if not ip.compat:
+    if not ip.g5x_style:
         emit_origin(ip)
         return
     s = ip.s
@@ -174,7 +174,7 @@ def reset_to_g54(ip: Interpreter) -> None:
     s.origin_index = 1
     ip.params.values[5220] = 1.0
     _set_g5x(ip, s.coords[1][:6], s.coords[1][6])
-    if ip.compat:
+    if ip.g5x_style:
         emit_g5x(ip)
         ip.emit(lc.SetXYRotation(s.rotation, source=ip.loc))
     else:

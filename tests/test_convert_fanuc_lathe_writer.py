@@ -6,9 +6,8 @@ cycles expanded into moves), written as a lathe program and read back; the IR mu
 equivalent within 1e-4 (tests/canon_equiv.py). The hand-derived programs that feed per
 revolution without starting the spindle are read with ``G97 S500 M03`` added after their
 first block: the reader, like rs274, refuses a G01 per revolution with the spindle
-stopped (``FANUC-ZERO-SPEED-FPR``), which it does not check inside a cycle. One note is
-expected of every program: the program origin (the reader's ``SET_ORIGIN_OFFSETS``)
-written as ``G10 L2 P1``.
+stopped (``FANUC-ZERO-SPEED-FPR``), which it does not check inside a cycle. The writer
+reports nothing: every turning construct has its lathe form.
 """
 
 from __future__ import annotations
@@ -28,7 +27,6 @@ from tests.convert_support import fine_text
 
 HERE = Path(__file__).resolve().parent
 TURNING = sorted((HERE / "dialects" / "fanuc").glob("1*_turn_*.nc"))
-EXPECTED = {"CONV-ORIGIN"}
 
 
 def spindle_on(text: str) -> str:
@@ -48,7 +46,7 @@ def test_turning_program_round_trips_through_the_lathe_writer(program: Path) -> 
     ir = list(read_text(spindle_on(program.read_text()), "fanuc_lathe", program.name))
     report = ConversionReport()
     text = "\n".join(write(ir, "fanuc_lathe", WriterOptions(decimals=5), report)) + "\n"
-    assert {ch.code for ch in report.changes} <= EXPECTED
+    assert report.changes == []
     back = list(read_text(text, "fanuc_lathe", program.name))
     assert canon_equiv.compare(fine_text(back), fine_text(ir)) == []
 

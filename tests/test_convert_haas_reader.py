@@ -62,6 +62,7 @@ def test_m19_p_orients_to_the_angle_and_m50_changes_pallets() -> None:
 
 def test_g154_p_selects_an_additional_work_offset_set_by_g10_l20() -> None:
     cmds = _run("G00 X0 Y0\nG10 L20 P60 X40.\nG154 P60\nG01 X1. Y0 F100.\n")
-    origins = _of(cmds, canon.SetOriginOffsets)
+    origins = _of(cmds, canon.SetG5xOffset)  # which offset is selected, and its values
     assert origins[-2].x == pytest.approx(40.0)  # G154 P60 active, M30 resets to G54
+    assert origins[-1].index == 1 and origins[-1].x == 0.0
     assert [f.x for f in _of(cmds, canon.StraightFeed)] == pytest.approx([1.0])

@@ -51,7 +51,8 @@ class Reader:
     """One run of one program file."""
 
     def __init__(self, src: Source, options: InterpreterOptions, flavour: Flavour) -> None:
-        ngc = replace(options, linuxcnc_compat=False, fast_lane=False)
+        # offsets as G5x selections: a converted program then says G54, not G10 L2 P1
+        ngc = replace(options, linuxcnc_compat=False, fast_lane=False, g5x_offsets=True)
         self.options = options
         self.fl = flavour
         self.ip = Interpreter(ngc)
