@@ -17,7 +17,7 @@ Each pair is timed back to back three times; printed are the best wall seconds o
 side, the median wall ratio (robust to load from other processes), and the CPU-time
 ratio (``time.process_time``: this process only, the fairest figure on a busy machine).
 
-    python bench/convert_bench.py [LINES] [--from D|all] [--to D|all] [--shape mill|lathe]
+    python bench/convert_bench.py [LINES] [--from D|all] [--to D|all] [--shape mill|lathe|cam]
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import math
 import statistics
+import sys
 import tempfile
 import time
 from collections.abc import Callable
@@ -93,7 +94,13 @@ def source_file(folder: Path, lines: int, dialect: str, shape: str = "mill") -> 
     """The generated program written in ``dialect`` (by our writer unless RS274/NGC)."""
     ngc = folder / "big.ngc"
     if not ngc.exists():
-        ngc.write_text(program(lines) if shape == "mill" else lathe_program(lines))
+        if shape == "cam":
+            sys.path.insert(0, str(Path(__file__).resolve().parent))
+            from cam_program import cam_lines
+
+            ngc.write_text("\n".join(cam_lines(lines)) + "\n")
+        else:
+            ngc.write_text(program(lines) if shape == "mill" else lathe_program(lines))
     if dialect == "rs274ngc":
         return ngc
     path = folder / f"big_{dialect}{SUFFIX.get(dialect, '.ngc')}"
@@ -123,7 +130,7 @@ def convert_run(path: Path, src: str, dst: str, sink: Path, notes: Path) -> None
         search_path=(str(path.parent),), cycle_marks=True, keep_cutter_comp=keep_comp
     )
     report = ConversionReport(source_dialect=src, target_dialect=dst)
-    ir = readers.read(path, src, options)
+    ir = readers.read_chunks(path, src, options)
     with open(sink, "w", encoding="utf-8", newline="\n") as fh:
         fh.writelines(write_text(ir, dst, WriterOptions(cycles="keep"), report))
     with open(notes, "w") as err:
@@ -151,9 +158,10 @@ def main() -> None:
     parser.add_argument("--to", dest="dst", default="all", help="dialect or 'all'")
     parser.add_argument(
         "--shape",
-        choices=("mill", "lathe"),
+        choices=("mill", "lathe", "cam"),
         default="mill",
-        help="the generated program: XY milling, or ZX turning (for the lathe dialect)",
+        help="the generated program: XY milling with an R arc every fifth block, ZX turning "
+        "(for the lathe dialect), or bench/cam_program.py's plain CAM lines (an arc every 50)",
     )
     args = parser.parse_args()
     readable = readers.readable()

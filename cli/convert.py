@@ -85,7 +85,7 @@ def read_program(
 
         return iter(canon_from_file(path, tool_file=tool_table, mode="default"))
     from gcode.interpreter import InterpreterOptions
-    from gcode.readers import read
+    from gcode.readers import read_chunks
 
     table = load_tool_table(tool_table) if tool_table else None
     here = str(Path(path).resolve().parent)
@@ -95,7 +95,7 @@ def read_program(
         cycle_marks=cycle_marks,
         keep_cutter_comp=keep_cutter_comp,
     )
-    return read(path, dialect, options)
+    return read_chunks(path, dialect, options)  # type: ignore[return-value]
 
 
 #: ``--from`` values that name a kind of file rather than a G-code dialect
@@ -271,7 +271,7 @@ def command(
     has_comp = target.cutter_comp is not None or target.comp_register is not None
     keep_comp = cutter_comp == "keep" and has_comp
     ir = read_program(source, src, tool_table, report, cycles == "keep", keep_comp)
-    chunks = write_text(ir, target, opts, report)
+    chunks = write_text(ir, target, opts, report, source=source)
     if output:
         folder = os.path.dirname(os.path.abspath(output))
         fd, tmp = tempfile.mkstemp(prefix=".convert-", dir=folder)

@@ -22,9 +22,11 @@ from gcode.convert_report import Change, ConversionReport
 from gcode.cycle_marks import CycleEnd
 from gcode.dialects import get_dialect
 from gcode.dialects.spec import Dialect
+from gcode.emit_bulk import can_take, write_run
 from gcode.emit_state import Formatter
 from gcode.emit_table import BY_NAME as _BY_NAME
 from gcode.emit_table import HANDLERS as _HANDLERS
+from gcode.fastlane import Run
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
 
@@ -66,13 +68,15 @@ def write_text(
     options: WriterOptions | None = None,
     report: ConversionReport | None = None,
     batch: int = 4096,
+    source: str | None = None,
 ) -> Iterator[str]:
     """The program text as chunks of whole lines, each line ending with a newline: what a
     file or a pipe wants (one write per line costs as much as formatting a Sandia line);
     still streamed, ``batch`` lines at a time."""
     writer = _writer(dialect, options, report)
+    writer.file = source
     if hasattr(writer, "run_text"):
-        yield from writer.run_text(commands)
+        yield from writer.run_text(commands)  # it takes the fast lane's runs too
         return
     buf: list[str] = []
     for line in writer.run(commands):
@@ -143,6 +147,7 @@ class BlockWriter:
         self.frame: tuple[str, ...] = ()  # the blocks of the last frame written (_frame)
         self.comp_radius = 0.0
         self.comp_on = False  # G41/G42 written and not yet G40
+        self.file: str | None = None  # the source program (locations of bulk runs)
         self.comp_register: int | None = None  # the next G41/G42's D register (CompRegister)
         self.motion: str | None = None
         # positions in output units: the IR's (exact) and what the text set (rounded)
@@ -205,31 +210,45 @@ class BlockWriter:
 
     # ------------------------------------------------------------------ driver
     def run(self, commands: Iterable[canon.Command]) -> Iterator[str]:
+        """The program, a line at a time. ``commands`` may hold the interpreter's runs of
+        plain lines (:class:`gcode.fastlane.Run`, from ``interpret_chunks``): those are
+        written in bulk where :mod:`gcode.emit_bulk` can, else command by command."""
         header = self.d.header if self.o.header is None else self.o.header
         yield from header
-        for cmd in commands:
-            self.report.commands += 1
-            self.src = cmd.source
-            if self.ended:
-                continue  # LinuxCNC prints M2's resets after it: nothing more to write
-            if self.skipping and type(cmd) is not CycleEnd:
-                continue  # a kept cycle's own moves: the target expands the block itself
-            if self.pending_select is not None and not isinstance(
-                cmd, canon.ChangeTool | canon.Comment | canon.StartChange | canon.StopSpindleTurning
-            ):  # T alone only when no change follows (M6 is SELECT, START_CHANGE, ...)
-                self.block(f"T{self.pending_select}")
-                self.pending_select = None
-            if type(cmd) not in _PLAIN_MOTIONS:
-                self.dirty = True  # it may set state that the next flush must write
-            handler = _HANDLERS.get(type(cmd)) or _BY_NAME.get(cmd.NAME)
-            if handler is None:
-                self.lacking("CONV-UNSUPPORTED", f"equivalent of {cmd.NAME}")
+        for item in commands:
+            if isinstance(item, Run):
+                if can_take(self, item):
+                    write_run(self, item, self.file)
+                else:
+                    for cmd in item.commands(self.file):
+                        self.command(cmd)
             else:
-                handler(self, cmd)
+                self.command(item)
             if self.out:
                 yield from self.out
                 self.out.clear()
         yield from self.d.footer if self.o.footer is None else self.o.footer
+
+    def command(self, cmd: canon.Command) -> None:
+        """One canonical command through its handler (its blocks land in ``self.out``)."""
+        self.report.commands += 1
+        self.src = cmd.source
+        if self.ended:
+            return  # LinuxCNC prints M2's resets after it: nothing more to write
+        if self.skipping and type(cmd) is not CycleEnd:
+            return  # a kept cycle's own moves: the target expands the block itself
+        if self.pending_select is not None and not isinstance(
+            cmd, canon.ChangeTool | canon.Comment | canon.StartChange | canon.StopSpindleTurning
+        ):  # T alone only when no change follows (M6 is SELECT, START_CHANGE, ...)
+            self.block(f"T{self.pending_select}")
+            self.pending_select = None
+        if type(cmd) not in _PLAIN_MOTIONS:
+            self.dirty = True  # it may set state that the next flush must write
+        handler = _HANDLERS.get(type(cmd)) or _BY_NAME.get(cmd.NAME)
+        if handler is None:
+            self.lacking("CONV-UNSUPPORTED", f"equivalent of {cmd.NAME}")
+        else:
+            handler(self, cmd)
 
     # ------------------------------------------------------------------ state flush
     def flush(self) -> None:

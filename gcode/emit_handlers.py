@@ -352,6 +352,9 @@ def probe(w: BlockWriter, c: canon.StraightProbe) -> None:
 def arc(w: BlockWriter, c: canon.ArcFeed) -> None:
     w.flush()
     first, second, normal, ci, cj = PLANE_AXES[w.plane]
+    for letter in (first, second):
+        if letter not in w.d.axes:  # an XY arc on a lathe
+            w.refuse("CONV-AXIS", f"{w.d.title} has no {letter} axis for an arc in its plane")
     s = w.fmt.scale
     end1, end2, cen1, cen2 = c.first_end * s, c.second_end * s, c.first_axis * s, c.second_axis * s
     start1, start2 = w.written(first), w.written(second)

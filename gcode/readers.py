@@ -84,6 +84,19 @@ def read(
     return module.interpret(path, options or _default_options())
 
 
+def read_chunks(
+    path: str | os.PathLike[str], dialect: str, options: InterpreterOptions | None = None
+) -> Iterator[object]:
+    """Like :func:`read`, but an RS274/NGC program's runs of plain lines come as
+    :class:`gcode.fastlane.Run` arrays (``interpret_chunks``), for a writer that takes
+    them in bulk (gcode.emit.write_text); other dialects give commands only."""
+    if reader_name(dialect) == "rs274ngc":
+        from gcode.interpreter import interpret_chunks
+
+        return interpret_chunks(path, options or _default_options())
+    return read(path, dialect, options)
+
+
 def read_text(
     text: str, dialect: str, name: str = "<input>", options: InterpreterOptions | None = None
 ) -> Iterator[canon.Command]:

@@ -31,6 +31,7 @@ from gcode.dialects.sandia_chords import (
 )
 from gcode.dialects.spec import Dialect
 from gcode.emit_state import PLANE_AXES, Formatter, clamped_uniform_knots
+from gcode.fastlane import FEED_MOVE, SET_FEED, Run
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
 
@@ -99,6 +100,7 @@ class SandiaWriter:
         self.ended = False
         self.state: dict[str, object] = {}
         self.per_rev = False  # SET_FEED_MODE per revolution in force
+        self.file: str | None = None  # the source program (locations of bulk runs)
 
     def run(self, commands: Iterable[canon.Command]) -> Iterator[str]:
         """The program, one line at a time."""
@@ -122,6 +124,17 @@ class SandiaWriter:
         arcs_too = self.o.on_missing != "refuse"  # type: ignore[attr-defined]
         run: list[canon.Command] = []  # straight feeds and arcs, written together (the hot path)
         for cmd in commands:
+            if isinstance(cmd, Run):
+                if run:
+                    self.feeds(run)
+                    run.clear()
+                if not self.ended:
+                    self.bulk(cmd, self.file)
+                if out:
+                    report.blocks += len(out)
+                    yield chunk(out)
+                    out.clear()
+                continue
             report.commands += 1
             if self.ended:
                 continue
@@ -168,7 +181,17 @@ class SandiaWriter:
         start = (self.cur["X"] / s, self.cur["Y"] / s, self.cur["Z"] / s)
         tol = self.o.tolerance  # type: ignore[attr-defined]
         pts, counts, sag = batch_points(run, axes, start, tol / s)
-        pts *= s
+        self.points(pts * s)
+        for c, n, dev in zip(run, counts.tolist(), sag.tolist(), strict=True):
+            if type(c) is canon.ArcFeed:
+                message = f"ARC_FEED as {n} MoveTo"
+                self.report.add(
+                    Change("CONV-ARC-LINES", "approximated", message, c.source, n, dev * s, tol)
+                )
+
+    def points(self, pts: np.ndarray) -> None:
+        """``MoveTo`` lines to the points (N, 3) in output units, formatted at once."""
+        places = self.fmt.places
         known = self.known
         last: list[str | None] = [self.last[k][2:] for k in "XYZ"] if known else [None] * 3
         moving = [
@@ -189,12 +212,43 @@ class SandiaWriter:
         self.last = {k: f"{k}={v}" for k, v in zip("XYZ", last, strict=True)}
         self.cur = {k: float(pts[-1, i]) for i, k in enumerate("XYZ")}
         self.known = True
-        for c, n, dev in zip(run, counts.tolist(), sag.tolist(), strict=True):
-            if type(c) is canon.ArcFeed:
-                message = f"ARC_FEED as {n} MoveTo"
-                self.report.add(
-                    Change("CONV-ARC-LINES", "approximated", message, c.source, n, dev * s, tol)
-                )
+
+    def bulk(self, run: Run, file: str | None) -> None:
+        """A run of plain lines from the interpreter's fast lane (arrays, no command
+        objects): the feed moves between feed changes go to :meth:`points` at once, as
+        :meth:`feeds` would write them; rapids and the rare rest go command by command."""
+        self.report.commands += len(run)
+        if not len(run):
+            return
+        if self.fmt.places < 1 or np.any(np.abs(run.position[:, 3:]) > 1e-9):
+            for c in run.commands(file):
+                self.src = c.source
+                self.handle(c)
+            return
+        kind, pos, feed = run.kind, run.position, run.feed
+        s = None
+        n = len(run)
+        i = 0
+        while i < n:
+            k = int(kind[i])
+            if k == FEED_MOVE:
+                j = i
+                while j < n and kind[j] == FEED_MOVE:
+                    j += 1
+                self.src = canon.Location(file, int(run.line[i]), 1)
+                self.ensure_units()
+                self.feeding()
+                self.speed()
+                s = self.fmt.scale
+                self.points(pos[i:j, :3] * s)
+                i = j
+                continue
+            if k == SET_FEED:
+                self.feed = float(feed[i])
+            else:
+                self.src = canon.Location(file, int(run.line[i]), 1)
+                self.handle(canon.StraightTraverse(*pos[i].tolist(), source=self.src))
+            i += 1
 
     # ------------------------------------------------------------------ helpers
     def line(self, text: str) -> None:
