@@ -75,19 +75,10 @@ def write_text(
     still streamed, ``batch`` lines at a time."""
     writer = _writer(dialect, options, report)
     writer.file = source
-    if hasattr(writer, "run_text"):
-        yield from writer.run_text(commands)  # it takes the fast lane's runs too
-        return
-    buf: list[str] = []
-    for line in writer.run(commands):
-        buf.append(line)
-        if len(buf) >= batch:
-            buf.append("")
-            yield "\n".join(buf)
-            buf.clear()
-    if buf:
-        buf.append("")
-        yield "\n".join(buf)
+    if isinstance(writer, BlockWriter):
+        yield from writer.run_text(commands, batch)
+    else:
+        yield from writer.run_text(commands)  # Sandia: its chords are joined per run
 
 
 def _writer(dialect: str | Dialect, options: WriterOptions | None, report: ConversionReport | None):  # noqa: ANN202 - BlockWriter | SandiaWriter
@@ -213,8 +204,26 @@ class BlockWriter:
         """The program, a line at a time. ``commands`` may hold the interpreter's runs of
         plain lines (:class:`gcode.fastlane.Run`, from ``interpret_chunks``): those are
         written in bulk where :mod:`gcode.emit_bulk` can, else command by command."""
-        header = self.d.header if self.o.header is None else self.o.header
-        yield from header
+        for lines in self.run_lines(commands):
+            yield from lines
+
+    def run_text(self, commands: Iterable[canon.Command], batch: int = 4096) -> Iterator[str]:
+        """The program as text chunks of whole lines, each ending with a newline, about
+        ``batch`` lines a chunk (what a file wants: no generator step per line)."""
+        pending: list[str] = []
+        for lines in self.run_lines(commands):
+            pending.extend(lines)
+            if len(pending) >= batch:
+                pending.append("")
+                yield "\n".join(pending)
+                pending.clear()
+        if pending:
+            pending.append("")
+            yield "\n".join(pending)
+
+    def run_lines(self, commands: Iterable[canon.Command]) -> Iterator[list[str]]:
+        """The blocks of each command or run, as lists (emptied after each step)."""
+        yield list(self.d.header if self.o.header is None else self.o.header)
         for item in commands:
             if isinstance(item, Run):
                 if can_take(self, item):
@@ -225,9 +234,9 @@ class BlockWriter:
             else:
                 self.command(item)
             if self.out:
-                yield from self.out
+                yield self.out
                 self.out.clear()
-        yield from self.d.footer if self.o.footer is None else self.o.footer
+        yield list(self.d.footer if self.o.footer is None else self.o.footer)
 
     def command(self, cmd: canon.Command) -> None:
         """One canonical command through its handler (its blocks land in ``self.out``)."""

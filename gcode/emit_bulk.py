@@ -66,6 +66,8 @@ def write_run(w: BlockWriter, run: fastlane.Run, file: str | None) -> None:
     if not len(run):
         return
     w.src = canon.Location(file, int(run.line[-1]), 1)
+    if _compiled(w, run):
+        return
     kind = run.kind.tolist()
     feeds = run.feed.tolist()
     scale = w.fmt.scale
@@ -125,3 +127,41 @@ def write_run(w: BlockWriter, run: fastlane.Run, file: str | None) -> None:
     else:
         w.out.extend(lines)
         w.report.blocks += len(lines)
+
+
+def _compiled(w: BlockWriter, run: fastlane.Run) -> bool:
+    """The run formatted by the compiled kernel (:func:`gcode.fastlane.gcode_text`), when
+    it can state every number exactly; False leaves the run to the Python loop."""
+    axes = [i for i, letter in enumerate(_LETTERS) if letter in w.d.axes]
+    if not axes or axes[0] != 0 or len(w.d.separator) != 1 or w.fmt.places > 12:
+        return False
+    scale = w.fmt.scale
+    scaled = np.array(run.position, dtype=np.float64)
+    scaled[:, :3] *= scale
+    codes = (w.d.rapid, w.d.linear)
+    motion = codes.index(w.motion) if w.motion in codes else -1
+    feed_words = (w.e_feed, "F" + w.fmt.feed(w.feed * scale))
+    last = [w.words.get(_LETTERS[i]) for i in axes]
+    letters = "".join(_LETTERS[i] for i in axes)
+    done = fastlane.gcode_text(
+        run, scaled, run.feed * scale, axes, letters, w.fmt.places, w.d.point_required,
+        last, codes, motion, feed_words, w.d.separator,
+    )  # fmt: skip
+    if done is None:
+        return False
+    text, words, motion_after, feed_after = done
+    lines = text[:-1].split("\n") if text else []
+    for i, word in zip(axes, words, strict=True):
+        w.words[_LETTERS[i]] = word or None
+        w.cur[_LETTERS[i]] = float(scaled[-1, i])
+    w.motion = codes[motion_after] if motion_after >= 0 else w.motion
+    w.e_feed = feed_after or w.e_feed
+    w.feed = float(run.feed[-1])
+    limit = w.o.max_line_length or w.d.max_line_length
+    if w.o.line_numbers or (limit is not None and max(map(len, lines), default=0) > limit):
+        for line in lines:  # numbered, or a block too long: w.block numbers or refuses
+            w.block(line)
+    else:
+        w.out.extend(lines)
+        w.report.blocks += len(lines)
+    return True

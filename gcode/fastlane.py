@@ -187,6 +187,74 @@ def events_text(run: Run, seq0: int) -> str:
     return "\n".join(lines)
 
 
+_GCODE_CONSTS: dict[tuple, tuple] = {}  # per dialect: motion codes, letters, axes as arrays
+
+
+def _words_array(words: list[str], rows: int, width: int = 40) -> tuple[np.ndarray, np.ndarray]:
+    """Words as a (rows, width) byte array padded with zeros, and their lengths."""
+    raw = b"".join(w.encode("ascii")[:width].ljust(width, b"\0") for w in words)
+    buf = np.zeros((rows, width), dtype=np.uint8)
+    buf[: len(words)] = np.frombuffer(raw, dtype=np.uint8).reshape(len(words), width)
+    lens = np.zeros(rows, dtype=np.int64)
+    lens[: len(words)] = [len(w) for w in words]
+    return buf, lens
+
+
+def gcode_text(
+    run: Run,
+    scaled: np.ndarray,
+    feeds: np.ndarray,
+    axes: list[int],
+    letters: str,
+    places: int,
+    point: bool,
+    last: list[str | None],
+    codes: tuple[str, str],
+    motion: int,
+    feed_words: tuple[str | None, str],
+    separator: str,
+) -> tuple[str, list[str], int, str] | None:
+    """G-code blocks of a run formatted in compiled code (gcode.emit_bulk.write_run's
+    rules): ``scaled`` are the positions and ``feeds`` the F values in output units;
+    ``last`` the axis words last written, ``motion`` the index in ``codes`` of the motion
+    code in force (-1: none), ``feed_words`` the F word last written and that of the feed
+    in force. Returns (text with a newline after each block, the axis words after, the
+    motion index after, the F word after), or None where a number needs Python's exact
+    rounding (a tie), so that the caller formats the run itself."""
+    na = len(axes)
+    last_buf, last_len = _words_array([w or "" for w in last], max(na, 1))
+    fbuf, flen = _words_array([feed_words[0] or "", feed_words[1]], 2)
+    key = (codes, letters, tuple(axes))
+    consts = _GCODE_CONSTS.get(key)
+    if consts is None:
+        code_buf, code_len = _words_array(list(codes), 2, 8)
+        letter_arr = np.frombuffer(letters.encode("ascii"), dtype=np.uint8).copy()
+        consts = _GCODE_CONSTS[key] = (code_buf, code_len, letter_arr, np.array(axes))
+    code_buf, code_len, letter_arr, axes_arr = consts
+    raw, tie, motion_after = _kernels().gcode(
+        np.ascontiguousarray(run.kind, dtype=np.int8),
+        np.ascontiguousarray(scaled, dtype=np.float64),
+        np.ascontiguousarray(feeds, dtype=np.float64),
+        axes_arr,
+        letter_arr,
+        int(places),
+        bool(point),
+        last_buf,
+        last_len,
+        code_buf,
+        code_len,
+        int(motion),
+        fbuf,
+        flen,
+        np.uint8(ord(separator)),
+    )
+    if tie:
+        return None
+    words = [bytes(last_buf[a, : last_len[a]]).decode("ascii") for a in range(na)]
+    feed_after = bytes(fbuf[0, : flen[0]]).decode("ascii")
+    return raw.tobytes().decode("ascii"), words, int(motion_after), feed_after
+
+
 # ---------------------------------------------------------------- loading the kernels
 _KERNEL_SOURCE = Path(__file__).with_name("fastlane_kernels.py")
 _loaded: Any = None

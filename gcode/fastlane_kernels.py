@@ -233,6 +233,166 @@ def _format(kind, pos, feed, seq0, names, name_len):  # pragma: no cover - compi
     return out[:o], python, flagged
 
 
+@njit(cache=True, error_model="numpy")
+def _put_num(out, o, v, places, point):  # pragma: no cover - compiled
+    """``v`` as a G-code word value (gcode.emit_state.Formatter rules): ``places``
+    decimals, trailing zeros dropped, the point kept when ``point`` (Fanuc), no ``-0``.
+    Returns (offset, needs Python formatting: a rounding tie or a huge value)."""
+    a = -v if v < 0.0 else v
+    if not a < 1e12:
+        return o, True
+    scale = 1.0
+    for _ in range(places):
+        scale *= 10.0
+    scaled = a * scale
+    low = np.floor(scaled)
+    if abs(scaled - low - 0.5) < 1e-6:
+        # near a rounding tie: decide it on the exact product a * 10^places, as Python's
+        # correctly rounded "%.*f" does (Veltkamp split, Dekker's two-product; exact ties
+        # go to the even digit)
+        c = 134217729.0 * a
+        a_hi = c - (c - a)
+        a_lo = a - a_hi
+        c = 134217729.0 * scale
+        s_hi = c - (c - scale)
+        s_lo = scale - s_hi
+        err = ((a_hi * s_hi - scaled) + a_hi * s_lo + a_lo * s_hi) + a_lo * s_lo
+        d = (scaled - (low + 0.5)) + err
+        if d > 0.0 or (d == 0.0 and low % 2.0 == 1.0):
+            low += 1.0
+        q = np.uint64(low)
+    else:
+        q = np.uint64(np.floor(scaled + 0.5))
+    tie = False
+    if q >= np.uint64(10) ** np.uint64(17):
+        return o, True
+    ten = np.uint64(10)
+    if v < 0.0 and q != 0:
+        out[o] = 45
+        o += 1
+    div = np.uint64(1)
+    for _ in range(places):
+        div *= ten
+    whole = q // div
+    r = q - whole * div
+    t = 1
+    p = ten
+    while p <= whole:
+        p *= ten
+        t += 1
+    for j in range(t - 1, -1, -1):
+        d = whole // ten
+        out[o + j] = 48 + (whole - d * ten)
+        whole = d
+    o += t
+    if places == 0:
+        return o, tie
+    digits = places
+    while digits > 0 and r % ten == 0:  # trailing zeros of the fraction
+        r //= ten
+        digits -= 1
+    if digits == 0:
+        if point:
+            out[o] = 46
+            o += 1
+        return o, tie
+    out[o] = 46
+    for j in range(digits, 0, -1):
+        d = r // ten
+        out[o + j] = 48 + (r - d * ten)
+        r = d
+    return o + digits + 1, tie
+
+
+@njit(cache=True)
+def _gcode(
+    kind,
+    pos,
+    feed,
+    axes,
+    letters,
+    places,
+    point,
+    last,
+    last_len,
+    codes,
+    code_len,
+    motion,
+    fbuf,
+    flen,
+    sep,
+):  # pragma: no cover - compiled
+    """G-code blocks of a run's events (gcode.emit_bulk.write_run's rules), joined by
+    newlines. ``last``/``last_len`` (the axis words last written, letter included),
+    ``fbuf``/``flen`` (the F word) are updated in place; returns (text, any tie, motion)."""
+    m = kind.shape[0]
+    na = axes.shape[0]
+    out = np.empty(m * (12 + 24 * (na + 1)) + 64, dtype=np.uint8)
+    word = np.empty(32, dtype=np.uint8)
+    o = 0
+    tie_any = False
+    for k in range(m):
+        kk = kind[k]
+        if kk == 2:  # SET_FEED: the F word of the new rate, written with the next move
+            fbuf[1, 0] = 70
+            n, tie = _put_num(fbuf[1], 1, feed[k], places, point)
+            tie_any |= tie
+            flen[1] = n
+            continue
+        start = o
+        if kk != motion:
+            motion = kk
+            for j in range(code_len[kk]):
+                out[o] = codes[kk, j]
+                o += 1
+        changed = False
+        for a in range(na):
+            word[0] = letters[a]
+            n, tie = _put_num(word, 1, pos[k, axes[a]], places, point)
+            tie_any |= tie
+            if not _same_arr(word, n, last[a], last_len[a]):
+                for j in range(n):
+                    last[a, j] = word[j]
+                last_len[a] = n
+                if o > start:
+                    out[o] = sep
+                    o += 1
+                for j in range(n):
+                    out[o] = word[j]
+                    o += 1
+                changed = True
+        if not changed:  # the handlers write the first axis (X) of a move in place
+            if o > start:
+                out[o] = sep
+                o += 1
+            for j in range(last_len[0]):
+                out[o] = last[0, j]
+                o += 1
+        if not _same_arr(fbuf[1], flen[1], fbuf[0], flen[0]):  # BlockWriter.feed_word
+            for j in range(flen[1]):
+                fbuf[0, j] = fbuf[1, j]
+            flen[0] = flen[1]
+            if o > start:
+                out[o] = sep
+                o += 1
+            for j in range(flen[1]):
+                out[o] = fbuf[1, j]
+                o += 1
+        out[o] = 10
+        o += 1
+    return out[:o], tie_any, motion
+
+
+@njit(cache=True)
+def _same_arr(a, la, b, lb):  # pragma: no cover - compiled
+    if la != lb:
+        return False
+    for j in range(la):  # noqa: SIM110 - a compiled loop, no generator
+        if a[j] != b[j]:
+            return False
+    return True
+
+
 _U8 = nt.Array(nt.uint8, 1, "C")
 _I8 = nt.Array(nt.int8, 1, "C")
 _I64 = nt.Array(nt.int64, 1, "C")
@@ -262,11 +422,32 @@ SIGNATURES = {
             _I8, _F64_2D, _F64, nt.int64, nt.Array(nt.uint8, 2, "C"), _I64
         ),
     ),
+    "gcode": (
+        _gcode,
+        nt.Tuple((_U8, nt.boolean, nt.int64))(
+            _I8,
+            _F64_2D,
+            _F64,
+            _I64,
+            _U8,
+            nt.int64,
+            nt.boolean,
+            nt.Array(nt.uint8, 2, "C"),
+            _I64,
+            nt.Array(nt.uint8, 2, "C"),
+            _I64,
+            nt.int64,
+            nt.Array(nt.uint8, 2, "C"),
+            _I64,
+            nt.uint8,
+        ),
+    ),
 }
 
 #: the JIT forms under the exported names (the fallback when no AOT module can be built)
 scan = _scan
 format = _format  # noqa: A001 - the exported name
+gcode = _gcode
 
 
 def build(directory: str, name: str) -> None:

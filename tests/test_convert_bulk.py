@@ -77,3 +77,27 @@ def test_a_large_plain_program_goes_through_the_bulk_path(tmp_path: Path) -> Non
         bulk = _text(iter(chunks), dialect, WriterOptions(), str(src))
         plain = _text(interpret(src), dialect, WriterOptions(), str(src))
         assert bulk == plain
+
+
+@pytest.mark.parametrize("places", [0, 3, 4, 5])
+@pytest.mark.parametrize("point", [False, True])
+def test_compiled_numbers_are_the_formatters_even_at_rounding_ties(places: int, point: bool):
+    """The kernel's word values (gcode.fastlane_kernels._put_num) equal Formatter.number:
+    decimal ties of 4-decimal CAM input written with 3 places, exact binary ties (0.0625),
+    tiny negatives that must not print -0, and random values."""
+    import random
+
+    import numpy as np
+
+    from gcode import fastlane_kernels
+    from gcode.dialects import get_dialect
+    from gcode.emit_state import Formatter
+
+    fmt = Formatter(get_dialect("fanuc" if point else "rs274ngc"), WriterOptions(decimals=places))
+    rng = random.Random(places)
+    values = [0.0625, -0.0625, 0.0005, -0.0005, -0.0004, 1.0005, 12.3455, 2.5, -2.5, 1e-9]
+    values += [round(rng.uniform(-900, 900), places + 1) for _ in range(20000)]
+    buf = np.empty(64, dtype=np.uint8)
+    for v in values:
+        n, flagged = fastlane_kernels._put_num(buf, 0, v, places, point)
+        assert not flagged and bytes(buf[:n]).decode() == fmt._number(v, places), v
