@@ -124,10 +124,10 @@ def canon_run(path: Path, dialect: str, sink: Path) -> None:
 def convert_run(path: Path, src: str, dst: str, sink: Path, notes: Path) -> None:
     """``cnc convert PATH --from SRC --to DST -o SINK`` (notes: the CLI's stderr), with the
     CLI's defaults: cycles kept, cutter compensation kept where the target has it."""
-    target = get_dialect(dst)
-    keep_comp = target.cutter_comp is not None or target.comp_register is not None
     options = InterpreterOptions(
-        search_path=(str(path.parent),), cycle_marks=True, keep_cutter_comp=keep_comp
+        search_path=(str(path.parent),),
+        cycle_marks=True,
+        keep_cutter_comp=get_dialect(dst).has_cutter_comp,
     )
     report = ConversionReport(source_dialect=src, target_dialect=dst)
     ir = readers.read_chunks(path, src, options)

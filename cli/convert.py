@@ -268,8 +268,7 @@ def command(
     )
     src = source_language(source, src.lower())
     report = ConversionReport(source_dialect=src, target_dialect=target.name)
-    has_comp = target.cutter_comp is not None or target.comp_register is not None
-    keep_comp = cutter_comp == "keep" and has_comp
+    keep_comp = cutter_comp == "keep" and target.has_cutter_comp
     ir = read_program(source, src, tool_table, report, cycles == "keep", keep_comp)
     chunks = write_text(ir, target, opts, report, source=source)
     if output:

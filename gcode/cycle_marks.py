@@ -20,7 +20,7 @@ from kernel import canon
 class CycleStart(canon.Command):
     """One cycle block: ``code`` as in gcode.cycles (810 = G81), the first hole at
     (``first``, ``second``) in the plane, ``r`` and ``bottom`` absolute along the hole
-    axis, all in program units; ``step`` is the G91 increment of each repeat."""
+    axis, all in program units; ``repeats`` is its L (or Fanuc K) count."""
 
     NAME: ClassVar[str] = "CANNED_CYCLE"
     code: int
@@ -33,7 +33,6 @@ class CycleStart(canon.Command):
     q: float
     p: float
     repeats: int
-    step: tuple[float, float]
 
 
 @dataclass(frozen=True, slots=True)

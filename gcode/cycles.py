@@ -173,7 +173,6 @@ def canned_cycle(ip: Interpreter, w: Words, code: int, previous: int | None) -> 
                 c.q,
                 c.p,
                 repeats,
-                (inc1, inc2),
                 source=loc,
             )
         )

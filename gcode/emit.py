@@ -226,9 +226,7 @@ class BlockWriter:
         yield list(self.d.header if self.o.header is None else self.o.header)
         for item in commands:
             if isinstance(item, Run):
-                if can_take(self, item):
-                    write_run(self, item, self.file)
-                else:
+                if not (can_take(self, item) and write_run(self, item, self.file)):
                     for cmd in item.commands(self.file):
                         self.command(cmd)
             else:

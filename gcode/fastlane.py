@@ -219,8 +219,8 @@ def gcode_text(
     ``last`` the axis words last written, ``motion`` the index in ``codes`` of the motion
     code in force (-1: none), ``feed_words`` the F word last written and that of the feed
     in force. Returns (text with a newline after each block, the axis words after, the
-    motion index after, the F word after), or None where a number needs Python's exact
-    rounding (a tie), so that the caller formats the run itself."""
+    motion index after, the F word after), or None where a number is too large for the
+    kernel (1e12 or more), so that the caller formats the run itself."""
     na = len(axes)
     last_buf, last_len = _words_array([w or "" for w in last], max(na, 1))
     fbuf, flen = _words_array([feed_words[0] or "", feed_words[1]], 2)
@@ -231,7 +231,7 @@ def gcode_text(
         letter_arr = np.frombuffer(letters.encode("ascii"), dtype=np.uint8).copy()
         consts = _GCODE_CONSTS[key] = (code_buf, code_len, letter_arr, np.array(axes))
     code_buf, code_len, letter_arr, axes_arr = consts
-    raw, tie, motion_after = _kernels().gcode(
+    raw, too_large, motion_after = _kernels().gcode(
         np.ascontiguousarray(run.kind, dtype=np.int8),
         np.ascontiguousarray(scaled, dtype=np.float64),
         np.ascontiguousarray(feeds, dtype=np.float64),
@@ -248,7 +248,7 @@ def gcode_text(
         flen,
         np.uint8(ord(separator)),
     )
-    if tie:
+    if too_large:
         return None
     words = [bytes(last_buf[a, : last_len[a]]).decode("ascii") for a in range(na)]
     feed_after = bytes(fbuf[0, : flen[0]]).decode("ascii")

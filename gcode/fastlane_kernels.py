@@ -237,7 +237,7 @@ def _format(kind, pos, feed, seq0, names, name_len):  # pragma: no cover - compi
 def _put_num(out, o, v, places, point):  # pragma: no cover - compiled
     """``v`` as a G-code word value (gcode.emit_state.Formatter rules): ``places``
     decimals, trailing zeros dropped, the point kept when ``point`` (Fanuc), no ``-0``.
-    Returns (offset, needs Python formatting: a rounding tie or a huge value)."""
+    Returns (offset, too large for the kernel: 1e12 or more)."""
     a = -v if v < 0.0 else v
     if not a < 1e12:
         return o, True
@@ -263,7 +263,6 @@ def _put_num(out, o, v, places, point):  # pragma: no cover - compiled
         q = np.uint64(low)
     else:
         q = np.uint64(np.floor(scaled + 0.5))
-    tie = False
     if q >= np.uint64(10) ** np.uint64(17):
         return o, True
     ten = np.uint64(10)
@@ -286,7 +285,7 @@ def _put_num(out, o, v, places, point):  # pragma: no cover - compiled
         whole = d
     o += t
     if places == 0:
-        return o, tie
+        return o, False
     digits = places
     while digits > 0 and r % ten == 0:  # trailing zeros of the fraction
         r //= ten
@@ -295,13 +294,13 @@ def _put_num(out, o, v, places, point):  # pragma: no cover - compiled
         if point:
             out[o] = 46
             o += 1
-        return o, tie
+        return o, False
     out[o] = 46
     for j in range(digits, 0, -1):
         d = r // ten
         out[o + j] = 48 + (r - d * ten)
         r = d
-    return o + digits + 1, tie
+    return o + digits + 1, False
 
 
 @njit(cache=True)
@@ -323,20 +322,21 @@ def _gcode(
     sep,
 ):  # pragma: no cover - compiled
     """G-code blocks of a run's events (gcode.emit_bulk.write_run's rules), joined by
-    newlines. ``last``/``last_len`` (the axis words last written, letter included),
-    ``fbuf``/``flen`` (the F word) are updated in place; returns (text, any tie, motion)."""
+    newlines. ``last``/``last_len`` (the axis words last written, letter included) and
+    ``fbuf``/``flen`` (row 0: the F word last written, row 1: the F word of the feed in
+    force) are updated in place; returns (text, a number too large, motion code index)."""
     m = kind.shape[0]
     na = axes.shape[0]
     out = np.empty(m * (12 + 24 * (na + 1)) + 64, dtype=np.uint8)
     word = np.empty(32, dtype=np.uint8)
     o = 0
-    tie_any = False
+    too_large = False
     for k in range(m):
         kk = kind[k]
         if kk == 2:  # SET_FEED: the F word of the new rate, written with the next move
             fbuf[1, 0] = 70
-            n, tie = _put_num(fbuf[1], 1, feed[k], places, point)
-            tie_any |= tie
+            n, big = _put_num(fbuf[1], 1, feed[k], places, point)
+            too_large |= big
             flen[1] = n
             continue
         start = o
@@ -348,8 +348,8 @@ def _gcode(
         changed = False
         for a in range(na):
             word[0] = letters[a]
-            n, tie = _put_num(word, 1, pos[k, axes[a]], places, point)
-            tie_any |= tie
+            n, big = _put_num(word, 1, pos[k, axes[a]], places, point)
+            too_large |= big
             if not _same_arr(word, n, last[a], last_len[a]):
                 for j in range(n):
                     last[a, j] = word[j]
@@ -380,7 +380,7 @@ def _gcode(
                 o += 1
         out[o] = 10
         o += 1
-    return out[:o], tie_any, motion
+    return out[:o], too_large, motion
 
 
 @njit(cache=True)

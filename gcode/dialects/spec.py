@@ -125,3 +125,8 @@ class Dialect:
 
     def decimals(self, inch: bool) -> int:
         return self.decimals_inch if inch else self.decimals_mm
+
+    @property
+    def has_cutter_comp(self) -> bool:
+        """G41/G42 can be kept: by value or with an offset register (``--cutter-comp``)."""
+        return self.cutter_comp is not None or self.comp_register is not None
