@@ -168,8 +168,12 @@ def ellipse(w: BlockWriter, c: canon.EllipseFeed) -> None:
     pts[-1] = (c.first_end, c.second_end, 1.0)
     a0 = (w.cur["A"], w.cur["B"], w.cur["C"])
     for p1, p2, f in pts:
-        t = {first: p1, second: p2, normal: z0 + (c.axis_end_point - z0) * f}
-        rot = [a0[i] + (v - a0[i]) * f for i, v in enumerate((c.a, c.b, c.c))]
+        if f == 1.0:  # the last chord ends exactly on the programmed end point
+            t = {first: p1, second: p2, normal: c.axis_end_point}
+            rot = [c.a, c.b, c.c]
+        else:
+            t = {first: p1, second: p2, normal: z0 + (c.axis_end_point - z0) * f}
+            rot = [a0[i] + (v - a0[i]) * f for i, v in enumerate((c.a, c.b, c.c))]
         feed(w, canon.StraightFeed(t["X"], t["Y"], t["Z"], *rot, source=c.source))
     w.change(
         "CONV-ELLIPSE",

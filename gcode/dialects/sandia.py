@@ -320,7 +320,8 @@ class SandiaWriter:
         s = self.fmt.scale
         n0 = self.cur[normal] / s
         for p1, p2, f in pts:
-            t = {first: p1, second: p2, normal: n0 + (normal_end - n0) * f}
+            axial = normal_end if f == 1.0 else n0 + (normal_end - n0) * f  # exact end
+            t = {first: p1, second: p2, normal: axial}
             self.move(t["X"], t["Y"], t["Z"])
         self.report.add(
             Change(

@@ -164,8 +164,7 @@ def batch_points(
     pts[:, i2] = centre[owner, 1] + r[owner] * np.sin(t)
     n0 = starts[owner, i3]
     pts[:, i3] = n0 + (ends[owner, i3] - n0) * frac
-    pts[last, i1] = ends[:, i1]  # every command ends exactly on its end point
-    pts[last, i2] = ends[:, i2]
+    pts[last] = ends  # every command ends exactly on its end point (helix axis too)
     lines = ~arc[owner]
     pts[lines] = ends[owner[lines]]
     return pts, counts, sag
