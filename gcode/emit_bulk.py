@@ -43,7 +43,8 @@ def can_take(w: BlockWriter, run: fastlane.Run) -> bool:
 
 def write_run(w: BlockWriter, run: fastlane.Run, file: str | None) -> bool:
     """Write the events of ``run`` (see module doc) into ``w.out``; False (nothing
-    written) when the kernel cannot state a number exactly, for the handlers to take."""
+    written) when the kernel cannot state a number or a block is too long, for the
+    handlers to take (and refuse at the block's own line)."""
     w.flush()
     if not len(run):
         return True
@@ -64,6 +65,9 @@ def write_run(w: BlockWriter, run: fastlane.Run, file: str | None) -> bool:
         return False
     text, words, motion_after, feed_after = done
     lines = text[:-1].split("\n") if text else []
+    limit = w.o.max_line_length or w.d.max_line_length
+    if limit is not None and max(map(len, lines), default=0) > limit:
+        return False  # the handlers refuse the long block at its own line
     for i, word in zip(axes, words, strict=True):
         w.words[_LETTERS[i]] = word or None
         w.cur[_LETTERS[i]] = float(scaled[-1, i])
@@ -72,9 +76,8 @@ def write_run(w: BlockWriter, run: fastlane.Run, file: str | None) -> bool:
     w.feed = float(run.feed[-1])
     w.report.commands += len(run)
     w.src = canon.Location(file, int(run.line[-1]), 1)
-    limit = w.o.max_line_length or w.d.max_line_length
-    if w.o.line_numbers or (limit is not None and max(map(len, lines), default=0) > limit):
-        for line in lines:  # numbered, or a block too long: w.block numbers or refuses
+    if w.o.line_numbers:  # w.block numbers them (and checks the numbered length)
+        for line in lines:
             w.block(line)
     else:
         w.out.extend(lines)

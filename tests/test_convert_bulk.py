@@ -101,3 +101,16 @@ def test_compiled_numbers_are_the_formatters_even_at_rounding_ties(places: int, 
     for v in values:
         n, flagged = fastlane_kernels._put_num(buf, 0, v, places, point)
         assert not flagged and bytes(buf[:n]).decode() == fmt._number(v, places), v
+
+
+def test_a_too_long_block_in_a_bulk_run_is_refused_at_its_own_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(interp, "LANE_MIN_BYTES", 0)
+    lines = ["G21 G90", "F500", "G1 X1 Y1", "X2 Y2", "X123.4567 Y765.4321 Z-11.1111", "X3", "M2"]
+    src = tmp_path / "long.ngc"
+    src.write_text("\n".join(lines) + "\n")
+    assert any(not hasattr(c, "NAME") for c in read_chunks(src, "rs274ngc"))
+    with pytest.raises(Diagnostic) as err:
+        "".join(write_text(read_chunks(src, "rs274ngc"), "grbl", WriterOptions(max_line_length=20)))
+    assert err.value.code == "CONV-LINE-LENGTH" and err.value.location.line == 5
