@@ -16,15 +16,21 @@ writer; then, in this process and on that file:
 Each pair is timed back to back three times; printed are the best wall seconds of each
 side, the median wall ratio (robust to load from other processes), and the CPU-time
 ratio (``time.process_time``: this process only, the fairest figure on a busy machine).
+With ``--cli`` the two sides are the installed commands themselves, run as child
+processes (``cnc canon FILE --dialect FROM -o OUT`` and ``cnc convert FILE --from FROM --to
+TO -o OUT --force``, notes to a file): start-up included, CPU time of the child.
 
     python bench/convert_bench.py [LINES] [--from D|all] [--to D|all] [--shape mill|lathe|cam]
+                                  [--cli]
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import resource
 import statistics
+import subprocess
 import sys
 import tempfile
 import time
@@ -151,6 +157,31 @@ def timed(func: Callable[[], None]) -> tuple[float, float]:
     return time.perf_counter() - wall, time.process_time() - cpu
 
 
+def command_timed(args: list[str], notes: Path) -> tuple[float, float]:
+    """(wall seconds, CPU seconds) of the command ``args`` run as a child process; its
+    standard error goes to ``notes``."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    wall = time.perf_counter()
+    with open(notes, "w") as err:
+        subprocess.run(args, stdout=subprocess.DEVNULL, stderr=err, check=True)
+    wall = time.perf_counter() - wall
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu
+
+
+def cli_pair(
+    path: Path, src: str, dst: str, sink: Path, notes: Path
+) -> tuple[Callable[[], tuple[float, float]], Callable[[], tuple[float, float]]]:
+    """(canon, convert) as the commands a user types, each timed as a child process."""
+    canon = ["cnc", "canon", str(path), "--dialect", src, "-o", str(sink), "--force"]
+    convert = ["cnc", "convert", str(path), "--from", src, "--to", dst, "-o", str(sink)]
+    return (
+        lambda: command_timed(canon, notes),
+        lambda: command_timed([*convert, "--force"], notes),
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("lines", nargs="?", type=int, default=200_000)
@@ -163,13 +194,20 @@ def main() -> None:
         help="the generated program: XY milling with an R arc every fifth block, ZX turning "
         "(for the lathe dialect), or bench/cam_program.py's plain CAM lines (an arc every 50)",
     )
+    parser.add_argument(
+        "--cli", action="store_true", help="time the cnc commands as child processes instead"
+    )
     args = parser.parse_args()
     readable = readers.readable()
     sources = readable if args.src == "all" else (args.src,)
     targets = NAMES if args.dst == "all" else (args.dst,)
     print(f"{args.lines} lines; readers installed: {', '.join(readable)}")
     print("  wall: best s of 3 back-to-back pairs, ratio = median of convert/canon")
-    print("  cpu: CPU seconds of this process (robust to other load), ratio of the sums")
+    print(
+        "  cpu: CPU seconds of "
+        + ("the cnc commands (child processes)" if args.cli else "this process")
+        + " (robust to other load), ratio of the sums"
+    )
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         sink, notes = folder / "out.txt", folder / "notes.txt"
@@ -193,8 +231,12 @@ def main() -> None:
                     continue
                 pairs = []
                 for _ in range(REPEATS):
-                    base = timed(lambda p=path, s=src: canon_run(p, s, sink))
-                    conv = timed(lambda p=path, s=src, d=dst: convert_run(p, s, d, sink, notes))
+                    if args.cli:
+                        run_canon, run_convert = cli_pair(path, src, dst, sink, notes)
+                        base, conv = run_canon(), run_convert()
+                    else:
+                        base = timed(lambda p=path, s=src: canon_run(p, s, sink))
+                        conv = timed(lambda p=path, s=src, d=dst: convert_run(p, s, d, sink, notes))
                     pairs.append((conv, base))
                 wall = statistics.median(c[0] / b[0] for c, b in pairs)
                 cpu = sum(c[1] for c, _ in pairs) / sum(b[1] for _, b in pairs)

@@ -18,15 +18,16 @@ from __future__ import annotations
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
+from gcode import emit_bulk
 from gcode.convert_report import Change, ConversionReport
 from gcode.cycle_marks import CycleEnd
 from gcode.dialects import get_dialect
 from gcode.dialects.spec import Dialect
-from gcode.emit_bulk import can_take, write_run
+from gcode.emit_bulk import can_take, run_of, write_run
 from gcode.emit_state import Formatter
 from gcode.emit_table import BY_NAME as _BY_NAME
 from gcode.emit_table import HANDLERS as _HANDLERS
-from gcode.fastlane import Run
+from gcode.fastlane import GcodeLayout, Run
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
 
@@ -150,6 +151,7 @@ class BlockWriter:
         self.cycle: tuple[object, ...] | None = None  # the modal cycle block last written
         self.skipping = False  # inside a kept cycle's moves (gcode.emit_cycles)
         self.dirty = True
+        self.layout: GcodeLayout | None = None  # the dialect as the bulk kernel takes it
 
     # ------------------------------------------------------------------ output
     def block(self, *words: str) -> None:
@@ -205,7 +207,11 @@ class BlockWriter:
         plain lines (:class:`gcode.fastlane.Run`, from ``interpret_chunks``): those are
         written in bulk where :mod:`gcode.emit_bulk` can, else command by command."""
         for lines in self.run_lines(commands):
-            yield from lines
+            for line in lines:
+                if "\n" in line:  # a bulk run's blocks (gcode.emit_bulk)
+                    yield from line.split("\n")
+                else:
+                    yield line
 
     def run_text(self, commands: Iterable[canon.Command], batch: int = 4096) -> Iterator[str]:
         """The program as text chunks of whole lines, each ending with a newline, about
@@ -222,19 +228,41 @@ class BlockWriter:
             yield "\n".join(pending)
 
     def run_lines(self, commands: Iterable[canon.Command]) -> Iterator[list[str]]:
-        """The blocks of each command or run, as lists (emptied after each step)."""
+        """The blocks of each command or run, as lists (emptied after each step); an entry
+        holds several blocks, joined by newlines, where a run was written in bulk."""
         yield list(self.d.header if self.o.header is None else self.o.header)
+        plain: list[canon.Command] = []  # plain moves of a large command stream, batched
+        report, kinds = self.report, emit_bulk.KIND
+        after, batch = emit_bulk.COMMANDS_BEFORE_BULK, emit_bulk.BATCH
         for item in commands:
+            if type(item) in kinds and report.commands >= after:
+                plain.append(item)
+                if len(plain) < batch:
+                    continue
+            if plain:
+                self.commands_in_bulk(plain)
+                plain.clear()
             if isinstance(item, Run):
                 if not (can_take(self, item) and write_run(self, item, self.file)):
                     for cmd in item.commands(self.file):
                         self.command(cmd)
-            else:
+            elif type(item) not in kinds or report.commands < after:
                 self.command(item)
             if self.out:
                 yield self.out
                 self.out.clear()
-        yield list(self.d.footer if self.o.footer is None else self.o.footer)
+        if plain:
+            self.commands_in_bulk(plain)
+        yield [*self.out, *(self.d.footer if self.o.footer is None else self.o.footer)]
+        self.out.clear()
+
+    def commands_in_bulk(self, plain: list[canon.Command]) -> None:
+        """Plain moves and feed rates of a command stream written as one run (compiled, as
+        the fast lane's runs are), else command by command."""
+        run = run_of(plain, self.feed) if len(plain) >= emit_bulk.BATCH_MIN else None
+        if run is None or not (can_take(self, run) and write_run(self, run, None, plain)):
+            for cmd in plain:
+                self.command(cmd)
 
     def command(self, cmd: canon.Command) -> None:
         """One canonical command through its handler (its blocks land in ``self.out``)."""

@@ -187,72 +187,103 @@ def events_text(run: Run, seq0: int) -> str:
     return "\n".join(lines)
 
 
-_GCODE_CONSTS: dict[tuple, tuple] = {}  # per dialect: motion codes, letters, axes as arrays
+@dataclass(frozen=True, slots=True)
+class GcodeLayout:
+    """What :func:`gcode_text` needs of a dialect, as the kernel takes it (made once per
+    writer): its rapid and linear motion codes and the axes it has among X Y Z A B C."""
+
+    codes: tuple[str, str]
+    axes: list[int]
+    code_buf: np.ndarray
+    code_len: np.ndarray
+    letters: np.ndarray
+    axes_arr: np.ndarray
+    absent: np.ndarray
+
+    @classmethod
+    def of(cls, codes: tuple[str, str], dialect_axes: str) -> GcodeLayout:
+        axes = [i for i, letter in enumerate("XYZABC") if letter in dialect_axes]
+        code_buf = np.zeros((2, 8), dtype=np.uint8)
+        for k, code in enumerate(codes):
+            code_buf[k, : len(code)] = np.frombuffer(code.encode("ascii"), dtype=np.uint8)
+        return cls(
+            codes,
+            axes,
+            code_buf,
+            np.array([len(c) for c in codes], dtype=np.int64),
+            np.array([ord("XYZABC"[i]) for i in axes], dtype=np.uint8),
+            np.array(axes, dtype=np.int64),
+            np.array([i for i in range(6) if i not in axes], dtype=np.int64),
+        )
 
 
-def _words_array(words: list[str], rows: int, width: int = 40) -> tuple[np.ndarray, np.ndarray]:
-    """Words as a (rows, width) byte array padded with zeros, and their lengths."""
-    raw = b"".join(w.encode("ascii")[:width].ljust(width, b"\0") for w in words)
-    buf = np.zeros((rows, width), dtype=np.uint8)
-    buf[: len(words)] = np.frombuffer(raw, dtype=np.uint8).reshape(len(words), width)
-    lens = np.zeros(rows, dtype=np.int64)
-    lens[: len(words)] = [len(w) for w in words]
-    return buf, lens
+def _state(words: list[str]) -> np.ndarray:
+    """Words as the kernels read them: each followed by a zero byte (read-only bytes)."""
+    return np.frombuffer(("\0".join(words) + "\0").encode("ascii"), dtype=np.uint8)
 
 
 def gcode_text(
     run: Run,
-    scaled: np.ndarray,
-    feeds: np.ndarray,
-    axes: list[int],
-    letters: str,
+    scale: float,
+    layout: GcodeLayout,
     places: int,
     point: bool,
     last: list[str | None],
-    codes: tuple[str, str],
     motion: int,
-    feed_words: tuple[str | None, str],
+    feed: tuple[str | None, float],
     separator: str,
-) -> tuple[str, list[str], int, str] | None:
+) -> tuple[str, list[str], int, str, int, int] | None:
     """G-code blocks of a run formatted in compiled code (gcode.emit_bulk.write_run's
-    rules): ``scaled`` are the positions and ``feeds`` the F values in output units;
-    ``last`` the axis words last written, ``motion`` the index in ``codes`` of the motion
-    code in force (-1: none), ``feed_words`` the F word last written and that of the feed
-    in force. Returns (text with a newline after each block, the axis words after, the
-    motion index after, the F word after), or None where a number is too large for the
-    kernel (1e12 or more), so that the caller formats the run itself."""
-    na = len(axes)
-    last_buf, last_len = _words_array([w or "" for w in last], max(na, 1))
-    fbuf, flen = _words_array([feed_words[0] or "", feed_words[1]], 2)
-    key = (codes, letters, tuple(axes))
-    consts = _GCODE_CONSTS.get(key)
-    if consts is None:
-        code_buf, code_len = _words_array(list(codes), 2, 8)
-        letter_arr = np.frombuffer(letters.encode("ascii"), dtype=np.uint8).copy()
-        consts = _GCODE_CONSTS[key] = (code_buf, code_len, letter_arr, np.array(axes))
-    code_buf, code_len, letter_arr, axes_arr = consts
-    raw, too_large, motion_after = _kernels().gcode(
+    rules): X Y Z and F times ``scale`` are the output's; ``last`` the words last written
+    of ``layout.axes``, ``motion`` the index in ``layout.codes`` of the motion code in force
+    (-1: none), ``feed`` the F word last written and the feed rate in force. Returns (text
+    with a newline after each block, the axis words after, the motion index after, the F
+    word after, the longest block, the number of blocks), or None where the kernel cannot
+    write the run (a number of 1e12 or more, an axis the dialect lacks off zero), so that
+    the caller writes it command by command."""
+    raw, cannot, motion_after, longest, blocks, state = _kernels().gcode(
         np.ascontiguousarray(run.kind, dtype=np.int8),
-        np.ascontiguousarray(scaled, dtype=np.float64),
-        np.ascontiguousarray(feeds, dtype=np.float64),
-        axes_arr,
-        letter_arr,
+        np.ascontiguousarray(run.position, dtype=np.float64),
+        np.ascontiguousarray(run.feed, dtype=np.float64),
+        float(scale),
+        layout.axes_arr,
+        layout.absent,
+        layout.letters,
         int(places),
         bool(point),
-        last_buf,
-        last_len,
-        code_buf,
-        code_len,
+        _state([w or "" for w in last] + [feed[0] or ""]),
+        layout.code_buf,
+        layout.code_len,
         int(motion),
-        fbuf,
-        flen,
+        float(feed[1]),
         np.uint8(ord(separator)),
+    )
+    if cannot:
+        return None
+    words = state.tobytes().decode("ascii").split("\0")
+    na = len(layout.axes)
+    return raw.tobytes().decode("ascii"), words[:na], int(motion_after), words[na], longest, blocks
+
+
+def sandia_text(
+    points: np.ndarray, scale: float, places: int, last: list[str] | None
+) -> tuple[str, np.ndarray, list[str]] | None:
+    """``MoveTo`` lines to ``points`` (N, 3 in program units; times ``scale`` in the
+    output's) formatted in compiled code, writing an axis when its text changes
+    (gcode.dialects.sandia_chords.move_lines' rule); ``last``: the X, Y, Z texts written
+    last (None: every axis on the first line). Returns (text with a newline after each
+    line, the offset where each line starts and the text's length, the texts after), or
+    None where a number is too large for the kernel."""
+    raw, starts, too_large, state = _kernels().sandia(
+        np.ascontiguousarray(points, dtype=np.float64),
+        float(scale),
+        int(places),
+        _state(last or ["", "", ""]),
+        last is not None,
     )
     if too_large:
         return None
-    words = [bytes(last_buf[a, : last_len[a]]).decode("ascii") for a in range(na)]
-    feed_after = bytes(fbuf[0, : flen[0]]).decode("ascii")
-    return raw.tobytes().decode("ascii"), words, int(motion_after), feed_after
+    return raw.tobytes().decode("ascii"), starts, state.tobytes().decode("ascii").split("\0")[:3]
 
 
 # ---------------------------------------------------------------- loading the kernels

@@ -1,4 +1,4 @@
-"""The compiled kernels of the fast lane (:mod:`gcode.fastlane`): scanner and text formatter.
+"""The compiled kernels of the fast lane (:mod:`gcode.fastlane`): scanner and text formatters.
 
 The source is shared by two ways of compiling it: numba's JIT (``@njit(cache=True)``,
 imported only as a fallback) and numba.pycc ahead of time into a plain extension module
@@ -304,40 +304,89 @@ def _put_num(out, o, v, places, point):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def _read_words(state, rows, width):  # pragma: no cover - compiled
+    """The zero-terminated words of ``state`` as rows of a (``rows``, ``width``) array and
+    their lengths; the last length is -1 when a word does not fit."""
+    words = np.zeros((rows, width), dtype=np.uint8)
+    lens = np.zeros(rows, dtype=np.int64)
+    r = 0
+    for b in state:
+        if r >= rows:
+            break
+        if b == 0:
+            r += 1
+        elif lens[r] >= width:
+            lens[rows - 1] = -1
+            break
+        else:
+            words[r, lens[r]] = b
+            lens[r] += 1
+    return words, lens
+
+
+@njit(cache=True)
+def _write_words(words, lens, rows):  # pragma: no cover - compiled
+    """The first ``rows`` words, each followed by a zero byte (the form _read_words reads)."""
+    out = np.empty(rows * (words.shape[1] + 1), dtype=np.uint8)
+    o = 0
+    for r in range(rows):
+        for j in range(lens[r]):
+            out[o] = words[r, j]
+            o += 1
+        out[o] = 0
+        o += 1
+    return out[:o]
+
+
+@njit(cache=True)
 def _gcode(
     kind,
     pos,
     feed,
+    scale,
     axes,
+    absent,
     letters,
     places,
     point,
-    last,
-    last_len,
+    state,
     codes,
     code_len,
     motion,
-    fbuf,
-    flen,
+    feed0,
     sep,
 ):  # pragma: no cover - compiled
     """G-code blocks of a run's events (gcode.emit_bulk.write_run's rules), joined by
-    newlines. ``last``/``last_len`` (the axis words last written, letter included) and
-    ``fbuf``/``flen`` (row 0: the F word last written, row 1: the F word of the feed in
-    force) are updated in place; returns (text, a number too large, motion code index)."""
+    newlines. ``pos`` and ``feed`` are in program units (X Y Z and F times ``scale`` are the
+    output's); ``state`` holds the axis words last written and the F word last written
+    (letters included, each ending in a zero byte, empty when unknown); ``feed0`` is the
+    feed rate in force; ``absent``: the axes the dialect lacks. Returns (text, whether the
+    kernel cannot write the run: a number too large or an absent axis off zero, the motion
+    code index after, the longest block, the number of blocks, ``state`` after)."""
     m = kind.shape[0]
     na = axes.shape[0]
-    out = np.empty(m * (12 + 24 * (na + 1)) + 64, dtype=np.uint8)
+    for k in range(m):
+        for a in absent:
+            if abs(pos[k, a]) > 1e-9:  # the handlers refuse it at its line
+                return np.empty(0, dtype=np.uint8), True, motion, 0, 0, state.copy()
+    last, last_len = _read_words(state, na + 2, 64)
+    too_large = last_len[na + 1] < 0
+    fw = na + 1  # row of the F word of the feed in force; row na: the F word written
+    last[fw, 0] = 70
+    n, big = _put_num(last[fw], 1, feed0 * scale, places, point)
+    too_large |= big
+    last_len[fw] = n
+    out = np.empty(m * (12 + 32 * (na + 1)) + 64, dtype=np.uint8)
     word = np.empty(32, dtype=np.uint8)
     o = 0
-    too_large = False
+    longest = 0
+    blocks = 0
     for k in range(m):
         kk = kind[k]
         if kk == 2:  # SET_FEED: the F word of the new rate, written with the next move
-            fbuf[1, 0] = 70
-            n, big = _put_num(fbuf[1], 1, feed[k], places, point)
+            n, big = _put_num(last[fw], 1, feed[k] * scale, places, point)
             too_large |= big
-            flen[1] = n
+            last_len[fw] = n
             continue
         start = o
         if kk != motion:
@@ -348,7 +397,10 @@ def _gcode(
         changed = False
         for a in range(na):
             word[0] = letters[a]
-            n, big = _put_num(word, 1, pos[k, axes[a]], places, point)
+            v = pos[k, axes[a]]
+            if axes[a] < 3:
+                v = v * scale
+            n, big = _put_num(word, 1, v, places, point)
             too_large |= big
             if not _same_arr(word, n, last[a], last_len[a]):
                 for j in range(n):
@@ -368,19 +420,78 @@ def _gcode(
             for j in range(last_len[0]):
                 out[o] = last[0, j]
                 o += 1
-        if not _same_arr(fbuf[1], flen[1], fbuf[0], flen[0]):  # BlockWriter.feed_word
-            for j in range(flen[1]):
-                fbuf[0, j] = fbuf[1, j]
-            flen[0] = flen[1]
+        if not _same_arr(last[fw], last_len[fw], last[na], last_len[na]):  # feed_word
+            for j in range(last_len[fw]):
+                last[na, j] = last[fw, j]
+            last_len[na] = last_len[fw]
             if o > start:
                 out[o] = sep
                 o += 1
-            for j in range(flen[1]):
-                out[o] = fbuf[1, j]
+            for j in range(last_len[fw]):
+                out[o] = last[fw, j]
                 o += 1
+        longest = max(longest, o - start)
+        blocks += 1
         out[o] = 10
         o += 1
-    return out[:o], too_large, motion
+    return out[:o], too_large, motion, longest, blocks, _write_words(last, last_len, na + 1)
+
+
+@njit(cache=True)
+def _sandia(pts, scale, places, state, known):  # pragma: no cover - compiled
+    """``MoveTo`` lines to the points (N, 3; x y z in program units, times ``scale`` in the
+    output's), each axis written when its text changes (gcode.dialects.sandia_chords
+    .move_lines' rule: a line where none does repeats X); numbers as the Formatter writes
+    them with at least one decimal. ``state``: the X, Y, Z texts written last (no letter,
+    each ending in a zero byte); ``known`` False writes every axis on the first line.
+    Returns (text, the offset where each line starts and the text's length, a number too
+    large for the kernel, ``state`` after)."""
+    m = pts.shape[0]
+    last, last_len = _read_words(state, 3, 32)
+    too_large = last_len[2] < 0
+    out = np.empty(m * 100 + 16, dtype=np.uint8)
+    starts = np.empty(m + 1, dtype=np.int64)
+    word = np.empty(32, dtype=np.uint8)
+    head = np.array([77, 111, 118, 101, 84, 111], dtype=np.uint8)  # "MoveTo"
+    o = 0
+    for k in range(m):
+        starts[k] = o
+        for j in range(6):
+            out[o + j] = head[j]
+        o += 6
+        changed = False
+        for a in range(3):
+            n, big = _put_num(word, 0, pts[k, a] * scale, places, True)
+            too_large |= big
+            if word[n - 1] == 46:  # at least one decimal: "12." -> "12.0"
+                word[n] = 48
+                n += 1
+            if known and _same_arr(word, n, last[a], last_len[a]):
+                continue
+            for j in range(n):
+                last[a, j] = word[j]
+            last_len[a] = n
+            out[o] = 32
+            out[o + 1] = 88 + a  # X Y Z
+            out[o + 2] = 61  # =
+            o += 3
+            for j in range(n):
+                out[o] = word[j]
+                o += 1
+            changed = True
+        if not changed:
+            out[o] = 32
+            out[o + 1] = 88
+            out[o + 2] = 61
+            o += 3
+            for j in range(last_len[0]):
+                out[o] = last[0, j]
+                o += 1
+        known = True
+        out[o] = 10
+        o += 1
+    starts[m] = o
+    return out[:o], starts, too_large, _write_words(last, last_len, 3)
 
 
 @njit(cache=True)
@@ -394,6 +505,7 @@ def _same_arr(a, la, b, lb):  # pragma: no cover - compiled
 
 
 _U8 = nt.Array(nt.uint8, 1, "C")
+_U8_RO = nt.Array(nt.uint8, 1, "C", readonly=True)
 _I8 = nt.Array(nt.int8, 1, "C")
 _I64 = nt.Array(nt.int64, 1, "C")
 _F64 = nt.Array(nt.float64, 1, "C")
@@ -404,7 +516,7 @@ SIGNATURES = {
     "scan": (
         _scan,
         nt.Tuple((_I8, _F64_2D, _F64, _I64, nt.int64, nt.int64, _F64, nt.float64, nt.boolean))(
-            nt.Array(nt.uint8, 1, "C", readonly=True),
+            _U8_RO,
             nt.int64,
             _I64,
             _F64,
@@ -424,23 +536,27 @@ SIGNATURES = {
     ),
     "gcode": (
         _gcode,
-        nt.Tuple((_U8, nt.boolean, nt.int64))(
+        nt.Tuple((_U8, nt.boolean, nt.int64, nt.int64, nt.int64, _U8))(
             _I8,
             _F64_2D,
             _F64,
+            nt.float64,
+            _I64,
             _I64,
             _U8,
             nt.int64,
             nt.boolean,
-            nt.Array(nt.uint8, 2, "C"),
-            _I64,
+            _U8_RO,
             nt.Array(nt.uint8, 2, "C"),
             _I64,
             nt.int64,
-            nt.Array(nt.uint8, 2, "C"),
-            _I64,
+            nt.float64,
             nt.uint8,
         ),
+    ),
+    "sandia": (
+        _sandia,
+        nt.Tuple((_U8, _I64, nt.boolean, _U8))(_F64_2D, nt.float64, nt.int64, _U8_RO, nt.boolean),
     ),
 }
 
@@ -448,6 +564,7 @@ SIGNATURES = {
 scan = _scan
 format = _format  # noqa: A001 - the exported name
 gcode = _gcode
+sandia = _sandia
 
 
 def build(directory: str, name: str) -> None:

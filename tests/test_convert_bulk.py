@@ -15,8 +15,8 @@ import pytest
 
 import gcode.interpreter as interp
 from gcode.convert_report import ConversionReport
-from gcode.emit import WriterOptions, write_text
-from gcode.interpreter import interpret
+from gcode.emit import WriterOptions, write, write_text
+from gcode.interpreter import InterpreterOptions, interpret
 from gcode.readers import read_chunks
 from kernel.diagnostics import Diagnostic
 from tests.convert_support import options, programs
@@ -54,6 +54,87 @@ def test_bulk_runs_write_what_the_commands_write(
             continue
         bulk = _text(read_chunks(program, "rs274ngc", opts), dialect, VARIANTS[variant], "p")
         plain = _text(interpret(program, opts), dialect, VARIANTS[variant], "p")
+        assert bulk == plain, program.name
+        compared += 1
+    assert compared >= 200
+
+
+DIALECT_DIR = Path(__file__).parent / "dialects"
+
+
+def command_streams() -> list[tuple[str, str, Path]]:
+    """(reader, text, name) of every hand-derived reader program, and of every golden and
+    corpus program written in Grbl by our writer (which its reader reads back)."""
+    fanuc = sorted((DIALECT_DIR / "fanuc").glob("*.nc"))
+    out = [("fanuc_lathe" if "_turn_" in p.name else "fanuc", p) for p in fanuc]
+    out += [("siemens840d", p) for p in sorted((DIALECT_DIR / "siemens840d").glob("*.mpf"))]
+    out += [("sandia", p) for p in sorted((DIALECT_DIR / "sandia").glob("*.txt"))]
+    streams = [(d, p.read_text(), p) for d, p in out]
+    for program in programs():
+        try:
+            text = "\n".join(write(interpret(program, options(program)), "grbl")) + "\n"
+        except Diagnostic:
+            continue
+        streams.append(("grbl", text, program))
+    return streams
+
+
+@pytest.mark.parametrize("target", ["rs274ngc", "fanuc", "grbl", "siemens840d", "sandia"])
+def test_batched_command_streams_write_what_the_commands_write(
+    target: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A large stream of command objects (every reader but RS274/NGC's fast lane) is
+    batched into runs for the compiled formatter; with batching from the first command and
+    batches cut anywhere, every reader program converts to the same text as command by
+    command, refusals included."""
+    import gcode.dialects.sandia as sandia
+    from gcode import emit_bulk
+    from gcode.readers import read_text
+
+    compared = 0
+    for dialect, text, program in command_streams():
+        opts = (
+            options(program)
+            if program.suffix == ".ngc"
+            else InterpreterOptions(search_path=(str(program.parent),))
+        )
+        texts = []
+        for after, batch in ((10**9, 4096), (0, 3)):
+            monkeypatch.setattr(emit_bulk, "COMMANDS_BEFORE_BULK", after)
+            monkeypatch.setattr(sandia, "COMMANDS_BEFORE_BULK", after)
+            monkeypatch.setattr(emit_bulk, "BATCH", batch)
+            monkeypatch.setattr(emit_bulk, "BATCH_MIN", 1)
+            try:
+                ir = list(read_text(text, dialect, str(program), opts))
+            except Diagnostic:
+                break  # the reader refuses it (a located error program)
+            texts.append(_text(iter(ir), target, WriterOptions(), "p"))
+        if texts:
+            assert texts[0] == texts[1], (dialect, program.name)
+            compared += 1
+    assert compared >= 300
+
+
+@pytest.mark.parametrize("queue", [1, 2, 7])
+def test_sandia_queues_of_any_length_write_what_the_commands_write(
+    queue: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The Sandia writer queues moves (and the lines written meanwhile, such as SetSpeed)
+    up to ``RUN`` at a time; wherever the queue is cut, the compiled text of the fast
+    lane's runs equals the per-command text."""
+    import gcode.dialects.sandia as sandia
+
+    monkeypatch.setattr(interp, "LANE_MIN_BYTES", 0)
+    monkeypatch.setattr(sandia, "RUN", queue)
+    compared = 0
+    for program in programs():
+        opts = options(program)
+        try:
+            list(interpret(program, opts))
+        except Diagnostic:
+            continue
+        bulk = _text(read_chunks(program, "rs274ngc", opts), "sandia", WriterOptions(), "p")
+        plain = _text(interpret(program, opts), "sandia", WriterOptions(), "p")
         assert bulk == plain, program.name
         compared += 1
     assert compared >= 200

@@ -20,7 +20,7 @@ from collections.abc import Iterable, Iterator
 
 import numpy as np
 
-from gcode import approximate
+from gcode import approximate, fastlane
 from gcode.convert_report import Change, ConversionReport
 from gcode.dialects.sandia_chords import (
     batch_points,
@@ -30,6 +30,7 @@ from gcode.dialects.sandia_chords import (
     plane_lines,
 )
 from gcode.dialects.spec import Dialect
+from gcode.emit_bulk import COMMANDS_BEFORE_BULK
 from gcode.emit_state import PLANE_AXES, Formatter, clamped_uniform_knots
 from gcode.fastlane import FEED_MOVE, SET_FEED, Run
 from kernel import canon
@@ -64,8 +65,9 @@ DIALECT = Dialect(
 )
 
 ATTRIBUTES = "attributes=ABSOLUTE|CS_CURRENT"
-#: straight feeds and arcs written together at most (bounded memory, streaming output)
-RUN = 512
+#: straight feeds and arcs queued at most before they are written (bounded memory,
+#: streaming output)
+RUN = 4096
 _DEFAULTS: dict[str, object] = {
     "css": False,
     "speed": 0.0,
@@ -101,6 +103,10 @@ class SandiaWriter:
         self.state: dict[str, object] = {}
         self.per_rev = False  # SET_FEED_MODE per revolution in force
         self.file: str | None = None  # the source program (locations of bulk runs)
+        self.queue: list[canon.Command | np.ndarray] = []  # feeds and arcs not yet written
+        self.queued = 0  # moves in the queue (an array holds several)
+        self.marks: list[tuple[int, str]] = []  # (moves queued before it, line) meanwhile
+        self.compiled = False  # a large program: the queue is formatted in compiled code
 
     def run(self, commands: Iterable[canon.Command]) -> Iterator[str]:
         """The program, one line at a time."""
@@ -115,85 +121,155 @@ class SandiaWriter:
         foot = self.d.footer if self.o.footer is None else self.o.footer  # type: ignore[attr-defined]
 
         def chunk(block: list[str]) -> object:
-            return list(block) if lines else "\n".join(block) + "\n"
+            text = "\n".join(block)
+            return text.split("\n") if lines else text + "\n"
 
         if head:
             yield chunk(list(head))
         out, report = self.out, self.report
-        feed, arc = canon.StraightFeed, canon.ArcFeed
-        arcs_too = self.o.on_missing != "refuse"  # type: ignore[attr-defined]
-        run: list[canon.Command] = []  # straight feeds and arcs, written together (the hot path)
         for cmd in commands:
             if isinstance(cmd, Run):
-                if run:
-                    self.feeds(run)
-                    run.clear()
                 if not self.ended:
                     self.bulk(cmd, self.file)
-                if out:
-                    report.blocks += len(out)
-                    yield chunk(out)
-                    out.clear()
-                continue
-            report.commands += 1
-            if self.ended:
-                continue
-            kind = type(cmd)
-            if (kind is feed or (kind is arc and arcs_too and cmd.rotation)) and not (
-                cmd.a or cmd.b or cmd.c  # type: ignore[attr-defined]
-            ):
-                run.append(cmd)
-                if len(run) < RUN:
-                    continue
-            if run:
-                self.feeds(run)
-                run.clear()
-            if kind is not feed and kind is not arc or cmd.a or cmd.b or cmd.c:  # type: ignore[attr-defined]
-                self.src = cmd.source
-                self.handle(cmd)
+                else:
+                    report.commands += len(cmd)
+            else:
+                self.take(cmd)
             if out:
-                report.blocks += len(out)
+                report.blocks += sum(entry.count("\n") + 1 for entry in out)
                 yield chunk(out)
                 out.clear()
-        if run:
-            self.feeds(run)
-        report.blocks += len(out)
+        self.flush_moves()
+        report.blocks += sum(entry.count("\n") + 1 for entry in out)
         if out:
             yield chunk(out)
         out.clear()
         if foot:
             yield chunk(list(foot))
 
-    def feeds(self, run: list[canon.Command]) -> None:
-        """A run of straight feeds and arcs: all chords computed and formatted at once."""
-        self.ensure_units()
-        s, places = self.fmt.scale, self.fmt.places
-        if places < 1:  # the batch formatter keeps one decimal, as the dialect does
-            for c in run:
-                self.src = c.source
-                self.handle(c)
+    def take(self, cmd: canon.Command) -> None:
+        """One IR command: straight feeds and arcs join the queue of moves (the hot path),
+        a feed rate is state, anything else writes the queue first and goes to its handler."""
+        self.report.commands += 1
+        if self.ended:
             return
-        self.src = run[0].source
+        kind = type(cmd)
+        if (
+            kind is canon.StraightFeed
+            or (kind is canon.ArcFeed and cmd.rotation and self.o.on_missing != "refuse")  # type: ignore[attr-defined]
+        ) and not (cmd.a or cmd.b or cmd.c):  # type: ignore[attr-defined]
+            self.src = cmd.source
+            if self.moving(1):
+                self.queue.append(cmd)
+                return
+        elif kind is canon.SetFeedRate:
+            self.feed = cmd.rate  # type: ignore[attr-defined]
+            return
+        self.flush_moves()
+        self.src = cmd.source
+        self.handle(cmd)
+
+    def moving(self, rows: int) -> bool:
+        """Ready the state for ``rows`` feed moves that join the queue (units, speed: their
+        lines go before the moves); False when they are to be written one by one instead
+        (no decimals: the batch formatters keep one)."""
+        self.ensure_units()
+        if self.fmt.places < 1:
+            self.flush_moves()
+            return False
         self.feeding()
         self.speed()
+        if self.queued >= RUN:
+            self.flush_moves()
+        self.queued += rows
+        return True
+
+    def bulk(self, run: Run, file: str | None) -> None:
+        """A run of plain lines from the interpreter's fast lane (arrays, no command
+        objects): its feed moves join the queue as arrays, as :meth:`take` queues them one
+        by one; from here on the queue is formatted in compiled code."""
+        self.compiled = True
+        if not len(run):
+            return
+        if np.any(np.abs(run.position[:, 3:]) > 1e-9):  # refused in MoveTo, at its line
+            for c in run.commands(file):
+                self.take(c)
+            return
+        self.report.commands += len(run)
+        kind, pos, feed = run.kind, run.position, run.feed
+        bounds = [0, *(np.flatnonzero(kind[1:] != kind[:-1]) + 1).tolist(), len(run)]
+        commands: list[canon.Command] = []
+        for i, j in zip(bounds[:-1], bounds[1:], strict=True):  # stretches of one kind
+            k = int(kind[i])
+            if k == SET_FEED:
+                self.feed = float(feed[j - 1])
+                continue
+            self.src = canon.Location(file, int(run.line[i]), 1)
+            if k == FEED_MOVE and self.moving(j - i):
+                self.queue.append(pos[i:j, :3])
+                continue
+            commands = commands or run.commands(file)
+            for c in commands[i:j]:  # rapids, or feeds written one by one
+                self.flush_moves()
+                self.src = c.source
+                self.handle(c)
+
+    def flush_moves(self) -> None:
+        """Write the queued moves: all chords computed and formatted at once, with the
+        lines written meanwhile (units, speeds) in their places."""
+        queue = self.queue
+        if not queue:
+            return
+        marks, self.marks = self.marks, []
+        self.queue, self.queued = [], 0
+        s = self.fmt.scale
         first, second, normal, _, _ = PLANE_AXES[self.plane]
         axes = ("XYZ".index(first), "XYZ".index(second), "XYZ".index(normal))
         start = (self.cur["X"] / s, self.cur["Y"] / s, self.cur["Z"] / s)
         tol = self.o.tolerance  # type: ignore[attr-defined]
-        pts, counts, sag = batch_points(run, axes, start, tol / s)
-        self.points(pts * s)
-        for c, n, dev in zip(run, counts.tolist(), sag.tolist(), strict=True):
+        pts, counts, sag, rows = batch_points(queue, axes, start, tol / s)
+        before = np.concatenate(([0], np.cumsum(counts)))  # lines before each row
+        lines = self.point_lines(pts, s)
+        if isinstance(lines, tuple):  # compiled: one text and where each line starts
+            text, starts = lines
+            pieces, at = [], 0
+            for row, line in marks:
+                cut = int(starts[before[row]])
+                pieces += (text[at:cut], line, "\n")
+                at = cut
+            pieces.append(text[at:])
+            self.out.append("".join(pieces)[:-1])
+        else:
+            for shift, (row, line) in enumerate(marks):
+                lines.insert(int(before[row]) + shift, line)
+            self.out.extend(lines)
+        for c, row in zip(queue, rows, strict=True):
             if type(c) is canon.ArcFeed:
+                n, dev = int(counts[row]), float(sag[row])
                 message = f"ARC_FEED as {n} MoveTo"
                 self.report.add(
                     Change("CONV-ARC-LINES", "approximated", message, c.source, n, dev * s, tol)
                 )
 
-    def points(self, pts: np.ndarray) -> None:
-        """``MoveTo`` lines to the points (N, 3) in output units, formatted at once."""
+    def point_lines(self, pts: np.ndarray, s: float) -> list[str] | tuple[str, np.ndarray]:
+        """``MoveTo`` lines to the points (N, 3 in program units; times ``s`` in the
+        output's): compiled (text, line starts) in a large program (fast-lane runs came, or
+        as many commands as gcode.emit_bulk.COMMANDS_BEFORE_BULK), else lines
+        formatted at once in Python (:mod:`gcode.dialects.sandia_chords`)."""
         places = self.fmt.places
         known = self.known
         last: list[str | None] = [self.last[k][2:] for k in "XYZ"] if known else [None] * 3
+        done = None
+        if self.compiled or self.report.commands >= COMMANDS_BEFORE_BULK:
+            self.compiled = True
+            done = fastlane.sandia_text(pts, s, places, last if known else None)  # type: ignore[arg-type]
+        if done is not None:
+            text, starts, after = done
+            self.last = {k: f"{k}={v}" for k, v in zip("XYZ", after, strict=True)}
+            self.cur = {k: float(pts[-1, i]) * s for i, k in enumerate("XYZ")}
+            self.known = True
+            return text, starts
+        pts = pts * s
         moving = [
             i
             for i in range(3)
@@ -203,56 +279,23 @@ class SandiaWriter:
         ]
         if len(moving) == 2 and known:  # the usual case: motion in a plane, one % for all
             pair = [("XYZ"[i], pts[:, i]) for i in moving]
-            self.out.extend(plane_lines(pair[0], pair[1], places, last))  # type: ignore[arg-type]
+            lines = plane_lines(pair[0], pair[1], places, last)  # type: ignore[arg-type]
         else:
             columns = [format_many(pts[:, i], places) if i in moving else None for i in range(3)]
             if not moving:  # nothing moves: the lines repeat X
                 columns[0] = format_many(pts[:, 0], places)
-            self.out.extend(move_lines(*columns, last))
+            lines = move_lines(*columns, last)
         self.last = {k: f"{k}={v}" for k, v in zip("XYZ", last, strict=True)}
         self.cur = {k: float(pts[-1, i]) for i, k in enumerate("XYZ")}
         self.known = True
-
-    def bulk(self, run: Run, file: str | None) -> None:
-        """A run of plain lines from the interpreter's fast lane (arrays, no command
-        objects): the feed moves between feed changes go to :meth:`points` at once, as
-        :meth:`feeds` would write them; rapids and the rare rest go command by command."""
-        self.report.commands += len(run)
-        if not len(run):
-            return
-        if self.fmt.places < 1 or np.any(np.abs(run.position[:, 3:]) > 1e-9):
-            for c in run.commands(file):
-                self.src = c.source
-                self.handle(c)
-            return
-        kind, pos, feed = run.kind, run.position, run.feed
-        s = None
-        n = len(run)
-        i = 0
-        while i < n:
-            k = int(kind[i])
-            if k == FEED_MOVE:
-                j = i
-                while j < n and kind[j] == FEED_MOVE:
-                    j += 1
-                self.src = canon.Location(file, int(run.line[i]), 1)
-                self.ensure_units()
-                self.feeding()
-                self.speed()
-                s = self.fmt.scale
-                self.points(pos[i:j, :3] * s)
-                i = j
-                continue
-            if k == SET_FEED:
-                self.feed = float(feed[i])
-            else:
-                self.src = canon.Location(file, int(run.line[i]), 1)
-                self.handle(canon.StraightTraverse(*pos[i].tolist(), source=self.src))
-            i += 1
+        return lines
 
     # ------------------------------------------------------------------ helpers
     def line(self, text: str) -> None:
-        self.out.append(text)
+        if self.queue:  # before the queued moves' lines yet to come (flush_moves)
+            self.marks.append((self.queued, text))
+        else:
+            self.out.append(text)
 
     def lacking(self, code: str, what: str) -> None:
         if self.o.on_missing == "refuse":  # type: ignore[attr-defined]
@@ -456,7 +499,7 @@ class SandiaWriter:
             if c.rotation == 0:
                 self.chords(c, [(*end, 1.0)], c.axis_end_point, "ARC_FEED (0 turns)", 0.0)
                 return
-            # one at a time only when not in a run (SandiaWriter.feeds): decimals=0
+            # one at a time only when not queued (SandiaWriter.take): decimals=0
             f, g, frac, dev = circle_chords(start, end, centre, c.rotation, tol)
             pts = list(zip(f.tolist(), g.tolist(), frac.tolist(), strict=True))
             self.chords(c, pts, c.axis_end_point, c.NAME, dev)

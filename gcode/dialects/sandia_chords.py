@@ -120,54 +120,84 @@ def move_lines(
 
 
 def batch_points(
-    commands: list, axes: tuple[int, int, int], start: tuple[float, float, float], tol: float
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Chord end points of a run of ``STRAIGHT_FEED`` and ``ARC_FEED`` commands, at once.
+    items: list, axes: tuple[int, int, int], start: tuple[float, float, float], tol: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[int]]:
+    """Chord end points of a run of straight feeds and arcs, at once.
 
-    ``axes``: indexes of the plane's (first, second, normal) axes in (x, y, z); ``start``:
-    the position before the run. Returns (points (N, 3) in x y z, chords per command, the
-    largest sagitta per command): a line is one point; an arc is :func:`circle_chords`'s
+    ``items`` holds ``STRAIGHT_FEED`` and ``ARC_FEED`` commands and (k, 3) arrays of the x y z
+    end points of k straight feeds (the fast lane's); ``axes``: indexes of the plane's
+    (first, second, normal) axes in (x, y, z); ``start``: the position before the run.
+    Returns (points (N, 3) in x y z, chords per move, the largest sagitta per move, the
+    first move of each item): a line is one point; an arc is :func:`circle_chords`'s
     chords, computed for all arcs of the run together.
     """
     i1, i2, i3 = axes
-    k = len(commands)
-    ends = np.empty((k, 3))
-    arc = np.zeros(k, dtype=bool)
-    centre = np.zeros((k, 2))
-    rotation = np.ones(k)
-    for j, c in enumerate(commands):
-        if type(c) is canon.StraightFeed:
-            ends[j] = (c.x, c.y, c.z)
+    pieces: list[np.ndarray] = []
+    rows: list[int] = []
+    loose: list[tuple[float, float, float]] = []  # end points of commands, in order
+    arcs: list[tuple[int, float, float, float]] = []  # (move, centre first, second, turns)
+    k = 0
+    end = [0.0, 0.0, 0.0]
+    for item in items:
+        rows.append(k)
+        kind = type(item)
+        if kind is np.ndarray:
+            if loose:
+                pieces.append(np.array(loose, dtype=np.float64))
+                loose = []
+            pieces.append(item)
+            k += len(item)
+            continue
+        if kind is canon.StraightFeed:
+            loose.append((item.x, item.y, item.z))
         else:
-            ends[j, i1], ends[j, i2], ends[j, i3] = c.first_end, c.second_end, c.axis_end_point
-            centre[j] = (c.first_axis, c.second_axis)
-            rotation[j] = c.rotation
-            arc[j] = True
-    starts = np.vstack([np.array(start)[None, :], ends[:-1]])
-    df, ds = starts[:, i1] - centre[:, 0], starts[:, i2] - centre[:, 1]
+            end[i1], end[i2], end[i3] = item.first_end, item.second_end, item.axis_end_point
+            loose.append((end[0], end[1], end[2]))
+            arcs.append((k, item.first_axis, item.second_axis, item.rotation))
+        k += 1
+    if loose:
+        pieces.append(np.array(loose, dtype=np.float64))
+    ends = pieces[0] if len(pieces) == 1 else np.concatenate(pieces)
+    counts = np.ones(k, dtype=np.int64)
+    sag = np.zeros(k)
+    if not arcs:  # straight feeds only: their end points
+        return ends, counts, sag, rows
+    table = np.array(arcs, dtype=np.float64)
+    at = table[:, 0].astype(np.int64)
+    centre, rotation = table[:, 1:3], table[:, 3]
+    arc_end = ends[at]
+    arc_start = ends[np.maximum(at - 1, 0)]
+    if at[0] == 0:
+        arc_start[0] = start
+    df, ds = arc_start[:, i1] - centre[:, 0], arc_start[:, i2] - centre[:, 1]
     r = np.hypot(df, ds)
     a0 = np.arctan2(ds, df)
     sign = np.where(rotation > 0, 1.0, -1.0)
-    a1 = np.arctan2(ends[:, i2] - centre[:, 1], ends[:, i1] - centre[:, 0])
+    a1 = np.arctan2(arc_end[:, i2] - centre[:, 1], arc_end[:, i1] - centre[:, 0])
     sweep = (sign * (a1 - a0)) % (2 * math.pi)
     sweep = np.where(sweep <= 1e-12, 2 * math.pi, sweep) + 2 * math.pi * (np.abs(rotation) - 1)
     with np.errstate(divide="ignore", invalid="ignore"):
         step = np.where(tol < r, 2 * np.arccos(np.maximum(-1.0, 1 - tol / r)), math.pi / 2)
-    counts = np.where(arc, np.maximum(2, np.ceil(sweep / step)), 1).astype(np.int64)
-    sag = np.where(arc, r * (1 - np.cos(sweep / counts / 2)), 0.0)
-    owner = np.repeat(np.arange(k), counts)
-    last = np.cumsum(counts) - 1
-    frac = (np.arange(len(owner)) - (last - counts + 1)[owner] + 1) / counts[owner]
+    n = np.maximum(2, np.ceil(sweep / step)).astype(np.int64)
+    counts[at] = n
+    sag[at] = r * (1 - np.cos(sweep / n / 2))
+    owner = np.repeat(np.arange(len(at)), n)
+    last = np.cumsum(n) - 1
+    frac = (np.arange(len(owner)) - (last - n + 1)[owner] + 1) / n[owner]
     t = a0[owner] + (sign * sweep)[owner] * frac
-    pts = np.empty((len(owner), 3))
-    pts[:, i1] = centre[owner, 0] + r[owner] * np.cos(t)
-    pts[:, i2] = centre[owner, 1] + r[owner] * np.sin(t)
-    n0 = starts[owner, i3]
-    pts[:, i3] = n0 + (ends[owner, i3] - n0) * frac
-    pts[last] = ends  # every command ends exactly on its end point (helix axis too)
-    lines = ~arc[owner]
-    pts[lines] = ends[owner[lines]]
-    return pts, counts, sag
+    chords = np.empty((len(owner), 3))
+    chords[:, i1] = centre[owner, 0] + r[owner] * np.cos(t)
+    chords[:, i2] = centre[owner, 1] + r[owner] * np.sin(t)
+    n0 = arc_start[owner, i3]
+    chords[:, i3] = n0 + (arc_end[owner, i3] - n0) * frac
+    chords[last] = arc_end  # every arc ends exactly on its end point (helix axis too)
+    first = np.cumsum(counts) - counts  # the first point of each move
+    pts = np.empty((int(first[-1] + counts[-1]), 3))
+    straight = np.ones(k, dtype=bool)
+    straight[at] = False
+    pts[first[straight]] = ends[straight]
+    pts[np.repeat(first[at], n) + np.arange(len(owner)) - np.repeat(last - n + 1, n)] = chords
+    return pts, counts, sag, rows
 
 
 def plane_lines(
