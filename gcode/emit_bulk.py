@@ -10,7 +10,7 @@ axis words whose text changes, the F word when it changes), formatted in compile
 (:func:`gcode.fastlane.gcode_text`); the text is the same, which tests/test_convert_bulk.py
 checks against the per-command path for every program of every reader. A run the bulk
 path cannot take exactly (inverse time, feed per revolution, a spindle-synchronised feed,
-a kept cycle, a pending tool select, a diameter axis, an axis the dialect lacks off zero,
+a kept cycle, a pending tool select, an axis the dialect lacks off zero,
 a number too large for the kernel, a block too long) goes through the handlers command by
 command.
 """
@@ -87,7 +87,7 @@ def can_take(w: BlockWriter, run: fastlane.Run) -> bool:
     large, an axis the dialect lacks off zero, a block too long)."""
     if w.ended or w.skipping or w.pending_select is not None or w.sync is not None:
         return False
-    if w.feed_mode != canon.FeedMode.UNITS_PER_MINUTE or w.d.diameter or w.d.min_decimals:
+    if w.feed_mode != canon.FeedMode.UNITS_PER_MINUTE or w.d.min_decimals:
         return False
     if w.d.structure != "blocks" or len(w.d.separator) != 1 or w.fmt.places > 12:
         return False
@@ -112,7 +112,7 @@ def write_run(
     w.flush()
     layout = w.layout
     if layout is None:
-        layout = w.layout = fastlane.GcodeLayout.of((w.d.rapid, w.d.linear), w.d.axes)
+        layout = w.layout = fastlane.GcodeLayout.of((w.d.rapid, w.d.linear), w.d.axes, w.d.diameter)
     scale, codes = w.fmt.scale, layout.codes
     motion = codes.index(w.motion) if w.motion in codes else -1
     last = [w.words.get(_LETTERS[i]) for i in layout.axes]

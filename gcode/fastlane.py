@@ -190,7 +190,8 @@ def events_text(run: Run, seq0: int) -> str:
 @dataclass(frozen=True, slots=True)
 class GcodeLayout:
     """What :func:`gcode_text` needs of a dialect, as the kernel takes it (made once per
-    writer): its rapid and linear motion codes and the axes it has among X Y Z A B C."""
+    writer): its rapid and linear motion codes, the axes it has among X Y Z A B C, and
+    those written as a diameter (twice the coordinate)."""
 
     codes: tuple[str, str]
     axes: list[int]
@@ -198,10 +199,11 @@ class GcodeLayout:
     code_len: np.ndarray
     letters: np.ndarray
     axes_arr: np.ndarray
+    factor: np.ndarray
     absent: np.ndarray
 
     @classmethod
-    def of(cls, codes: tuple[str, str], dialect_axes: str) -> GcodeLayout:
+    def of(cls, codes: tuple[str, str], dialect_axes: str, diameter: str = "") -> GcodeLayout:
         axes = [i for i, letter in enumerate("XYZABC") if letter in dialect_axes]
         code_buf = np.zeros((2, 8), dtype=np.uint8)
         for k, code in enumerate(codes):
@@ -213,6 +215,7 @@ class GcodeLayout:
             np.array([len(c) for c in codes], dtype=np.int64),
             np.array([ord("XYZABC"[i]) for i in axes], dtype=np.uint8),
             np.array(axes, dtype=np.int64),
+            np.array([2.0 if "XYZABC"[i] in diameter else 1.0 for i in axes]),
             np.array([i for i in range(6) if i not in axes], dtype=np.int64),
         )
 
@@ -247,6 +250,7 @@ def gcode_text(
         np.ascontiguousarray(run.feed, dtype=np.float64),
         float(scale),
         layout.axes_arr,
+        layout.factor,
         layout.absent,
         layout.letters,
         int(places),

@@ -345,6 +345,7 @@ def _gcode(
     feed,
     scale,
     axes,
+    factor,
     absent,
     letters,
     places,
@@ -358,7 +359,8 @@ def _gcode(
 ):  # pragma: no cover - compiled
     """G-code blocks of a run's events (gcode.emit_bulk.write_run's rules), joined by
     newlines. ``pos`` and ``feed`` are in program units (X Y Z and F times ``scale`` are the
-    output's); ``state`` holds the axis words last written and the F word last written
+    output's), an axis word's value is times its ``factor`` (2 on a diameter axis); ``state``
+    holds the axis words last written and the F word last written
     (letters included, each ending in a zero byte, empty when unknown); ``feed0`` is the
     feed rate in force; ``absent``: the axes the dialect lacks. Returns (text, whether the
     kernel cannot write the run: a number too large or an absent axis off zero, the motion
@@ -400,7 +402,7 @@ def _gcode(
             v = pos[k, axes[a]]
             if axes[a] < 3:
                 v = v * scale
-            n, big = _put_num(word, 1, v, places, point)
+            n, big = _put_num(word, 1, v * factor[a], places, point)
             too_large |= big
             if not _same_arr(word, n, last[a], last_len[a]):
                 for j in range(n):
@@ -542,6 +544,7 @@ SIGNATURES = {
             _F64,
             nt.float64,
             _I64,
+            _F64,
             _I64,
             _U8,
             nt.int64,

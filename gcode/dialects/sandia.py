@@ -262,7 +262,8 @@ class SandiaWriter:
         done = None
         if self.compiled or self.report.commands >= COMMANDS_BEFORE_BULK:
             self.compiled = True
-            done = fastlane.sandia_text(pts, s, places, last if known else None)  # type: ignore[arg-type]
+            if places <= 12:  # the kernel's numbers (as gcode.emit_bulk.can_take's)
+                done = fastlane.sandia_text(pts, s, places, last if known else None)  # type: ignore[arg-type]
         if done is not None:
             text, starts, after = done
             self.last = {k: f"{k}={v}" for k, v in zip("XYZ", after, strict=True)}
