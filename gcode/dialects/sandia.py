@@ -191,13 +191,17 @@ class SandiaWriter:
         self.compiled = True
         if not len(run):
             return
-        if np.any(np.abs(run.position[:, 3:]) > 1e-9):  # refused in MoveTo, at its line
+        rotary = run.position[:, 3:]
+        if rotary.any() and np.abs(rotary).max() > 1e-9:  # refused in MoveTo, at its line
             for c in run.commands(file):
                 self.take(c)
             return
         self.report.commands += len(run)
         kind, pos, feed = run.kind, run.position, run.feed
-        bounds = [0, *(np.flatnonzero(kind[1:] != kind[:-1]) + 1).tolist(), len(run)]
+        if kind.tobytes().count(FEED_MOVE) == len(run):  # the usual run: feeds only
+            bounds = [0, len(run)]
+        else:
+            bounds = [0, *(np.flatnonzero(kind[1:] != kind[:-1]) + 1).tolist(), len(run)]
         commands: list[canon.Command] = []
         for i, j in zip(bounds[:-1], bounds[1:], strict=True):  # stretches of one kind
             k = int(kind[i])
