@@ -235,7 +235,8 @@ class BlockWriter:
         report, kinds = self.report, emit_bulk.KIND
         after, batch = emit_bulk.COMMANDS_BEFORE_BULK, emit_bulk.BATCH
         for item in commands:
-            if type(item) in kinds and report.commands >= after:
+            batched = type(item) in kinds and report.commands >= after
+            if batched:
                 plain.append(item)
                 if len(plain) < batch:
                     continue
@@ -243,10 +244,8 @@ class BlockWriter:
                 self.commands_in_bulk(plain)
                 plain.clear()
             if isinstance(item, Run):
-                if not (can_take(self, item) and write_run(self, item, self.file)):
-                    for cmd in item.commands(self.file):
-                        self.command(cmd)
-            elif type(item) not in kinds or report.commands < after:
+                self.bulk(item, None)
+            elif not batched:
                 self.command(item)
             if self.out:
                 yield self.out
@@ -259,9 +258,17 @@ class BlockWriter:
     def commands_in_bulk(self, plain: list[canon.Command]) -> None:
         """Plain moves and feed rates of a command stream written as one run (compiled, as
         the fast lane's runs are), else command by command."""
-        run = run_of(plain, self.feed) if len(plain) >= emit_bulk.BATCH_MIN else None
-        if run is None or not (can_take(self, run) and write_run(self, run, None, plain)):
+        if len(plain) < emit_bulk.BATCH_MIN or (run := run_of(plain, self.feed)) is None:
             for cmd in plain:
+                self.command(cmd)
+        else:
+            self.bulk(run, plain)
+
+    def bulk(self, run: Run, commands: list[canon.Command] | None) -> None:
+        """A run (a fast-lane run of ``self.file``, or made of ``commands``) written by
+        :mod:`gcode.emit_bulk` where it can take it exactly, else command by command."""
+        if not (can_take(self, run) and write_run(self, run, self.file, commands)):
+            for cmd in commands if commands is not None else run.commands(self.file):
                 self.command(cmd)
 
     def command(self, cmd: canon.Command) -> None:

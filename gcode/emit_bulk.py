@@ -49,6 +49,11 @@ def run_of(commands: list[canon.Command], feed: float) -> fastlane.Run | None:
     """The plain commands (types in :data:`KIND`) as a run's arrays, as the fast lane would
     hand them over (``feed``: the rate in force before them); None without a motion."""
     kinds = [KIND[type(c)] for c in commands]
+    last_move = len(kinds) - 1
+    while last_move >= 0 and kinds[last_move] == fastlane.SET_FEED:
+        last_move -= 1
+    if last_move < 0:
+        return None
     if fastlane.SET_FEED in kinds:
         rows: list[tuple[float, ...]] = []
         rates: list[float] = []
@@ -60,14 +65,9 @@ def run_of(commands: list[canon.Command], feed: float) -> fastlane.Run | None:
                 here = _POSITION(c)
             rows.append(here)
             rates.append(feed)
-        if len(rates) == kinds.count(fastlane.SET_FEED):
-            return None
     else:
         rows = list(map(_POSITION, commands))
         rates = [feed] * len(rows)
-    last_move = len(kinds) - 1
-    while kinds[last_move] == fastlane.SET_FEED:
-        last_move -= 1
     n = len(kinds)
     return fastlane.Run(
         np.array(kinds, dtype=np.int8),

@@ -189,6 +189,23 @@ def test_writing_feeds_and_arcs_together_changes_no_line(ir: list[canon.Command]
     assert together == alone
 
 
+@settings(max_examples=40, deadline=None)
+@given(random_ir())
+def test_arcs_written_one_by_one_take_the_queued_chords(ir: list[canon.Command]) -> None:
+    """With no decimals the moves are written one by one (the queue's formatters keep one
+    decimal); every arc still becomes the chords the queue computes: the same count per arc,
+    and the same MoveTo lines in all."""
+    chords: list[list[int]] = []
+    moves: list[int] = []
+    for decimals in (4, 0):
+        report = ConversionReport()
+        text = list(write(ir, "sandia", WriterOptions(decimals=decimals), report))
+        chords.append([c.pieces for c in report.changes if c.code == "CONV-ARC-LINES"])
+        moves.append(sum(line.startswith("MoveTo") for line in text))
+    assert chords[0] == chords[1]
+    assert moves[0] == moves[1]
+
+
 WORDS = st.sampled_from(
     [
         "MoveTo",

@@ -24,7 +24,6 @@ from gcode import approximate, fastlane
 from gcode.convert_report import Change, ConversionReport
 from gcode.dialects.sandia_chords import (
     batch_points,
-    circle_chords,
     format_many,
     move_lines,
     plane_lines,
@@ -227,11 +226,8 @@ class SandiaWriter:
         marks, self.marks = self.marks, []
         self.queue, self.queued = [], 0
         s = self.fmt.scale
-        first, second, normal, _, _ = PLANE_AXES[self.plane]
-        axes = ("XYZ".index(first), "XYZ".index(second), "XYZ".index(normal))
-        start = (self.cur["X"] / s, self.cur["Y"] / s, self.cur["Z"] / s)
         tol = self.o.tolerance  # type: ignore[attr-defined]
-        pts, counts, sag, rows = batch_points(queue, axes, start, tol / s)
+        pts, counts, sag, rows = batch_points(queue, *self.plane_start(), tol / s)
         before = np.concatenate(([0], np.cumsum(counts)))  # lines before each row
         lines = self.point_lines(pts, s)
         if isinstance(lines, tuple):  # compiled: one text and where each line starts
@@ -254,6 +250,16 @@ class SandiaWriter:
                 self.report.add(
                     Change("CONV-ARC-LINES", "approximated", message, c.source, n, dev * s, tol)
                 )
+
+    def plane_start(self) -> tuple[tuple[int, int, int], tuple[float, float, float]]:
+        """For :func:`batch_points`: the indexes in x y z of the plane's first, second and
+        normal axes, and where the tool is (program units)."""
+        first, second, normal, _, _ = PLANE_AXES[self.plane]
+        s = self.fmt.scale
+        return (
+            ("XYZ".index(first), "XYZ".index(second), "XYZ".index(normal)),
+            (self.cur["X"] / s, self.cur["Y"] / s, self.cur["Z"] / s),
+        )
 
     def point_lines(self, pts: np.ndarray, s: float) -> list[str] | tuple[str, np.ndarray]:
         """``MoveTo`` lines to the points (N, 3 in program units; times ``s`` in the
@@ -363,25 +369,34 @@ class SandiaWriter:
         self.line("MoveTo " + " ".join(self.axes(x, y, z, rot)))
 
     def chords(self, c: canon.Command, pts: list, normal_end: float, what: str, dev: float) -> None:  # noqa: ANN001
-        self.feeding()
+        """``MoveTo`` chords of a curve: ``pts`` are (first, second, fraction of the normal
+        axis' travel to ``normal_end``) in the plane in force."""
         first, second, normal, _, _ = PLANE_AXES[self.plane]
-        s = self.fmt.scale
-        n0 = self.cur[normal] / s
+        n0 = self.cur[normal] / self.fmt.scale
+        xyz = []
         for p1, p2, f in pts:
             axial = normal_end if f == 1.0 else n0 + (normal_end - n0) * f  # exact end
             t = {first: p1, second: p2, normal: axial}
-            self.move(t["X"], t["Y"], t["Z"])
+            xyz.append((t["X"], t["Y"], t["Z"]))
+        self.moves(c, xyz, what, dev)
+
+    def moves(self, c: canon.Command, xyz: list, what: str, dev: float) -> None:
+        """``MoveTo`` lines to the points (x y z, program units) that stand for ``c``, and
+        the report entry that says so."""
+        self.feeding()
+        for x, y, z in xyz:
+            self.move(x, y, z)
         self.report.add(
             Change(
                 "CONV-ARC-LINES",
                 "approximated",
-                f"{what} as {len(pts)} MoveTo",
+                f"{what} as {len(xyz)} MoveTo",
                 self.src,
-                len(pts),
-                dev * s,
-                self.o.tolerance,
+                len(xyz),
+                dev * self.fmt.scale,
+                self.o.tolerance,  # type: ignore[attr-defined]
             )
-        )  # type: ignore[attr-defined]
+        )
 
     # ------------------------------------------------------------------ dispatch
     def handle(self, c: canon.Command) -> None:  # noqa: C901 - one branch per command
@@ -505,9 +520,8 @@ class SandiaWriter:
                 self.chords(c, [(*end, 1.0)], c.axis_end_point, "ARC_FEED (0 turns)", 0.0)
                 return
             # one at a time only when not queued (SandiaWriter.take): decimals=0
-            f, g, frac, dev = circle_chords(start, end, centre, c.rotation, tol)
-            pts = list(zip(f.tolist(), g.tolist(), frac.tolist(), strict=True))
-            self.chords(c, pts, c.axis_end_point, c.NAME, dev)
+            xyz, _, sag, _ = batch_points([c], *self.plane_start(), tol)
+            self.moves(c, xyz.tolist(), c.NAME, float(sag[0]))
             return
         major, minor, angle = c.major, c.minor, c.angle_to_first
         axial = c.axis_end_point - self.cur[normal] / s

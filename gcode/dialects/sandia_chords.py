@@ -5,9 +5,11 @@ each ``ARC_FEED`` becomes chords: ``n = ceil(sweep / step)`` equal angular steps
 ``step = 2 acos(1 - tol / r)``, the largest angle whose sagitta ``r (1 - cos(step / 2))``
 is the tolerance (at least two chords; the helix axis moves with the swept angle, NISTIR
 5970 §3.6.1). The same chords as :func:`gcode.approximate.ellipse_chords` gives for a
-circle, computed in closed form with numpy, and formatted a whole arc at a time: one
-``%`` operation and one regular expression for all of its numbers instead of a call per
-number (a 200,000-line CAM program becomes about 2.3 million chord lines).
+circle, computed in closed form with numpy for a whole queue of moves
+(gcode.dialects.sandia.SandiaWriter.flush_moves), and formatted at once: one ``%``
+operation and one regular expression for all of their numbers instead of a call per
+number (the compiled formatter of :mod:`gcode.fastlane` takes over in a large program,
+where a 200,000-line CAM program becomes millions of chord lines).
 """
 
 from __future__ import annotations
@@ -27,36 +29,6 @@ from kernel import canon
 def _zeros(places: int) -> re.Pattern[str]:
     """Up to ``places - 1`` zeros ending a number (before a blank or the line end)."""
     return re.compile(f"0{{1,{places - 1}}}(?=[ \\n])")
-
-
-def circle_chords(
-    start: tuple[float, float],
-    end: tuple[float, float],
-    centre: tuple[float, float],
-    rotation: int,
-    tolerance: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """(first, second, swept fraction) at each chord end, and the largest sagitta.
-
-    The last point is the arc's end point itself; ``rotation`` is signed turns (> 0
-    counterclockwise, NISTIR 5970 §3.6.1), never 0.
-    """
-    cx, cy = centre
-    r = math.hypot(start[0] - cx, start[1] - cy)
-    a0 = math.atan2(start[1] - cy, start[0] - cx)
-    sign = 1.0 if rotation > 0 else -1.0
-    sweep = (sign * (math.atan2(end[1] - cy, end[0] - cx) - a0)) % (2 * math.pi)
-    if sweep <= 1e-12:
-        sweep = 2 * math.pi
-    sweep += 2 * math.pi * (abs(rotation) - 1)
-    step = 2 * math.acos(max(-1.0, 1 - tolerance / r)) if tolerance < r else math.pi / 2
-    n = max(2, math.ceil(sweep / step))
-    frac = np.arange(1, n + 1) / n
-    t = a0 + (sign * sweep) * frac
-    first = cx + r * np.cos(t)
-    second = cy + r * np.sin(t)
-    first[-1], second[-1] = end
-    return first, second, frac, r * (1 - math.cos(sweep / n / 2))
 
 
 def format_many(values: np.ndarray, places: int) -> list[str]:
@@ -128,8 +100,8 @@ def batch_points(
     end points of k straight feeds (the fast lane's); ``axes``: indexes of the plane's
     (first, second, normal) axes in (x, y, z); ``start``: the position before the run.
     Returns (points (N, 3) in x y z, chords per move, the largest sagitta per move, the
-    first move of each item): a line is one point; an arc is :func:`circle_chords`'s
-    chords, computed for all arcs of the run together.
+    first move of each item): a line is one point; an arc is ``n`` chords of equal angle,
+    the module's rule, computed for all arcs of the run together.
     """
     i1, i2, i3 = axes
     pieces: list[np.ndarray] = []
