@@ -175,25 +175,32 @@ def _orient(ex: Executor, loc: Location) -> None:
     ex.ip.emit(canon.OrientSpindle(0.0, Direction.CLOCKWISE, source=loc))
 
 
-def _fine_bore(ex: Executor, h: _Hole, a: float, b: float, loc: Location) -> None:
-    ip = ex.ip
-    rapid, feed = canon.StraightTraverse, canon.StraightFeed
-    q = ip.s.cycle.q
-    _move(ex, h, rapid, a, b, max(h.height, h.r), loc)
-    if ip.s.pos[h.fn] != h.r:
-        _move(ex, h, rapid, a, b, h.r, loc)
-    _move(ex, h, feed, a, b, h.bottom, loc)
+def _bore_out(ex: Executor, h: _Hole, a: float, b: float, loc: Location) -> None:
+    """G76 and G87 at the bottom: feed there, dwell, orient the spindle and shift by Q off
+    the wall, leave by rapids to the clearance height and back over the hole, spindle on."""
+    rapid = canon.StraightTraverse
+    q = ex.ip.s.cycle.q
+    _move(ex, h, canon.StraightFeed, a, b, h.bottom, loc)
     _dwell(ex, loc)
     _orient(ex, loc)
     _move(ex, h, rapid, a + q, b, h.bottom, loc)
     _move(ex, h, rapid, a + q, b, h.clear, loc)
     _move(ex, h, rapid, a, b, h.clear, loc)
-    ip.emit(canon.StartSpindleClockwise(source=loc))
+    ex.ip.emit(canon.StartSpindleClockwise(source=loc))
+
+
+def _fine_bore(ex: Executor, h: _Hole, a: float, b: float, loc: Location) -> None:
+    ip = ex.ip
+    rapid = canon.StraightTraverse
+    _move(ex, h, rapid, a, b, max(h.height, h.r), loc)
+    if ip.s.pos[h.fn] != h.r:
+        _move(ex, h, rapid, a, b, h.r, loc)
+    _bore_out(ex, h, a, b, loc)
 
 
 def _back_bore(ex: Executor, h: _Hole, a: float, b: float, loc: Location) -> None:
     ip = ex.ip
-    rapid, feed = canon.StraightTraverse, canon.StraightFeed
+    rapid = canon.StraightTraverse
     q = ip.s.cycle.q
     _move(ex, h, rapid, a, b, h.height, loc)
     _orient(ex, loc)
@@ -201,10 +208,4 @@ def _back_bore(ex: Executor, h: _Hole, a: float, b: float, loc: Location) -> Non
     _move(ex, h, rapid, a + q, b, h.r, loc)
     _move(ex, h, rapid, a, b, h.r, loc)
     ip.emit(canon.StartSpindleClockwise(source=loc))
-    _move(ex, h, feed, a, b, h.bottom, loc)
-    _dwell(ex, loc)
-    _orient(ex, loc)
-    _move(ex, h, rapid, a + q, b, h.bottom, loc)
-    _move(ex, h, rapid, a + q, b, h.clear, loc)
-    _move(ex, h, rapid, a, b, h.clear, loc)
-    ip.emit(canon.StartSpindleClockwise(source=loc))
+    _bore_out(ex, h, a, b, loc)
