@@ -24,21 +24,11 @@ from pygcode import Machine
 
 from gcode.dialects import get_dialect
 from gcode.dialects.spec import Dialect
-from gcode.emit import WriterOptions
 from gcode.interpreter import interpret_text
 from tests.convert_support import programs
 from tests.peers import pygcode_peer, toolpath_peer
-from tests.peers.ir_motion import by_index, corpus, motions, tagged_lines
+from tests.peers.ir_motion import SIX, by_index, corpus, motions, tagged_lines
 
-SIX = WriterOptions(decimals=6)
-PYGCODE_RUNS = [
-    ("grbl", "ijk"),
-    ("grbl", "r"),
-    ("fanuc", "ijk"),
-    ("fanuc", "r"),
-    ("haas", "ijk"),
-    ("nist_v3", "ijk"),
-]
 #: fewest programs a run must check (the corpus has 241; some targets refuse a few)
 MIN_PROGRAMS = {"grbl": 220, "fanuc": 235, "haas": 230, "nist_v3": 230}
 
@@ -58,7 +48,7 @@ def allowed_exclusions(d: Dialect) -> set[str]:
     return {name for name, yes in defined.items() if yes}
 
 
-@pytest.mark.parametrize(("dialect", "arc_format"), PYGCODE_RUNS)
+@pytest.mark.parametrize(("dialect", "arc_format"), pygcode_peer.RUNS)
 def test_pygcode_reads_every_block_and_stands_at_every_ir_end_point(
     dialect: str, arc_format: str
 ) -> None:
@@ -169,13 +159,7 @@ def test_pygcode_fanuc_feed_after_a_thread_is_the_programmed_feed() -> None:
 
 
 # ----------------------------------------------------------------------- gcode-toolpath
-VARIANTS = {  # name: (options, tolerance in mm)
-    "ijk-6": (SIX, toolpath_peer.TOLERANCE),
-    "r-6": (replace(SIX, arc_format="r"), toolpath_peer.TOLERANCE),
-    # default Grbl format: 3 decimals in mm, 4 in inches (2 units of 0.0001 in = 5.08e-3 mm)
-    "ijk-default": (WriterOptions(), 5.1e-3),
-    "r-default": (WriterOptions(arc_format="r"), 5.1e-3),
-}
+VARIANTS = toolpath_peer.VARIANTS
 KNOWN: dict[tuple[str, str], str] = {}  # (variant, program stem): why the peer disagrees
 _missing = toolpath_peer.available()
 

@@ -13,23 +13,13 @@ from collections import Counter
 from dataclasses import replace
 from pathlib import Path
 
-from gcode.emit import WriterOptions
 from tests.peers import pygcode_peer, toolpath_peer
-from tests.peers.ir_motion import by_index, corpus, motions
-
-SIX = WriterOptions(decimals=6)
+from tests.peers.ir_motion import SIX, by_index, corpus, motions
 
 
 def pygcode_rows() -> list[str]:
     rows = []
-    for dialect, fmt in (
-        ("grbl", "ijk"),
-        ("grbl", "r"),
-        ("fanuc", "ijk"),
-        ("fanuc", "r"),
-        ("haas", "ijk"),
-        ("nist_v3", "ijk"),
-    ):
+    for dialect, fmt in pygcode_peer.RUNS:
         t0 = time.perf_counter()
         n = refused = blocks = moves = arcs = feeds = cut = 0
         dev = 0.0
@@ -63,14 +53,8 @@ def pygcode_rows() -> list[str]:
 
 def toolpath_rows() -> list[str]:
     rows = []
-    variants = (
-        ("ijk, 6 decimals", SIX, toolpath_peer.TOLERANCE),
-        ("r, 6 decimals", replace(SIX, arc_format="r"), toolpath_peer.TOLERANCE),
-        ("ijk, default", WriterOptions(), 5.1e-3),
-        ("r, default", WriterOptions(arc_format="r"), 5.1e-3),
-    )
     with tempfile.TemporaryDirectory() as tmp:
-        for name, options, tol in variants:
+        for name, (options, tol) in toolpath_peer.VARIANTS.items():
             t0 = time.perf_counter()
             written = [w for w in corpus("grbl", options)]
             runs = [w for w in written if w.tagged is not None]

@@ -32,6 +32,8 @@ PLANE_LETTERS: dict[canon.Plane, tuple[str, str, str]] = {
 }
 AXES = "XYZABC"
 HEADER = -1  # command index of the program header's lines
+#: the peers read our output with 6 decimals (the comparison tolerances assume it)
+SIX = WriterOptions(decimals=6)
 
 
 @dataclass(frozen=True)

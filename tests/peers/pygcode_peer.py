@@ -29,6 +29,16 @@ from pygcode.gcodes import GCodeUseInches
 
 from tests.peers.ir_motion import AXES, PLANE_LETTERS, Motion, group_lines
 
+#: the (dialect, arc format) outputs pygcode reads: its dialects, each arc form it parses
+RUNS = [
+    ("grbl", "ijk"),
+    ("grbl", "r"),
+    ("fanuc", "ijk"),
+    ("fanuc", "r"),
+    ("haas", "ijk"),
+    ("nist_v3", "ijk"),
+]
+
 TOLERANCE = 1e-4  # mm
 
 Words = list[tuple[str, float]]

@@ -21,15 +21,24 @@ import os
 import shutil
 import subprocess
 from collections import defaultdict
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from gcode.emit import WriterOptions
 from kernel import canon
-from tests.peers.ir_motion import PLANE_LETTERS, Motion, group_lines
+from tests.peers.ir_motion import PLANE_LETTERS, SIX, Motion, group_lines
 
 SCRIPT = Path(__file__).with_name("toolpath.js")
 DEFAULT_NODE_PATH = "/tmp/peers/node_modules"
 TOLERANCE = 1e-4  # mm (programs written with six decimals)
+#: the Grbl outputs the peer reads: name -> (writer options, tolerance in mm); the default
+#: format has 3 decimals in mm, 4 in inches (2 units of 0.0001 in = 5.08e-3 mm)
+VARIANTS = {
+    "ijk-6": (SIX, TOLERANCE),
+    "r-6": (replace(SIX, arc_format="r"), TOLERANCE),
+    "ijk-default": (WriterOptions(), 5.1e-3),
+    "r-default": (WriterOptions(arc_format="r"), 5.1e-3),
+}
 PLANES = {canon.Plane.XY: "G17", canon.Plane.XZ: "G18", canon.Plane.YZ: "G19"}
 KINDS = {"STRAIGHT_TRAVERSE": "G0", "STRAIGHT_FEED": "G1"}  # arcs: G2/G3 checked below
 XYZ = "XYZ"
