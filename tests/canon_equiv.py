@@ -1,4 +1,4 @@
-"""Equivalence of two canonical-command texts, as defined in ``../shared/corpus/README.md``.
+"""Equivalence of two canonical-command texts, as defined in ``tests/data/README.md``.
 
 Two outputs are *equivalent* when, after dropping the LinuxCNC-only commands
 (:data:`kernel.canon.LINUXCNC_ONLY`), they give the same ordered sequence of motions

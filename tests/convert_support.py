@@ -17,12 +17,11 @@ from gcode.interpreter import InterpreterOptions, interpret, interpret_text
 from gcode.tooltable import read_tool_table
 from kernel import canon
 from kernel.diagnostics import Diagnostic
+from tests.data_paths import CORPUS_NGC
 
 HERE = Path(__file__).resolve().parent
 GOLDEN = HERE / "golden" / "ngc"
-CORPUS = Path("/work/shared/corpus/ngc")
-if not CORPUS.is_dir():
-    CORPUS = HERE.parent.parent / "shared" / "corpus" / "ngc"
+CORPUS = CORPUS_NGC
 
 
 def programs() -> list[Path]:

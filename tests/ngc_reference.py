@@ -1,7 +1,7 @@
 """Shared helpers of the RS274/NGC reference tests: run our interpreter over a program the
 way ``rs274 -t sim.tbl -g PROG OUT`` ran (tool table beside it, inch based; ``*_subfile*``
 programs with the subroutine path ``subs``) and compare with the reference output by the
-equivalence rule of ``../shared/corpus/README.md`` (:mod:`tests.canon_equiv`)."""
+equivalence rule of ``tests/data/README.md`` (:mod:`tests.canon_equiv`)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """``cnc canon`` reads STEP-NC by content and matches NIST's ISO 14649 interpreter (issue 5).
 
-``cnc canon ../shared/corpus/stepnc/ex1.stp`` with NIST's tool file must print NIST's
+``cnc canon tests/data/corpus/stepnc/ex1.stp`` with NIST's tool file must print NIST's
 ``ex1.can`` command for command; a Part 21 file named ``.ngc`` is still read as Part 21.
 """
 
@@ -13,8 +13,9 @@ from click.testing import CliRunner
 
 from cli.main import cli
 from kernel import canon
+from tests.data_paths import CORPUS_STEPNC
 
-CORPUS = Path(__file__).resolve().parents[2] / "shared" / "corpus" / "stepnc"
+CORPUS = CORPUS_STEPNC
 
 
 def _commands(text: str) -> list[str]:

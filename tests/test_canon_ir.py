@@ -17,9 +17,10 @@ import pytest
 from kernel import canon
 from kernel.diagnostics import Diagnostic
 from tests.canon_equiv import compare
+from tests.data_paths import DATA
 
 ROOT = Path(__file__).resolve().parent
-CORPUS = ROOT.parent.parent / "shared" / "corpus"
+CORPUS = DATA / "corpus"
 CANON_FILES = sorted((CORPUS / "ngc").glob("*.canon")) + sorted(
     (ROOT / "golden" / "ngc").glob("*.canon")
 )

@@ -13,6 +13,7 @@ import xmlschema
 from click.testing import CliRunner
 
 from cli.main import cli
+from tests.data_paths import CORPUS_STEPNC
 
 HERE = Path(__file__).parent
 PROGS = HERE / "check"
@@ -171,7 +172,7 @@ def test_program_kind_is_detected_by_content_not_extension(tmp_path: Path) -> No
         lines = list(canon.to_jsonl(canon.read_commands(fh, keep_linuxcnc=True)))
     jsonl = tmp_path / "prog.data"
     jsonl.write_text("\n".join(lines) + "\n")
-    stp = HERE.parents[1] / "shared" / "corpus" / "stepnc" / "ex1.stp"
+    stp = CORPUS_STEPNC / "ex1.stp"
     assert detect_kind(read_head(str(canon_as_nc))) == "canon"
     assert detect_kind(read_head(str(gcode_as_txt))) == "gcode"
     assert detect_kind(read_head(str(jsonl))) == "jsonl"

@@ -19,9 +19,10 @@ from kernel.check.geometry import arc_extremes, arc_of, segment_hits_box
 from kernel.check.state import CheckState, advance
 from kernel.diagnostics import Diagnostic, Location, Severity
 from kernel.machine import DEFAULT_MACHINE, AxisLimits, Machine
+from tests.data_paths import CORPUS_NGC
 
 HERE = Path(__file__).parent / "check"
-CORPUS = Path(__file__).resolve().parents[2] / "shared" / "corpus" / "ngc"
+CORPUS = CORPUS_NGC
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "check-rules.md"
 SHOP = load_context(str(HERE / "shop.toml"), str(HERE / "shop.toml"), None)
 SIM = load_context(str(HERE / "sim.toml"), str(HERE / "sim.toml"), None)

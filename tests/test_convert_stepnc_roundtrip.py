@@ -24,11 +24,10 @@ from kernel import canon
 from kernel.diagnostics import Diagnostic
 from stepnc.to_canon import canon_from_file
 from tests.convert_support import fine_text
+from tests.data_paths import CORPUS_STEPNC
 
 HERE = Path(__file__).resolve().parent
-CORPUS = Path("/work/shared/corpus/stepnc")
-if not CORPUS.is_dir():
-    CORPUS = HERE.parent.parent / "shared" / "corpus" / "stepnc"
+CORPUS = CORPUS_STEPNC
 PROGRAMS = sorted(CORPUS.glob("*.stp")) + sorted((HERE / "stepnc").glob("*.stp"))
 DIALECTS = [d for d in readable() if d != "sandia"]
 #: what a G-code target cannot say of a STEP-NC program (reported, not silently lost)

@@ -36,12 +36,11 @@ from kernel.path import (
     Path,
     build_path,
 )
+from tests.data_paths import CORPUS_NGC
 
 HERE = FsPath(__file__).resolve().parent
 GOLDEN = HERE / "golden" / "ngc"
-CORPUS = FsPath("/work/shared/corpus/ngc")
-if not CORPUS.is_dir():
-    CORPUS = HERE.parent.parent / "shared" / "corpus" / "ngc"
+CORPUS = CORPUS_NGC
 
 SIX_AXES = Machine(
     "6ax",

@@ -1,4 +1,4 @@
-"""Every LinuxCNC 2.9 program of ../shared/corpus/ngc gives output equivalent to the
+"""Every LinuxCNC 2.9 program of tests/data/corpus/ngc gives output equivalent to the
 ``.canon`` rs274 printed for it (corpus README: tool table sim.tbl beside them, inch based).
 """
 
@@ -8,12 +8,10 @@ from pathlib import Path
 
 import pytest
 
+from tests.data_paths import corpus_programs
 from tests.ngc_reference import differences
 
-CORPUS = Path(__file__).resolve().parents[2] / "shared" / "corpus" / "ngc"
-PROGRAMS = sorted(CORPUS.glob("*.ngc"))
-
-pytestmark = pytest.mark.skipif(not PROGRAMS, reason="../shared/corpus is not available")
+PROGRAMS = corpus_programs()
 
 
 @pytest.mark.parametrize("program", PROGRAMS, ids=[p.stem for p in PROGRAMS])

@@ -15,6 +15,8 @@ import pytest
 
 import gcode.interpreter as interp
 from gcode.interpreter import InterpreterOptions, interpret
+from gcode.lane import Lane
+from gcode.program import ProgramFile
 from gcode.tooltable import read_tool_table
 from kernel.diagnostics import Diagnostic
 
@@ -22,8 +24,10 @@ ROOT = Path(__file__).resolve().parent
 sys.path.insert(0, str(ROOT.parent / "bench"))
 from cam_program import write_program  # noqa: E402
 
+from tests.data_paths import CORPUS_NGC  # noqa: E402
+
 GOLDEN = ROOT / "golden" / "ngc"
-CORPUS = ROOT.parent.parent / "shared" / "corpus" / "ngc"
+CORPUS = CORPUS_NGC
 PROGRAMS = sorted(GOLDEN.glob("*.ngc")) + sorted(CORPUS.glob("*.ngc"))
 TOOLS = read_tool_table((GOLDEN / "sim.tbl").read_text().splitlines(), "sim.tbl")
 
@@ -42,18 +46,40 @@ def run(path: Path, lane: bool) -> tuple[list[tuple[str, int]], str | None]:
 
 
 @pytest.fixture
-def lane_always(monkeypatch: pytest.MonkeyPatch) -> None:
+def lane_always(monkeypatch: pytest.MonkeyPatch) -> list[Lane | None]:
+    """The lane forced on for every file; returns the lanes the interpreter opened, so a test
+    can tell that the compiled lane really ran (an equivalence with no lane proves nothing)."""
     monkeypatch.setattr(interp, "LANE_MIN_BYTES", 0)
+    opened: list[Lane | None] = []
+    for_file = Lane.for_file
+
+    def spy(pf: ProgramFile) -> Lane | None:
+        lane = for_file(pf)
+        opened.append(lane)
+        return lane
+
+    monkeypatch.setattr(Lane, "for_file", staticmethod(spy))
+    return opened
+
+
+def assert_lane_ran(opened: list[Lane | None]) -> None:
+    assert opened, "the interpreter never asked for the fast lane"
+    assert all(lane is not None for lane in opened), "the compiled kernels did not load"
 
 
 @pytest.mark.parametrize("program", PROGRAMS, ids=[p.stem for p in PROGRAMS])
-def test_lane_output_is_identical_to_the_general_path(program: Path, lane_always: None) -> None:
-    assert run(program, lane=True) == run(program, lane=False)
+def test_lane_output_is_identical_to_the_general_path(
+    program: Path, lane_always: list[Lane | None]
+) -> None:
+    fast = run(program, lane=True)
+    assert_lane_ran(lane_always)
+    assert fast == run(program, lane=False)
 
 
-def test_lane_on_a_cam_program_is_identical(tmp_path: Path, lane_always: None) -> None:
+def test_lane_on_a_cam_program_is_identical(tmp_path: Path, lane_always: list[Lane | None]) -> None:
     prog = write_program(tmp_path / "cam.ngc", 20_000)
     fast, err_fast = run(prog, lane=True)
+    assert_lane_ran(lane_always)
     slow, err_slow = run(prog, lane=False)
     assert err_fast is None and err_slow is None
     assert len(fast) > 19_000

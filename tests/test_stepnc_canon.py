@@ -16,9 +16,10 @@ from stepnc import gouge
 from stepnc.model import load
 from stepnc.to_canon import canon_from_file, canon_from_model
 from stepnc.toolpaths.drilling import tip_length
+from tests.data_paths import CORPUS_STEPNC
 
 HERE = Path(__file__).resolve().parent
-CORPUS = HERE.parents[1] / "shared" / "corpus" / "stepnc"
+CORPUS = CORPUS_STEPNC
 EX1, TOOLS = str(CORPUS / "ex1.stp"), str(CORPUS / "iso14649.tool_ex1")
 EX1_RAW = (0.0, 0.0, -45.0, 100.0, 120.0, 5.0)  # book: block 100 x 120 x 50, face top Z=5
 sys.path.insert(0, str(HERE / "stepnc"))

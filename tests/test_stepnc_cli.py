@@ -8,9 +8,10 @@ from click.testing import CliRunner
 
 from cli.main import cli
 from kernel import canon
+from tests.data_paths import CORPUS_STEPNC
 
 HERE = Path(__file__).resolve().parent
-CORPUS = HERE.parents[1] / "shared" / "corpus" / "stepnc"
+CORPUS = CORPUS_STEPNC
 EX1, TOOLS = str(CORPUS / "ex1.stp"), str(CORPUS / "iso14649.tool_ex1")
 FIG = str(HERE / "stepnc" / "book_fig_11_18.stp")
 

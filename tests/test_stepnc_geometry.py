@@ -10,9 +10,10 @@ import pytest
 from stepnc import geometry
 from stepnc.model import load
 from stepnc.volumes import feature_volumes, raw_block
+from tests.data_paths import CORPUS_STEPNC
 
 HERE = Path(__file__).resolve().parent
-EX1 = str(HERE.parents[1] / "shared" / "corpus" / "stepnc" / "ex1.stp")
+EX1 = str(CORPUS_STEPNC / "ex1.stp")
 EX1_RAW = (0.0, 0.0, -45.0, 100.0, 120.0, 5.0)  # book §11.1: block 100 x 120 x 50
 
 

@@ -9,9 +9,10 @@ import pytest
 from kernel.diagnostics import Diagnostic, Severity
 from stepnc import part21
 from stepnc.model import Model, load, validate
+from tests.data_paths import CORPUS_STEPNC
 
 HERE = Path(__file__).resolve().parent
-EX1 = HERE.parents[1] / "shared" / "corpus" / "stepnc" / "ex1.stp"
+EX1 = CORPUS_STEPNC / "ex1.stp"
 FIG = HERE / "stepnc" / "book_fig_11_18.stp"
 
 # research/seed-book-stepnc.md §1.11.3: each defect row -> (entity, expected code).

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -11,8 +9,9 @@ from hypothesis import strategies as st
 from kernel.diagnostics import Diagnostic
 from stepnc import part21
 from stepnc.part21 import DERIVED, Binary, Enum, Instance, Part, Ref, Typed
+from tests.data_paths import CORPUS_STEPNC
 
-CORPUS = Path(__file__).resolve().parents[2] / "shared" / "corpus" / "stepnc"
+CORPUS = CORPUS_STEPNC
 EX1 = CORPUS / "ex1.stp"
 
 

@@ -1,0 +1,18 @@
+"""Suite-wide set-up: the fast lane's compiled kernels are built before any test runs.
+
+The first use of the kernels builds them once (``gcode.fastlane.load_aot``, ~30 s) and says
+so on stderr; building them here, in the controlling process, keeps that one-off notice and
+its delay out of the tests' own timings and outputs (xdist workers then find them cached).
+"""
+
+from __future__ import annotations
+
+import pytest
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    if hasattr(config, "workerinput"):  # an xdist worker: the controller built them
+        return
+    from gcode import fastlane
+
+    fastlane.kernel_mode()
