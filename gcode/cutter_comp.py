@@ -74,13 +74,21 @@ class CutterCompensator:
         self.plane = canon.Plane.XY
         self.first_move = True
         self.inches = False  # length units (G20); rs274 starts in mm
-        #: set by G40 after a compensated move: the next motion must be straight
-        self.arc_not_allowed = False
+        self._arc_not_allowed = False
         self._queue = MotionQueue()
         self._current = (0.0, 0.0, 0.0)  # compensated: first, second, normal
         self._programmed = (0.0, 0.0, 0.0)
 
     # ------------------------------------------------------------------ state
+    @property
+    def arc_not_allowed(self) -> bool:
+        """Set by G40 after a compensated move: the next motion must be straight."""
+        return self._arc_not_allowed
+
+    @arc_not_allowed.setter
+    def arc_not_allowed(self, value: bool) -> None:
+        self._arc_not_allowed = value
+
     @property
     def on(self) -> bool:
         """G41/G42/G41.1/G42.1 in force (even with radius 0)."""

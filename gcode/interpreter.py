@@ -22,6 +22,7 @@ from gcode import linuxcnc as lc
 from gcode import motion, offsets
 from gcode.blocks import check_letter_uses, evaluate_block, is_constant
 from gcode.codes import Words
+from gcode.comp_api import CutterComp
 from gcode.lexer import Block
 from gcode.messages import comment_commands
 from gcode.oword import Flow
@@ -121,21 +122,21 @@ class Interpreter:
         self.flow = Flow(self)
         self.saved_states: list[dict[str, object]] = []  # M70/M73 frames
         self.m70: dict[int, dict[str, object]] = {}
-        self.comp: object | None = None  # cutter comp filter when active
+        self.comp: CutterComp | None = None  # cutter comp filter when active
         offsets.init_offsets(self)
 
     # ------------------------------------------------------------------ output
     def emit(self, cmd: canon.Command) -> None:
         comp = self.comp
-        if comp is not None and comp.holding:  # type: ignore[attr-defined]
-            self.out.extend(comp.passthrough(cmd))  # type: ignore[attr-defined]
+        if comp is not None and comp.holding:
+            self.out.extend(comp.passthrough(cmd))
         else:
             self.out.append(cmd)
 
     def comp_off(self, action: str) -> None:
         """Refuse ``action`` while cutter compensation is on (LinuxCNC's list)."""
         if self.comp is not None:
-            self.comp.require_off(action, self.loc)  # type: ignore[attr-defined]
+            self.comp.require_off(action, self.loc)
 
     def _named(self, name: str) -> float | None:
         return named_parameter(self, name)
@@ -373,7 +374,7 @@ class Interpreter:
             s.scale_lengths(1.0 / INCH_MM if units is Units.INCHES else INCH_MM)
             s.units = units
         if self.comp is not None:
-            self.comp.set_units(units is Units.INCHES)  # type: ignore[attr-defined]
+            self.comp.set_units(units is Units.INCHES)
         self.emit(canon.UseLengthUnits(units, source=self.loc))
 
     def _control_mode(self, code: int, w: Words, check: bool = True) -> None:

@@ -80,7 +80,7 @@ class Lane:
             or s.feed_mode != 0
             or s.motion_mode not in (0, 10)
             or s.diameter_mode
-            or (comp is not None and (comp.on or comp.holding))  # type: ignore[attr-defined]
+            or (comp is not None and (comp.on or comp.holding))
         ):
             return None
         pf = self.pf

@@ -231,9 +231,9 @@ def program_stop(ip: Interpreter, code: int) -> bool:
     s = ip.s
     comp = ip.comp
     if comp is not None:
-        ip.out.extend(comp.flush(loc))  # type: ignore[attr-defined]
+        ip.out.extend(comp.flush(loc))
         if code in (2, 30):
-            comp.end_program()  # type: ignore[attr-defined]
+            comp.end_program()
     if code == 0:
         ip.emit(canon.ProgramStop(source=loc))
         return False

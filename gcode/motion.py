@@ -79,11 +79,11 @@ def find_ends(ip: Interpreter, w: Words) -> list[float]:
 def traverse(ip: Interpreter, end: list[float]) -> None:
     s = ip.s
     comp = ip.comp
-    if comp is not None and comp.engaged:  # type: ignore[attr-defined]
-        ip.out.extend(comp.straight(s.pos, end, rapid=True, source=ip.loc))  # type: ignore[attr-defined]
+    if comp is not None and comp.engaged:
+        ip.out.extend(comp.straight(s.pos, end, rapid=True, source=ip.loc))
     else:
         if comp is not None:
-            comp.arc_not_allowed = False  # type: ignore[attr-defined]
+            comp.arc_not_allowed = False
         ip.emit(canon.StraightTraverse(*end, source=ip.loc))
     s.pos = end
     s.tlo_lag = None
@@ -92,11 +92,11 @@ def traverse(ip: Interpreter, end: list[float]) -> None:
 def feed(ip: Interpreter, end: list[float]) -> None:
     s = ip.s
     comp = ip.comp
-    if comp is not None and comp.engaged:  # type: ignore[attr-defined]
-        ip.out.extend(comp.straight(s.pos, end, rapid=False, source=ip.loc))  # type: ignore[attr-defined]
+    if comp is not None and comp.engaged:
+        ip.out.extend(comp.straight(s.pos, end, rapid=False, source=ip.loc))
     else:
         if comp is not None:
-            comp.arc_not_allowed = False  # type: ignore[attr-defined]
+            comp.arc_not_allowed = False
         ip.emit(canon.StraightFeed(*end, source=ip.loc))
     s.pos = end
     s.tlo_lag = None
@@ -189,7 +189,7 @@ def arc(ip: Interpreter, w: Words, clockwise: bool) -> None:
     loc = ip.loc
     comp = ip.comp
     if comp is not None:
-        comp.check_arc_allowed(loc)  # type: ignore[attr-defined]
+        comp.check_arc_allowed(loc)
     plane = s.plane
     ci, cj, ck = PLANE_CENTRE[plane]
     f1, f2, fn = PLANE_AXES[plane]
@@ -236,8 +236,8 @@ def arc(ip: Interpreter, w: Words, clockwise: bool) -> None:
         arcs.centre_format(st, en, centre, (AXES[f1], AXES[f2]), inches, loc)
     if s.feed_mode == 1:
         _inverse_time_rate(ip, w, _arc_length(st, en, centre, turn, end[fn] - start[fn]))
-    if comp is not None and comp.engaged:  # type: ignore[attr-defined]
-        ip.out.extend(comp.arc(start, end, centre, turn, source=loc))  # type: ignore[attr-defined]
+    if comp is not None and comp.engaged:
+        ip.out.extend(comp.arc(start, end, centre, turn, source=loc))
     else:
         ip.emit(
             canon.ArcFeed(
@@ -335,9 +335,9 @@ def synchronised(ip: Interpreter, w: Words, code: int) -> None:
     end = find_ends(ip, w)
     k = v["k"]
     comp = ip.comp
-    if code == 330 and comp is not None and comp.engaged:  # type: ignore[attr-defined]
+    if code == 330 and comp is not None and comp.engaged:
         # LinuxCNC makes a compensated G33 a plain compensated feed (or refuses it)
-        ip.out.extend(comp.straight(s.pos, end, rapid=False, g33=True, source=loc))  # type: ignore[attr-defined]
+        ip.out.extend(comp.straight(s.pos, end, rapid=False, g33=True, source=loc))
         s.pos = end
         return
     ip.emit(canon.StartSpeedFeedSynch(k, False, source=loc))
@@ -456,11 +456,11 @@ def cutter_comp_mode(ip: Interpreter, w: Words) -> None:
     s = ip.s
     code = w.g[7]
     loc = ip.loc
-    if ip.comp is None:
+    comp = ip.comp
+    if comp is None:
         kind = KeptCompensation if ip.options.keep_cutter_comp else CutterCompensator
-        ip.comp = kind(comments=ip.compat)
-        ip.comp.set_units(s.units is Units.INCHES)
-    comp: CutterCompensator = ip.comp  # type: ignore[assignment]
+        comp = ip.comp = kind(comments=ip.compat)
+        comp.set_units(s.units is Units.INCHES)
     if code == 400:
         ip.out.extend(comp.stop(source=loc))
         s.comp_side = 400

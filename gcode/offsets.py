@@ -358,8 +358,8 @@ def set_tool_number(ip: Interpreter, w: Words) -> None:
     resync(ip)
     if ip.compat:
         ip.emit(lc.ChangeToolNumber(_slot(ip, n), source=loc))
-    if ip.comp is not None and ip.comp.holding:  # type: ignore[attr-defined]
-        ip.out.extend(ip.comp.release())  # type: ignore[attr-defined]
+    if ip.comp is not None and ip.comp.holding:
+        ip.out.extend(ip.comp.release())
 
 
 def _apply_tool_offset(ip: Interpreter, new: list[float]) -> None:
