@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 from gcode.codes import Words
 from gcode.cycle_marks import CycleEnd, CycleStart
 from gcode.motion import AXES, PLANE_AXES
+from gcode.state import INVERSE_TIME, ControlCode
 from kernel import canon
 from kernel.canon import Direction, MotionMode, Units
 from kernel.diagnostics import Diagnostic
@@ -79,7 +80,7 @@ def canned_cycle(ip: Interpreter, w: Words, code: int, previous: int | None) -> 
     c = s.cycle
     sticky = previous == code
     ip.comp_off("canned cycle")
-    if s.feed_mode == 1:
+    if s.feed_mode == INVERSE_TIME:
         raise Diagnostic(
             "NGC-CYCLE-INVERSE-TIME", "cannot use inverse time feed with canned cycles", loc
         )
@@ -180,7 +181,7 @@ def canned_cycle(ip: Interpreter, w: Words, code: int, previous: int | None) -> 
         cyc.traverse(pos[f1], pos[f2], r)
         old = height = r
     clear = r if s.retract_r else old
-    exact = ip.compat and s.control_mode != 610
+    exact = ip.compat and s.control_mode is not ControlCode.G61
     if exact:
         ip.emit(canon.SetMotionControlMode(MotionMode.EXACT_PATH, source=loc))
     if not first:

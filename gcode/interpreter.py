@@ -29,10 +29,10 @@ from gcode.oword import Flow
 from gcode.params import Parameters
 from gcode.predefined import named_parameter, numbered_parameter
 from gcode.program import ProgramFile
-from gcode.state import G80, INCH_MM, Setup
+from gcode.state import G80, INCH_MM, INVERSE_TIME, ControlCode, FeedCode, SavedModes, Setup
 from gcode.tooltable import Tool, ToolTable
 from kernel import canon
-from kernel.canon import Direction, Plane, Units
+from kernel.canon import Direction, FeedMode, Plane, Units
 from kernel.diagnostics import Diagnostic, Location
 
 
@@ -77,6 +77,12 @@ def interpret_text(
 
 
 _PLANES = {170: Plane.XY, 180: Plane.XZ, 190: Plane.YZ}
+#: feed modes as the compat comment names them
+_FEED_MODE_NAMES = {
+    FeedMode.UNITS_PER_MINUTE: "units per minute",
+    FeedMode.INVERSE_TIME: "inverse time",
+    FeedMode.UNITS_PER_REVOLUTION: "units per revolution",
+}
 #: files from this size on use the compiled fast lane (gcode.lane)
 LANE_MIN_BYTES = 1 << 20
 
@@ -120,8 +126,7 @@ class Interpreter:
         self.out: list[canon.Command] = []
         self.loc = Location()
         self.flow = Flow(self)
-        self.saved_states: list[dict[str, object]] = []  # M70/M73 frames
-        self.m70: dict[int, dict[str, object]] = {}
+        self.m70: dict[int, SavedModes] = {}  # M70 state by call level
         self.comp: CutterComp | None = None  # cutter comp filter when active
         offsets.init_offsets(self)
 
@@ -261,12 +266,12 @@ class Interpreter:
         if 14 in g:
             self._spindle_mode(g[14], v)
         if 5 in g:
-            self._feed_mode(g[5])
+            self._feed_mode(FeedCode(g[5]))
         if "f" in v:
             f = v["f"]
             if f < 0:
                 raise Diagnostic("NGC-NEGATIVE-F", "negative F word used", self._at(w, "f"))
-            if s.feed_mode != 1:  # in G93 F belongs to the block's move only
+            if s.feed_mode != INVERSE_TIME:  # in G93 F belongs to the block's move only
                 s.feed_rate = f
                 self.emit(canon.SetFeedRate(f, source=loc))
         if "s" in v:
@@ -299,7 +304,7 @@ class Interpreter:
         if 12 in g:
             offsets.select_coordinate_system(self, g[12])
         if 13 in g:
-            self._control_mode(g[13], w)
+            self._control_mode(ControlCode(g[13]), w)
         if 3 in g and s.absolute != (g[3] == 900):
             s.absolute = g[3] == 900
             if self.compat:
@@ -355,16 +360,16 @@ class Interpreter:
             s.css = False
         self.emit(canon.SetSpindleMode(s.css_max if s.css else 0.0, s.css, source=self.loc))
 
-    def _feed_mode(self, code: int) -> None:
+    def _feed_mode(self, code: FeedCode) -> None:
         s = self.s
-        mode = {930: 1, 940: 0, 950: 2}[code]
+        mode = code.mode
         s.feed_mode = mode
         loc = self.loc
-        names = {0: "units per minute", 1: "inverse time", 2: "units per revolution"}
         if self.compat:
-            self.emit(canon.Comment(f"interpreter: feed mode set to {names[mode]}", source=loc))
-        self.emit(canon.SetFeedMode(canon.FeedMode(mode), source=loc))
-        if mode != 1:
+            name = _FEED_MODE_NAMES[mode]
+            self.emit(canon.Comment(f"interpreter: feed mode set to {name}", source=loc))
+        self.emit(canon.SetFeedMode(mode, source=loc))
+        if mode is not FeedMode.INVERSE_TIME:
             s.feed_rate = 0.0
             self.emit(canon.SetFeedRate(0.0, source=loc))
 
@@ -377,15 +382,15 @@ class Interpreter:
             self.comp.set_units(units is Units.INCHES)
         self.emit(canon.UseLengthUnits(units, source=self.loc))
 
-    def _control_mode(self, code: int, w: Words, check: bool = True) -> None:
+    def _control_mode(self, code: ControlCode, w: Words, check: bool = True) -> None:
         s = self.s
         loc = self.loc
         if check:
             self.comp_off("control mode")
         s.control_mode = code
-        if code == 610:
+        if code is ControlCode.G61:
             self.emit(canon.SetMotionControlMode(canon.MotionMode.EXACT_PATH, source=loc))
-        elif code == 611:
+        elif code is ControlCode.G61_1:
             self.emit(canon.SetMotionControlMode(canon.MotionMode.EXACT_STOP, source=loc))
         else:
             p = w.values.get("p", -1.0)

@@ -14,6 +14,7 @@ import numpy as np
 
 from gcode import fastlane
 from gcode.program import ProgramFile
+from gcode.state import PER_MINUTE
 from kernel.diagnostics import Location
 
 if TYPE_CHECKING:
@@ -77,7 +78,7 @@ class Lane:
             or flow.calls
             or flow.controls
             or not flow.seen_line
-            or s.feed_mode != 0
+            or s.feed_mode != PER_MINUTE
             or s.motion_mode not in (0, 10)
             or s.diameter_mode
             or (comp is not None and (comp.on or comp.holding))

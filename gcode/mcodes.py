@@ -10,35 +10,13 @@ from typing import TYPE_CHECKING
 from gcode import linuxcnc as lc
 from gcode import offsets
 from gcode.codes import Words
-from gcode.state import G1, CycleWords
+from gcode.state import G1, CompCode, CycleWords, FeedCode, SavedModes
 from kernel import canon
 from kernel.canon import Direction, Plane
 from kernel.diagnostics import Diagnostic
 
 if TYPE_CHECKING:
     from gcode.interpreter import Interpreter
-
-_SAVED = (
-    "units",
-    "plane",
-    "absolute",
-    "ijk_absolute",
-    "feed_mode",
-    "feed_rate",
-    "speed",
-    "spindle",
-    "mist",
-    "flood",
-    "motion_mode",
-    "retract_r",
-    "control_mode",
-    "blend_p",
-    "blend_q",
-    "origin_index",
-    "css",
-    "css_max",
-    "tool_length_mode",
-)
 
 
 def _int_word(ip: Interpreter, w: Words, letter: str, what: str) -> int:
@@ -166,61 +144,63 @@ def _overrides(ip: Interpreter, code: int, v: dict[str, float]) -> None:
         s.feed_hold = on
 
 
-def save_state(ip: Interpreter) -> dict[str, object]:
+def save_state(ip: Interpreter) -> SavedModes:
     """M70/M73: the modal state LinuxCNC saves."""
-    s = ip.s
-    return {k: getattr(s, k) for k in _SAVED}
+    return SavedModes.of(ip.s)
 
 
-def restore_state(ip: Interpreter, saved: dict[str, object]) -> None:
+def restore_state(ip: Interpreter, saved: SavedModes) -> None:
     """M72 (and return from an M73 subroutine): restore, announcing what changed, in the
     order rs274 prints it: units, feed mode or rate, speed, spindle, plane, coordinate
     system, path control, distance mode, coolant."""
     s = ip.s
     loc = ip.loc
-    if saved["units"] is not s.units:
-        ip._units(saved["units"])  # type: ignore[arg-type]
-    if saved["feed_mode"] != s.feed_mode:
-        ip._feed_mode({0: 940, 1: 930, 2: 950}[saved["feed_mode"]])  # type: ignore[index]
-    elif saved["feed_rate"] != s.feed_rate:
-        s.feed_rate = saved["feed_rate"]  # type: ignore[assignment]
+    if saved.units is not s.units:
+        ip._units(saved.units)
+    if saved.feed_mode != s.feed_mode:
+        ip._feed_mode(FeedCode.of(saved.feed_mode))
+    elif saved.feed_rate != s.feed_rate:
+        s.feed_rate = saved.feed_rate
         ip.emit(canon.SetFeedRate(s.feed_rate, source=loc))
-    if saved["speed"] != s.speed:
-        s.speed = saved["speed"]  # type: ignore[assignment]
+    if saved.speed != s.speed:
+        s.speed = saved.speed
         ip.emit(canon.SetSpindleSpeed(s.speed, source=loc))
-    if saved["spindle"] is not s.spindle:
-        d = saved["spindle"]
-        s.spindle = d  # type: ignore[assignment]
+    if saved.spindle is not s.spindle:
+        d = saved.spindle
+        s.spindle = d
         if d is Direction.CLOCKWISE:
             ip.emit(canon.StartSpindleClockwise(source=loc))
         elif d is Direction.COUNTERCLOCKWISE:
             ip.emit(canon.StartSpindleCounterclockwise(source=loc))
         else:
             ip.emit(canon.StopSpindleTurning(source=loc))
-    if saved["plane"] is not s.plane:
-        s.plane = saved["plane"]  # type: ignore[assignment]
+    if saved.plane is not s.plane:
+        s.plane = saved.plane
         ip.emit(canon.SelectPlane(s.plane, source=loc))
-    if saved["origin_index"] != s.origin_index:
-        code = offsets.CODES[saved["origin_index"] - 1]  # type: ignore[operator]
+    if saved.origin_index != s.origin_index:
+        code = offsets.CODES[saved.origin_index - 1]
         offsets.select_coordinate_system(ip, code)
-    if saved["control_mode"] != s.control_mode:
-        words = Words(values={"p": saved["blend_p"], "q": saved["blend_q"]})  # type: ignore[dict-item]
-        ip._control_mode(saved["control_mode"], words, check=False)  # type: ignore[arg-type]
-    if saved["absolute"] != s.absolute:
-        s.absolute = bool(saved["absolute"])
+    if saved.control_mode != s.control_mode:
+        words = Words(values={"p": saved.blend_p, "q": saved.blend_q})
+        ip._control_mode(saved.control_mode, words, check=False)
+    if saved.absolute != s.absolute:
+        s.absolute = saved.absolute
         if ip.compat:
-            d = "absolute" if s.absolute else "incremental"
-            ip.emit(canon.Comment(f"interpreter: distance mode changed to {d}", source=loc))
-    for k in ("ijk_absolute", "motion_mode", "retract_r", "css", "css_max"):
-        setattr(s, k, saved[k])
-    if (s.mist and not saved["mist"]) or (s.flood and not saved["flood"]):
+            mode = "absolute" if s.absolute else "incremental"
+            ip.emit(canon.Comment(f"interpreter: distance mode changed to {mode}", source=loc))
+    s.ijk_absolute = saved.ijk_absolute
+    s.motion_mode = saved.motion_mode
+    s.retract_r = saved.retract_r
+    s.css = saved.css
+    s.css_max = saved.css_max
+    if (s.mist and not saved.mist) or (s.flood and not saved.flood):
         s.mist = s.flood = False
         ip.emit(canon.MistOff(source=loc))
         ip.emit(canon.FloodOff(source=loc))
-    if saved["mist"] and not s.mist:
+    if saved.mist and not s.mist:
         s.mist = True
         ip.emit(canon.MistOn(source=loc))
-    if saved["flood"] and not s.flood:
+    if saved.flood and not s.flood:
         s.flood = True
         ip.emit(canon.FloodOn(source=loc))
 
@@ -250,7 +230,7 @@ def program_stop(ip: Interpreter, code: int) -> bool:
         s.plane = Plane.XY
         ip.emit(canon.SelectPlane(Plane.XY, source=loc))
     s.absolute = True
-    s.feed_mode = 0
+    s.feed_mode = canon.FeedMode.UNITS_PER_MINUTE
     if ip.compat:
         ip.emit(canon.SetFeedMode(canon.FeedMode.UNITS_PER_MINUTE, source=loc))
     s.feed_rate = 0.0
@@ -259,7 +239,7 @@ def program_stop(ip: Interpreter, code: int) -> bool:
         s.feed_override = s.speed_override = True
         ip.emit(canon.EnableFeedOverride(source=loc))
         ip.emit(canon.EnableSpeedOverride(source=loc))
-    s.comp_side = 400
+    s.comp_side = CompCode.G40
     s.spindle = Direction.STOPPED
     ip.emit(canon.StopSpindleTurning(source=loc))
     s.css = False

@@ -16,7 +16,7 @@ from gcode import linuxcnc as lc
 from gcode.codes import Words
 from gcode.comp_keep import CompRegister, KeptCompensation
 from gcode.cutter_comp import CutterCompensator
-from gcode.state import INCH_MM, Setup
+from gcode.state import INCH_MM, INVERSE_TIME, PER_MINUTE, PER_REV, CompCode, Setup
 from kernel import canon
 from kernel.canon import Direction, Plane, Units
 from kernel.diagnostics import Diagnostic
@@ -104,10 +104,10 @@ def feed(ip: Interpreter, end: list[float]) -> None:
 
 def _check_feed(ip: Interpreter, w: Words, what: str) -> None:
     s = ip.s
-    if s.feed_mode == 0:
+    if s.feed_mode == PER_MINUTE:
         if s.feed_rate == 0.0:
             raise Diagnostic("NGC-ZERO-FEED", f"cannot do {what} with zero feed rate", ip.loc)
-    elif s.feed_mode == 2:
+    elif s.feed_mode == PER_REV:
         if s.feed_rate == 0.0:
             raise Diagnostic("NGC-ZERO-FEED", f"cannot do {what} with zero feed rate", ip.loc)
         if s.speed == 0.0:
@@ -124,7 +124,7 @@ def _check_feed(ip: Interpreter, w: Words, what: str) -> None:
 
 def _inverse_time_rate(ip: Interpreter, w: Words, length: float) -> None:
     s = ip.s
-    if s.feed_mode == 1:
+    if s.feed_mode == INVERSE_TIME:
         rate = max(0.1, length * w.values["f"])  # LinuxCNC's lower bound
         s.feed_rate = rate
         ip.emit(canon.SetFeedRate(rate, source=ip.loc))
@@ -147,7 +147,7 @@ def execute_motion(ip: Interpreter, w: Words, code: int | None) -> None:
             traverse(ip, end)
             return
         _check_feed(ip, w, "G1")
-        if s.feed_mode == 1:
+        if s.feed_mode == INVERSE_TIME:
             _inverse_time_rate(ip, w, _straight_length(s.pos, end))
         feed(ip, end)
         return
@@ -234,7 +234,7 @@ def arc(ip: Interpreter, w: Words, clockwise: bool) -> None:
         else:
             centre = (st[0] + v.get(ci, 0.0), st[1] + v.get(cj, 0.0))
         arcs.centre_format(st, en, centre, (AXES[f1], AXES[f2]), inches, loc)
-    if s.feed_mode == 1:
+    if s.feed_mode == INVERSE_TIME:
         _inverse_time_rate(ip, w, _arc_length(st, en, centre, turn, end[fn] - start[fn]))
     if comp is not None and comp.engaged:
         ip.out.extend(comp.arc(start, end, centre, turn, source=loc))
@@ -297,7 +297,7 @@ def probe(ip: Interpreter, w: Words, code: int) -> None:
     if not w.has_axis():
         raise Diagnostic("NGC-PROBE-AXES", "X, Y, and Z words all missing with G38.x", loc)
     ip.comp_off("probe")
-    if s.feed_mode == 2:
+    if s.feed_mode == PER_REV:
         raise Diagnostic("NGC-PROBE-FPR", "cannot probe with feed per rev mode", loc)
     if s.feed_rate == 0.0:
         raise Diagnostic("NGC-PROBE-ZERO-FEED", "cannot probe with zero feed rate", loc)
@@ -357,9 +357,9 @@ def spline(ip: Interpreter, w: Words, code: int) -> None:
     loc = ip.loc
     v = w.values
     ip.comp_off("spline")
-    if s.feed_mode == 0 and s.feed_rate == 0.0:
+    if s.feed_mode == PER_MINUTE and s.feed_rate == 0.0:
         raise Diagnostic("NGC-ZERO-FEED", "cannot make a spline with zero feed rate", loc)
-    if s.feed_mode == 1 and "f" not in v:
+    if s.feed_mode == INVERSE_TIME and "f" not in v:
         raise Diagnostic("NGC-INVERSE-TIME-F", "F word missing with inverse time spline", loc)
     if s.plane is not Plane.XY:
         raise Diagnostic("NGC-SPLINE-PLANE", "splines must be in the XY plane", loc)
@@ -421,7 +421,7 @@ def nurbs(ip: Interpreter, w: Words, code: int) -> None:
             raise Diagnostic(
                 "NGC-NURBS-WEIGHT", "must specify positive weight P for every control point", loc
             )
-        if s.feed_mode == 0 and s.feed_rate == 0.0:
+        if s.feed_mode == PER_MINUTE and s.feed_rate == 0.0:
             raise Diagnostic("NGC-ZERO-FEED", "cannot make a NURBS with 0 feedrate", loc)
         if not pts:
             weight = p if ("x" not in v and p > 0) else 1.0
@@ -461,9 +461,10 @@ def cutter_comp_mode(ip: Interpreter, w: Words) -> None:
         kind = KeptCompensation if ip.options.keep_cutter_comp else CutterCompensator
         comp = ip.comp = kind(comments=ip.compat)
         comp.set_units(s.units is Units.INCHES)
-    if code == 400:
+    side = CompCode(code)
+    if side is CompCode.G40:
         ip.out.extend(comp.stop(source=loc))
-        s.comp_side = 400
+        s.comp_side = side
         return
     v = w.values
     scale = INCH_MM if s.units is Units.MM else 1.0
@@ -481,4 +482,4 @@ def cutter_comp_mode(ip: Interpreter, w: Words) -> None:
         register = None if by_value else (int(d) if d else s.current_tool)
         ip.emit(CompRegister(register, source=loc))
     ip.out.extend(comp.start(name, s.plane, d=v.get("d"), l=v.get("l"), tool=lookup, source=loc))
-    s.comp_side = code
+    s.comp_side = side

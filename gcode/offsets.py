@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 from gcode import linuxcnc as lc
 from gcode.codes import Words
-from gcode.state import INCH_MM
+from gcode.state import INCH_MM, ToolLengthCode
 from kernel import canon
 from kernel.canon import Units
 from kernel.diagnostics import Diagnostic
@@ -388,17 +388,17 @@ def _tool_offsets(ip: Interpreter, n: int) -> list[float]:
 
 def tool_length(ip: Interpreter, w: Words) -> None:
     s = ip.s
-    code = w.g[8]
+    code = ToolLengthCode(w.g[8])
     v = w.values
     ip.comp_off("tool offset")
     s.tool_length_mode = code
-    if code == 490:
+    if code is ToolLengthCode.G49:
         _apply_tool_offset(ip, [0.0] * 9)
-    elif code == 430:
+    elif code is ToolLengthCode.G43:
         h = v.get("h")
         n = s.current_tool if h is None else int(round(h))
         _apply_tool_offset(ip, _tool_offsets(ip, n))
-    elif code == 432:
+    elif code is ToolLengthCode.G43_2:
         h = v.get("h")
         n = s.current_tool if h is None else int(round(h))
         add = _tool_offsets(ip, n)

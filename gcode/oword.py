@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 from gcode.expr import evaluate
 from gcode.lexer import Block, OWord
 from gcode.program import Position, ProgramFile, find_subroutine_file
+from gcode.state import SavedModes
 from kernel.diagnostics import Diagnostic, Location
 
 if TYPE_CHECKING:
@@ -39,7 +40,7 @@ class _Call:
     file: ProgramFile
     back: Position
     controls: int
-    saved_state: dict[str, object] | None = None
+    saved_state: SavedModes | None = None
     autorestore: bool = False
     extra: dict[str, object] = field(default_factory=dict)
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from gcode.state import INVERSE_TIME, PER_MINUTE, PER_REV, ToolLengthCode
 from kernel.canon import Direction, Plane, Units
 
 if TYPE_CHECKING:
@@ -36,11 +37,11 @@ def named_parameter(ip: Interpreter, name: str) -> float | None:
         "imperial": lambda: 1.0 if s.units is Units.INCHES else 0.0,
         "absolute": lambda: 1.0 if s.absolute else 0.0,
         "incremental": lambda: 0.0 if s.absolute else 1.0,
-        "inverse_time": lambda: 1.0 if s.feed_mode == 1 else 0.0,
-        "units_per_minute": lambda: 1.0 if s.feed_mode == 0 else 0.0,
-        "units_per_rev": lambda: 1.0 if s.feed_mode == 2 else 0.0,
+        "inverse_time": lambda: 1.0 if s.feed_mode == INVERSE_TIME else 0.0,
+        "units_per_minute": lambda: 1.0 if s.feed_mode == PER_MINUTE else 0.0,
+        "units_per_rev": lambda: 1.0 if s.feed_mode == PER_REV else 0.0,
         "coord_system": lambda: float(_coord_code(s.origin_index)),
-        "tool_offset": lambda: 1.0 if s.tool_length_mode != 490 else 0.0,
+        "tool_offset": lambda: 1.0 if s.tool_length_mode is not ToolLengthCode.G49 else 0.0,
         "retract_r_plane": lambda: 1.0 if s.retract_r else 0.0,
         "retract_old_z": lambda: 0.0 if s.retract_r else 1.0,
         "spindle_rpm_mode": lambda: 0.0 if s.css else 1.0,
