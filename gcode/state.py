@@ -9,6 +9,7 @@ kept in current units too and converted when G20/G21 changes the units.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from enum import IntEnum
 
@@ -18,6 +19,10 @@ from kernel.canon import Direction, FeedMode, Plane, Units
 G0, G1, G2, G3 = 0, 10, 20, 30
 G80 = 800
 INCH_MM = 25.4
+AXES = "xyzabc"
+#: plane -> (first, second, normal) axis indices and the centre-word letters
+PLANE_AXES = {Plane.XY: (0, 1, 2), Plane.XZ: (2, 0, 1), Plane.YZ: (1, 2, 0)}
+PLANE_CENTRE = {Plane.XY: ("i", "j", "k"), Plane.XZ: ("k", "i", "j"), Plane.YZ: ("j", "k", "i")}
 #: the feed modes as module constants (attribute access on an enum class is slow in 3.11,
 #: and these are compared on every feed move)
 PER_MINUTE = FeedMode.UNITS_PER_MINUTE
@@ -156,6 +161,25 @@ class Setup:
     def machine_offset(self, i: int) -> float:
         """Program -> machine offset of axis ``i`` (0..5)."""
         return self.g5x[i] + self.g92[i] + self.tool_offset[i]
+
+    def to_machine(self, p: list[float]) -> list[float]:
+        """Program -> machine coordinates: add G92, turn by the XY rotation (G10 L2 R) about
+        the G5x origin, add the G5x offset and the tool offset (LinuxCNC's order)."""
+        m = [p[i] + self.g92[i] for i in range(6)]
+        if self.rotation:
+            a = math.radians(self.rotation)
+            x, y = m[0], m[1]
+            m[0], m[1] = x * math.cos(a) - y * math.sin(a), x * math.sin(a) + y * math.cos(a)
+        return [m[i] + self.g5x[i] + self.tool_offset[i] for i in range(6)]
+
+    def to_program(self, m: list[float]) -> list[float]:
+        """Machine -> program coordinates (inverse of :meth:`to_machine`)."""
+        p = [m[i] - self.g5x[i] - self.tool_offset[i] for i in range(6)]
+        if self.rotation:
+            a = math.radians(self.rotation)
+            x, y = p[0], p[1]
+            p[0], p[1] = x * math.cos(a) + y * math.sin(a), -x * math.sin(a) + y * math.cos(a)
+        return [p[i] - self.g92[i] for i in range(6)]
 
     def scale_lengths(self, factor: float) -> None:
         """G20/G21: re-express every stored length in the new units (no motion)."""
