@@ -63,6 +63,11 @@ P2 = tuple[float, float]
 P3 = tuple[float, float, float]  # plane order: first, second, normal axis
 
 
+def _scaled(p: P3, factor: float) -> P3:
+    """``p`` with every coordinate times ``factor`` (a change of length units)."""
+    return (p[0] * factor, p[1] * factor, p[2] * factor)
+
+
 class CutterCompensator:
     """LinuxCNC's cutter-compensation state and motion queue (see module docstring)."""
 
@@ -194,8 +199,8 @@ class CutterCompensator:
             return
         factor = 1 / 25.4 if inches else 25.4
         self.radius *= factor
-        self._current = tuple(v * factor for v in self._current)  # type: ignore[assignment]
-        self._programmed = tuple(v * factor for v in self._programmed)  # type: ignore[assignment]
+        self._current = _scaled(self._current, factor)
+        self._programmed = _scaled(self._programmed, factor)
         self._queue.scale(factor)
 
     # ------------------------------------------------------------------ other commands
@@ -321,7 +326,7 @@ class CutterCompensator:
                     retreat = geo.line_line_retreat(beta, self.radius)
                     meet = geo.offset_point((cx, cy), theta + gamma, retreat)
                 else:
-                    meet = geo.arc_to_line_meet(
+                    found = geo.arc_to_line_meet(
                         front.centre,
                         front.radius,
                         front.turn,
@@ -330,13 +335,14 @@ class CutterCompensator:
                         self.radius,
                         self.side,
                     )
-                    if meet is None:
+                    if found is None:
                         raise Diagnostic(
                             "NGC-COMP-GOUGE",
                             "Arc to straight motion makes a corner the compensated tool "
                             "can't fit in without gouging",
                             source,
                         )
+                    meet = found
                 out += self._move_endpoint_and_flush(meet, source)
             else:  # tangent: colinear lines or tangent arc -> line
                 out += self._dequeue()

@@ -20,8 +20,9 @@ from collections.abc import Iterator
 
 from gcode import linuxcnc as lc
 from gcode import mcodes, modes, motion, offsets
-from gcode.blocks import check_letter_uses, evaluate_block, is_constant
+from gcode.blocks import Assignment, check_letter_uses, evaluate_block, is_constant
 from gcode.codes import Words
+from gcode.fastlane import Run
 from gcode.lane import Lane
 from gcode.lexer import Block
 from gcode.messages import comment_commands
@@ -55,7 +56,7 @@ def interpret(
 
 def interpret_chunks(
     path: str | os.PathLike[str], options: InterpreterOptions | None = None
-) -> Iterator[object]:
+) -> Iterator[canon.Command | Run]:
     """Like :func:`interpret`, but runs of plain CAM lines of a large file come as one
     :class:`gcode.fastlane.Run` each (for writers that format them in compiled code)."""
     interp = Interpreter(options or InterpreterOptions())
@@ -109,7 +110,7 @@ class Interpreter(NgcContext):
             else:
                 yield from item.commands(main.path)
 
-    def chunks(self, main: ProgramFile) -> Iterator[object]:
+    def chunks(self, main: ProgramFile) -> Iterator[canon.Command | Run]:
         """Commands, and for large files runs of plain lines as :class:`gcode.fastlane.Run`
         (the CLI formats those in compiled code)."""
         lane = _lane_for(main) if self.options.fast_lane else None
@@ -171,10 +172,10 @@ class Interpreter(NgcContext):
         """Execute one non-O-word line; True when the program ended."""
         file = self.flow.file.path
         cached = block.cached_words
-        if cached is not None and cached.plain:  # type: ignore[attr-defined]
+        if cached is not None and cached.plain:
             # the CAM hot path: axis words in the current motion mode
             self.loc = Location(file, block.line, block.col0)
-            motion.execute_motion(self, cached, self.s.motion_mode)  # type: ignore[arg-type]
+            motion.execute_motion(self, cached, self.s.motion_mode)
             return False
         if block.comments:
             self.loc = Location(file, block.line, block.comments[-1][1])
@@ -184,18 +185,18 @@ class Interpreter(NgcContext):
             return False
         self.loc = Location(file, block.line, block.words[0].column if block.words else 1)
         if cached is not None:
-            words = cached  # type: ignore[assignment]
-            assigns: list = []
+            words = cached
+            assigns: list[Assignment] = []
         else:
             words, assigns = evaluate_block(block, self.params, file)
             if is_constant(block):
                 block.cached_words = words
-        for kind, target, value, loc in assigns:
-            if kind == "named":
-                self.params.set_named(target, value, loc)  # type: ignore[arg-type]
+        for target, value, loc in assigns:
+            if isinstance(target, str):
+                self.params.set_named(target, value, loc)
             else:
-                self.params.set_numbered(target, value, loc)  # type: ignore[arg-type]
-                offsets.parameter_written(self, int(round(target)))  # type: ignore[arg-type]
+                self.params.set_numbered(target, value, loc)
+                offsets.parameter_written(self, int(round(target)))
         if words.g or words.m or words.values:
             return self.execute(words)
         return False

@@ -369,7 +369,11 @@ def spline(ctx: NgcContext, w: Words, code: int) -> None:
     if code == 51:
         if "i" not in v or "j" not in v:
             raise Diagnostic("NGC-SPLINE-IJ", "must specify both I and J with G5.1", loc)
-        pts = ((x0, y0, 1.0), (x0 + v["i"], y0 + v["j"], 1.0), (end[0], end[1], 1.0))
+        pts: tuple[tuple[float, float, float], ...] = (
+            (x0, y0, 1.0),
+            (x0 + v["i"], y0 + v["j"], 1.0),
+            (end[0], end[1], 1.0),
+        )
         order = 3
     else:
         if ("i" in v) != ("j" in v):
