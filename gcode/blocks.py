@@ -10,16 +10,27 @@ output is made of) are evaluated once and cached on their :class:`~gcode.lexer.B
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from gcode.codes import Words, add_g, add_m, add_value, g_code, m_code
-from gcode.expr import ParameterSource, evaluate
-from gcode.lexer import Block
+from gcode.expr import evaluate
+from gcode.lexer import Block, Expr, Word
+from gcode.params import Parameters
 from kernel.diagnostics import Diagnostic, Location
 
 
+class Assignment(NamedTuple):
+    """A parameter assignment of a line, made after all the line's reads."""
+
+    target: str | float  # a named parameter's name, or a numbered parameter's number
+    value: float
+    loc: Location
+
+
 def evaluate_block(
-    block: Block, params: ParameterSource, file: str | None
-) -> tuple[Words, list[tuple[str, object, float, Location]]]:
-    """The block's words and its pending assignments ``(kind, target, value, loc)``."""
+    block: Block, params: Parameters, file: str | None
+) -> tuple[Words, list[Assignment]]:
+    """The block's words and its pending assignments."""
     words = Words()
     line = block.line
     if not block.assignments:
@@ -36,32 +47,32 @@ def evaluate_block(
             words.plain = bool(values) and values.keys() <= _AXES
             return words, []
         words = Words()
-    items: list[tuple[int, object]] = [(w.column, w) for w in block.words]
+    items: list[tuple[int, Word | tuple[Expr, Expr, int]]] = [(w.column, w) for w in block.words]
     if block.assignments:
         items += [(a[2], a) for a in block.assignments]
         items.sort(key=lambda item: item[0])
-    assigns: list[tuple[str, object, float, Location]] = []
+    assigns: list[Assignment] = []
     for col, item in items:
         loc = Location(file, line, col)
         if isinstance(item, tuple):
             target, value, _ = item
+            assert isinstance(target, tuple)  # the lexer's ("<", name) or ("#", node)
             val = evaluate(value, params, loc)
-            if target[0] == "<":  # type: ignore[index]
+            if target[0] == "<":
                 # LinuxCNC creates a new named parameter (value 0) as soon as the line is
                 # read; its value, like a numbered one's, is set after the line's reads
-                name = target[1]  # type: ignore[index]
+                name: str = target[1]
                 if not params.exists(name):
-                    params.set_named(name, 0.0, loc)  # type: ignore[attr-defined]
-                assigns.append(("named", name, val, loc))
+                    params.set_named(name, 0.0, loc)
+                assigns.append(Assignment(name, val, loc))
             else:
-                idx = evaluate(target[1], params, loc)  # type: ignore[index]
-                assigns.append(("numbered", idx, val, loc))
+                idx = evaluate(target[1], params, loc)
+                assigns.append(Assignment(idx, val, loc))
             continue
-        w = item
-        v = w.value  # type: ignore[attr-defined]
+        v = item.value
         if type(v) is not float:
             v = evaluate(v, params, loc)
-        letter = w.letter  # type: ignore[attr-defined]
+        letter = item.letter
         if letter == "g":
             add_g(words, g_code(v, loc), loc)
         elif letter == "m":

@@ -45,7 +45,7 @@ class KeptCompensation(CutterCompensator):
         super().__init__(comments=comments)
         self.applying = False  # this G41/G42 is compensated here after all (XZ, lathe)
 
-    @property  # type: ignore[override]
+    @property
     def arc_not_allowed(self) -> bool:
         return self.shadow.arc_not_allowed
 

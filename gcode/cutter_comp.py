@@ -63,6 +63,11 @@ P2 = tuple[float, float]
 P3 = tuple[float, float, float]  # plane order: first, second, normal axis
 
 
+def _scaled(p: P3, factor: float) -> P3:
+    """``p`` with every coordinate times ``factor`` (a change of length units)."""
+    return (p[0] * factor, p[1] * factor, p[2] * factor)
+
+
 class CutterCompensator:
     """LinuxCNC's cutter-compensation state and motion queue (see module docstring)."""
 
@@ -74,13 +79,21 @@ class CutterCompensator:
         self.plane = canon.Plane.XY
         self.first_move = True
         self.inches = False  # length units (G20); rs274 starts in mm
-        #: set by G40 after a compensated move: the next motion must be straight
-        self.arc_not_allowed = False
+        self._arc_not_allowed = False
         self._queue = MotionQueue()
         self._current = (0.0, 0.0, 0.0)  # compensated: first, second, normal
         self._programmed = (0.0, 0.0, 0.0)
 
     # ------------------------------------------------------------------ state
+    @property
+    def arc_not_allowed(self) -> bool:
+        """Set by G40 after a compensated move: the next motion must be straight."""
+        return self._arc_not_allowed
+
+    @arc_not_allowed.setter
+    def arc_not_allowed(self, value: bool) -> None:
+        self._arc_not_allowed = value
+
     @property
     def on(self) -> bool:
         """G41/G42/G41.1/G42.1 in force (even with radius 0)."""
@@ -186,8 +199,8 @@ class CutterCompensator:
             return
         factor = 1 / 25.4 if inches else 25.4
         self.radius *= factor
-        self._current = tuple(v * factor for v in self._current)  # type: ignore[assignment]
-        self._programmed = tuple(v * factor for v in self._programmed)  # type: ignore[assignment]
+        self._current = _scaled(self._current, factor)
+        self._programmed = _scaled(self._programmed, factor)
         self._queue.scale(factor)
 
     # ------------------------------------------------------------------ other commands
@@ -313,7 +326,7 @@ class CutterCompensator:
                     retreat = geo.line_line_retreat(beta, self.radius)
                     meet = geo.offset_point((cx, cy), theta + gamma, retreat)
                 else:
-                    meet = geo.arc_to_line_meet(
+                    found = geo.arc_to_line_meet(
                         front.centre,
                         front.radius,
                         front.turn,
@@ -322,13 +335,14 @@ class CutterCompensator:
                         self.radius,
                         self.side,
                     )
-                    if meet is None:
+                    if found is None:
                         raise Diagnostic(
                             "NGC-COMP-GOUGE",
                             "Arc to straight motion makes a corner the compensated tool "
                             "can't fit in without gouging",
                             source,
                         )
+                    meet = found
                 out += self._move_endpoint_and_flush(meet, source)
             else:  # tangent: colinear lines or tangent arc -> line
                 out += self._dequeue()

@@ -17,17 +17,14 @@ Per plane the hole axis is Z (G17), X (G19) or Y (G18); "depth" below means that
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
+from gcode import modes
 from gcode.codes import Words
 from gcode.cycle_marks import CycleEnd, CycleStart
-from gcode.motion import AXES, PLANE_AXES
+from gcode.ngc_context import NgcContext
+from gcode.state import AXES, INVERSE_TIME, PLANE_AXES, ControlCode
 from kernel import canon
 from kernel.canon import Direction, MotionMode, Units
 from kernel.diagnostics import Diagnostic
-
-if TYPE_CHECKING:
-    from gcode.interpreter import Interpreter
 
 #: LinuxCNC's G73/G83 retract clearance above the last peck (0.010 inch)
 RAPID_DELTA_INCH = 0.010
@@ -49,41 +46,41 @@ _NAMES = {
 class _Cycle:
     """Emission helpers in plane coordinates (a1, a2 in the plane, depth along the hole)."""
 
-    def __init__(self, ip: Interpreter) -> None:
-        self.ip = ip
-        self.f1, self.f2, self.fn = PLANE_AXES[ip.s.plane]
+    def __init__(self, ctx: NgcContext) -> None:
+        self.ctx = ctx
+        self.f1, self.f2, self.fn = PLANE_AXES[ctx.s.plane]
 
     def point(self, a1: float, a2: float, d: float) -> list[float]:
-        p = list(self.ip.s.pos)
+        p = list(self.ctx.s.pos)
         p[self.f1], p[self.f2], p[self.fn] = a1, a2, d
         return p
 
     def traverse(self, a1: float, a2: float, d: float) -> None:
         p = self.point(a1, a2, d)
-        self.ip.emit(canon.StraightTraverse(*p, source=self.ip.loc))
-        self.ip.s.pos = p
-        self.ip.s.tlo_lag = None
+        self.ctx.emit(canon.StraightTraverse(*p, source=self.ctx.loc))
+        self.ctx.s.pos = p
+        self.ctx.s.tlo_lag = None
 
     def feed(self, a1: float, a2: float, d: float) -> None:
         p = self.point(a1, a2, d)
-        self.ip.emit(canon.StraightFeed(*p, source=self.ip.loc))
-        self.ip.s.pos = p
-        self.ip.s.tlo_lag = None
+        self.ctx.emit(canon.StraightFeed(*p, source=self.ctx.loc))
+        self.ctx.s.pos = p
+        self.ctx.s.tlo_lag = None
 
 
-def canned_cycle(ip: Interpreter, w: Words, code: int, previous: int | None) -> None:
-    s = ip.s
+def canned_cycle(ctx: NgcContext, w: Words, code: int, previous: int | None) -> None:
+    s = ctx.s
     v = w.values
-    loc = ip.loc
+    loc = ctx.loc
     name = _NAMES.get(code, f"G{code // 10}")
     c = s.cycle
     sticky = previous == code
-    ip.comp_off("canned cycle")
-    if s.feed_mode == 1:
+    ctx.comp_off("canned cycle")
+    if s.feed_mode == INVERSE_TIME:
         raise Diagnostic(
             "NGC-CYCLE-INVERSE-TIME", "cannot use inverse time feed with canned cycles", loc
         )
-    cyc = _Cycle(ip)
+    cyc = _Cycle(ctx)
     f1, f2, fn = cyc.f1, cyc.f2, cyc.fn
     a1n, a2n, dn = AXES[f1], AXES[f2], AXES[fn]
     if "r" in v:
@@ -159,9 +156,9 @@ def canned_cycle(ip: Interpreter, w: Words, code: int, previous: int | None) -> 
     if code == 740 and s.spindle is not Direction.COUNTERCLOCKWISE:
         raise Diagnostic("NGC-CYCLE-SPINDLE", "spindle not turning counterclockwise in G74", loc)
 
-    marks = ip.options.cycle_marks
+    marks = ctx.options.cycle_marks
     if marks:
-        ip.emit(
+        ctx.emit(
             CycleStart(
                 code,
                 s.plane,
@@ -180,9 +177,9 @@ def canned_cycle(ip: Interpreter, w: Words, code: int, previous: int | None) -> 
         cyc.traverse(pos[f1], pos[f2], r)
         old = height = r
     clear = r if s.retract_r else old
-    exact = ip.compat and s.control_mode != 610
+    exact = ctx.compat and s.control_mode is not ControlCode.G61
     if exact:
-        ip.emit(canon.SetMotionControlMode(MotionMode.EXACT_PATH, source=loc))
+        ctx.emit(canon.SetMotionControlMode(MotionMode.EXACT_PATH, source=loc))
     if not first:
         height = clear
     for _ in range(repeats):
@@ -193,13 +190,13 @@ def canned_cycle(ip: Interpreter, w: Words, code: int, previous: int | None) -> 
         cyc.traverse(a1, a2, height)
         if height != r:
             cyc.traverse(a1, a2, r)
-        _one_hole(ip, cyc, code, a1, a2, r, bottom, clear)
+        _one_hole(ctx, cyc, code, a1, a2, r, bottom, clear)
         height = clear
     if exact:
         words = Words(values={"p": s.blend_p, "q": s.blend_q})
-        ip._control_mode(s.control_mode, words, check=False)
+        modes.control_mode(ctx, s.control_mode, words, check=False)
     if marks:
-        ip.emit(CycleEnd(tuple(s.pos), source=loc))
+        ctx.emit(CycleEnd(tuple(s.pos), source=loc))
 
 
 PLANE_CENTRE_LETTERS = {
@@ -218,7 +215,7 @@ def _turning(d: Direction) -> str:
 
 
 def _one_hole(
-    ip: Interpreter,
+    ctx: NgcContext,
     cyc: _Cycle,
     code: int,
     a1: float,
@@ -227,8 +224,8 @@ def _one_hole(
     bottom: float,
     clear: float,
 ) -> None:
-    s = ip.s
-    loc = ip.loc
+    s = ctx.s
+    loc = ctx.loc
     c = s.cycle
     if code in (860, 870, 880) and s.spindle is Direction.STOPPED:
         raise Diagnostic("NGC-CYCLE-SPINDLE", f"spindle not turning in {_NAMES[code]}", loc)
@@ -237,7 +234,7 @@ def _one_hole(
         cyc.traverse(a1, a2, clear)
     elif code == 820:
         cyc.feed(a1, a2, bottom)
-        ip.emit(canon.Dwell(c.p, source=loc))
+        ctx.emit(canon.Dwell(c.p, source=loc))
         cyc.traverse(a1, a2, clear)
     elif code in (730, 830):
         delta = RAPID_DELTA_INCH * (25.4 if s.units is Units.MM else 1.0)
@@ -251,78 +248,78 @@ def _one_hole(
         cyc.feed(a1, a2, bottom)
         cyc.traverse(a1, a2, clear)
     elif code in (840, 740):
-        ip.emit(canon.DisableFeedOverride(source=loc))
-        ip.emit(canon.DisableSpeedOverride(source=loc))
+        ctx.emit(canon.DisableFeedOverride(source=loc))
+        ctx.emit(canon.DisableSpeedOverride(source=loc))
         cyc.feed(a1, a2, bottom)
-        ip.emit(canon.StopSpindleTurning(source=loc))
+        ctx.emit(canon.StopSpindleTurning(source=loc))
         if code == 840:
-            ip.emit(canon.StartSpindleCounterclockwise(source=loc))
+            ctx.emit(canon.StartSpindleCounterclockwise(source=loc))
         else:
-            ip.emit(canon.StartSpindleClockwise(source=loc))
-        ip.emit(canon.Dwell(c.p, source=loc))
+            ctx.emit(canon.StartSpindleClockwise(source=loc))
+        ctx.emit(canon.Dwell(c.p, source=loc))
         cyc.feed(a1, a2, clear)
-        ip.emit(canon.StopSpindleTurning(source=loc))
+        ctx.emit(canon.StopSpindleTurning(source=loc))
         if code == 840:
-            ip.emit(canon.StartSpindleClockwise(source=loc))
+            ctx.emit(canon.StartSpindleClockwise(source=loc))
         else:
-            ip.emit(canon.StartSpindleCounterclockwise(source=loc))
-        ip.emit(canon.EnableFeedOverride(source=loc))
-        ip.emit(canon.EnableSpeedOverride(source=loc))
+            ctx.emit(canon.StartSpindleCounterclockwise(source=loc))
+        ctx.emit(canon.EnableFeedOverride(source=loc))
+        ctx.emit(canon.EnableSpeedOverride(source=loc))
     elif code == 850:
         cyc.feed(a1, a2, bottom)
         cyc.feed(a1, a2, r)
         cyc.traverse(a1, a2, clear)
     elif code == 860:
         cyc.feed(a1, a2, bottom)
-        ip.emit(canon.Dwell(c.p, source=loc))
-        ip.emit(canon.StopSpindleTurning(source=loc))
+        ctx.emit(canon.Dwell(c.p, source=loc))
+        ctx.emit(canon.StopSpindleTurning(source=loc))
         cyc.traverse(a1, a2, clear)
-        _restart_spindle(ip)
+        _restart_spindle(ctx)
     elif code == 880:
         cyc.feed(a1, a2, bottom)
-        ip.emit(canon.Dwell(c.p, source=loc))
-        ip.emit(canon.StopSpindleTurning(source=loc))
-        ip.emit(canon.ProgramStop(source=loc))
-        _restart_spindle(ip)
+        ctx.emit(canon.Dwell(c.p, source=loc))
+        ctx.emit(canon.StopSpindleTurning(source=loc))
+        ctx.emit(canon.ProgramStop(source=loc))
+        _restart_spindle(ctx)
         s.pos[cyc.fn] = clear  # the operator retracted by hand (LinuxCNC assumes so)
     elif code == 890:
         cyc.feed(a1, a2, bottom)
-        ip.emit(canon.Dwell(c.p, source=loc))
+        ctx.emit(canon.Dwell(c.p, source=loc))
         cyc.feed(a1, a2, clear)
     elif code == 870:
-        _back_bore(ip, cyc, a1, a2, r, bottom, clear)
+        _back_bore(ctx, cyc, a1, a2, r, bottom, clear)
 
 
-def _restart_spindle(ip: Interpreter) -> None:
-    loc = ip.loc
-    if ip.s.spindle is Direction.CLOCKWISE:
-        ip.emit(canon.StartSpindleClockwise(source=loc))
+def _restart_spindle(ctx: NgcContext) -> None:
+    loc = ctx.loc
+    if ctx.s.spindle is Direction.CLOCKWISE:
+        ctx.emit(canon.StartSpindleClockwise(source=loc))
     else:
-        ip.emit(canon.StartSpindleCounterclockwise(source=loc))
+        ctx.emit(canon.StartSpindleCounterclockwise(source=loc))
 
 
 def _back_bore(
-    ip: Interpreter, cyc: _Cycle, a1: float, a2: float, r: float, bottom: float, clear: float
+    ctx: NgcContext, cyc: _Cycle, a1: float, a2: float, r: float, bottom: float, clear: float
 ) -> None:
     """G87 (LinuxCNC ``convert_cycle_g87``): in beside the hole, back-bore up to K, out."""
-    s = ip.s
-    loc = ip.loc
+    s = ctx.s
+    loc = ctx.loc
     c = s.cycle
     letters = PLANE_CENTRE_LETTERS[s.plane]
     off1, off2 = getattr(c, letters[0]), getattr(c, letters[1])
     middle = getattr(c, letters[2]) if s.absolute else bottom + getattr(c, letters[2])
     orient = canon.OrientSpindle(0.0, Direction.COUNTERCLOCKWISE, source=loc)
     cyc.traverse(a1 + off1, a2 + off2, r)
-    ip.emit(canon.StopSpindleTurning(source=loc))
-    ip.emit(orient)
+    ctx.emit(canon.StopSpindleTurning(source=loc))
+    ctx.emit(orient)
     cyc.traverse(a1 + off1, a2 + off2, bottom)
     cyc.traverse(a1, a2, bottom)
-    _restart_spindle(ip)
+    _restart_spindle(ctx)
     cyc.feed(a1, a2, middle)
     cyc.feed(a1, a2, bottom)
-    ip.emit(canon.StopSpindleTurning(source=loc))
-    ip.emit(orient)
+    ctx.emit(canon.StopSpindleTurning(source=loc))
+    ctx.emit(orient)
     cyc.traverse(a1 + off1, a2 + off2, bottom)
     cyc.traverse(a1 + off1, a2 + off2, clear)
     cyc.traverse(a1, a2, clear)
-    _restart_spindle(ip)
+    _restart_spindle(ctx)

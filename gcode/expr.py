@@ -116,23 +116,25 @@ def _binary(op: str, a: float, b: float, loc: Location) -> float:
 def evaluate(node: object, params: ParameterSource, loc: Location) -> float:
     """Value of an expression node (see :mod:`gcode.lexer` for the node forms)."""
     if type(node) is float:
-        return node  # type: ignore[return-value]
-    kind = node[0]  # type: ignore[index]
+        return node
+    if not isinstance(node, tuple):
+        raise _fail("NGC-BAD-EXPRESSION", f"cannot evaluate {node!r}", loc)
+    kind = node[0]
     if kind == "b":
-        _, op, a, b = node  # type: ignore[misc]
+        _, op, a, b = node
         return _binary(op, evaluate(a, params, loc), evaluate(b, params, loc), loc)
     if kind == "#":
-        return params.numbered(evaluate(node[1], params, loc), loc)  # type: ignore[index]
+        return params.numbered(evaluate(node[1], params, loc), loc)
     if kind == "<":
-        return params.named(node[1], loc)  # type: ignore[index]
+        return params.named(node[1], loc)
     if kind == "neg":
-        return -evaluate(node[1], params, loc)  # type: ignore[index]
+        return -evaluate(node[1], params, loc)
     if kind == "u":
-        return _unary(node[1], evaluate(node[2], params, loc), loc)  # type: ignore[index]
+        return _unary(node[1], evaluate(node[2], params, loc), loc)
     if kind == "atan":
-        y = evaluate(node[1], params, loc)  # type: ignore[index]
-        x = evaluate(node[2], params, loc)  # type: ignore[index]
+        y = evaluate(node[1], params, loc)
+        x = evaluate(node[2], params, loc)
         return math.degrees(math.atan2(y, x))
     if kind == "exists":
-        return 1.0 if params.exists(node[1]) else 0.0  # type: ignore[index]
+        return 1.0 if params.exists(node[1]) else 0.0
     raise _fail("NGC-BAD-EXPRESSION", f"cannot evaluate {node!r}", loc)

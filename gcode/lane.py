@@ -8,16 +8,13 @@ diagnostic, stays with the general interpreter.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
 from gcode import fastlane
+from gcode.ngc_context import NgcContext
 from gcode.program import ProgramFile
+from gcode.state import PER_MINUTE
 from kernel.diagnostics import Location
-
-if TYPE_CHECKING:
-    from gcode.interpreter import Interpreter
 
 #: after a try that took no line, let the general path take this many lines first
 _BACKOFF = 8
@@ -64,23 +61,23 @@ class Lane:
         self._buf = np.frombuffer(data, dtype=np.uint8)
         return 0
 
-    def take(self, ip: Interpreter) -> fastlane.Run | None:
+    def take(self, ctx: NgcContext) -> fastlane.Run | None:
         """Scan the plain lines at the current position; advance the file past them."""
         if self._wait:
             self._wait -= 1
             return None
-        s = ip.s
-        flow = ip.flow
-        comp = ip.comp
+        s = ctx.s
+        flow = ctx.flow
+        comp = ctx.comp
         if (
             flow.file is not self.pf
             or flow.calls
             or flow.controls
             or not flow.seen_line
-            or s.feed_mode != 0
+            or s.feed_mode != PER_MINUTE
             or s.motion_mode not in (0, 10)
             or s.diameter_mode
-            or (comp is not None and (comp.on or comp.holding))  # type: ignore[attr-defined]
+            or (comp is not None and (comp.on or comp.holding))
         ):
             return None
         pf = self.pf
@@ -103,5 +100,5 @@ class Lane:
         s.motion_mode = 0 if run.end_traverse else 10
         if len(run):
             s.tlo_lag = None
-        ip.loc = Location(pf.path, pf.line, 1)
+        ctx.loc = Location(pf.path, pf.line, 1)
         return run

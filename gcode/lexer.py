@@ -97,7 +97,7 @@ class Block:
     percent: bool = False
     #: evaluated words of a block without parameters or expressions (set by the lexer for
     #: plain axis lines, by the interpreter for other constant lines)
-    cached_words: object = None
+    cached_words: Words | None = None
     #: column of the first word
     col0: int = 1
 

@@ -5,67 +5,43 @@ NIST v3 report §3.6.1 lists (and LinuxCNC's additions)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from gcode import linuxcnc as lc
-from gcode import offsets
+from gcode import modes, offsets
 from gcode.codes import Words
-from gcode.state import G1, CycleWords
+from gcode.ngc_context import NgcContext
+from gcode.state import G1, CompCode, CycleWords, FeedCode, SavedModes
 from kernel import canon
 from kernel.canon import Direction, Plane
 from kernel.diagnostics import Diagnostic
 
-if TYPE_CHECKING:
-    from gcode.interpreter import Interpreter
 
-_SAVED = (
-    "units",
-    "plane",
-    "absolute",
-    "ijk_absolute",
-    "feed_mode",
-    "feed_rate",
-    "speed",
-    "spindle",
-    "mist",
-    "flood",
-    "motion_mode",
-    "retract_r",
-    "control_mode",
-    "blend_p",
-    "blend_q",
-    "origin_index",
-    "css",
-    "css_max",
-    "tool_length_mode",
-)
-
-
-def _int_word(ip: Interpreter, w: Words, letter: str, what: str) -> int:
+def _int_word(ctx: NgcContext, w: Words, letter: str, what: str) -> int:
     if letter not in w.values:
-        raise Diagnostic("NGC-M-WORD-MISSING", f"{letter.upper()} word missing with {what}", ip.loc)
+        raise Diagnostic(
+            "NGC-M-WORD-MISSING", f"{letter.upper()} word missing with {what}", ctx.loc
+        )
     return int(round(w.values[letter]))
 
 
-def m_codes(ip: Interpreter, w: Words) -> None:
+def m_codes(ctx: NgcContext, w: Words) -> None:
     m = w.m
-    s = ip.s
-    loc = ip.loc
+    s = ctx.s
+    loc = ctx.loc
     v = w.values
     if 10 in m and m[10] == 70:
-        ip.m70[len(ip.flow.calls)] = save_state(ip)
-    if 10 in m and m[10] == 73 and ip.flow.calls:
-        call = ip.flow.calls[-1]
-        call.saved_state = save_state(ip)
+        ctx.m70[len(ctx.flow.calls)] = save_state(ctx)
+    if 10 in m and m[10] == 73 and ctx.flow.calls:
+        call = ctx.flow.calls[-1]
+        call.saved_state = save_state(ctx)
         call.autorestore = True
     if 5 in m:
         code = m[5]
-        ip.comp_off(
+        ctx.comp_off(
             {62: "M62/M63", 63: "M62/M63", 64: "M64/M65", 65: "M64/M65"}.get(code, f"M{code}")
         )
         if code in (62, 63, 64, 65):
-            p = _int_word(ip, w, "p", f"M{code}")
-            ip.emit(lc.DigitalOutput(p, code in (62, 64), code in (62, 63), source=loc))
+            p = _int_word(ctx, w, "p", f"M{code}")
+            ctx.emit(lc.DigitalOutput(p, code in (62, 64), code in (62, 63), source=loc))
         elif code == 66:
             if "p" not in v and "e" not in v:
                 raise Diagnostic(
@@ -73,27 +49,27 @@ def m_codes(ip: Interpreter, w: Words) -> None:
                     "need to have either a valid P or a valid E word with M66",
                     loc,
                 )
-            ip.params.values[5399] = -1.0
+            ctx.params.values[5399] = -1.0
         else:
-            e = _int_word(ip, w, "e", f"M{code}")
+            e = _int_word(ctx, w, "e", f"M{code}")
             q = v.get("q", 0.0)
-            ip.emit(lc.AnalogOutput(e, q, code == 67, source=loc))
+            ctx.emit(lc.AnalogOutput(e, q, code == 67, source=loc))
     if 6 in m:
         if m[6] == 6:
-            offsets.change_tool(ip)
+            offsets.change_tool(ctx)
         else:
-            offsets.set_tool_number(ip, w)
+            offsets.set_tool_number(ctx, w)
     if 7 in m:
         code = m[7]
         if code == 3:
             s.spindle = Direction.CLOCKWISE
-            ip.emit(canon.StartSpindleClockwise(source=loc))
+            ctx.emit(canon.StartSpindleClockwise(source=loc))
         elif code == 4:
             s.spindle = Direction.COUNTERCLOCKWISE
-            ip.emit(canon.StartSpindleCounterclockwise(source=loc))
+            ctx.emit(canon.StartSpindleCounterclockwise(source=loc))
         elif code == 5:
             s.spindle = Direction.STOPPED
-            ip.emit(canon.StopSpindleTurning(source=loc))
+            ctx.emit(canon.StopSpindleTurning(source=loc))
         else:
             r = v.get("r", 0.0)
             if not 0.0 <= r <= 360.0:
@@ -103,178 +79,180 @@ def m_codes(ip: Interpreter, w: Words) -> None:
                 raise Diagnostic("NGC-M19-P", "M19 P must be 0, 1 or 2", loc)
             s.spindle = Direction.STOPPED
             d = Direction.COUNTERCLOCKWISE if p == 2 else Direction.CLOCKWISE
-            ip.emit(canon.OrientSpindle(r, d, source=loc))
-            if "q" in v and ip.compat:
-                ip.emit(lc.WaitOrientComplete(v["q"], source=loc))
+            ctx.emit(canon.OrientSpindle(r, d, source=loc))
+            if "q" in v and ctx.compat:
+                ctx.emit(lc.WaitOrientComplete(v["q"], source=loc))
     if 8 in m:
         code = m[8]
         if code == 7:
             s.mist = True
-            ip.emit(canon.MistOn(source=loc))
+            ctx.emit(canon.MistOn(source=loc))
         elif code == 8:
             s.flood = True
-            ip.emit(canon.FloodOn(source=loc))
+            ctx.emit(canon.FloodOn(source=loc))
         else:
             s.mist = s.flood = False
-            ip.emit(canon.MistOff(source=loc))
-            ip.emit(canon.FloodOff(source=loc))
+            ctx.emit(canon.MistOff(source=loc))
+            ctx.emit(canon.FloodOff(source=loc))
     if 9 in m:
-        ip.comp_off("enable overrides" if m[9] == 48 else "disable overrides")
-        _overrides(ip, m[9], v)
+        ctx.comp_off("enable overrides" if m[9] == 48 else "disable overrides")
+        _overrides(ctx, m[9], v)
     if 10 in m:
         code = m[10]
         if code == 71:
-            ip.m70.pop(len(ip.flow.calls), None)
+            ctx.m70.pop(len(ctx.flow.calls), None)
         elif code == 72:
-            saved = ip.m70.get(len(ip.flow.calls))
+            saved = ctx.m70.get(len(ctx.flow.calls))
             if saved is None:
                 raise Diagnostic(
                     "NGC-M72-NO-STATE",
                     "cannot restore context from invalid stack frame - missing M70/M73?",
                     loc,
                 )
-            restore_state(ip, saved)
+            restore_state(ctx, saved)
         elif code >= 100:
             raise Diagnostic(
                 "NGC-USER-M", f"user-defined M{code} needs its program (not available)", loc
             )
 
 
-def _overrides(ip: Interpreter, code: int, v: dict[str, float]) -> None:
-    s = ip.s
-    loc = ip.loc
+def _overrides(ctx: NgcContext, code: int, v: dict[str, float]) -> None:
+    s = ctx.s
+    loc = ctx.loc
     on = v.get("p", 1.0) != 0.0
     if code in (48, 49):
         s.feed_override = s.speed_override = code == 48
         if code == 48:
-            ip.emit(canon.EnableFeedOverride(source=loc))
-            ip.emit(canon.EnableSpeedOverride(source=loc))
+            ctx.emit(canon.EnableFeedOverride(source=loc))
+            ctx.emit(canon.EnableSpeedOverride(source=loc))
         else:
-            ip.emit(canon.DisableFeedOverride(source=loc))
-            ip.emit(canon.DisableSpeedOverride(source=loc))
+            ctx.emit(canon.DisableFeedOverride(source=loc))
+            ctx.emit(canon.DisableSpeedOverride(source=loc))
     elif code == 50:
         s.feed_override = on
         cls = canon.EnableFeedOverride if on else canon.DisableFeedOverride
-        ip.emit(cls(source=loc))
+        ctx.emit(cls(source=loc))
     elif code == 51:
         s.speed_override = on
         cls2 = canon.EnableSpeedOverride if on else canon.DisableSpeedOverride
-        ip.emit(cls2(source=loc))
+        ctx.emit(cls2(source=loc))
     elif code == 52:
         s.adaptive_feed = on
     elif code == 53:
         s.feed_hold = on
 
 
-def save_state(ip: Interpreter) -> dict[str, object]:
+def save_state(ctx: NgcContext) -> SavedModes:
     """M70/M73: the modal state LinuxCNC saves."""
-    s = ip.s
-    return {k: getattr(s, k) for k in _SAVED}
+    return SavedModes.of(ctx.s)
 
 
-def restore_state(ip: Interpreter, saved: dict[str, object]) -> None:
+def restore_state(ctx: NgcContext, saved: SavedModes) -> None:
     """M72 (and return from an M73 subroutine): restore, announcing what changed, in the
     order rs274 prints it: units, feed mode or rate, speed, spindle, plane, coordinate
     system, path control, distance mode, coolant."""
-    s = ip.s
-    loc = ip.loc
-    if saved["units"] is not s.units:
-        ip._units(saved["units"])  # type: ignore[arg-type]
-    if saved["feed_mode"] != s.feed_mode:
-        ip._feed_mode({0: 940, 1: 930, 2: 950}[saved["feed_mode"]])  # type: ignore[index]
-    elif saved["feed_rate"] != s.feed_rate:
-        s.feed_rate = saved["feed_rate"]  # type: ignore[assignment]
-        ip.emit(canon.SetFeedRate(s.feed_rate, source=loc))
-    if saved["speed"] != s.speed:
-        s.speed = saved["speed"]  # type: ignore[assignment]
-        ip.emit(canon.SetSpindleSpeed(s.speed, source=loc))
-    if saved["spindle"] is not s.spindle:
-        d = saved["spindle"]
-        s.spindle = d  # type: ignore[assignment]
+    s = ctx.s
+    loc = ctx.loc
+    if saved.units is not s.units:
+        modes.units(ctx, saved.units)
+    if saved.feed_mode != s.feed_mode:
+        modes.feed_mode(ctx, FeedCode.of(saved.feed_mode))
+    elif saved.feed_rate != s.feed_rate:
+        s.feed_rate = saved.feed_rate
+        ctx.emit(canon.SetFeedRate(s.feed_rate, source=loc))
+    if saved.speed != s.speed:
+        s.speed = saved.speed
+        ctx.emit(canon.SetSpindleSpeed(s.speed, source=loc))
+    if saved.spindle is not s.spindle:
+        d = saved.spindle
+        s.spindle = d
         if d is Direction.CLOCKWISE:
-            ip.emit(canon.StartSpindleClockwise(source=loc))
+            ctx.emit(canon.StartSpindleClockwise(source=loc))
         elif d is Direction.COUNTERCLOCKWISE:
-            ip.emit(canon.StartSpindleCounterclockwise(source=loc))
+            ctx.emit(canon.StartSpindleCounterclockwise(source=loc))
         else:
-            ip.emit(canon.StopSpindleTurning(source=loc))
-    if saved["plane"] is not s.plane:
-        s.plane = saved["plane"]  # type: ignore[assignment]
-        ip.emit(canon.SelectPlane(s.plane, source=loc))
-    if saved["origin_index"] != s.origin_index:
-        code = offsets.CODES[saved["origin_index"] - 1]  # type: ignore[operator]
-        offsets.select_coordinate_system(ip, code)
-    if saved["control_mode"] != s.control_mode:
-        words = Words(values={"p": saved["blend_p"], "q": saved["blend_q"]})  # type: ignore[dict-item]
-        ip._control_mode(saved["control_mode"], words, check=False)  # type: ignore[arg-type]
-    if saved["absolute"] != s.absolute:
-        s.absolute = bool(saved["absolute"])
-        if ip.compat:
-            d = "absolute" if s.absolute else "incremental"
-            ip.emit(canon.Comment(f"interpreter: distance mode changed to {d}", source=loc))
-    for k in ("ijk_absolute", "motion_mode", "retract_r", "css", "css_max"):
-        setattr(s, k, saved[k])
-    if (s.mist and not saved["mist"]) or (s.flood and not saved["flood"]):
+            ctx.emit(canon.StopSpindleTurning(source=loc))
+    if saved.plane is not s.plane:
+        s.plane = saved.plane
+        ctx.emit(canon.SelectPlane(s.plane, source=loc))
+    if saved.origin_index != s.origin_index:
+        code = offsets.CODES[saved.origin_index - 1]
+        offsets.select_coordinate_system(ctx, code)
+    if saved.control_mode != s.control_mode:
+        words = Words(values={"p": saved.blend_p, "q": saved.blend_q})
+        modes.control_mode(ctx, saved.control_mode, words, check=False)
+    if saved.absolute != s.absolute:
+        s.absolute = saved.absolute
+        if ctx.compat:
+            mode = "absolute" if s.absolute else "incremental"
+            ctx.emit(canon.Comment(f"interpreter: distance mode changed to {mode}", source=loc))
+    s.ijk_absolute = saved.ijk_absolute
+    s.motion_mode = saved.motion_mode
+    s.retract_r = saved.retract_r
+    s.css = saved.css
+    s.css_max = saved.css_max
+    if (s.mist and not saved.mist) or (s.flood and not saved.flood):
         s.mist = s.flood = False
-        ip.emit(canon.MistOff(source=loc))
-        ip.emit(canon.FloodOff(source=loc))
-    if saved["mist"] and not s.mist:
+        ctx.emit(canon.MistOff(source=loc))
+        ctx.emit(canon.FloodOff(source=loc))
+    if saved.mist and not s.mist:
         s.mist = True
-        ip.emit(canon.MistOn(source=loc))
-    if saved["flood"] and not s.flood:
+        ctx.emit(canon.MistOn(source=loc))
+    if saved.flood and not s.flood:
         s.flood = True
-        ip.emit(canon.FloodOn(source=loc))
+        ctx.emit(canon.FloodOn(source=loc))
 
 
-def program_stop(ip: Interpreter, code: int) -> bool:
+def program_stop(ctx: NgcContext, code: int) -> bool:
     """M0, M1, M60 (pause) and M2, M30 (end, with LinuxCNC's resets)."""
-    loc = ip.loc
-    s = ip.s
-    comp = ip.comp
+    loc = ctx.loc
+    s = ctx.s
+    comp = ctx.comp
     if comp is not None:
-        ip.out.extend(comp.flush(loc))  # type: ignore[attr-defined]
+        ctx.out.extend(comp.flush(loc))
         if code in (2, 30):
-            comp.end_program()  # type: ignore[attr-defined]
+            comp.end_program()
     if code == 0:
-        ip.emit(canon.ProgramStop(source=loc))
+        ctx.emit(canon.ProgramStop(source=loc))
         return False
     if code == 1:
-        ip.emit(canon.OptionalProgramStop(source=loc))
+        ctx.emit(canon.OptionalProgramStop(source=loc))
         return False
     if code == 60:
-        ip.emit(canon.PalletShuttle(source=loc))
-        ip.emit(canon.ProgramStop(source=loc))
+        ctx.emit(canon.PalletShuttle(source=loc))
+        ctx.emit(canon.ProgramStop(source=loc))
         return False
     # M2 / M30
-    offsets.reset_to_g54(ip)
+    offsets.reset_to_g54(ctx)
     if s.plane is not Plane.XY:
         s.plane = Plane.XY
-        ip.emit(canon.SelectPlane(Plane.XY, source=loc))
+        ctx.emit(canon.SelectPlane(Plane.XY, source=loc))
     s.absolute = True
-    s.feed_mode = 0
-    if ip.compat:
-        ip.emit(canon.SetFeedMode(canon.FeedMode.UNITS_PER_MINUTE, source=loc))
+    s.feed_mode = canon.FeedMode.UNITS_PER_MINUTE
+    if ctx.compat:
+        ctx.emit(canon.SetFeedMode(canon.FeedMode.UNITS_PER_MINUTE, source=loc))
     s.feed_rate = 0.0
-    ip.emit(canon.SetFeedRate(0.0, source=loc))
+    ctx.emit(canon.SetFeedRate(0.0, source=loc))
     if not s.feed_override or not s.speed_override:
         s.feed_override = s.speed_override = True
-        ip.emit(canon.EnableFeedOverride(source=loc))
-        ip.emit(canon.EnableSpeedOverride(source=loc))
-    s.comp_side = 400
+        ctx.emit(canon.EnableFeedOverride(source=loc))
+        ctx.emit(canon.EnableSpeedOverride(source=loc))
+    s.comp_side = CompCode.G40
     s.spindle = Direction.STOPPED
-    ip.emit(canon.StopSpindleTurning(source=loc))
+    ctx.emit(canon.StopSpindleTurning(source=loc))
     s.css = False
-    if ip.compat:
-        ip.emit(canon.SetSpindleMode(0.0, False, source=loc))
+    if ctx.compat:
+        ctx.emit(canon.SetSpindleMode(0.0, False, source=loc))
     s.motion_mode = G1
     if s.mist or s.flood:
         s.mist = s.flood = False
-        ip.emit(canon.MistOff(source=loc))
-        ip.emit(canon.FloodOff(source=loc))
+        ctx.emit(canon.MistOff(source=loc))
+        ctx.emit(canon.FloodOff(source=loc))
     s.cycle = CycleWords()
     if code == 30:  # M30 exchanges the pallets before ending (LinuxCNC)
-        ip.emit(canon.PalletShuttle(source=loc))
-    ip.emit(canon.ProgramEnd(source=loc))
-    if ip.compat:
-        ip.emit(lc.OnReset(source=loc))
-        ip.emit(lc.OnReset(source=loc))
+        ctx.emit(canon.PalletShuttle(source=loc))
+    ctx.emit(canon.ProgramEnd(source=loc))
+    if ctx.compat:
+        ctx.emit(lc.OnReset(source=loc))
+        ctx.emit(lc.OnReset(source=loc))
     return True

@@ -11,15 +11,14 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from gcode.expr import evaluate
 from gcode.lexer import Block, OWord
+from gcode.params import Parameters
 from gcode.program import Position, ProgramFile, find_subroutine_file
+from gcode.state import SavedModes
 from kernel.diagnostics import Diagnostic, Location
-
-if TYPE_CHECKING:
-    from gcode.interpreter import Interpreter
 
 MAX_CALL_DEPTH = 64
 
@@ -39,16 +38,36 @@ class _Call:
     file: ProgramFile
     back: Position
     controls: int
-    saved_state: dict[str, object] | None = None
+    saved_state: SavedModes | None = None
     autorestore: bool = False
     extra: dict[str, object] = field(default_factory=dict)
+
+
+class FlowHost(Protocol):
+    """What :class:`Flow` needs of the interpreter that owns it."""
+
+    params: Parameters
+    loc: Location
+
+    def execute_line(self, block: Block) -> bool:
+        """Execute one non-O-word line; True when the program ended."""
+        ...
+
+    def finish_percent(self) -> None:
+        """The closing ``%`` was read."""
+        ...
+
+    def restore_modes(self, saved: SavedModes) -> None:
+        """Restore the modes an M73 subroutine saved (at its return)."""
+        ...
 
 
 class Flow:
     """Where the interpreter reads next, and the O-word stacks."""
 
-    def __init__(self, ip: Interpreter) -> None:
-        self.ip = ip
+    def __init__(self, host: FlowHost, search_path: tuple[str, ...] = ()) -> None:
+        self.host = host
+        self.search_path = search_path
         self.file: ProgramFile
         self.main: ProgramFile
         self.files: dict[str, ProgramFile] = {}
@@ -97,7 +116,7 @@ class Flow:
                         Location(f.path, block.line, block.text.index("%") + 1),
                     )
                 self.ended = True
-                self.ip.finish_percent()
+                self.host.finish_percent()
                 return None
             if not self.seen_line and not block.empty:
                 self.seen_line = True
@@ -105,7 +124,7 @@ class Flow:
                 if not block.oword.keyword:  # a bare program number "O123": ignored
                     continue
                 if block.comments:
-                    self.ip.execute_line(Block(block.line, block.text, comments=block.comments))
+                    self.host.execute_line(Block(block.line, block.text, comments=block.comments))
                 self.oword(block)
                 continue
             return block
@@ -130,17 +149,17 @@ class Flow:
     def _name(self, ow: OWord, loc: Location) -> str:
         if isinstance(ow.name, str):
             return ow.name
-        v = evaluate(ow.name, self.ip.params, loc)
+        v = evaluate(ow.name, self.host.params, loc)
         return str(int(round(v)))
 
     def _cond(self, ow: OWord, loc: Location) -> float:
-        return evaluate(ow.args[0], self.ip.params, loc)
+        return evaluate(ow.args[0], self.host.params, loc)
 
     def oword(self, block: Block) -> None:
         ow = block.oword
         assert ow is not None
         loc = self._loc(block, ow)
-        self.ip.loc = loc
+        self.host.loc = loc
         name = self._name(ow, loc)
         kw = ow.keyword
         getattr(self, "_kw_" + kw)(block, ow, name, loc)
@@ -195,15 +214,13 @@ class Flow:
                 loc,
             )
         if ow.args:
-            self.return_value = evaluate(ow.args[0], self.ip.params, loc)
+            self.return_value = evaluate(ow.args[0], self.host.params, loc)
             self.value_returned = True
         call = self.calls.pop()
         del self.controls[call.controls :]
-        self.ip.params.leave()
+        self.host.params.leave()
         if call.autorestore and call.saved_state is not None:
-            from gcode.mcodes import restore_state
-
-            restore_state(self.ip, call.saved_state)
+            self.host.restore_modes(call.saved_state)
         self.file = call.file
         self.file.seek(call.back)
 
@@ -214,7 +231,7 @@ class Flow:
         self._leave(block, ow, loc)
 
     def _kw_call(self, block: Block, ow: OWord, name: str, loc: Location) -> None:
-        args = [evaluate(a, self.ip.params, loc) for a in ow.args]
+        args = [evaluate(a, self.host.params, loc) for a in ow.args]
         if len(self.calls) >= MAX_CALL_DEPTH:
             raise Diagnostic("NGC-OWORD-DEPTH", "too many nested subroutine calls", loc)
         back = self.file.tell()
@@ -224,13 +241,13 @@ class Flow:
             target = self._find(name, loc)
         self.calls.append(_Call(name, caller, back, len(self.controls)))
         self.value_returned = False
-        self.ip.params.enter(args)
+        self.host.params.enter(args)
         self.file = target[0]
         self.file.seek(target[1])
 
     def _find(self, name: str, loc: Location) -> tuple[ProgramFile, Position]:
         here = os.path.dirname(os.path.abspath(self.main.path))
-        path = find_subroutine_file(name, list(self.ip.options.search_path), here)
+        path = find_subroutine_file(name, list(self.search_path), here)
         if path is not None:
             key = os.path.abspath(path)
             pf = self.files.get(key)

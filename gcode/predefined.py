@@ -3,20 +3,17 @@ parameters" ``#<_x>``, ``#<_metric>``, ... and numbered 5400-5428)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
+from gcode.ngc_context import NgcContext
+from gcode.state import INVERSE_TIME, PER_MINUTE, PER_REV, ToolLengthCode
 from kernel.canon import Direction, Plane, Units
-
-if TYPE_CHECKING:
-    from gcode.interpreter import Interpreter
 
 _AXES = "xyzabc"
 _PLANE_CODE = {Plane.XY: 170.0, Plane.XZ: 180.0, Plane.YZ: 190.0}
 
 
-def named_parameter(ip: Interpreter, name: str) -> float | None:
+def named_parameter(ctx: NgcContext, name: str) -> float | None:
     """Value of a predefined ``#<_name>`` or None when ``name`` is not one of them."""
-    s = ip.s
+    s = ctx.s
     n = name[1:]
     if len(n) == 1 and n in _AXES:
         return s.pos[_AXES.index(n)]
@@ -28,7 +25,7 @@ def named_parameter(ip: Interpreter, name: str) -> float | None:
     if n in ("abs_u", "abs_v", "abs_w"):
         return 0.0
     table = {
-        "line": lambda: float(ip.loc.line),
+        "line": lambda: float(ctx.loc.line),
         "motion_mode": lambda: float(s.motion_mode if s.motion_mode is not None else 800),
         "plane": lambda: _PLANE_CODE[s.plane],
         "ccomp": lambda: float(s.comp_side),
@@ -36,11 +33,11 @@ def named_parameter(ip: Interpreter, name: str) -> float | None:
         "imperial": lambda: 1.0 if s.units is Units.INCHES else 0.0,
         "absolute": lambda: 1.0 if s.absolute else 0.0,
         "incremental": lambda: 0.0 if s.absolute else 1.0,
-        "inverse_time": lambda: 1.0 if s.feed_mode == 1 else 0.0,
-        "units_per_minute": lambda: 1.0 if s.feed_mode == 0 else 0.0,
-        "units_per_rev": lambda: 1.0 if s.feed_mode == 2 else 0.0,
+        "inverse_time": lambda: 1.0 if s.feed_mode == INVERSE_TIME else 0.0,
+        "units_per_minute": lambda: 1.0 if s.feed_mode == PER_MINUTE else 0.0,
+        "units_per_rev": lambda: 1.0 if s.feed_mode == PER_REV else 0.0,
         "coord_system": lambda: float(_coord_code(s.origin_index)),
-        "tool_offset": lambda: 1.0 if s.tool_length_mode != 490 else 0.0,
+        "tool_offset": lambda: 1.0 if s.tool_length_mode is not ToolLengthCode.G49 else 0.0,
         "retract_r_plane": lambda: 1.0 if s.retract_r else 0.0,
         "retract_old_z": lambda: 0.0 if s.retract_r else 1.0,
         "spindle_rpm_mode": lambda: 0.0 if s.css else 1.0,
@@ -62,13 +59,13 @@ def named_parameter(ip: Interpreter, name: str) -> float | None:
         "current_pocket": lambda: float(s.current_pocket),
         "selected_tool": lambda: float(s.selected_tool),
         "selected_pocket": lambda: float(s.selected_pocket),
-        "call_level": lambda: float(ip.flow.call_level),
+        "call_level": lambda: float(ctx.flow.call_level),
         "remap_level": lambda: 0.0,
         "task": lambda: 0.0,
         "vmajor": lambda: 2.0,
         "vminor": lambda: 9.0,
-        "value": lambda: ip.flow.return_value,
-        "value_returned": lambda: 1.0 if ip.flow.value_returned else 0.0,
+        "value": lambda: ctx.flow.return_value,
+        "value_returned": lambda: 1.0 if ctx.flow.value_returned else 0.0,
     }
     fn = table.get(n)
     return fn() if fn is not None else None
@@ -78,9 +75,9 @@ def _coord_code(index: int) -> int:
     return (540, 550, 560, 570, 580, 590, 591, 592, 593)[index - 1]
 
 
-def numbered_parameter(ip: Interpreter, index: int) -> float | None:
+def numbered_parameter(ctx: NgcContext, index: int) -> float | None:
     """Live value of numbered parameters LinuxCNC keeps up to date (None: use the store)."""
-    s = ip.s
+    s = ctx.s
     if 5420 <= index <= 5425:
         return s.pos[index - 5420]
     if 5426 <= index <= 5428:
@@ -90,7 +87,7 @@ def numbered_parameter(ip: Interpreter, index: int) -> float | None:
     if 5401 <= index <= 5409:
         return s.tool_offset[index - 5401]
     if index == 5410 or index == 5411 or index == 5412 or index == 5413:
-        tool = ip.tools.get(s.current_tool)
+        tool = ctx.tools.get(s.current_tool)
         if tool is None:
             return 0.0
         return (tool.diameter, tool.front_angle, tool.back_angle, float(tool.orientation))[

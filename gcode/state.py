@@ -9,14 +9,78 @@ kept in current units too and converted when G20/G21 changes the units.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+from enum import IntEnum
 
-from kernel.canon import Direction, Plane, Units
+from kernel.canon import Direction, FeedMode, Plane, Units
 
 #: motion-mode codes (``round(G*10)``), see :mod:`gcode.codes`
 G0, G1, G2, G3 = 0, 10, 20, 30
 G80 = 800
 INCH_MM = 25.4
+AXES = "xyzabc"
+#: plane -> (first, second, normal) axis indices and the centre-word letters
+PLANE_AXES = {Plane.XY: (0, 1, 2), Plane.XZ: (2, 0, 1), Plane.YZ: (1, 2, 0)}
+PLANE_CENTRE = {Plane.XY: ("i", "j", "k"), Plane.XZ: ("k", "i", "j"), Plane.YZ: ("j", "k", "i")}
+#: the feed modes as module constants (attribute access on an enum class is slow in 3.11,
+#: and these are compared on every feed move)
+PER_MINUTE = FeedMode.UNITS_PER_MINUTE
+INVERSE_TIME = FeedMode.INVERSE_TIME
+PER_REV = FeedMode.UNITS_PER_REVOLUTION
+
+
+class FeedCode(IntEnum):
+    """The feed-mode G codes of modal group 5 (``round(G*10)``) and the mode each selects."""
+
+    G93 = 930
+    G94 = 940
+    G95 = 950
+
+    @property
+    def mode(self) -> FeedMode:
+        """The feed mode this code selects."""
+        return _FEED_MODES[self]
+
+    @classmethod
+    def of(cls, mode: FeedMode) -> FeedCode:
+        """The G code that selects ``mode``."""
+        return _FEED_CODES[mode]
+
+
+_FEED_MODES = {
+    FeedCode.G93: FeedMode.INVERSE_TIME,
+    FeedCode.G94: FeedMode.UNITS_PER_MINUTE,
+    FeedCode.G95: FeedMode.UNITS_PER_REVOLUTION,
+}
+_FEED_CODES = {mode: code for code, mode in _FEED_MODES.items()}
+
+
+class ControlCode(IntEnum):
+    """Path control G codes of modal group 13 (``round(G*10)``)."""
+
+    G61 = 610  # exact path
+    G61_1 = 611  # exact stop
+    G64 = 640  # continuous (blending)
+
+
+class ToolLengthCode(IntEnum):
+    """Tool length offset G codes of modal group 8 (``round(G*10)``)."""
+
+    G43 = 430
+    G43_1 = 431
+    G43_2 = 432
+    G49 = 490
+
+
+class CompCode(IntEnum):
+    """Cutter compensation G codes of modal group 7 (``round(G*10)``)."""
+
+    G40 = 400
+    G41 = 410
+    G41_1 = 411
+    G42 = 420
+    G42_1 = 421
 
 
 @dataclass(slots=True)
@@ -45,7 +109,7 @@ class Setup:
     absolute: bool = True  # G90 / G91
     ijk_absolute: bool = False  # G90.1 / G91.1
     diameter_mode: bool = False  # G7 (lathe diameter) / G8 (radius)
-    feed_mode: int = 0  # 0 G94, 1 G93, 2 G95
+    feed_mode: FeedMode = FeedMode.UNITS_PER_MINUTE  # G94; G93 inverse time, G95 per rev
     feed_rate: float = 0.0
     speed: float = 0.0
     css: bool = False  # G96
@@ -54,7 +118,7 @@ class Setup:
     motion_mode: int | None = G80  # rs274 starts with no motion mode (axis words refused)
     retract_r: bool = True  # G99 (retract to R, rs274's initial mode); G98 otherwise
     cycle_series: bool = False  # inside a series of canned-cycle blocks
-    control_mode: int = 640  # G61 610, G61.1 611, G64 640
+    control_mode: ControlCode = ControlCode.G64
     blend_p: float = 0.0
     blend_q: float = 0.0
     origin_index: int = 1  # G54 .. G59.3 -> 1..9
@@ -67,7 +131,7 @@ class Setup:
     g92_saved: list[float] = field(default_factory=lambda: [0.0] * 6)  # G92.2 / G92.3
     rotation: float = 0.0
     tool_offset: list[float] = field(default_factory=lambda: [0.0] * 9)
-    tool_length_mode: int = 490  # G43 430, G43.1 431, G49 490
+    tool_length_mode: ToolLengthCode = ToolLengthCode.G49
     current_tool: int = 0
     current_pocket: int = 0
     selected_tool: int = -1
@@ -78,7 +142,7 @@ class Setup:
     speed_override: bool = True
     adaptive_feed: bool = False
     feed_hold: bool = True
-    comp_side: int = 400  # G40 400, G41 410, G42 420
+    comp_side: CompCode = CompCode.G40
     comp_radius: float = 0.0
     cycle: CycleWords = field(default_factory=CycleWords)
     probe_flag: bool = False
@@ -98,6 +162,25 @@ class Setup:
         """Program -> machine offset of axis ``i`` (0..5)."""
         return self.g5x[i] + self.g92[i] + self.tool_offset[i]
 
+    def to_machine(self, p: list[float]) -> list[float]:
+        """Program -> machine coordinates: add G92, turn by the XY rotation (G10 L2 R) about
+        the G5x origin, add the G5x offset and the tool offset (LinuxCNC's order)."""
+        m = [p[i] + self.g92[i] for i in range(6)]
+        if self.rotation:
+            a = math.radians(self.rotation)
+            x, y = m[0], m[1]
+            m[0], m[1] = x * math.cos(a) - y * math.sin(a), x * math.sin(a) + y * math.cos(a)
+        return [m[i] + self.g5x[i] + self.tool_offset[i] for i in range(6)]
+
+    def to_program(self, m: list[float]) -> list[float]:
+        """Machine -> program coordinates (inverse of :meth:`to_machine`)."""
+        p = [m[i] - self.g5x[i] - self.tool_offset[i] for i in range(6)]
+        if self.rotation:
+            a = math.radians(self.rotation)
+            x, y = p[0], p[1]
+            p[0], p[1] = x * math.cos(a) + y * math.sin(a), -x * math.sin(a) + y * math.cos(a)
+        return [p[i] - self.g92[i] for i in range(6)]
+
     def scale_lengths(self, factor: float) -> None:
         """G20/G21: re-express every stored length in the new units (no motion)."""
         for v in (self.pos, self.g5x, self.g92, self.g28, self.g30, self.g92_saved, *self.coords):
@@ -114,3 +197,54 @@ class Setup:
         c.k *= factor
         c.cc *= factor
         self.nurbs_points = [(x * factor, y * factor, w) for x, y, w in self.nurbs_points]
+
+
+@dataclass(frozen=True, slots=True)
+class SavedModes:
+    """The modal state M70/M73 save and M72 (or the end of an M73 subroutine) restores,
+    as LinuxCNC saves it."""
+
+    units: Units
+    plane: Plane
+    absolute: bool
+    ijk_absolute: bool
+    feed_mode: FeedMode
+    feed_rate: float
+    speed: float
+    spindle: Direction
+    mist: bool
+    flood: bool
+    motion_mode: int | None
+    retract_r: bool
+    control_mode: ControlCode
+    blend_p: float
+    blend_q: float
+    origin_index: int
+    css: bool
+    css_max: float
+    tool_length_mode: ToolLengthCode
+
+    @classmethod
+    def of(cls, s: Setup) -> SavedModes:
+        """The saved part of ``s`` now."""
+        return cls(
+            units=s.units,
+            plane=s.plane,
+            absolute=s.absolute,
+            ijk_absolute=s.ijk_absolute,
+            feed_mode=s.feed_mode,
+            feed_rate=s.feed_rate,
+            speed=s.speed,
+            spindle=s.spindle,
+            mist=s.mist,
+            flood=s.flood,
+            motion_mode=s.motion_mode,
+            retract_r=s.retract_r,
+            control_mode=s.control_mode,
+            blend_p=s.blend_p,
+            blend_q=s.blend_q,
+            origin_index=s.origin_index,
+            css=s.css,
+            css_max=s.css_max,
+            tool_length_mode=s.tool_length_mode,
+        )

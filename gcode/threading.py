@@ -11,21 +11,18 @@ retracts (LinuxCNC ``convert_threading_cycle``, G76 documentation).
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 from gcode.codes import Words
+from gcode.ngc_context import NgcContext
 from kernel import canon
 from kernel.diagnostics import Diagnostic
 
-if TYPE_CHECKING:
-    from gcode.interpreter import Interpreter
 
-
-def threading_cycle(ip: Interpreter, w: Words, end: list[float]) -> None:
-    s = ip.s
+def threading_cycle(ctx: NgcContext, w: Words, end: list[float]) -> None:
+    s = ctx.s
     v = w.values
-    loc = ip.loc
-    ip.comp_off("G76")
+    loc = ctx.loc
+    ctx.comp_off("G76")
     if "p" not in v:
         raise Diagnostic("NGC-G76-P", "P word (pitch) missing with G76", loc)
     if "i" not in v or "j" not in v or "k" not in v:
@@ -70,33 +67,33 @@ def threading_cycle(ip: Interpreter, w: Words, end: list[float]) -> None:
         return safe_x + depth if boring else safe_x - depth
 
     def traverse(x: float, z: float) -> None:
-        ip.emit(canon.StraightTraverse(x, start_y, z, *abc, source=src))
+        ctx.emit(canon.StraightTraverse(x, start_y, z, *abc, source=src))
 
     def feed(x: float, z: float) -> None:
-        ip.emit(canon.StraightFeed(x, start_y, z, *abc, source=src))
+        ctx.emit(canon.StraightFeed(x, start_y, z, *abc, source=src))
 
     def one_pass(depth: float, zoff: float) -> None:
         back = safe_x + depth - end_depth if boring else safe_x - depth + end_depth
         traverse(back, start_z - zoff)
         if taper and entry:
-            ip.emit(canon.DisableFeedOverride(source=src))
-            ip.emit(canon.StartSpeedFeedSynch(taper_pitch, False, source=src))
+            ctx.emit(canon.DisableFeedOverride(source=src))
+            ctx.emit(canon.StartSpeedFeedSynch(taper_pitch, False, source=src))
             feed(x_at(depth - full_height), start_z - zoff)
             feed(x_at(depth), start_z - zoff - taper)
-            ip.emit(canon.StartSpeedFeedSynch(pitch, False, source=src))
+            ctx.emit(canon.StartSpeedFeedSynch(pitch, False, source=src))
         else:
             traverse(x_at(depth), start_z - zoff)
-            ip.emit(canon.DisableFeedOverride(source=src))
-            ip.emit(canon.StartSpeedFeedSynch(pitch, False, source=src))
+            ctx.emit(canon.DisableFeedOverride(source=src))
+            ctx.emit(canon.StartSpeedFeedSynch(pitch, False, source=src))
         if taper and exit_:
             feed(x_at(depth), target_z - zoff + taper)
-            ip.emit(canon.StartSpeedFeedSynch(taper_pitch, False, source=src))
+            ctx.emit(canon.StartSpeedFeedSynch(taper_pitch, False, source=src))
             feed(x_at(depth - full_height), target_z - zoff)
         else:
             feed(x_at(depth), target_z - zoff)
-        ip.emit(canon.StopSpeedFeedSynch(source=src))
+        ctx.emit(canon.StopSpeedFeedSynch(source=src))
         traverse(back, target_z - zoff)
-        ip.emit(canon.EnableFeedOverride(source=src))
+        ctx.emit(canon.EnableFeedOverride(source=src))
 
     depth = full_dia_depth + cut_increment
     n = 1
@@ -107,6 +104,6 @@ def threading_cycle(ip: Interpreter, w: Words, end: list[float]) -> None:
     zoff = (end_depth - full_dia_depth) * math.tan(angle)
     for _ in range(spring + 1):
         one_pass(end_depth, zoff)
-    ip.emit(canon.StraightTraverse(*end, source=src))
+    ctx.emit(canon.StraightTraverse(*end, source=src))
     s.pos = list(end)
     s.tlo_lag = None
