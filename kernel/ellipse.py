@@ -66,6 +66,18 @@ class EllipseChords:
     length_fraction: np.ndarray
     deviation: float  # largest distance of the checked curve points from their chords
 
+    def plane_points(self) -> list[tuple[float, float, float]]:
+        """(first, second, axial fraction) of each chord end, as floats: what a writer
+        emits, the last exactly on the programmed end with all of the axial travel."""
+        return list(
+            zip(
+                self.first.tolist(),
+                self.second.tolist(),
+                self.axial_fraction.tolist(),
+                strict=True,
+            )
+        )
+
 
 def _polar_fraction(x: np.ndarray, y: np.ndarray, cf: float, cs: float) -> np.ndarray:
     polar = np.unwrap(np.arctan2(y - cs, x - cf))

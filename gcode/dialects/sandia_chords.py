@@ -4,7 +4,7 @@ The generic language has no arcs (seed 003 Figure 3; research/seed-sandia-full.m
 each ``ARC_FEED`` becomes chords: ``n = ceil(sweep / step)`` equal angular steps with
 ``step = 2 acos(1 - tol / r)``, the largest angle whose sagitta ``r (1 - cos(step / 2))``
 is the tolerance (at least two chords; the helix axis moves with the swept angle, NISTIR
-5970 §3.6.1). The same chords as :func:`gcode.approximate.ellipse_chords` gives for a
+5970 §3.6.1). The same chords as :func:`kernel.ellipse.ellipse_chords` gives for a
 circle, computed in closed form with numpy for a whole queue of moves
 (gcode.dialects.sandia.SandiaWriter.flush_moves), and formatted at once: one ``%``
 operation and one regular expression for all of their numbers instead of a call per
