@@ -21,8 +21,9 @@ import numpy as np
 from kernel import canon
 from kernel.arcsweep import arc_sweep
 from stepnc.model import Model, tool_dimension
+from stepnc.prisms import Prism, raw_block
 from stepnc.toolpaths.drilling import tip_length
-from stepnc.volumes import Prism, feature_volumes, raw_block
+from stepnc.volumes import feature_volumes
 
 _DRILLS = frozenset({"TWIST_DRILL", "CENTER_DRILL", "COUNTERSINK", "TAP"})
 

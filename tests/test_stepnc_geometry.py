@@ -9,7 +9,8 @@ import pytest
 
 from stepnc import geometry
 from stepnc.model import load
-from stepnc.volumes import feature_volumes, raw_block
+from stepnc.prisms import raw_block
+from stepnc.volumes import feature_volumes
 
 HERE = Path(__file__).resolve().parent
 EX1 = str(HERE.parents[1] / "shared" / "corpus" / "stepnc" / "ex1.stp")
