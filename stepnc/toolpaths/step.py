@@ -41,7 +41,7 @@ def step_shape(step: Entity) -> tuple[float, float, Frame]:
             step.where(),
         )
     length, frame = linear_path_frame(step.open_boundary, step)
-    depth = -float(step.depth.position.location.coordinates[2])  # type: ignore[attr-defined]
+    depth = -float(step.depth.position.location.coordinates[2])
     if depth <= TINY:
         raise Diagnostic("STEPNC-STEP", "a step needs a depth plane below its top", step.where())
     return length, depth, frame
