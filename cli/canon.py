@@ -102,28 +102,33 @@ def fast_text(
     arc = canon.ArcFeed
     forms = _LINUXCNC_FORMS if linuxcnc else {}
     for cmd in commands:
-        t = type(cmd)
-        if t is feed or t is trav:
-            s = _MOVE % (n, cmd.NAME, cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)  # type: ignore[attr-defined]
-        elif t is rate:
-            s = _RATE % (n, cmd.rate)  # type: ignore[attr-defined]
+        if type(cmd) is feed or type(cmd) is trav:  # exact types: a subclass prints its own
+            s = _MOVE % (n, cmd.NAME, cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)
+        elif type(cmd) is rate:
+            s = _RATE % (n, cmd.rate)
         else:
-            s = _arc_text(n, cmd) if t is arc else None  # type: ignore[arg-type]
-            if s is None:
+            text = _arc_text(n, cmd) if type(cmd) is arc else None
+            if text is None:
                 form = forms.get(cmd.NAME)
                 yield f"{n:5d} N..... {form(cmd) if form else cmd.to_text()}"
                 n += 1
                 continue
+            s = text
         yield s.replace("-0.0000", "0.0000") if "-0.0000" in s else s
         n += 1
 
 
 def _commands(chunks: Iterable[object], path: str) -> Iterator[canon.Command]:
+    """The commands of a chunk stream (``interpret_chunks``): commands as they come, and
+    the fast lane's runs of plain lines, which only large programs have, expanded."""
     for item in chunks:
         if isinstance(item, canon.Command):
             yield item
         else:
-            yield from item.commands(path)  # type: ignore[attr-defined]
+            from gcode.fastlane import Run
+
+            assert isinstance(item, Run), item
+            yield from item.commands(path)
 
 
 def _text_blocks(chunks: Iterable[object], linuxcnc: bool) -> Iterator[str]:
@@ -146,8 +151,9 @@ def _text_blocks(chunks: Iterable[object], linuxcnc: bool) -> Iterator[str]:
                 yield "".join(line + "\n" for line in fast_text(pending, n, linuxcnc))
                 n += len(pending)
                 pending.clear()
-            yield fastlane.events_text(item, n)  # type: ignore[arg-type]
-            n += len(item)  # type: ignore[arg-type]
+            assert isinstance(item, fastlane.Run), item
+            yield fastlane.events_text(item, n)
+            n += len(item)
     except Exception:
         # a program error: what came before it is written first (rs274 streams too)
         if pending:

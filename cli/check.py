@@ -172,10 +172,8 @@ def run_checks(paths: list[str], setup: Setup, jobs: int) -> list[FileResult]:
     chunk = max(1, min(16, len(paths) // (jobs * 16)))
     with ProcessPoolExecutor(jobs, initializer=_init_worker, initargs=(setup,)) as pool:
         done = list(pool.map(_check_one, [paths[i] for i in order], chunksize=chunk))
-    out: list[FileResult | None] = [None] * len(paths)
-    for i, r in zip(order, done, strict=True):
-        out[i] = r
-    return out  # type: ignore[return-value]
+    by_index = dict(zip(order, done, strict=True))
+    return [by_index[i] for i in range(len(paths))]
 
 
 def _version() -> str:

@@ -17,6 +17,7 @@ import sys
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
+from typing import cast
 
 import click
 
@@ -95,7 +96,9 @@ def read_program(
         cycle_marks=cycle_marks,
         keep_cutter_comp=keep_cutter_comp,
     )
-    return read_chunks(path, dialect, options)  # type: ignore[return-value]
+    # RS274/NGC comes as commands and fast-lane runs of plain lines (gcode.fastlane.Run),
+    # which write_text takes in bulk; gcode.readers types that stream as objects
+    return cast(Iterator[canon.Command], read_chunks(path, dialect, options))
 
 
 #: ``--from`` values that name a kind of file rather than a G-code dialect

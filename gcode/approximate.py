@@ -4,10 +4,9 @@
   recursion (book ch. 3.5) and replaced by circular arcs through three curve points,
   split in parameter until the deviation at :data:`CHECKS` sample points per piece is
   within the tolerance (or by chords when the target has no arcs).
-* ELLIPSE_FEED (NISTIR 5970 §3.6.3): replaced by the planner's chords
-  (:mod:`kernel.ellipse`: uniform eccentric-anomaly steps ``2 acos(1 - E / max(a, b))``,
-  doubled until the helix is within the tolerance too); the helix axis moves in
-  proportion to the angle swept about the centre (NIST's rule 2).
+* ELLIPSE_FEED (NISTIR 5970 §3.6.3) is not here: the writers call the planner's chords,
+  :func:`kernel.ellipse.ellipse_chords`, so a converted program and a planned one cut the
+  same lines.
 
 All functions are pure and work in the plane's (first, second) coordinates.
 """
@@ -18,8 +17,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-
-from kernel.diagnostics import Location
 
 CHECKS = 33  # sample points checked per fitted piece
 MARGIN = 0.5  # a piece is kept when its sampled deviation is within MARGIN * tolerance
@@ -184,28 +181,3 @@ def fit_curve(curve, u0: float, u1: float, tolerance: float, arcs: bool = True, 
         pieces.append(piece)
         worst = max(worst, dev)
     return pieces, worst
-
-
-def ellipse_chords(
-    start: tuple[float, float],
-    end: tuple[float, float],
-    centre: tuple[float, float],
-    major: float,
-    minor: float,
-    angle_deg: float,
-    rotation: int,
-    tolerance: float,
-    axial: float = 0.0,
-    location: Location | None = None,
-) -> tuple[list[tuple[float, float, float]], float]:
-    """Chord end points of an elliptical arc (helix: ``axial`` travel along the normal),
-    with the fraction of the axial travel done at each (NIST rule 2: the swept polar
-    angle), and the largest deviation found. The planner's chords
-    (:func:`kernel.ellipse.ellipse_chords`), so a converted program and a planned one cut
-    the same lines; ``major``/``minor`` are full axis lengths (NISTIR 5970 §3.6.3).
-    """
-    from kernel.ellipse import ellipse_chords as chords
-
-    ch = chords(start, end, centre, major, minor, angle_deg, rotation, axial, tolerance, location)
-    pts = list(zip(ch.first.tolist(), ch.second.tolist(), ch.axial_fraction.tolist(), strict=True))
-    return pts, ch.deviation

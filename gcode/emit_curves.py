@@ -15,6 +15,7 @@ from gcode import approximate
 from gcode.emit_handlers import arc, feed
 from gcode.emit_state import PLANE_AXES, clamped_uniform_knots
 from kernel import canon
+from kernel.ellipse import ellipse_chords
 
 if TYPE_CHECKING:
     from gcode.emit import BlockWriter
@@ -153,7 +154,7 @@ def ellipse(w: BlockWriter, c: canon.EllipseFeed) -> None:
     s = w.fmt.scale
     start = (w.written(first) / s, w.written(second) / s)
     z0 = w.written(normal) / s
-    pts, sag = approximate.ellipse_chords(
+    ch = ellipse_chords(
         start,
         (c.first_end, c.second_end),
         (c.first_axis, c.second_axis),
@@ -161,11 +162,11 @@ def ellipse(w: BlockWriter, c: canon.EllipseFeed) -> None:
         c.minor,
         c.angle_to_first,
         c.rotation,
-        w.o.tolerance / s,
         c.axis_end_point - z0,
+        w.o.tolerance / s,
         c.source,
     )
-    pts[-1] = (c.first_end, c.second_end, 1.0)
+    pts, sag = ch.plane_points(), ch.deviation
     a0 = (w.cur["A"], w.cur["B"], w.cur["C"])
     for p1, p2, f in pts:
         if f == 1.0:  # the last chord ends exactly on the programmed end point

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 from gcode.comp_keep import CompRegister
 from gcode.emit_state import PLANE_AXES
 from kernel import canon
+from kernel.arcsweep import first_turn, total_sweep
 
 if TYPE_CHECKING:
     from gcode.emit import BlockWriter
@@ -366,9 +367,7 @@ def arc(w: BlockWriter, c: canon.ArcFeed) -> None:
     turns = abs(c.rotation)
     a0 = math.atan2(start2 - cen2, start1 - cen1)
     a1 = math.atan2(end2 - cen2, end1 - cen1)
-    part = ((a1 - a0) if ccw else (a0 - a1)) % TWO_PI
-    if part < 1e-9:
-        part = TWO_PI
+    part = first_turn(a0, a1, ccw)
     if turns > 1 and w.d.turns_word is None:
         _expand_turns(w, c, turns, part)
         return
@@ -383,7 +382,7 @@ def _arc_block(w: BlockWriter, c: canon.ArcFeed, geo, ccw: bool, turns: int, par
     t = w.target(0, 0, 0, c.a, c.b, c.c)
     t[first], t[second], t[normal] = end1, end2, c.axis_end_point * s
     length = math.hypot(
-        math.hypot(start1 - cen1, start2 - cen2) * (part + TWO_PI * (turns - 1)),
+        math.hypot(start1 - cen1, start2 - cen2) * total_sweep(part, turns),
         t[normal] - w.written(normal),
     )
     end_words = w.axis_words(t)
@@ -471,7 +470,7 @@ def _expand_turns(w: BlockWriter, c: canon.ArcFeed, turns: int, part: float) -> 
         w.refuse("CONV-ARC-TURNS", f"{w.d.title} has no multi-turn arcs")
     first, second, normal, _, _ = PLANE_AXES[w.plane]
     s = w.fmt.scale
-    total = part + TWO_PI * (turns - 1)
+    total = total_sweep(part, turns)
     z0, z1 = w.written(normal) / s, c.axis_end_point
     start1, start2 = w.written(first) / s, w.written(second) / s
     ccw = c.rotation > 0

@@ -30,6 +30,7 @@ from gcode.state import (
 )
 from gcode.threading import threading_cycle
 from kernel import canon
+from kernel.arcsweep import arc_sweep
 from kernel.canon import Direction, Plane, Units
 from kernel.diagnostics import Diagnostic
 
@@ -267,17 +268,7 @@ def _arc_length(
     r = math.hypot(st[0] - centre[0], st[1] - centre[1])
     a0 = math.atan2(st[1] - centre[1], st[0] - centre[0])
     a1 = math.atan2(en[1] - centre[1], en[0] - centre[0])
-    if turn > 0:
-        sweep = a1 - a0
-        if sweep <= 1e-12:
-            sweep += 2 * math.pi
-        sweep += 2 * math.pi * (turn - 1)
-    else:
-        sweep = a0 - a1
-        if sweep <= 1e-12:
-            sweep += 2 * math.pi
-        sweep += 2 * math.pi * (-turn - 1)
-    return math.hypot(r * sweep, height)
+    return math.hypot(r * abs(arc_sweep(a0, a1, turn)), height)
 
 
 # --------------------------------------------------------------------------- G4

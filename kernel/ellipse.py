@@ -40,6 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kernel.arcsweep import arc_sweep
 from kernel.diagnostics import Diagnostic, Location
 
 CHECKS = 7  # interior check points per chord for the helical (axial) deviation
@@ -64,6 +65,18 @@ class EllipseChords:
     axial_fraction: np.ndarray
     length_fraction: np.ndarray
     deviation: float  # largest distance of the checked curve points from their chords
+
+    def plane_points(self) -> list[tuple[float, float, float]]:
+        """(first, second, axial fraction) of each chord end, as floats: what a writer
+        emits, the last exactly on the programmed end with all of the axial travel."""
+        return list(
+            zip(
+                self.first.tolist(),
+                self.second.tolist(),
+                self.axial_fraction.tolist(),
+                strict=True,
+            )
+        )
 
 
 def _polar_fraction(x: np.ndarray, y: np.ndarray, cf: float, cs: float) -> np.ndarray:
@@ -116,10 +129,7 @@ def ellipse_chords(
             )
     t0, t1 = math.atan2(y0 / b, x0 / a), math.atan2(y1 / b, x1 / a)
     sign = 1.0 if rotation > 0 else -1.0
-    sweep = (sign * (t1 - t0)) % (2 * math.pi)
-    if sweep <= 1e-12:
-        sweep = 2 * math.pi
-    sweep += 2 * math.pi * (abs(rotation) - 1)
+    sweep = abs(arc_sweep(t0, t1, rotation))
     r = max(a, b)
     step = 2 * math.acos(1 - tolerance / r) if tolerance < r else math.pi / 2
     n = max(2, math.ceil(sweep / step))

@@ -19,6 +19,7 @@ from itertools import islice
 import numpy as np
 
 from kernel import canon
+from kernel.arcsweep import arc_sweep
 from kernel.diagnostics import Diagnostic
 from kernel.machine import Machine
 from kernel.path import (
@@ -191,10 +192,7 @@ class PathBuilder:
             raise Diagnostic("PLAN-ARC", "arc with rotation 0", cmd.source)
         t0 = math.atan2(start[s] - cs, start[f] - cf)
         t1 = math.atan2(end[s] - cs, end[f] - cf)
-        d = ((t1 - t0) if cmd.rotation > 0 else (t0 - t1)) % (2 * math.pi)
-        if d <= 1e-12:
-            d = 2 * math.pi
-        sweep = math.copysign(d + 2 * math.pi * (abs(cmd.rotation) - 1), cmd.rotation)
+        sweep = arc_sweep(t0, t1, cmd.rotation)
         centre = np.zeros(3)
         centre[f], centre[s], centre[ax] = cf, cs, start[ax]
         normal = np.zeros(3)

@@ -183,7 +183,7 @@ class Executor:
         if tech.feedrate is not None:
             return float(tech.feedrate) * 60000.0  # m/s -> mm/min
         if tech.feedrate_per_tooth is not None:
-            teeth = tool.its_tool_body.number_of_teeth  # type: ignore[attr-defined]
+            teeth = tool.its_tool_body.number_of_teeth
             if not teeth:
                 raise self.error("STEPNC-NO-TEETH", "feed per tooth needs number_of_teeth", tool)
             return float(tech.feedrate_per_tooth) * int(teeth) * self.speed

@@ -69,15 +69,16 @@ class Frame:
         return math.atan2(self.x[1], self.x[0])
 
 
-def coords(point: object) -> Vec:
+def coords(point: Entity) -> Vec:
     """Coordinates of a CARTESIAN_POINT entity (missing ones are 0)."""
-    c = tuple(float(v) for v in point.coordinates)  # type: ignore[attr-defined]
-    return (c + (0.0, 0.0, 0.0))[:3]  # type: ignore[return-value]
+    c = (*(float(v) for v in point.coordinates), 0.0, 0.0, 0.0)
+    return (c[0], c[1], c[2])
 
 
-def direction(d: object) -> Vec:
-    r = tuple(float(v) for v in d.direction_ratios)  # type: ignore[attr-defined]
-    return _unit((r + (0.0, 0.0, 0.0))[:3])  # type: ignore[arg-type]
+def direction(d: Entity) -> Vec:
+    """Unit vector of a DIRECTION entity (missing ratios are 0)."""
+    r = (*(float(v) for v in d.direction_ratios), 0.0, 0.0, 0.0)
+    return _unit((r[0], r[1], r[2]))
 
 
 def frame_of(placement: object) -> Frame:

@@ -8,7 +8,8 @@ from __future__ import annotations
 from typing import Any
 
 from stepnc.model import Model
-from stepnc.volumes import Prism, feature_volumes, raw_block
+from stepnc.prisms import Prism, raw_block
+from stepnc.volumes import feature_volumes
 
 
 def _cq() -> Any:

@@ -19,9 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from kernel import canon
+from kernel.arcsweep import arc_sweep
 from stepnc.model import Model, tool_dimension
+from stepnc.prisms import Prism, raw_block
 from stepnc.toolpaths.drilling import tip_length
-from stepnc.volumes import Prism, feature_volumes, raw_block
+from stepnc.volumes import feature_volumes
 
 _DRILLS = frozenset({"TWIST_DRILL", "CENTER_DRILL", "COUNTERSINK", "TAP"})
 
@@ -46,13 +48,7 @@ def _samples(start: np.ndarray, cmd: canon.Command, step: float) -> np.ndarray:
     a1 = math.atan2(cmd.second_end - cy, cmd.first_end - cx)
     r0 = math.hypot(start[0] - cx, start[1] - cy)
     r1 = math.hypot(cmd.first_end - cx, cmd.second_end - cy)
-    turns = cmd.rotation
-    if turns > 0:
-        sweep = (a1 - a0) % (2 * math.pi) + 2 * math.pi * (turns - 1)
-    else:
-        sweep = -((a0 - a1) % (2 * math.pi)) - 2 * math.pi * (-turns - 1)
-    if abs(sweep) < 1e-12 and turns:
-        sweep = 2 * math.pi * math.copysign(1, turns)
+    sweep = arc_sweep(a0, a1, cmd.rotation)
     n = max(1, math.ceil(abs(sweep) * max(r0, r1) / step), math.ceil(abs(sweep) / 0.2))
     t = np.linspace(0.0, 1.0, n + 1)
     ang = a0 + sweep * t

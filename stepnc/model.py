@@ -14,6 +14,7 @@ than its hole; research/seed-book-stepnc.md §7.2 "good validation-rule tests").
 from __future__ import annotations
 
 from collections.abc import Iterator
+from typing import Any
 
 from kernel.diagnostics import Diagnostic, Location, Severity
 from stepnc import schema
@@ -40,7 +41,9 @@ class Entity:
     def is_a(self, *names: str) -> bool:
         return any(schema.accepts(n, self.inst.name) for n in names)
 
-    def __getattr__(self, name: str) -> object:
+    def __getattr__(self, name: str) -> Any:
+        """The schema attribute ``name``, resolved: an :class:`Entity`, a number, a string,
+        a bool, a tuple of these or None, as the file says (so its static type is Any)."""
         attrs = schema.ATTRS.get(self.inst.name or "")
         if attrs is not None:
             for i, a in enumerate(attrs):
@@ -256,15 +259,15 @@ def measure(e: object) -> float | None:
     """Theoretical size of a TOLERANCED_LENGTH_MEASURE (or a plain number)."""
     if isinstance(e, Entity):
         if e.type == "TOLERANCED_LENGTH_MEASURE":
-            return float(e.theoretical_size)  # type: ignore[arg-type]
+            return float(e.theoretical_size)
         if e.type == "NUMERIC_PARAMETER":
-            return float(e.its_parameter_value)  # type: ignore[arg-type]
+            return float(e.its_parameter_value)
         return None
     return float(e) if isinstance(e, (int, float)) else None
 
 
 def tool_dimension(tool: Entity) -> Entity:
-    return tool.its_tool_body.dimension  # type: ignore[attr-defined,return-value]
+    return tool.its_tool_body.dimension
 
 
 def _check_geometry(model: Model, sink: _Sink) -> None:
@@ -284,9 +287,9 @@ def _check_workingstep(ws: Entity, sink: _Sink) -> None:
     feature, op = ws.its_feature, ws.its_operation
     if not isinstance(feature, Entity) or not isinstance(op, Entity):
         return
-    dim = tool_dimension(op.its_tool)  # type: ignore[arg-type,attr-defined]
-    diameter = float(dim.diameter)  # type: ignore[attr-defined]
-    edge = dim.edge_radius  # type: ignore[attr-defined]
+    dim = tool_dimension(op.its_tool)
+    diameter = float(dim.diameter)
+    edge = dim.edge_radius
     loc = op.where(ws.id)
     if feature.type in ("CLOSED_POCKET", "OPEN_POCKET") and op.is_a(
         "BOTTOM_AND_SIDE_ROUGH_MILLING",
@@ -294,24 +297,24 @@ def _check_workingstep(ws: Entity, sink: _Sink) -> None:
         "SIDE_ROUGH_MILLING",
         "SIDE_FINISH_MILLING",
     ):
-        side = op.allowance_side or 0.0  # type: ignore[attr-defined]
-        corner = measure(feature.orthogonal_radius)  # type: ignore[attr-defined]
+        side = op.allowance_side or 0.0
+        corner = measure(feature.orthogonal_radius)
         if corner is not None and diameter / 2 > corner - side + 1e-9:
             sink.add(
                 "STEPNC-TOOL-CORNER",
-                f"tool {op.its_tool.its_id!r} of radius "  # type: ignore[attr-defined]
-                f"{diameter / 2:g} cannot reach the corners of {feature.its_id!r} "  # type: ignore[attr-defined]
+                f"tool {op.its_tool.its_id!r} of radius "
+                f"{diameter / 2:g} cannot reach the corners of {feature.its_id!r} "
                 f"(corner radius {corner:g} minus side allowance {side:g})",
                 loc,
             )
-        fillet = measure(feature.planar_radius)  # type: ignore[attr-defined]
-        if fillet and edge and fillet < float(edge):  # type: ignore[arg-type]
+        fillet = measure(feature.planar_radius)
+        if fillet and edge and fillet < float(edge):
             sink.add(
                 "STEPNC-FILLET-EDGE",
                 f"bottom fillet radius {fillet:g} of "
                 f"{feature.its_id!r} is below the tool edge radius {edge:g}",
                 loc,
-            )  # type: ignore[attr-defined]
+            )
         boundary = getattr(feature, "feature_boundary", None)
         if isinstance(boundary, Entity) and boundary.type == "RECTANGULAR_CLOSED_PROFILE":
             width = measure(boundary.profile_width) or 0.0
@@ -340,26 +343,26 @@ def _check_workingstep(ws: Entity, sink: _Sink) -> None:
             "SIDE_FINISH_MILLING",
         )
     ):
-        side = op.allowance_side or 0.0  # type: ignore[attr-defined]
-        width = measure(shape.width) or 0.0  # type: ignore[attr-defined]
+        side = op.allowance_side or 0.0
+        width = measure(shape.width) or 0.0
         if diameter > width - 2 * side + 1e-9:
             sink.add(
                 "STEPNC-TOOL-WIDTH",
-                f"tool diameter {diameter:g} does not fit slot {feature.its_id!r} of width "  # type: ignore[attr-defined]
+                f"tool diameter {diameter:g} does not fit slot {feature.its_id!r} of width "
                 f"{width:g} minus side allowances {side:g}",
                 loc,
             )
     if feature.type == "ROUND_HOLE" and op.is_a(
         "DRILLING", "REAMING", "BORING", "MULTISTEP_DRILLING", "TAPPING"
     ):
-        hole = measure(feature.diameter)  # type: ignore[attr-defined]
+        hole = measure(feature.diameter)
         if hole is not None and diameter > hole + 1e-9:
             sink.add(
                 "STEPNC-TOOL-HOLE",
                 f"tool diameter {diameter:g} is larger than the "
                 f"hole diameter {hole:g} of {feature.its_id!r}",
                 loc,
-            )  # type: ignore[attr-defined]
+            )
 
 
 def load(path: str, diagnostics: list[Diagnostic] | None = None) -> Model:

@@ -81,8 +81,6 @@ class Instance:
             other.params,
         )
 
-    __hash__ = None  # type: ignore[assignment]
-
 
 @dataclass
 class Part21File:

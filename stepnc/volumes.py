@@ -1,4 +1,5 @@
-"""Analytic shapes of the raw workpiece and of the material each feature removes.
+"""Analytic shapes of the material each feature removes (the raw workpiece's block and the
+:class:`~stepnc.prisms.Prism` they are made of are in :mod:`stepnc.prisms`).
 
 Shapes are prisms in a feature frame: a rounded rectangle, a circle or a plain rectangle in
 the frame's XY plane, extruded from ``z_top`` down to ``z_bottom`` (feature coordinates).
@@ -14,103 +15,17 @@ OPEN_POCKET are unions of prisms (:func:`feature_prisms`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
-import numpy as np
-
 from kernel.diagnostics import Diagnostic
 from stepnc.frames import Frame, coords, frame_of
 from stepnc.model import Entity, Model, measure
+from stepnc.prisms import Prism
 from stepnc.schema import GROUPS
+from stepnc.toolpaths.facing import face_size
+from stepnc.toolpaths.open_pocket import open_pocket_shape
+from stepnc.toolpaths.slot import slot_shape
+from stepnc.toolpaths.step import step_shape
 
 THROUGH = 1.0e4  # extrusion depth standing for "through the workpiece" (mm)
-
-
-@dataclass(frozen=True)
-class Prism:
-    """``kind`` 'rect' (x0, y0, x1, y1, corner radius) or 'circle' (cx, cy, r)."""
-
-    frame: Frame
-    kind: str
-    dims: tuple[float, ...]
-    z_top: float
-    z_bottom: float
-    name: str = ""
-
-    def contains(self, pts: np.ndarray, tol: float = 0.0) -> np.ndarray:
-        """Which of the (n, 3) setup-coordinate points lie inside (grown by ``tol``)."""
-        f = self.frame
-        rel = pts - np.asarray(f.origin)
-        basis = np.array([f.x, f.y, f.z])
-        local = rel @ basis.T
-        x, y, z = local[:, 0], local[:, 1], local[:, 2]
-        inside_z = (z <= self.z_top + tol) & (z >= self.z_bottom - tol)
-        if self.kind == "circle":
-            cx, cy, r = self.dims
-            return inside_z & ((x - cx) ** 2 + (y - cy) ** 2 <= (r + tol) ** 2)
-        if self.kind == "poly":
-            return inside_z & _in_polygon(x, y, self.vertices(), tol)
-        x0, y0, x1, y1, rad = self.dims
-        # rounded rectangle: distance to the inner rectangle shrunk by the corner radius
-        qx = np.maximum(np.maximum(x0 + rad - x, x - (x1 - rad)), 0.0)
-        qy = np.maximum(np.maximum(y0 + rad - y, y - (y1 - rad)), 0.0)
-        inside_xy = (x >= x0 - tol) & (x <= x1 + tol) & (y >= y0 - tol) & (y <= y1 + tol)
-        return inside_z & inside_xy & (qx * qx + qy * qy <= (rad + tol) ** 2)
-
-    def vertices(self) -> np.ndarray:
-        """Polygon corners (n, 2) of a 'poly' prism, in the feature frame."""
-        return np.asarray(self.dims, dtype=float).reshape(-1, 2)
-
-    def volume(self) -> float:
-        h = self.z_top - self.z_bottom
-        if self.kind == "circle":
-            return float(np.pi * self.dims[2] ** 2 * h)
-        if self.kind == "poly":
-            v = self.vertices()
-            area = 0.5 * abs(
-                np.dot(v[:, 0], np.roll(v[:, 1], -1)) - np.dot(v[:, 1], np.roll(v[:, 0], -1))
-            )
-            return float(area * h)
-        x0, y0, x1, y1, r = self.dims
-        return ((x1 - x0) * (y1 - y0) - (4.0 - np.pi) * r * r) * h
-
-
-def _in_polygon(x: np.ndarray, y: np.ndarray, v: np.ndarray, tol: float) -> np.ndarray:
-    """Even-odd rule, plus points within ``tol`` of an edge (vectorised over points)."""
-    inside = np.zeros(x.shape, dtype=bool)
-    near = np.zeros(x.shape, dtype=bool)
-    for (x0, y0), (x1, y1) in zip(v, np.roll(v, -1, axis=0), strict=True):
-        crosses = (y0 > y) != (y1 > y)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            xc = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
-        inside ^= crosses & (x < xc)
-        dx, dy = x1 - x0, y1 - y0
-        t = np.clip(((x - x0) * dx + (y - y0) * dy) / max(dx * dx + dy * dy, 1e-300), 0, 1)
-        near |= (x - x0 - t * dx) ** 2 + (y - y0 - t * dy) ** 2 <= tol * tol
-    return inside | near
-
-
-def raw_block(model: Model, default: tuple[float, ...] | None = None) -> Prism:
-    """The raw workpiece: the BLOCK of the workpiece (or its raw piece), else ``default``
-    as ``(x0, y0, z0, x1, y1, z1)`` in setup coordinates."""
-    for wp in model.all("WORKPIECE"):
-        for cand in (wp, wp.its_rawpiece):
-            if isinstance(cand, Entity) and isinstance(cand.its_bounding_geometry, Entity):
-                b = cand.its_bounding_geometry
-                fr = frame_of(b.position)
-                return Prism(
-                    fr, "rect", (0.0, 0.0, float(b.x), float(b.y), 0.0), float(b.z), 0.0, "raw"
-                )
-    if default is None:
-        raise Diagnostic(
-            "STEPNC-NO-RAWPIECE",
-            "the workpiece has no bounding BLOCK; give the raw block explicitly",
-            model.project().where(),
-        )
-    x0, y0, z0, x1, y1, z1 = default
-    return Prism(
-        Frame((x0, y0, z0)), "rect", (0.0, 0.0, x1 - x0, y1 - y0, 0.0), z1 - z0, 0.0, "raw"
-    )
 
 
 def workpiece_frame(model: Model) -> Frame:
@@ -130,8 +45,6 @@ def feature_volume(feature: Entity, wp: Frame) -> Prism | None:
         coords(feature.depth.position.location)[2] if isinstance(feature.depth, Entity) else None
     )
     if t == "PLANAR_FACE":
-        from stepnc.toolpaths.facing import face_size
-
         length, width, depth = face_size(feature)
         return Prism(frame, "rect", (0.0, 0.0, length, width, 0.0), 0.0, -depth, feature.its_id)
     if t == "CLOSED_POCKET":
@@ -180,8 +93,6 @@ def feature_prisms(feature: Entity, wp: Frame) -> list[Prism]:
     extends from its back wall through its open side (conventions in
     :mod:`stepnc.toolpaths.slot`, :mod:`~stepnc.toolpaths.step`, :mod:`~.open_pocket`)."""
     if feature.type == "SLOT":
-        from stepnc.toolpaths.slot import slot_shape
-
         s = slot_shape(feature)
         frame = wp.compose(frame_of(feature.feature_placement)).compose(s.frame)
         w, name = s.width / 2, feature.its_id
@@ -191,15 +102,11 @@ def feature_prisms(feature: Entity, wp: Frame) -> list[Prism]:
                 out.append(Prism(frame, "circle", (u, 0.0, w), 0.0, -s.depth, name))
         return out
     if feature.type == "STEP":
-        from stepnc.toolpaths.step import step_shape
-
         length, depth, path = step_shape(feature)
         frame = wp.compose(frame_of(feature.feature_placement)).compose(path)
         dims = (0.0, -THROUGH, length, 0.0, 0.0)
         return [Prism(frame, "rect", dims, 0.0, -depth, feature.its_id)]
     if feature.type == "OPEN_POCKET":
-        from stepnc.toolpaths.open_pocket import open_pocket_shape
-
         length, width, depth, corner, shape = open_pocket_shape(feature)
         frame = wp.compose(frame_of(feature.feature_placement)).compose(shape)
         dims = (-THROUGH, -width / 2, length, width / 2, corner)  # open side: beyond the part

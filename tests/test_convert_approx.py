@@ -17,6 +17,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from gcode import approximate as ap
+from kernel.ellipse import ellipse_chords
 
 
 def _distance_to_pieces(points: np.ndarray, start: tuple[float, float], pieces) -> np.ndarray:  # noqa: ANN001
@@ -108,7 +109,8 @@ def test_basis_is_a_partition_of_unity(order, extra, data):  # noqa: ANN001
 
 def test_ellipse_chords_of_a_circle_meet_the_sagitta_formula():
     # half circle of radius 10, tolerance 0.01: chord angle 2 acos(1 - tol / r)
-    pts, sag = ap.ellipse_chords((10, 0), (-10, 0), (0, 0), 20, 20, 0, 1, 0.01)
+    ch = ellipse_chords((10, 0), (-10, 0), (0, 0), 20, 20, 0, 1, 0.0, 0.01)
+    pts, sag = ch.plane_points(), ch.deviation
     step = 2 * math.acos(1 - 0.01 / 10)
     assert len(pts) == math.ceil(math.pi / step)
     assert sag <= 0.01 and math.isclose(sag, 10 * (1 - math.cos(math.pi / len(pts) / 2)))
@@ -117,6 +119,6 @@ def test_ellipse_chords_of_a_circle_meet_the_sagitta_formula():
 
 def test_ellipse_helix_fraction_follows_the_polar_angle():
     # NIST rule 2: the axis travel follows the angle about the centre, not the arc length
-    pts, _ = ap.ellipse_chords((20, 0), (0, 5), (0, 0), 40, 10, 0, 1, 0.05)
+    pts = ellipse_chords((20, 0), (0, 5), (0, 0), 40, 10, 0, 1, 0.0, 0.05).plane_points()
     for x, y, frac in pts:
         assert math.isclose(frac, math.atan2(y, x) / (math.pi / 2), abs_tol=1e-9)

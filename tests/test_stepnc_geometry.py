@@ -9,7 +9,8 @@ import pytest
 
 from stepnc import geometry
 from stepnc.model import load
-from stepnc.volumes import feature_volumes, raw_block
+from stepnc.prisms import raw_block
+from stepnc.volumes import feature_volumes
 from tests.data_paths import CORPUS_STEPNC
 
 HERE = Path(__file__).resolve().parent

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import json
 
-from cli.formats import CheckReport
+from cli.formats.base import CheckReport
 from kernel.diagnostics import Severity
 
 SCHEMA = "cnc-check-report"

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
-from cli.formats import CheckReport
+from cli.formats.base import CheckReport
 from kernel.diagnostics import Severity
 
 

@@ -34,6 +34,7 @@ from gcode.emit_state import PLANE_AXES, Formatter, clamped_uniform_knots
 from gcode.fastlane import FEED_MOVE, SET_FEED, Run
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ellipse import ellipse_chords
 
 DIALECT = Dialect(
     name="sandia",
@@ -525,11 +526,10 @@ class SandiaWriter:
             return
         major, minor, angle = c.major, c.minor, c.angle_to_first
         axial = c.axis_end_point - self.cur[normal] / s
-        pts, dev = approximate.ellipse_chords(
-            start, end, centre, major, minor, angle, c.rotation, tol, axial, c.source
+        ch = ellipse_chords(
+            start, end, centre, major, minor, angle, c.rotation, axial, tol, c.source
         )
-        pts[-1] = (*end, 1.0)
-        self.chords(c, pts, c.axis_end_point, c.NAME, dev)
+        self.chords(c, ch.plane_points(), c.axis_end_point, c.NAME, ch.deviation)
 
     def nurbs(self, c: canon.NurbsFeed) -> None:
         from gcode.emit_curves import nurbs_problem

@@ -4,7 +4,7 @@ The generic language has no arcs (seed 003 Figure 3; research/seed-sandia-full.m
 each ``ARC_FEED`` becomes chords: ``n = ceil(sweep / step)`` equal angular steps with
 ``step = 2 acos(1 - tol / r)``, the largest angle whose sagitta ``r (1 - cos(step / 2))``
 is the tolerance (at least two chords; the helix axis moves with the swept angle, NISTIR
-5970 §3.6.1). The same chords as :func:`gcode.approximate.ellipse_chords` gives for a
+5970 §3.6.1). The same chords as :func:`kernel.ellipse.ellipse_chords` gives for a
 circle, computed in closed form with numpy for a whole queue of moves
 (gcode.dialects.sandia.SandiaWriter.flush_moves), and formatted at once: one ``%``
 operation and one regular expression for all of their numbers instead of a call per
@@ -23,6 +23,7 @@ from operator import eq
 import numpy as np
 
 from kernel import canon
+from kernel.arcsweep import arc_sweeps
 
 
 @functools.cache
@@ -146,8 +147,7 @@ def batch_points(
     a0 = np.arctan2(ds, df)
     sign = np.where(rotation > 0, 1.0, -1.0)
     a1 = np.arctan2(arc_end[:, i2] - centre[:, 1], arc_end[:, i1] - centre[:, 0])
-    sweep = (sign * (a1 - a0)) % (2 * math.pi)
-    sweep = np.where(sweep <= 1e-12, 2 * math.pi, sweep) + 2 * math.pi * (np.abs(rotation) - 1)
+    sweep = np.abs(arc_sweeps(a0, a1, rotation))
     with np.errstate(divide="ignore", invalid="ignore"):
         step = np.where(tol < r, 2 * np.arccos(np.maximum(-1.0, 1 - tol / r)), math.pi / 2)
     n = np.maximum(2, np.ceil(sweep / step)).astype(np.int64)

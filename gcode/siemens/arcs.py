@@ -22,6 +22,7 @@ from gcode.arcs import (
     ZERO_RADIUS_INCH,
     ZERO_RADIUS_MM,
 )
+from kernel.arcsweep import arc_sweep
 from kernel.diagnostics import Diagnostic, Location
 
 Point = tuple[float, float]
@@ -102,7 +103,4 @@ def sweep(start: Point, end: Point, centre: Point, turns: int) -> float:
     """Angle swept (radians, positive) by an arc of ``turns`` signed turns (helix length)."""
     a0 = math.atan2(start[1] - centre[1], start[0] - centre[0])
     a1 = math.atan2(end[1] - centre[1], end[0] - centre[0])
-    part = (a1 - a0) if turns > 0 else (a0 - a1)
-    if part <= 1e-12:
-        part += 2 * math.pi
-    return part + 2 * math.pi * (abs(turns) - 1)
+    return abs(arc_sweep(a0, a1, turns))

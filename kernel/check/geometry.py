@@ -12,6 +12,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 
 from kernel import canon
+from kernel.arcsweep import arc_sweep
 from kernel.check.state import PLANE_AXES, CheckState, Vec6
 
 TWO_PI = 2.0 * math.pi
@@ -66,16 +67,7 @@ def arc_of(st: CheckState, cmd: canon.ArcFeed) -> Arc:
     r1 = math.hypot(end[i1] - c1, end[i2] - c2)
     t0 = math.atan2(start[i2] - c2, start[i1] - c1)
     t1 = math.atan2(end[i2] - c2, end[i1] - c1)
-    turns = abs(cmd.rotation)
-    if turns == 0:
-        sweep = 0.0
-    else:
-        base = (t1 - t0) % TWO_PI if cmd.rotation > 0 else (t0 - t1) % TWO_PI
-        if base < 1e-12:
-            base = TWO_PI
-        base += (turns - 1) * TWO_PI
-        sweep = base if cmd.rotation > 0 else -base
-    return Arc(start, end, (c1, c2), r0, r1, t0, sweep, axes)
+    return Arc(start, end, (c1, c2), r0, r1, t0, arc_sweep(t0, t1, cmd.rotation), axes)
 
 
 def arc_extremes(arc: Arc, turned: float = 0.0) -> Iterator[Vec6]:

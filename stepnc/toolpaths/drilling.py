@@ -32,12 +32,12 @@ def tip_length(tool: Entity) -> float:
     return h1 + arm * math.cos(math.radians(b))
 
 
-def _ratio(v: object) -> float | None:
+def _ratio(v: float | None) -> float | None:
     """positive_ratio_measure; values above 1 are read as percent (ISO 14649-11 Example 1
     writes 75.0 where NIST reads 0.75, research/seed-book-stepnc.md §7.2)."""
     if v is None:
         return None
-    f = float(v)  # type: ignore[arg-type]
+    f = float(v)
     return f / 100.0 if f > 1.0 else f
 
 

@@ -21,10 +21,10 @@ def face_size(face: Entity) -> tuple[float, float, float]:
     from stepnc.model import measure
 
     travel = face.course_of_travel
-    distance = measure(travel.distance)  # type: ignore[attr-defined]
-    along = direction(travel.its_direction)  # type: ignore[attr-defined]
-    across = measure(face.removal_boundary.profile_length)  # type: ignore[attr-defined]
-    depth = -float(face.depth.position.location.coordinates[2])  # type: ignore[attr-defined]
+    distance = measure(travel.distance)
+    along = direction(travel.its_direction)
+    across = measure(face.removal_boundary.profile_length)
+    depth = -float(face.depth.position.location.coordinates[2])
     if distance is None or across is None:
         raise Diagnostic(
             "STEPNC-FACE",

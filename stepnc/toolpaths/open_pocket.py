@@ -32,19 +32,19 @@ def open_pocket_shape(pocket: Entity) -> tuple[float, float, float, float, Frame
     """(length into the pocket, width, depth, corner radius, pocket frame in feature
     coordinates) of a rectangular open pocket."""
     boundary = pocket.open_boundary
-    curve = boundary.its_profile if boundary.type == "GENERAL_PROFILE" else None  # type: ignore[attr-defined]
+    curve = boundary.its_profile if boundary.type == "GENERAL_PROFILE" else None
     if not isinstance(curve, Entity) or curve.type != "POLYLINE":
         raise Diagnostic(
             "STEPNC-UNSUPPORTED",
             "open pocket milling supports a GENERAL_PROFILE polyline open boundary",
             pocket.where(),
         )
-    if pocket.bottom_condition.type != "PLANAR_POCKET_BOTTOM_CONDITION":  # type: ignore[attr-defined]
+    if pocket.bottom_condition.type != "PLANAR_POCKET_BOTTOM_CONDITION":
         raise Diagnostic(
             "STEPNC-UNSUPPORTED", "open pocket milling supports planar bottoms", pocket.where()
         )
-    placed = frame_of(boundary.placement)  # type: ignore[attr-defined]
-    pts = [placed.point(coords(p)) for p in curve.points]  # type: ignore[attr-defined]
+    placed = frame_of(boundary.placement)
+    pts = [placed.point(coords(p)) for p in curve.points]
     bad = len(pts) != 4 or any(abs(p[2] - pts[0][2]) > TINY for p in pts)
     if not bad:
         sides = [(b[0] - a[0], b[1] - a[1]) for a, b in zip(pts, pts[1:], strict=False)]
@@ -65,7 +65,7 @@ def open_pocket_shape(pocket: Entity) -> tuple[float, float, float, float, Frame
     length, width = lengths[0], lengths[1]
     x = (sides[0][0] / length, sides[0][1] / length, 0.0)
     mid = ((pts[0][0] + pts[3][0]) / 2, (pts[0][1] + pts[3][1]) / 2, pts[0][2])
-    depth = -float(pocket.depth.position.location.coordinates[2])  # type: ignore[attr-defined]
+    depth = -float(pocket.depth.position.location.coordinates[2])
     corner = measure(pocket.orthogonal_radius) or 0.0
     if depth <= TINY or corner > min(width / 2.0, length) + TINY:
         raise Diagnostic(

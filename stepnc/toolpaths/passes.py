@@ -23,7 +23,7 @@ class Passes:
 def _opt(op: Entity, name: str) -> float | None:
     """An optional real attribute; side milling has no ``allowance_bottom``."""
     value = getattr(op, name, None)
-    return None if value is None else float(value)  # type: ignore[arg-type]
+    return None if value is None else float(value)
 
 
 def passes_of(op: Entity, depth: float) -> Passes:
@@ -35,7 +35,7 @@ def passes_of(op: Entity, depth: float) -> Passes:
     defaults to D/2 (as the pocket generator). The radial depth defaults to D/2 (overlap
     0.5) and is capped at D. Layers are equal, no deeper than the axial depth."""
     dim = tool_dimension(op.its_tool)
-    diameter = float(dim.diameter)  # type: ignore[arg-type]
+    diameter = float(dim.diameter)
     finish = op.type.endswith("FINISH_MILLING")
     side_milling = op.type.startswith("SIDE_")
     side = _opt(op, "allowance_side")
@@ -44,8 +44,8 @@ def passes_of(op: Entity, depth: float) -> Passes:
     bottom = (0.0 if finish else ALLOW) if bottom is None else bottom
     axial = _opt(op, "axial_cutting_depth")
     if axial is None:
-        edge = dim.cutting_edge_length  # type: ignore[attr-defined]
-        axial = float(edge) if side_milling and edge is not None else diameter / 2.0  # type: ignore[arg-type]
+        edge = dim.cutting_edge_length
+        axial = float(edge) if side_milling and edge is not None else diameter / 2.0
     radial = _opt(op, "radial_cutting_depth")
     # a radial depth above the diameter would leave ribs between strokes: capped at D
     stepover = diameter / 2.0 if radial is None else min(radial, diameter)

@@ -27,17 +27,17 @@ def pocket_shape(ex, pocket: Entity) -> tuple[float, float, float, float, Frame]
     four right-angled corners, as in ISO 14649-11 Example 1) or a circle. The profile frame
     puts the rectangle's centre at its origin with its long side along X."""
     boundary = pocket.feature_boundary
-    depth = -float(pocket.depth.position.location.coordinates[2])  # type: ignore[attr-defined]
+    depth = -float(pocket.depth.position.location.coordinates[2])
     frame = Frame()
     radius = measure(pocket.orthogonal_radius) if pocket.orthogonal_radius else 0.0
-    if boundary.type == "RECTANGULAR_CLOSED_PROFILE":  # type: ignore[attr-defined]
-        width = measure(boundary.profile_width)  # type: ignore[attr-defined]
-        length = measure(boundary.profile_length)  # type: ignore[attr-defined]
-        frame = frame_of(boundary.placement)  # type: ignore[attr-defined]
-    elif boundary.type == "CIRCULAR_CLOSED_PROFILE":  # type: ignore[attr-defined]
-        width = length = measure(boundary.diameter)  # type: ignore[attr-defined]
+    if boundary.type == "RECTANGULAR_CLOSED_PROFILE":
+        width = measure(boundary.profile_width)
+        length = measure(boundary.profile_length)
+        frame = frame_of(boundary.placement)
+    elif boundary.type == "CIRCULAR_CLOSED_PROFILE":
+        width = length = measure(boundary.diameter)
         radius = width / 2.0 if width else 0.0
-        frame = frame_of(boundary.placement)  # type: ignore[attr-defined]
+        frame = frame_of(boundary.placement)
     else:
         rect = _polyline_rectangle(boundary)
         if rect is None:

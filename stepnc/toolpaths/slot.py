@@ -78,7 +78,7 @@ def slot_shape(slot: Entity) -> SlotShape:
         )
     length, frame = linear_path_frame(travel, slot)
     width = measure(shape.width)
-    depth = -float(slot.depth.position.location.coordinates[2])  # type: ignore[attr-defined]
+    depth = -float(slot.depth.position.location.coordinates[2])
     ends = [e.type if isinstance(e, Entity) else "" for e in (slot.end_conditions or ())]
     if len(ends) > 2 or any(t not in END_TYPES for t in ends):
         raise Diagnostic(

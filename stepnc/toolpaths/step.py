@@ -26,6 +26,7 @@ from kernel.diagnostics import Diagnostic
 from stepnc.executor import TINY
 from stepnc.frames import Frame
 from stepnc.model import Entity
+from stepnc.prisms import raw_block
 from stepnc.toolpaths.code import Code, place
 from stepnc.toolpaths.passes import passes_of
 from stepnc.toolpaths.slot import OVERRUN, linear_path_frame
@@ -40,7 +41,7 @@ def step_shape(step: Entity) -> tuple[float, float, Frame]:
             step.where(),
         )
     length, frame = linear_path_frame(step.open_boundary, step)
-    depth = -float(step.depth.position.location.coordinates[2])  # type: ignore[attr-defined]
+    depth = -float(step.depth.position.location.coordinates[2])
     if depth <= TINY:
         raise Diagnostic("STEPNC-STEP", "a step needs a depth plane below its top", step.where())
     return length, depth, frame
@@ -48,8 +49,6 @@ def step_shape(step: Entity) -> tuple[float, float, Frame]:
 
 def _reach(frame: Frame, step: Entity) -> float:
     """How far the raw block extends on the removal side of the wall (setup frame)."""
-    from stepnc.volumes import raw_block
-
     block = raw_block(step.model)
     x0, y0, x1, y1, _ = block.dims
     corners = [block.frame.point((x, y, 0.0)) for x in (x0, x1) for y in (y0, y1)]
