@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kernel import canon
 from kernel.diagnostics import Location
 
 CHECKS = 33  # sample points checked per fitted piece
@@ -209,3 +210,17 @@ def ellipse_chords(
     ch = chords(start, end, centre, major, minor, angle_deg, rotation, axial, tolerance, location)
     pts = list(zip(ch.first.tolist(), ch.second.tolist(), ch.axial_fraction.tolist(), strict=True))
     return pts, ch.deviation
+
+
+def nurbs_problem(c: canon.NurbsFeed) -> str | None:
+    """Why a NURBS_FEED cannot be written at all, or None.
+
+    LinuxCNC prints ``NURBS_FEED(n, ...)`` without its data; kernel.canon reads that as an
+    order-0 curve of NaN points.
+    """
+    pts = np.array(c.points, dtype=float).reshape(-1, 3)
+    if c.order < 2 or len(pts) < c.order or not np.all(np.isfinite(pts)):
+        return "NURBS_FEED without usable control points (LinuxCNC prints none)"
+    if np.any(pts[:, 2] <= 0):
+        return "NURBS_FEED with a weight that is not positive"
+    return None

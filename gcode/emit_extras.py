@@ -7,16 +7,13 @@ the offset rotation, nine-value tool offsets, tool-table edits, M61, G33.1 and M
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
+from gcode.emit_context import WriterContext
 from gcode.emit_handlers import comp_active, ignore, tool_length
 from kernel import canon
 
-if TYPE_CHECKING:
-    from gcode.emit import BlockWriter
 
-
-def _axis_list(w: BlockWriter, values: tuple[float, ...], scale: bool = True) -> str:
+def _axis_list(w: WriterContext, values: tuple[float, ...], scale: bool = True) -> str:
     s = w.fmt.scale if scale else 1.0
     words = []
     for k, v in zip("XYZABC", values, strict=False):
@@ -25,7 +22,7 @@ def _axis_list(w: BlockWriter, values: tuple[float, ...], scale: bool = True) ->
     return w.d.separator.join(words)
 
 
-def work_offset(w: BlockWriter, c: canon.Command) -> None:
+def work_offset(w: WriterContext, c: canon.Command) -> None:
     """SET_G5X_OFFSET: select the work offset; its values stay in the machine's table."""
     index = int(c.index)  # type: ignore[attr-defined]
     if index == w.e_work:
@@ -41,7 +38,7 @@ def work_offset(w: BlockWriter, c: canon.Command) -> None:
     w.block(w.d.work_offsets[index - 1])
 
 
-def local_offset(w: BlockWriter, c: canon.Command) -> None:
+def local_offset(w: WriterContext, c: canon.Command) -> None:
     """SET_G92_OFFSET: the G92 offset by value, written as G52 (same effect, no position)."""
     values = tuple(getattr(c, k) for k in "xyzabc")
     if all(abs(a - b) < 1e-12 for a, b in zip(values, w.e_local, strict=True)):
@@ -60,7 +57,7 @@ def local_offset(w: BlockWriter, c: canon.Command) -> None:
     w.block(w.d.local_offset.format(axes=axes))
 
 
-def _frame(w: BlockWriter) -> None:
+def _frame(w: WriterContext) -> None:
     """Rotation and offset as one frame (Siemens: ``ROT Z a`` then ``ATRANS`` the offset
     in the rotated system, so a point p is at R (p + offset) as after LinuxCNC's G92 and
     G10 L2 R; ``TRANS`` alone without rotation)."""
@@ -82,7 +79,7 @@ def _frame(w: BlockWriter) -> None:
         w.block(text)
 
 
-def xy_rotation(w: BlockWriter, c: canon.Command) -> None:
+def xy_rotation(w: WriterContext, c: canon.Command) -> None:
     """SET_XY_ROTATION: the work offset's rotation (LinuxCNC G10 L2 R, Fanuc G68)."""
     angle = float(c.angle)  # type: ignore[attr-defined]
     if abs(angle - w.e_rotation) < 1e-12:
@@ -103,7 +100,7 @@ def xy_rotation(w: BlockWriter, c: canon.Command) -> None:
     w.block(on.format(index=w.e_work, angle=w.fmt.angle(angle)))
 
 
-def tool_offsets(w: BlockWriter, c: canon.Command) -> None:
+def tool_offsets(w: WriterContext, c: canon.Command) -> None:
     """LinuxCNC's nine-value tool length offset: G43.1 with the non-zero axes."""
     off = tuple(c.offset)  # type: ignore[attr-defined]
     if w.d.tool_length == "G43.1 Z{length}" and any(abs(v) > 1e-12 for v in off[:6]):
@@ -114,7 +111,7 @@ def tool_offsets(w: BlockWriter, c: canon.Command) -> None:
     tool_length(w, canon.UseToolLengthOffset(off[2], source=c.source))
 
 
-def tool_table(w: BlockWriter, c: canon.Command) -> None:
+def tool_table(w: WriterContext, c: canon.Command) -> None:
     """SET_TOOL_TABLE_ENTRY as G10 L1. Its values are in the tool table's units, inches
     (LinuxCNC's ``rs274`` and gcode.interpreter), whatever the program's units: they are
     written in the program's, after the units word."""
@@ -134,7 +131,7 @@ def tool_table(w: BlockWriter, c: canon.Command) -> None:
     )
 
 
-def tool_number(w: BlockWriter, c: canon.Command) -> None:
+def tool_number(w: WriterContext, c: canon.Command) -> None:
     if w.d.tool_number is None:
         w.lacking("CONV-TOOL-CHANGE", "tool number setting (M61)")
         return
@@ -143,7 +140,7 @@ def tool_number(w: BlockWriter, c: canon.Command) -> None:
     w.block(w.d.tool_number.format(tool=w.tool))
 
 
-def rigid_tap(w: BlockWriter, c: canon.Command) -> None:
+def rigid_tap(w: WriterContext, c: canon.Command) -> None:
     w.flush()
     if w.d.rigid_tap is None or w.sync is None:
         w.refuse("CONV-THREAD", f"{w.d.title} has no rigid tapping cycle (G33.1)")
@@ -154,7 +151,7 @@ def rigid_tap(w: BlockWriter, c: canon.Command) -> None:
     w.invalidate()
 
 
-def output(w: BlockWriter, c: canon.Command) -> None:
+def output(w: WriterContext, c: canon.Command) -> None:
     if not w.d.io_codes:
         w.lacking("CONV-UNSUPPORTED", "digital/analog output codes (M62-M68)")
         return

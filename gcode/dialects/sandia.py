@@ -21,6 +21,7 @@ from collections.abc import Iterable, Iterator
 import numpy as np
 
 from gcode import approximate, fastlane
+from gcode.approximate import nurbs_problem
 from gcode.convert_report import Change, ConversionReport
 from gcode.dialects.sandia_chords import (
     batch_points,
@@ -30,6 +31,7 @@ from gcode.dialects.sandia_chords import (
 )
 from gcode.dialects.spec import Dialect
 from gcode.emit_bulk import COMMANDS_BEFORE_BULK
+from gcode.emit_options import WriterOptions
 from gcode.emit_state import PLANE_AXES, Formatter, clamped_uniform_knots
 from gcode.fastlane import FEED_MOVE, SET_FEED, Run
 from kernel import canon
@@ -82,10 +84,10 @@ _DEFAULTS: dict[str, object] = {
 class SandiaWriter:
     """IR -> generic command lines (streaming)."""
 
-    def __init__(self, d: Dialect, opts: object, report: ConversionReport) -> None:
+    def __init__(self, d: Dialect, opts: WriterOptions, report: ConversionReport) -> None:
         self.d, self.o, self.report = d, opts, report
         report.target_dialect = report.target_dialect or d.name
-        self.fmt = Formatter(d, opts)  # type: ignore[arg-type]
+        self.fmt = Formatter(d, opts)
         self.out: list[str] = []
         self.src: Location | None = None
         self.units: canon.Units | None = None
@@ -116,8 +118,8 @@ class SandiaWriter:
         """The program as text chunks of whole lines ending with newlines (``lines``: as
         lists of lines): the chords of a run of moves are joined once, not yielded one
         by one (the Sandia output is about ten times as long as its G-code source)."""
-        head = self.d.header if self.o.header is None else self.o.header  # type: ignore[attr-defined]
-        foot = self.d.footer if self.o.footer is None else self.o.footer  # type: ignore[attr-defined]
+        head = self.d.header if self.o.header is None else self.o.header
+        foot = self.d.footer if self.o.footer is None else self.o.footer
 
         def chunk(block: list[str]) -> object:
             text = "\n".join(block)
@@ -155,14 +157,14 @@ class SandiaWriter:
         kind = type(cmd)
         if (
             kind is canon.StraightFeed
-            or (kind is canon.ArcFeed and cmd.rotation and self.o.on_missing != "refuse")  # type: ignore[attr-defined]
-        ) and not (cmd.a or cmd.b or cmd.c):  # type: ignore[attr-defined]
+            or (kind is canon.ArcFeed and cmd.rotation and self.o.on_missing != "refuse")
+        ) and not (cmd.a or cmd.b or cmd.c):
             self.src = cmd.source
             if self.moving(1):
                 self.queue.append(cmd)
                 return
         elif kind is canon.SetFeedRate:
-            self.feed = cmd.rate  # type: ignore[attr-defined]
+            self.feed = cmd.rate
             return
         self.flush_moves()
         self.src = cmd.source
@@ -226,7 +228,7 @@ class SandiaWriter:
         marks, self.marks = self.marks, []
         self.queue, self.queued = [], 0
         s = self.fmt.scale
-        tol = self.o.tolerance  # type: ignore[attr-defined]
+        tol = self.o.tolerance
         pts, counts, sag, rows = batch_points(queue, *self.plane_start(), tol / s)
         before = np.concatenate(([0], np.cumsum(counts)))  # lines before each row
         lines = self.point_lines(pts, s)
@@ -309,10 +311,10 @@ class SandiaWriter:
             self.out.append(text)
 
     def lacking(self, code: str, what: str) -> None:
-        if self.o.on_missing == "refuse":  # type: ignore[attr-defined]
+        if self.o.on_missing == "refuse":
             raise Diagnostic(code, f"{self.d.title} has no {what}", self.src)
         self.report.add(Change(code, "dropped", f"{self.d.title} has no {what}", self.src))
-        if self.o.comments:  # type: ignore[attr-defined]
+        if self.o.comments:
             self.line(f"# {what}: not written")
 
     def ensure_units(self) -> None:
@@ -394,7 +396,7 @@ class SandiaWriter:
                 self.src,
                 len(xyz),
                 dev * self.fmt.scale,
-                self.o.tolerance,  # type: ignore[attr-defined]
+                self.o.tolerance,
             )
         )
 
@@ -404,7 +406,7 @@ class SandiaWriter:
         if isinstance(c, canon.UseLengthUnits):
             if self.units != c.units:
                 self.units = c.units
-                if self.o.units is None or self.fmt.units_out is None:  # type: ignore[attr-defined]
+                if self.o.units is None or self.fmt.units_out is None:
                     self.fmt.units_out = None  # declared before the next motion
                     self.known = False
                     self.e_feed = None
@@ -437,14 +439,14 @@ class SandiaWriter:
             tool = self.pending_tool if self.pending_tool is not None else c.slot
             self.line(f"GetTool {c.name or tool}")
         elif isinstance(c, canon.UseToolLengthOffset) or c.NAME == "USE_TOOL_LENGTH_OFFSET":
-            length = c.length if isinstance(c, canon.UseToolLengthOffset) else c.offset[2]  # type: ignore[attr-defined]
+            length = c.length if isinstance(c, canon.UseToolLengthOffset) else c.offset[2]
             self.ensure_units()
             self.line(f"SetToolLength {self.fmt.length(length * s)}")
             self.known = False
         elif isinstance(c, canon.Stop):
             self.line("StopMotion")
         elif isinstance(c, canon.Comment):
-            if not c.text.startswith("interpreter:") and self.o.comments:  # type: ignore[attr-defined]
+            if not c.text.startswith("interpreter:") and self.o.comments:
                 self.line(f"# {c.text}")
         elif isinstance(c, canon.SetFeedMode):
             # refused at the first feed motion in it (a lathe reader starts in G99 and may
@@ -503,7 +505,7 @@ class SandiaWriter:
         return unchanged
 
     def curve(self, c: canon.ArcFeed | canon.EllipseFeed) -> None:
-        if self.o.on_missing == "refuse":  # type: ignore[attr-defined]
+        if self.o.on_missing == "refuse":
             raise Diagnostic("CONV-ARC-LINES", f"{self.d.title} has no arcs", self.src)
         if max(abs(c.a), abs(c.b), abs(c.c)) > 1e-9:
             raise Diagnostic(
@@ -514,7 +516,7 @@ class SandiaWriter:
         s = self.fmt.scale or 1.0
         start = (self.cur[first] / s, self.cur[second] / s)
         end, centre = (c.first_end, c.second_end), (c.first_axis, c.second_axis)
-        tol = self.o.tolerance / s  # type: ignore[attr-defined]
+        tol = self.o.tolerance / s
         if isinstance(c, canon.ArcFeed):
             if c.rotation == 0:
                 self.chords(c, [(*end, 1.0)], c.axis_end_point, "ARC_FEED (0 turns)", 0.0)
@@ -532,12 +534,10 @@ class SandiaWriter:
         self.chords(c, pts, c.axis_end_point, c.NAME, dev)
 
     def nurbs(self, c: canon.NurbsFeed) -> None:
-        from gcode.emit_curves import nurbs_problem
-
         problem = nurbs_problem(c)
         if problem:
             raise Diagnostic("CONV-NURBS", problem, self.src)
-        if self.o.on_missing == "refuse":  # type: ignore[attr-defined]
+        if self.o.on_missing == "refuse":
             raise Diagnostic("CONV-NURBS", f"{self.d.title} has no curves", self.src)
         first, second, normal, _, _ = PLANE_AXES[self.plane]
         pts = np.array(c.points, dtype=float)
@@ -549,6 +549,6 @@ class SandiaWriter:
 
         pieces, dev = approximate.fit_curve(
             curve, knots[0], knots[-1], self.o.tolerance / s, False, knots
-        )  # type: ignore[attr-defined]
+        )
         chords = [(p.end[0], p.end[1], 1.0) for p in pieces]
         self.chords(c, chords, self.cur[normal] / s, "NURBS_FEED", dev)
