@@ -15,6 +15,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 
 from gcode.fanuc.executor import Action, Executor
+from gcode.fanuc.lathe import Lathe
 from gcode.fanuc.lexer import FBlock
 from gcode.fanuc.macro import Variables, evaluate, truth
 from gcode.fanuc.options import Flavour
@@ -58,10 +59,9 @@ class Reader:
         self.ip = Interpreter(ngc)
         self.ex = Executor(self.ip, flavour)
         if flavour.lathe:
-            from gcode.fanuc.lathe import Lathe
-
-            self.ex.lathe = Lathe(self.ex)
-            self.ex.lathe.contour_blocks = self._contour_blocks
+            lathe = Lathe(self.ex)
+            lathe.contour_blocks = self._contour_blocks
+            self.ex.lathe = lathe
         self.vars = Variables(SystemVariables(self), options.parameters)
         self.main = src
         self.loaded: dict[int, tuple[Source, int]] = {}

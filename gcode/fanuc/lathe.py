@@ -10,16 +10,18 @@ power-on), G50 coordinate setting or ``G50 S`` spindle clamp, G32 thread cutting
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Iterator
 
 from gcode import arcs
-from gcode.codes import Words
+from gcode.codes import G_GROUPS, Words
+from gcode.fanuc.executor import Executor
+from gcode.fanuc.state import Action
 from kernel import canon
 from kernel.canon import Plane, Units
 from kernel.diagnostics import Diagnostic, Location
 
-if TYPE_CHECKING:
-    from gcode.fanuc.executor import Action, Executor
+#: (P, Q, location) -> (line, words, G codes) of the contour blocks N P .. N Q
+ContourBlocks = Callable[[int, int, Location], Iterator[tuple[int, dict[str, float], list[int]]]]
 
 _SINGLE = {900: "G90", 920: "G92", 940: "G94"}
 _MULTI = {700: "G70", 710: "G71", 720: "G72", 730: "G73", 740: "G74", 750: "G75", 760: "G76"}
@@ -39,7 +41,7 @@ class Lathe:
         self.first: dict[int, dict[str, float]] = {}  # first blocks of two-block cycles
         self.single: dict[str, float] = {}  # modal words of G90/G92/G94
         #: set by the flow: (P, Q, loc) -> [(line, words)] of the contour blocks
-        self.contour_blocks = None
+        self.contour_blocks: ContourBlocks | None = None
 
     def start(self) -> None:
         ip = self.ex.ip
@@ -53,7 +55,6 @@ class Lathe:
     # ------------------------------------------------------------------ one block
     def block(
         self,
-        ex: Executor,
         gs: list[int],
         ms: list[int],
         v: dict[str, float],
@@ -61,8 +62,7 @@ class Lathe:
         raw: dict[str, object],
         loc: Location,
     ) -> list[Action]:
-        from gcode.fanuc.executor import Action
-
+        ex = self.ex
         ip = ex.ip
         s = ip.s
         gset = set(gs)
@@ -300,6 +300,4 @@ class Lathe:
 
 
 def _group(code: int) -> int:
-    from gcode.codes import G_GROUPS
-
     return G_GROUPS[code]
