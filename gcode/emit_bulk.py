@@ -55,9 +55,9 @@ def run_of(commands: list[canon.Command], feed: float) -> fastlane.Run | None:
         rows: list[tuple[float, ...]] = []
         rates: list[float] = []
         here: tuple[float, ...] = (0.0,) * 6  # a feed change's row: never read as a position
-        for c, k in zip(commands, kinds, strict=True):
-            if k == fastlane.SET_FEED:
-                feed = c.rate  # type: ignore[attr-defined]
+        for c in commands:
+            if isinstance(c, canon.SetFeedRate):  # KIND's SET_FEED
+                feed = c.rate
             else:
                 here = _POSITION(c)
             rows.append(here)

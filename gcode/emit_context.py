@@ -10,6 +10,8 @@ the driver that dispatches commands to them, so none of them imports the writer 
 
 from __future__ import annotations
 
+from typing import NoReturn
+
 from gcode.convert_report import Change, ConversionReport
 from gcode.dialects.spec import Dialect
 from gcode.emit_options import WriterOptions
@@ -108,8 +110,17 @@ class WriterContext:
             line = self.d.comment.format(text[:keep])
         self.out.append(line)
 
-    def change(self, code: str, kind: str, message: str, **kw: object) -> None:
-        self.report.add(Change(code, kind, message, self.src, **kw))  # type: ignore[arg-type]
+    def change(
+        self,
+        code: str,
+        kind: str,
+        message: str,
+        pieces: int = 0,
+        deviation: float | None = None,
+        tolerance: float | None = None,
+    ) -> None:
+        """Record one place where the output differs from the IR (at the command's source)."""
+        self.report.add(Change(code, kind, message, self.src, pieces, deviation, tolerance))
 
     def lacking(self, code: str, what: str, kind: str = "dropped", note: bool = True) -> None:
         """The target lacks ``what``: refuse, or record ``kind`` and go on."""
@@ -119,7 +130,8 @@ class WriterContext:
         if note and kind == "dropped":
             self.comment(f"{what}: not written")
 
-    def refuse(self, code: str, message: str) -> None:
+    def refuse(self, code: str, message: str) -> NoReturn:
+        """Stop the conversion with a located ``code`` diagnostic."""
         raise Diagnostic(code, message, self.src)
 
     # ------------------------------------------------------------------ state flush
@@ -209,10 +221,11 @@ class WriterContext:
         words: list[str] = []
         if self.css != self.e_css:
             on, top = self.css
-            if on and self.d.css is None:
-                self.refuse("CONV-CSS", f"{self.d.title} has no constant surface speed")
             if on:
-                for part in self.d.css.split("|"):  # type: ignore[union-attr]
+                css = self.d.css
+                if css is None:
+                    self.refuse("CONV-CSS", f"{self.d.title} has no constant surface speed")
+                for part in css.split("|"):
                     if "{max}" in part and top <= 0:
                         part = " ".join(w for w in part.split() if "{max}" not in w)
                     if part:
@@ -254,7 +267,7 @@ class WriterContext:
         if self.feed_mode == canon.FeedMode.INVERSE_TIME and self.d.feed_modes[1] is not None:
             if not length:
                 self.refuse("CONV-INVERSE-TIME", "inverse-time feed on a zero-length motion")
-            word = "F" + self.fmt.feed(rate / length)  # type: ignore[operator]
+            word = "F" + self.fmt.feed(rate / length)
             self.e_feed = None
             return word
         word = "F" + self.fmt.feed(rate)

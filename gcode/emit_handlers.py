@@ -213,7 +213,7 @@ def orient(w: WriterContext, c: canon.OrientSpindle) -> None:
         return
     direction = c.direction
     mode = {canon.Direction.CLOCKWISE: 0, canon.Direction.COUNTERCLOCKWISE: 1}.get(
-        direction,  # type: ignore[arg-type]
+        direction,
         int(direction) if isinstance(direction, float | int) else 0,
     )
     if "{angle}" not in w.d.orient and abs(c.orientation) > 1e-9:
@@ -386,7 +386,7 @@ def _arc_block(w: WriterContext, c: canon.ArcFeed, geo, ccw: bool, turns: int, p
         t[normal] - w.written(normal),
     )
     end_words = w.axis_words(t)
-    inplane = [w.words[first], w.words[second]]
+    inplane = [x for x in (w.words[first], w.words[second]) if x is not None]
     others = [x for x in end_words if x[0] not in (first, second)]
     fmt = _arc_format(w, turns, part, (start1, start2), (end1, end2), (cen1, cen2), ccw)
     centre: list[str] = []
@@ -402,12 +402,14 @@ def _arc_block(w: WriterContext, c: canon.ArcFeed, geo, ccw: bool, turns: int, p
             ]
         else:
             if not w.centre_abs_on:
-                w.block(w.d.centre_absolute_mode[0])  # type: ignore[index]
+                assert w.d.centre_absolute_mode is not None  # ijk-abs needs a word or a mode
+                w.block(w.d.centre_absolute_mode[0])
                 w.centre_abs_on = True
             centre = [ci + w.fmt.length(cen1), cj + w.fmt.length(cen2)]
     else:
         if w.centre_abs_on:
-            w.block(w.d.centre_absolute_mode[1])  # type: ignore[index]
+            assert w.d.centre_absolute_mode is not None  # it was switched on
+            w.block(w.d.centre_absolute_mode[1])
             w.centre_abs_on = False
         centre = [ci + w.fmt.length(cen1 - start1), cj + w.fmt.length(cen2 - start2)]
     turn_words = []
@@ -415,7 +417,7 @@ def _arc_block(w: WriterContext, c: canon.ArcFeed, geo, ccw: bool, turns: int, p
         turn_words = [f"{w.d.turns_word}{turns - w.d.turns_offset}"]
     code = w.d.arc_ccw if ccw else w.d.arc_cw
     fw = w.feed_word(length)
-    ends = sorted([*inplane, *others], key=lambda word: "XYZABC".index(word[0]))  # type: ignore[index]
+    ends = sorted([*inplane, *others], key=lambda word: "XYZABC".index(word[0]))
     centre.sort(key=lambda word: word[0])  # I J K
     w.block(w.motion_code(code), *ends, *centre, *turn_words, fw)
 
@@ -498,11 +500,11 @@ def _expand_turns(w: WriterContext, c: canon.ArcFeed, turns: int, part: float) -
     )
 
 
-def _line_to(w: WriterContext, c: canon.Command, first: str, second: str, normal: str) -> None:
+def _line_to(w: WriterContext, c: canon.ArcFeed, first: str, second: str, normal: str) -> None:
     s = w.fmt.scale
-    t = w.target(0, 0, 0, c.a, c.b, c.c)  # type: ignore[attr-defined]
-    t[first], t[second] = c.first_end * s, c.second_end * s  # type: ignore[attr-defined]
-    t[normal] = c.axis_end_point * s  # type: ignore[attr-defined]
+    t = w.target(0, 0, 0, c.a, c.b, c.c)
+    t[first], t[second] = c.first_end * s, c.second_end * s
+    t[normal] = c.axis_end_point * s
     start = [w.written(k) for k in "XYZ"]
     words = w.axis_words(t)
     length = math.dist(start, [w.cur[k] for k in "XYZ"])

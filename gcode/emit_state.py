@@ -43,8 +43,8 @@ class Formatter:
         if opts.units is not None and opts.units not in _UNITS:
             raise Diagnostic("CONV-OPTION", f"units {opts.units!r}: use mm or inch")
 
-    def set_output_units(self, ir_units: canon.Units) -> None:
-        """Output units for a program in ``ir_units`` (the user's choice wins)."""
+    def set_output_units(self, ir_units: canon.Units) -> canon.Units:
+        """Output units for a program in ``ir_units`` (the user's choice wins); returned."""
         out = _UNITS[self.o.units] if self.o.units else ir_units
         if out == canon.Units.CM:  # no G-code for centimetres: write millimetres
             out = canon.Units.MM
@@ -53,6 +53,7 @@ class Formatter:
         self.inch = out == canon.Units.INCHES
         if self.o.decimals is None:
             self.places = self.d.decimals(self.inch)
+        return out
 
     def number(self, value: float, places: int | None = None) -> str:
         """``value`` as a word value; memoised per (value, places): CAM output repeats."""

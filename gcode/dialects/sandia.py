@@ -16,11 +16,12 @@ comment); spindle-synchronised motion is refused. The reader is
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 
 import numpy as np
 
 from gcode import approximate, fastlane
+from gcode import linuxcnc as lc
 from gcode.approximate import nurbs_problem
 from gcode.convert_report import Change, ConversionReport
 from gcode.dialects.sandia_chords import (
@@ -111,22 +112,23 @@ class SandiaWriter:
 
     def run(self, commands: Iterable[canon.Command]) -> Iterator[str]:
         """The program, one line at a time."""
-        for text in self.run_text(commands, lines=True):
-            yield from text  # type: ignore[misc]
+        for block in self.run_blocks(commands):
+            yield from "\n".join(block).split("\n")
 
-    def run_text(self, commands: Iterable[canon.Command], lines: bool = False) -> Iterator:
-        """The program as text chunks of whole lines ending with newlines (``lines``: as
-        lists of lines): the chords of a run of moves are joined once, not yielded one
-        by one (the Sandia output is about ten times as long as its G-code source)."""
+    def run_text(self, commands: Iterable[canon.Command]) -> Iterator[str]:
+        """The program as text chunks of whole lines ending with newlines: the chords of a
+        run of moves are joined once, not yielded one by one (the Sandia output is about
+        ten times as long as its G-code source)."""
+        for block in self.run_blocks(commands):
+            yield "\n".join(block) + "\n"
+
+    def run_blocks(self, commands: Iterable[canon.Command]) -> Iterator[list[str]]:
+        """The program as lists of entries, each one line or several joined by newlines
+        (a run's chords); a list is emptied once the next is asked for."""
         head = self.d.header if self.o.header is None else self.o.header
         foot = self.d.footer if self.o.footer is None else self.o.footer
-
-        def chunk(block: list[str]) -> object:
-            text = "\n".join(block)
-            return text.split("\n") if lines else text + "\n"
-
         if head:
-            yield chunk(list(head))
+            yield list(head)
         out, report = self.out, self.report
         for cmd in commands:
             if isinstance(cmd, Run):
@@ -138,15 +140,15 @@ class SandiaWriter:
                 self.take(cmd)
             if out:
                 report.blocks += sum(entry.count("\n") + 1 for entry in out)
-                yield chunk(out)
+                yield out
                 out.clear()
         self.flush_moves()
         report.blocks += sum(entry.count("\n") + 1 for entry in out)
         if out:
-            yield chunk(out)
+            yield out
         out.clear()
         if foot:
-            yield chunk(list(foot))
+            yield list(foot)
 
     def take(self, cmd: canon.Command) -> None:
         """One IR command: straight feeds and arcs join the queue of moves (the hot path),
@@ -154,18 +156,17 @@ class SandiaWriter:
         self.report.commands += 1
         if self.ended:
             return
-        kind = type(cmd)
+        if type(cmd) is canon.SetFeedRate:
+            self.feed = cmd.rate
+            return
         if (
-            kind is canon.StraightFeed
-            or (kind is canon.ArcFeed and cmd.rotation and self.o.on_missing != "refuse")
+            type(cmd) is canon.StraightFeed
+            or (type(cmd) is canon.ArcFeed and cmd.rotation and self.o.on_missing != "refuse")
         ) and not (cmd.a or cmd.b or cmd.c):
             self.src = cmd.source
             if self.moving(1):
                 self.queue.append(cmd)
                 return
-        elif kind is canon.SetFeedRate:
-            self.feed = cmd.rate
-            return
         self.flush_moves()
         self.src = cmd.source
         self.handle(cmd)
@@ -234,7 +235,8 @@ class SandiaWriter:
         lines = self.point_lines(pts, s)
         if isinstance(lines, tuple):  # compiled: one text and where each line starts
             text, starts = lines
-            pieces, at = [], 0
+            pieces: list[str] = []
+            at = 0
             for row, line in marks:
                 cut = int(starts[before[row]])
                 pieces += (text[at:cut], line, "\n")
@@ -270,12 +272,13 @@ class SandiaWriter:
         formatted at once in Python (:mod:`gcode.dialects.sandia_chords`)."""
         places = self.fmt.places
         known = self.known
-        last: list[str | None] = [self.last[k][2:] for k in "XYZ"] if known else [None] * 3
+        written = [self.last[k][2:] for k in "XYZ"]  # the texts written last, when known
+        last: list[str | None] = list(written) if known else [None] * 3
         done = None
         if self.compiled or self.report.commands >= COMMANDS_BEFORE_BULK:
             self.compiled = True
             if places <= 12:  # the kernel's numbers (as gcode.emit_bulk.can_take's)
-                done = fastlane.sandia_text(pts, s, places, last if known else None)  # type: ignore[arg-type]
+                done = fastlane.sandia_text(pts, s, places, written if known else None)
         if done is not None:
             text, starts, after = done
             self.last = {k: f"{k}={v}" for k, v in zip("XYZ", after, strict=True)}
@@ -292,13 +295,15 @@ class SandiaWriter:
         ]
         if len(moving) == 2 and known:  # the usual case: motion in a plane, one % for all
             pair = [("XYZ"[i], pts[:, i]) for i in moving]
-            lines = plane_lines(pair[0], pair[1], places, last)  # type: ignore[arg-type]
+            lines = plane_lines(pair[0], pair[1], places, written)  # updates written
+            texts: Sequence[str | None] = written
         else:
             columns = [format_many(pts[:, i], places) if i in moving else None for i in range(3)]
             if not moving:  # nothing moves: the lines repeat X
                 columns[0] = format_many(pts[:, 0], places)
-            lines = move_lines(*columns, last)
-        self.last = {k: f"{k}={v}" for k, v in zip("XYZ", last, strict=True)}
+            lines = move_lines(columns[0], columns[1], columns[2], last)  # updates last
+            texts = last
+        self.last = {k: f"{k}={v}" for k, v in zip("XYZ", texts, strict=True)}
         self.cur = {k: float(pts[-1, i]) for i, k in enumerate("XYZ")}
         self.known = True
         return lines
@@ -319,8 +324,7 @@ class SandiaWriter:
 
     def ensure_units(self) -> None:
         if self.units is not None and self.fmt.units_out is None:
-            self.fmt.set_output_units(self.units)
-            out_mm = self.fmt.units_out.mm_per_unit  # type: ignore[union-attr]
+            out_mm = self.fmt.set_output_units(self.units).mm_per_unit
             if self.out_mm and out_mm != self.out_mm:  # the same place in the new units
                 self.cur = {k: v * self.out_mm / out_mm for k, v in self.cur.items()}
             self.out_mm = out_mm
@@ -438,7 +442,7 @@ class SandiaWriter:
         elif isinstance(c, canon.ChangeTool):
             tool = self.pending_tool if self.pending_tool is not None else c.slot
             self.line(f"GetTool {c.name or tool}")
-        elif isinstance(c, canon.UseToolLengthOffset) or c.NAME == "USE_TOOL_LENGTH_OFFSET":
+        elif isinstance(c, canon.UseToolLengthOffset | lc.ToolLengthOffsets):
             length = c.length if isinstance(c, canon.UseToolLengthOffset) else c.offset[2]
             self.ensure_units()
             self.line(f"SetToolLength {self.fmt.length(length * s)}")

@@ -316,6 +316,8 @@ class Reader:
 
     def attributes(self, value: str) -> bool:
         """Decode the bit mask (names joined by ``|`` or an integer); True when relative."""
+        mode: int | None
+        system: int | None
         if value.isascii() and value.isdigit():
             bits = int(value)
             if bits >= 32 or (bits >> 1) > 9:
