@@ -11,8 +11,11 @@ counts, M98/M99/G65/G66 (returned to the flow as actions), Haas G187/G47/M97/M50
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from gcode.codes import G_GROUPS, Words
 from gcode.fanuc import cycles, moves, offsets
+from gcode.fanuc.lexer import WordValue
 from gcode.fanuc.state import Action, ExecutorState, ModalCall
 from gcode.fanuc.words import ARGUMENTS, CYCLES, MOTION, resolve
 from kernel import canon
@@ -57,7 +60,7 @@ class Executor(ExecutorState):
     """Executes Fanuc blocks on the per-run state around the RS274/NGC machine model."""
 
     # ------------------------------------------------------------------ entry
-    def block(self, items: list[tuple[str, object, int]], loc: Location) -> list[Action]:
+    def block(self, items: list[tuple[str, int | float, int]], loc: Location) -> list[Action]:
         """Execute the evaluated words of one block; the flow actions it asks for."""
         ip = self.ip
         s = ip.s
@@ -66,7 +69,7 @@ class Executor(ExecutorState):
             return []
         gs: list[int] = []
         ms: list[int] = []
-        raw: dict[str, object] = {}
+        raw: dict[str, int | float] = {}
         cols: dict[str, int] = {}
         for letter, val, col in items:
             at = Location(loc.file, loc.line, col)
@@ -127,7 +130,7 @@ class Executor(ExecutorState):
             and tf.mirror == [None, None, None]
         )
 
-    def _plain(self, items: list[tuple[str, object, int]]) -> bool:
+    def _plain(self, items: Sequence[tuple[str, WordValue, int]]) -> bool:
         """Run a block of only G00-G03 and X Y Z I J K R F words; False if it is not one."""
         ip = self.ip
         s = ip.s
@@ -145,18 +148,22 @@ class Executor(ExecutorState):
                     return False
                 if type(val) is int:
                     values[low] = float(val) if low == "f" else val * inc
+                elif isinstance(val, tuple):  # an expression (never in a plain block)
+                    return False
                 else:
-                    values[low] = val  # type: ignore[assignment]
+                    values[low] = val
             else:
                 return False
         if code is None:
-            if self.motion not in (0, 10, 20, 30) and len(values) != ("f" in values):
+            motion = self.motion
+            moves = len(values) != ("f" in values)
+            if moves and motion not in (0, 10, 20, 30):
                 return False
             w = Words(values=values)
-            if "f" not in values and values and s.motion_mode == self.motion:
+            if "f" not in values and values and s.motion_mode == motion:
                 w.plain = True  # the RS274/NGC executor's own hot path: modal motion
-            elif len(values) != ("f" in values):
-                w.g[1] = self.motion  # type: ignore[assignment]
+            elif moves and motion is not None:  # G00-G03 (checked above)
+                w.g[1] = motion
         else:
             w = Words(g={1: code}, values=values)
             self.motion = code
@@ -408,11 +415,11 @@ def _mode(control: int) -> MotionMode:
     return MotionMode.EXACT_STOP if control == 610 else MotionMode.CONTINUOUS
 
 
-def _code(val: object, letter: str, loc: Location) -> int:
+def _code(val: int | float, letter: str, loc: Location) -> int:
     if type(val) is int:
         return val * 10
-    code = round(val * 10)  # type: ignore[operator]
-    if abs(val * 10 - code) > 1e-6 or code < 0:  # type: ignore[operator]
+    code = round(val * 10)
+    if abs(val * 10 - code) > 1e-6 or code < 0:
         raise Diagnostic(f"FANUC-BAD-{letter}", f"bad {letter} code {letter}{val}", loc)
     return code
 

@@ -190,8 +190,8 @@ def nurbs_block(
             raise Diagnostic("FANUC-NURBS-ORDER", "G06.2 order P must be 2..6", loc)
         col = NurbsCollector(int(order), loc=loc)
     else:
+        assert ex.nurbs is not None
         col = ex.nurbs
-        assert col is not None
     if "K" not in v:
         raise Diagnostic("FANUC-NURBS-KNOT", "every G06.2 block needs a knot K", loc)
     if col.knots and v["K"] < col.knots[-1] - 1e-12:

@@ -68,7 +68,7 @@ class LatheMode(Protocol):
         ms: list[int],
         v: dict[str, float],
         cols: dict[str, int],
-        raw: dict[str, object],
+        raw: dict[str, int | float],
         loc: Location,
     ) -> list[Action]:
         """Execute one block's evaluated words; the flow actions it asks for."""
