@@ -67,10 +67,11 @@ def run_cycle(ex: Machine, name: str, args: tuple, scope: Variables) -> None:
     saved = (s.motion, s.absolute)
     s.absolute = True
     try:
-        for code, value in ((0, top), (1, depth), (None, p.get("DTB")), (0, p["RTP"])):
+        dwell = p.get("DTB", 0.0)  # CYCLE82's (CYCLE81 has none)
+        for code, value in ((0, top), (1, depth), (None, dwell), (0, p["RTP"])):
             if code is None:
                 if name == "CYCLE82":
-                    ex.emit(canon.Dwell(value, source=ex.loc))  # type: ignore[arg-type]
+                    ex.emit(canon.Dwell(value, source=ex.loc))
                 continue
             s.motion = code
             motion.execute(ex, Values(v={axis: value}), False)

@@ -94,11 +94,11 @@ class Executor(Machine):
             if isinstance(item, Assign):
                 value = evaluate(item.value, scope)
                 loc = Location(file, block.line, item.col)
-                kind, target = item.target
-                if kind == "R":
-                    scope.r_set(evaluate(target, scope), value, loc)  # type: ignore[arg-type]
-                else:
-                    scope.set(target, value, loc)  # type: ignore[arg-type]
+                target = item.target[1]
+                if isinstance(target, str):  # ("V", name)
+                    scope.set(target, value, loc)
+                else:  # ("R", index node)
+                    scope.r_set(evaluate(target, scope), value, loc)
                 continue
             self._word(vals, item, scope, block.line)
         return vals
