@@ -15,6 +15,7 @@ All functions are pure and work in the plane's (first, second) coordinates.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,6 +26,10 @@ from kernel.diagnostics import Location
 CHECKS = 33  # sample points checked per fitted piece
 MARGIN = 0.5  # a piece is kept when its sampled deviation is within MARGIN * tolerance
 MAX_DEPTH = 24
+
+
+#: a plane curve, vectorised: parameters (n,) -> points (n, 2)
+Curve = Callable[[np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,7 +108,7 @@ def _arc_deviation(
     return float(np.max(np.abs(np.hypot(*(pts - centre).T) - radius)))
 
 
-def _turning_point(curve, a: float, b: float, chord: np.ndarray) -> float | None:  # noqa: ANN001
+def _turning_point(curve: Curve, a: float, b: float, chord: np.ndarray) -> float | None:
     """Where the curve turns back along ``chord`` inside (a, b), if it leaves or arrives
     backwards; None when it runs forwards at both ends.
 
@@ -140,7 +145,14 @@ def _turning_point(curve, a: float, b: float, chord: np.ndarray) -> float | None
     return turn if a + 1e-6 * (b - a) < turn < b - 1e-6 * (b - a) else None
 
 
-def fit_curve(curve, u0: float, u1: float, tolerance: float, arcs: bool = True, breaks=None):  # noqa: ANN001, ANN201
+def fit_curve(
+    curve: Curve,
+    u0: float,
+    u1: float,
+    tolerance: float,
+    arcs: bool = True,
+    breaks: Iterable[float] | None = None,
+) -> tuple[list[Piece], float]:
     """Replace ``curve(u)`` (vectorised, returns (n, 2)) on [u0, u1] by :class:`Piece` s.
 
     ``breaks`` (the knots) start the fit on each knot span, where the curve is one smooth

@@ -97,7 +97,7 @@ def _end_at(w: WriterContext, first: str, second: str, v1: float, v2: float) -> 
     w.words[second] = second + w.fmt.length(v2)
 
 
-def _write_pieces(w: WriterContext, c: canon.Command, pieces: list) -> None:  # noqa: ANN001
+def _write_pieces(w: WriterContext, c: canon.Command, pieces: list[approximate.Piece]) -> None:
     first, second, normal, _, _ = PLANE_AXES[w.plane]
     s = w.fmt.scale
     z = w.written(normal) / s

@@ -374,7 +374,15 @@ def arc(w: WriterContext, c: canon.ArcFeed) -> None:
     _arc_block(w, c, (end1, end2, cen1, cen2), ccw, turns, part)
 
 
-def _arc_block(w: WriterContext, c: canon.ArcFeed, geo, ccw: bool, turns: int, part: float) -> None:  # noqa: ANN001
+def _arc_block(
+    w: WriterContext,
+    c: canon.ArcFeed,
+    geo: tuple[float, float, float, float],
+    ccw: bool,
+    turns: int,
+    part: float,
+) -> None:
+    """One arc block; ``geo``: end and centre in the plane's axes (output units)."""
     first, second, normal, ci, cj = PLANE_AXES[w.plane]
     end1, end2, cen1, cen2 = geo
     start1, start2 = w.written(first), w.written(second)
@@ -436,7 +444,16 @@ def r_centre(
     return mx - side * h * uy, my + side * h * ux
 
 
-def _arc_format(w: WriterContext, turns: int, part: float, start, end, centre, ccw) -> str:  # noqa: ANN001
+def _arc_format(
+    w: WriterContext,
+    turns: int,
+    part: float,
+    start: tuple[float, float],
+    end: tuple[float, float],
+    centre: tuple[float, float],
+    ccw: bool,
+) -> str:
+    """How the arc's centre is written: the format asked for, or ijk where it cannot be."""
     want = w.o.arc_format
     if want == "ijk-abs" and "ijk-abs" not in w.d.arc_formats:
         if "ijk-abs" not in w.noted:

@@ -374,7 +374,14 @@ class SandiaWriter:
         self.speed()
         self.line("MoveTo " + " ".join(self.axes(x, y, z, rot)))
 
-    def chords(self, c: canon.Command, pts: list, normal_end: float, what: str, dev: float) -> None:  # noqa: ANN001
+    def chords(
+        self,
+        c: canon.Command,
+        pts: list[tuple[float, float, float]],
+        normal_end: float,
+        what: str,
+        dev: float,
+    ) -> None:
         """``MoveTo`` chords of a curve: ``pts`` are (first, second, fraction of the normal
         axis' travel to ``normal_end``) in the plane in force."""
         first, second, normal, _, _ = PLANE_AXES[self.plane]
