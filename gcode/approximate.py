@@ -14,13 +14,20 @@ All functions are pure and work in the plane's (first, second) coordinates.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
 
+from kernel import canon
+
 CHECKS = 33  # sample points checked per fitted piece
 MARGIN = 0.5  # a piece is kept when its sampled deviation is within MARGIN * tolerance
 MAX_DEPTH = 24
+
+
+#: a plane curve, vectorised: parameters (n,) -> points (n, 2)
+Curve = Callable[[np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True, slots=True)
@@ -99,7 +106,7 @@ def _arc_deviation(
     return float(np.max(np.abs(np.hypot(*(pts - centre).T) - radius)))
 
 
-def _turning_point(curve, a: float, b: float, chord: np.ndarray) -> float | None:  # noqa: ANN001
+def _turning_point(curve: Curve, a: float, b: float, chord: np.ndarray) -> float | None:
     """Where the curve turns back along ``chord`` inside (a, b), if it leaves or arrives
     backwards; None when it runs forwards at both ends.
 
@@ -136,7 +143,14 @@ def _turning_point(curve, a: float, b: float, chord: np.ndarray) -> float | None
     return turn if a + 1e-6 * (b - a) < turn < b - 1e-6 * (b - a) else None
 
 
-def fit_curve(curve, u0: float, u1: float, tolerance: float, arcs: bool = True, breaks=None):  # noqa: ANN001, ANN201
+def fit_curve(
+    curve: Curve,
+    u0: float,
+    u1: float,
+    tolerance: float,
+    arcs: bool = True,
+    breaks: Iterable[float] | None = None,
+) -> tuple[list[Piece], float]:
     """Replace ``curve(u)`` (vectorised, returns (n, 2)) on [u0, u1] by :class:`Piece` s.
 
     ``breaks`` (the knots) start the fit on each knot span, where the curve is one smooth
@@ -181,3 +195,17 @@ def fit_curve(curve, u0: float, u1: float, tolerance: float, arcs: bool = True, 
         pieces.append(piece)
         worst = max(worst, dev)
     return pieces, worst
+
+
+def nurbs_problem(c: canon.NurbsFeed) -> str | None:
+    """Why a NURBS_FEED cannot be written at all, or None.
+
+    LinuxCNC prints ``NURBS_FEED(n, ...)`` without its data; kernel.canon reads that as an
+    order-0 curve of NaN points.
+    """
+    pts = np.array(c.points, dtype=float).reshape(-1, 3)
+    if c.order < 2 or len(pts) < c.order or not np.all(np.isfinite(pts)):
+        return "NURBS_FEED without usable control points (LinuxCNC prints none)"
+    if np.any(pts[:, 2] <= 0):
+        return "NURBS_FEED with a weight that is not positive"
+    return None

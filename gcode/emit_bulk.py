@@ -18,15 +18,12 @@ command.
 from __future__ import annotations
 
 from operator import attrgetter
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from gcode import fastlane
+from gcode.emit_context import WriterContext
 from kernel import canon
-
-if TYPE_CHECKING:
-    from gcode.emit import BlockWriter
 
 _LETTERS = "XYZABC"
 #: a command stream (a reader other than RS274/NGC's fast lane) is batched into runs once
@@ -58,9 +55,9 @@ def run_of(commands: list[canon.Command], feed: float) -> fastlane.Run | None:
         rows: list[tuple[float, ...]] = []
         rates: list[float] = []
         here: tuple[float, ...] = (0.0,) * 6  # a feed change's row: never read as a position
-        for c, k in zip(commands, kinds, strict=True):
-            if k == fastlane.SET_FEED:
-                feed = c.rate  # type: ignore[attr-defined]
+        for c in commands:
+            if isinstance(c, canon.SetFeedRate):  # KIND's SET_FEED
+                feed = c.rate
             else:
                 here = _POSITION(c)
             rows.append(here)
@@ -82,7 +79,7 @@ def run_of(commands: list[canon.Command], feed: float) -> fastlane.Run | None:
     )
 
 
-def can_take(w: BlockWriter, run: fastlane.Run) -> bool:
+def can_take(w: WriterContext, run: fastlane.Run) -> bool:
     """Whether :func:`write_run` may write ``run`` (it can still decline: a number too
     large, an axis the dialect lacks off zero, a block too long)."""
     if w.ended or w.skipping or w.pending_select is not None or w.sync is not None:
@@ -95,7 +92,7 @@ def can_take(w: BlockWriter, run: fastlane.Run) -> bool:
 
 
 def write_run(
-    w: BlockWriter, run: fastlane.Run, file: str | None, commands: list | None = None
+    w: WriterContext, run: fastlane.Run, file: str | None, commands: list | None = None
 ) -> bool:
     """Write the events of ``run`` (see module doc) into ``w.out`` as one entry of several
     lines; False (nothing written) when the kernel cannot state a number or a block is too

@@ -7,35 +7,18 @@ replaced by arcs or chords within the tolerance (:mod:`gcode.approximate`) and r
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
 from gcode import approximate
+from gcode.approximate import nurbs_problem
+from gcode.emit_context import WriterContext
 from gcode.emit_handlers import arc, feed
 from gcode.emit_state import PLANE_AXES, clamped_uniform_knots
 from kernel import canon
 from kernel.ellipse import ellipse_chords
 
-if TYPE_CHECKING:
-    from gcode.emit import BlockWriter
 
-
-def nurbs_problem(c: canon.NurbsFeed) -> str | None:
-    """Why a NURBS_FEED cannot be written at all, or None.
-
-    LinuxCNC prints ``NURBS_FEED(n, ...)`` without its data; kernel.canon reads that as an
-    order-0 curve of NaN points.
-    """
-    pts = np.array(c.points, dtype=float).reshape(-1, 3)
-    if c.order < 2 or len(pts) < c.order or not np.all(np.isfinite(pts)):
-        return "NURBS_FEED without usable control points (LinuxCNC prints none)"
-    if np.any(pts[:, 2] <= 0):
-        return "NURBS_FEED with a weight that is not positive"
-    return None
-
-
-def nurbs(w: BlockWriter, c: canon.NurbsFeed) -> None:
+def nurbs(w: WriterContext, c: canon.NurbsFeed) -> None:
     w.flush()
     problem = nurbs_problem(c)
     if problem:
@@ -109,13 +92,13 @@ def nurbs(w: BlockWriter, c: canon.NurbsFeed) -> None:
     )
 
 
-def _end_at(w: BlockWriter, first: str, second: str, v1: float, v2: float) -> None:
+def _end_at(w: WriterContext, first: str, second: str, v1: float, v2: float) -> None:
     w.cur[first], w.cur[second] = v1, v2
     w.words[first] = first + w.fmt.length(v1)
     w.words[second] = second + w.fmt.length(v2)
 
 
-def _write_pieces(w: BlockWriter, c: canon.Command, pieces: list) -> None:  # noqa: ANN001
+def _write_pieces(w: WriterContext, c: canon.Command, pieces: list[approximate.Piece]) -> None:
     first, second, normal, _, _ = PLANE_AXES[w.plane]
     s = w.fmt.scale
     z = w.written(normal) / s
@@ -146,7 +129,7 @@ def _write_pieces(w: BlockWriter, c: canon.Command, pieces: list) -> None:  # no
             )
 
 
-def ellipse(w: BlockWriter, c: canon.EllipseFeed) -> None:
+def ellipse(w: WriterContext, c: canon.EllipseFeed) -> None:
     w.flush()
     if w.o.on_missing == "refuse":
         w.refuse("CONV-ELLIPSE", f"{w.d.title} has no elliptical arcs")

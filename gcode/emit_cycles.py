@@ -14,20 +14,16 @@ cycle is modal).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from gcode.cycle_marks import CycleEnd, CycleStart
+from gcode.emit_context import WriterContext
 from kernel import canon
-
-if TYPE_CHECKING:
-    from gcode.emit import BlockWriter
 
 _CODES = {730: "G73", 810: "G81", 820: "G82", 830: "G83", 850: "G85", 890: "G89"}
 _PECK = (730, 830)
 _DWELL = (820, 890)
 
 
-def cycle_start(w: BlockWriter, c: CycleStart) -> None:
+def cycle_start(w: WriterContext, c: CycleStart) -> None:
     if w.o.cycles != "keep":
         return
     name = _CODES.get(c.code, f"G{c.code // 10}")
@@ -60,7 +56,7 @@ def cycle_start(w: BlockWriter, c: CycleStart) -> None:
     w.skipping = True
 
 
-def cycle_end(w: BlockWriter, c: CycleEnd) -> None:
+def cycle_end(w: WriterContext, c: CycleEnd) -> None:
     if not w.skipping:
         return
     w.skipping = False
@@ -70,7 +66,7 @@ def cycle_end(w: BlockWriter, c: CycleEnd) -> None:
     w.invalidate()  # the text left the tool where the target's expansion ends
 
 
-def _dwell(w: BlockWriter, c: CycleStart) -> str:
+def _dwell(w: WriterContext, c: CycleStart) -> str:
     if c.code not in _DWELL:
         return ""
     if w.d.cycle_dwell_ms:  # Fanuc: P in milliseconds, an integer
@@ -78,7 +74,7 @@ def _dwell(w: BlockWriter, c: CycleStart) -> str:
     return w.fmt.number(c.p, 3)
 
 
-def _not_kept(w: BlockWriter, c: CycleStart, name: str) -> str:
+def _not_kept(w: WriterContext, c: CycleStart, name: str) -> str:
     """Why this cycle block cannot be written as a cycle ('' when it can)."""
     if name not in w.d.cycles:
         return f"{w.d.title} has no {name} with the same motion"

@@ -7,16 +7,14 @@ the offset rotation, nine-value tool offsets, tool-table edits, M61, G33.1 and M
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
+from gcode import linuxcnc as lc
+from gcode.emit_context import WriterContext
 from gcode.emit_handlers import comp_active, ignore, tool_length
 from kernel import canon
 
-if TYPE_CHECKING:
-    from gcode.emit import BlockWriter
 
-
-def _axis_list(w: BlockWriter, values: tuple[float, ...], scale: bool = True) -> str:
+def _axis_list(w: WriterContext, values: tuple[float, ...], scale: bool = True) -> str:
     s = w.fmt.scale if scale else 1.0
     words = []
     for k, v in zip("XYZABC", values, strict=False):
@@ -25,9 +23,9 @@ def _axis_list(w: BlockWriter, values: tuple[float, ...], scale: bool = True) ->
     return w.d.separator.join(words)
 
 
-def work_offset(w: BlockWriter, c: canon.Command) -> None:
+def work_offset(w: WriterContext, c: canon.SetG5xOffset) -> None:
     """SET_G5X_OFFSET: select the work offset; its values stay in the machine's table."""
-    index = int(c.index)  # type: ignore[attr-defined]
+    index = int(c.index)
     if index == w.e_work:
         return
     comp_active(w, "work offset change")
@@ -41,7 +39,7 @@ def work_offset(w: BlockWriter, c: canon.Command) -> None:
     w.block(w.d.work_offsets[index - 1])
 
 
-def local_offset(w: BlockWriter, c: canon.Command) -> None:
+def local_offset(w: WriterContext, c: canon.SetG92Offset) -> None:
     """SET_G92_OFFSET: the G92 offset by value, written as G52 (same effect, no position)."""
     values = tuple(getattr(c, k) for k in "xyzabc")
     if all(abs(a - b) < 1e-12 for a, b in zip(values, w.e_local, strict=True)):
@@ -60,19 +58,22 @@ def local_offset(w: BlockWriter, c: canon.Command) -> None:
     w.block(w.d.local_offset.format(axes=axes))
 
 
-def _frame(w: BlockWriter) -> None:
+def _frame(w: WriterContext) -> None:
     """Rotation and offset as one frame (Siemens: ``ROT Z a`` then ``ATRANS`` the offset
     in the rotated system, so a point p is at R (p + offset) as after LinuxCNC's G92 and
     G10 L2 R; ``TRANS`` alone without rotation)."""
-    assert w.d.xy_rotation is not None and w.d.local_offset is not None
-    on = w.d.xy_rotation.partition("|")[0]
+    d = w.d
+    assert d.xy_rotation is not None and d.local_offset is not None
+    assert d.rotated_offset is not None
+    on = d.xy_rotation.partition("|")[0]
     axes = _axis_list(w, w.e_local)
+    blocks: tuple[str, ...]
     if abs(w.e_rotation) < 1e-12:
-        blocks = (w.d.local_offset.format(axes=axes or "X" + w.fmt.length(0.0)),)
+        blocks = (d.local_offset.format(axes=axes or "X" + w.fmt.length(0.0)),)
     else:
         blocks = (on.format(index=w.e_work, angle=w.fmt.angle(w.e_rotation)),)
         if axes:
-            blocks += (w.d.rotated_offset.format(axes=axes),)  # type: ignore[union-attr]
+            blocks += (d.rotated_offset.format(axes=axes),)
     if blocks == w.frame:
         return
     # an ATRANS after the frame in force adds to it: only the new tail is written
@@ -82,9 +83,9 @@ def _frame(w: BlockWriter) -> None:
         w.block(text)
 
 
-def xy_rotation(w: BlockWriter, c: canon.Command) -> None:
+def xy_rotation(w: WriterContext, c: canon.SetXYRotation) -> None:
     """SET_XY_ROTATION: the work offset's rotation (LinuxCNC G10 L2 R, Fanuc G68)."""
-    angle = float(c.angle)  # type: ignore[attr-defined]
+    angle = float(c.angle)
     if abs(angle - w.e_rotation) < 1e-12:
         return
     w.flush()
@@ -103,9 +104,9 @@ def xy_rotation(w: BlockWriter, c: canon.Command) -> None:
     w.block(on.format(index=w.e_work, angle=w.fmt.angle(angle)))
 
 
-def tool_offsets(w: BlockWriter, c: canon.Command) -> None:
+def tool_offsets(w: WriterContext, c: lc.ToolLengthOffsets) -> None:
     """LinuxCNC's nine-value tool length offset: G43.1 with the non-zero axes."""
-    off = tuple(c.offset)  # type: ignore[attr-defined]
+    off = tuple(c.offset)
     if w.d.tool_length == "G43.1 Z{length}" and any(abs(v) > 1e-12 for v in off[:6]):
         w.flush()
         w.invalidate()
@@ -114,7 +115,7 @@ def tool_offsets(w: BlockWriter, c: canon.Command) -> None:
     tool_length(w, canon.UseToolLengthOffset(off[2], source=c.source))
 
 
-def tool_table(w: BlockWriter, c: canon.Command) -> None:
+def tool_table(w: WriterContext, c: canon.SetToolTableEntry) -> None:
     """SET_TOOL_TABLE_ENTRY as G10 L1. Its values are in the tool table's units, inches
     (LinuxCNC's ``rs274`` and gcode.interpreter), whatever the program's units: they are
     written in the program's, after the units word."""
@@ -123,48 +124,50 @@ def tool_table(w: BlockWriter, c: canon.Command) -> None:
         return
     w.flush()
     table = 25.4 if w.units is canon.Units.MM else 1.0  # inch -> program units
-    offset = tuple(v * table for v in c.offset[:6])  # type: ignore[attr-defined]
-    radius = c.diameter / 2 * table * w.fmt.scale  # type: ignore[attr-defined]
+    offset = tuple(v * table for v in c.offset[:6])
+    radius = c.diameter / 2 * table * w.fmt.scale
     w.block(
         w.d.tool_table_set.format(
-            tool=c.tool,  # type: ignore[attr-defined]
+            tool=c.tool,
             axes=_axis_list(w, offset),
             radius=w.fmt.length(radius),
         )
     )
 
 
-def tool_number(w: BlockWriter, c: canon.Command) -> None:
+def tool_number(w: WriterContext, c: canon.ChangeToolNumber) -> None:
     if w.d.tool_number is None:
         w.lacking("CONV-TOOL-CHANGE", "tool number setting (M61)")
         return
     w.flush()
-    w.tool = int(c.number)  # type: ignore[attr-defined]
+    w.tool = int(c.number)
     w.block(w.d.tool_number.format(tool=w.tool))
 
 
-def rigid_tap(w: BlockWriter, c: canon.Command) -> None:
+def rigid_tap(w: WriterContext, c: canon.RigidTap) -> None:
     w.flush()
-    if w.d.rigid_tap is None or w.sync is None:
+    code = w.d.rigid_tap
+    if code is None or w.sync is None:
         w.refuse("CONV-THREAD", f"{w.d.title} has no rigid tapping cycle (G33.1)")
-    t = w.target(c.x, c.y, c.z, w.cur["A"], w.cur["B"], w.cur["C"])  # type: ignore[attr-defined]
+    t = w.target(c.x, c.y, c.z, w.cur["A"], w.cur["B"], w.cur["C"])
     words = w.axis_words(t, force=True)
     w.motion = None
-    w.block(w.d.rigid_tap, *words, "K" + w.fmt.length(w.sync or 0.0))  # type: ignore[arg-type]
+    w.block(code, *words, "K" + w.fmt.length(w.sync))
     w.invalidate()
 
 
-def output(w: BlockWriter, c: canon.Command) -> None:
+def output(w: WriterContext, c: lc.DigitalOutput | lc.AnalogOutput) -> None:
     if not w.d.io_codes:
         w.lacking("CONV-UNSUPPORTED", "digital/analog output codes (M62-M68)")
         return
-    if c.NAME.endswith("VALUE"):
-        code = "M67" if c.synchronised else "M68"  # type: ignore[attr-defined]
-        w.block(code, f"E{c.index}", f"Q{w.fmt.number(c.value, 6)}")  # type: ignore[attr-defined]
+    if isinstance(c, lc.AnalogOutput):
+        code = "M67" if c.synchronised else "M68"
+        w.block(code, f"E{c.index}", f"Q{w.fmt.number(c.value, 6)}")
         return
-    sync, on = c.synchronised, c.on  # type: ignore[attr-defined]
-    code = {(True, True): "M62", (True, False): "M63", (False, True): "M64", (False, False): "M65"}
-    w.block(code[(sync, on)], f"P{c.index}")  # type: ignore[attr-defined]
+    w.block(_DIGITAL[(c.synchronised, c.on)], f"P{c.index}")
+
+
+_DIGITAL = {(True, True): "M62", (True, False): "M63", (False, True): "M64", (False, False): "M65"}
 
 
 BY_NAME: dict[str, Callable] = {

@@ -1,4 +1,6 @@
-"""One function per canonical command: how :class:`gcode.emit.BlockWriter` writes it.
+"""One function per canonical command: how a block writer writes it.
+
+Each receives the writer's state (:class:`gcode.emit_context.WriterContext`).
 
 Arcs follow NISTIR 5970 §3.6.1 (end, centre, signed turns; XZ plane is (Z, X)); G2 is
 clockwise (rotation < 0), G3 counterclockwise. NURBS follow LinuxCNC G5.2 (current
@@ -10,21 +12,18 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 from gcode.comp_keep import CompRegister
+from gcode.emit_context import WriterContext
 from gcode.emit_state import PLANE_AXES
 from kernel import canon
 from kernel.arcsweep import first_turn, total_sweep
-
-if TYPE_CHECKING:
-    from gcode.emit import BlockWriter
 
 TWO_PI = 2 * math.pi
 
 
 # ---------------------------------------------------------------------- state setters
-def units(w: BlockWriter, c: canon.UseLengthUnits) -> None:
+def units(w: WriterContext, c: canon.UseLengthUnits) -> None:
     if w.units == c.units and w.fmt.units_out is not None:
         return
     changed = w.units is not None and w.units != c.units
@@ -38,72 +37,72 @@ def units(w: BlockWriter, c: canon.UseLengthUnits) -> None:
         w.fmt.set_output_units(c.units)
 
 
-def plane(w: BlockWriter, c: canon.SelectPlane) -> None:
+def plane(w: WriterContext, c: canon.SelectPlane) -> None:
     w.plane = c.plane
 
 
-def feed_rate(w: BlockWriter, c: canon.SetFeedRate) -> None:
+def feed_rate(w: WriterContext, c: canon.SetFeedRate) -> None:
     w.feed = c.rate
 
 
-def feed_mode(w: BlockWriter, c: canon.SetFeedMode) -> None:
+def feed_mode(w: WriterContext, c: canon.SetFeedMode) -> None:
     w.feed_mode = c.mode
 
 
-def motion_mode(w: BlockWriter, c: canon.SetMotionControlMode) -> None:
+def motion_mode(w: WriterContext, c: canon.SetMotionControlMode) -> None:
     w.mode = (c.mode, c.tolerance * w.fmt.scale)
 
 
-def naive(w: BlockWriter, c: canon.SetNaivecamTolerance) -> None:
+def naive(w: WriterContext, c: canon.SetNaivecamTolerance) -> None:
     w.naive = c.tolerance * w.fmt.scale
 
 
-def speed(w: BlockWriter, c: canon.SetSpindleSpeed) -> None:
+def speed(w: WriterContext, c: canon.SetSpindleSpeed) -> None:
     w.speed = c.speed
 
 
-def spindle_mode(w: BlockWriter, c: canon.SetSpindleMode) -> None:
+def spindle_mode(w: WriterContext, c: canon.SetSpindleMode) -> None:
     w.css = (c.css, c.css_max)
 
 
-def spindle(direction: canon.Direction) -> Callable[[BlockWriter, canon.Command], None]:
-    def handler(w: BlockWriter, c: canon.Command) -> None:
+def spindle(direction: canon.Direction) -> Callable[[WriterContext, canon.Command], None]:
+    def handler(w: WriterContext, c: canon.Command) -> None:
         w.direction = direction
 
     return handler
 
 
-def coolant(kind: str, on: bool) -> Callable[[BlockWriter, canon.Command], None]:
-    def handler(w: BlockWriter, c: canon.Command) -> None:
+def coolant(kind: str, on: bool) -> Callable[[WriterContext, canon.Command], None]:
+    def handler(w: WriterContext, c: canon.Command) -> None:
         w.coolant[kind] = on
 
     return handler
 
 
-def ignore(w: BlockWriter, c: canon.Command) -> None:
+def ignore(w: WriterContext, c: canon.Command) -> None:
     """Commands with no G-code of their own (INIT_CANON, probe power, traverse rate)."""
 
 
-def feed_reference(w: BlockWriter, c: canon.SetFeedReference) -> None:
+def feed_reference(w: WriterContext, c: canon.SetFeedReference) -> None:
     if c.reference != canon.FeedReference.XYZ:
         w.lacking("CONV-UNSUPPORTED", "workpiece feed reference", note=False)
 
 
-def sync_start(w: BlockWriter, c: canon.StartSpeedFeedSynch) -> None:
+def sync_start(w: WriterContext, c: canon.StartSpeedFeedSynch) -> None:
     w.sync = c.feed_per_revolution * w.fmt.scale
 
 
-def sync_stop(w: BlockWriter, c: canon.StopSpeedFeedSynch) -> None:
+def sync_stop(w: WriterContext, c: canon.StopSpeedFeedSynch) -> None:
     w.sync = None
 
 
 # ---------------------------------------------------------------------- text and events
-def comment(w: BlockWriter, c: canon.Comment) -> None:
+def comment(w: WriterContext, c: canon.Comment) -> None:
     if not c.text.startswith("interpreter:"):  # LinuxCNC's own chatter
         w.comment(c.text)
 
 
-def message(w: BlockWriter, c: canon.Message) -> None:
+def message(w: WriterContext, c: canon.Message) -> None:
     w.flush()
     if w.d.message is None:
         w.lacking("CONV-UNSUPPORTED", "operator message", "substituted", note=False)
@@ -115,8 +114,8 @@ def message(w: BlockWriter, c: canon.Message) -> None:
     w.block(w.d.message.format(text))
 
 
-def event(attr: str) -> Callable[[BlockWriter, canon.Command], None]:
-    def handler(w: BlockWriter, c: canon.Command) -> None:
+def event(attr: str) -> Callable[[WriterContext, canon.Command], None]:
+    def handler(w: WriterContext, c: canon.Command) -> None:
         w.flush()
         code = getattr(w.d, attr)
         if attr == "stop" and w.pallet and w.d.pallet:
@@ -132,17 +131,17 @@ def event(attr: str) -> Callable[[BlockWriter, canon.Command], None]:
     return handler
 
 
-def pallet(w: BlockWriter, c: canon.PalletShuttle) -> None:
+def pallet(w: WriterContext, c: canon.PalletShuttle) -> None:
     if w.d.pallet is None:
         w.lacking("CONV-UNSUPPORTED", "pallet shuttle code")
     w.pallet = True
 
 
-def select_tool(w: BlockWriter, c: canon.SelectTool) -> None:
+def select_tool(w: WriterContext, c: canon.SelectTool) -> None:
     w.pending_select = c.slot
 
 
-def change_tool(w: BlockWriter, c: canon.ChangeTool) -> None:
+def change_tool(w: WriterContext, c: canon.ChangeTool) -> None:
     w.flush()
     tool = w.pending_select if w.pending_select is not None else c.slot
     w.pending_select = None
@@ -157,7 +156,7 @@ def change_tool(w: BlockWriter, c: canon.ChangeTool) -> None:
     w.block(w.d.tool_word.format(tool=tool), w.d.tool_change)
 
 
-def tool_length(w: BlockWriter, c: canon.UseToolLengthOffset) -> None:
+def tool_length(w: WriterContext, c: canon.UseToolLengthOffset) -> None:
     w.flush()
     w.invalidate()
     if abs(c.length) < 1e-12:
@@ -173,7 +172,7 @@ def tool_length(w: BlockWriter, c: canon.UseToolLengthOffset) -> None:
         w.block(part.format(length=value, tool=w.tool))
 
 
-def origin(w: BlockWriter, c: canon.SetOriginOffsets) -> None:
+def origin(w: WriterContext, c: canon.SetOriginOffsets) -> None:
     w.flush_units()  # an offset block needs numbers, not the plane or feed mode yet
     w.invalidate()
     if w.d.origin is None:
@@ -197,8 +196,8 @@ def origin(w: BlockWriter, c: canon.SetOriginOffsets) -> None:
     w.invalidate()
 
 
-def overrides(kind: str, on: bool) -> Callable[[BlockWriter, canon.Command], None]:
-    def handler(w: BlockWriter, c: canon.Command) -> None:
+def overrides(kind: str, on: bool) -> Callable[[WriterContext, canon.Command], None]:
+    def handler(w: WriterContext, c: canon.Command) -> None:
         pair = getattr(w.d, f"{kind}_override")
         if pair is None:
             w.lacking("CONV-UNSUPPORTED", f"{kind} override switch", note=False)
@@ -208,14 +207,14 @@ def overrides(kind: str, on: bool) -> Callable[[BlockWriter, canon.Command], Non
     return handler
 
 
-def orient(w: BlockWriter, c: canon.OrientSpindle) -> None:
+def orient(w: WriterContext, c: canon.OrientSpindle) -> None:
     w.flush()
     if w.d.orient is None:
         w.lacking("CONV-UNSUPPORTED", "spindle orientation")
         return
     direction = c.direction
     mode = {canon.Direction.CLOCKWISE: 0, canon.Direction.COUNTERCLOCKWISE: 1}.get(
-        direction,  # type: ignore[arg-type]
+        direction,
         int(direction) if isinstance(direction, float | int) else 0,
     )
     if "{angle}" not in w.d.orient and abs(c.orientation) > 1e-9:
@@ -228,7 +227,7 @@ def orient(w: BlockWriter, c: canon.OrientSpindle) -> None:
     w.block(w.d.orient.format(angle=w.fmt.angle(c.orientation), mode=mode))
 
 
-def dwell(w: BlockWriter, c: canon.Dwell) -> None:
+def dwell(w: WriterContext, c: canon.Dwell) -> None:
     w.flush()
     if w.d.dwell is None:
         w.lacking("CONV-UNSUPPORTED", "dwell")
@@ -239,15 +238,15 @@ def dwell(w: BlockWriter, c: canon.Dwell) -> None:
     w.block(code, word + w.fmt.number(c.seconds * per_second, 3))
 
 
-def comp_radius(w: BlockWriter, c: canon.SetCutterRadiusCompensation) -> None:
+def comp_radius(w: WriterContext, c: canon.SetCutterRadiusCompensation) -> None:
     w.comp_radius = c.radius * w.fmt.scale
 
 
-def comp_register(w: BlockWriter, c: CompRegister) -> None:
+def comp_register(w: WriterContext, c: CompRegister) -> None:
     w.comp_register = c.register
 
 
-def comp_start(w: BlockWriter, c: canon.StartCutterRadiusCompensation) -> None:
+def comp_start(w: WriterContext, c: canon.StartCutterRadiusCompensation) -> None:
     """G41/G42 kept: with the source's register where the reader said which (``G41 D1``:
     the target's table or offset register supplies the radius, as on the source), else
     with the radius of SET_CUTTER_RADIUS_COMPENSATION by value (LinuxCNC G41.1 D diameter)
@@ -288,7 +287,7 @@ def comp_start(w: BlockWriter, c: canon.StartCutterRadiusCompensation) -> None:
     w.comp_on = True
 
 
-def comp_active(w: BlockWriter, what: str) -> None:
+def comp_active(w: WriterContext, what: str) -> None:
     """Controls refuse an offset change while G41/G42 is on (LinuxCNC, Fanuc): a program
     whose compensation was kept cannot say it; applying compensation can."""
     if w.comp_on:
@@ -298,25 +297,25 @@ def comp_active(w: BlockWriter, what: str) -> None:
         )
 
 
-def comp_stop(w: BlockWriter, c: canon.StopCutterRadiusCompensation) -> None:
+def comp_stop(w: WriterContext, c: canon.StopCutterRadiusCompensation) -> None:
     w.flush()
     w.block("G40")
     w.comp_on = False
 
 
 # ---------------------------------------------------------------------- motions
-def traverse(w: BlockWriter, c: canon.StraightTraverse) -> None:
+def traverse(w: WriterContext, c: canon.StraightTraverse) -> None:
     w.flush()
     words = w.axis_words(w.target(c.x, c.y, c.z, c.a, c.b, c.c))
     fw = "" if w.feed_mode == canon.FeedMode.INVERSE_TIME else w.feed_word()
     w.block(w.motion_code(w.d.rapid), *(words or _first_axis(w)), fw)
 
 
-def _first_axis(w: BlockWriter) -> list[str]:
+def _first_axis(w: WriterContext) -> list[str]:
     return [w.words["X"] or w.axis_text("X", w.cur["X"])]
 
 
-def feed(w: BlockWriter, c: canon.StraightFeed) -> None:
+def feed(w: WriterContext, c: canon.StraightFeed) -> None:
     w.flush()
     inverse = w.feed_mode == canon.FeedMode.INVERSE_TIME
     start = [w.written(k) for k in "XYZ"] if inverse else None
@@ -339,7 +338,7 @@ def feed(w: BlockWriter, c: canon.StraightFeed) -> None:
     w.block(w.motion_code(w.d.linear), *(words or _first_axis(w)), w.feed_word(length))
 
 
-def probe(w: BlockWriter, c: canon.StraightProbe) -> None:
+def probe(w: WriterContext, c: canon.StraightProbe) -> None:
     w.flush()
     if w.d.probe is None:
         w.lacking("CONV-UNSUPPORTED", "probing move")
@@ -350,7 +349,7 @@ def probe(w: BlockWriter, c: canon.StraightProbe) -> None:
     w.invalidate()  # the probe stops where it trips
 
 
-def arc(w: BlockWriter, c: canon.ArcFeed) -> None:
+def arc(w: WriterContext, c: canon.ArcFeed) -> None:
     w.flush()
     first, second, normal, ci, cj = PLANE_AXES[w.plane]
     for letter in (first, second):
@@ -374,7 +373,15 @@ def arc(w: BlockWriter, c: canon.ArcFeed) -> None:
     _arc_block(w, c, (end1, end2, cen1, cen2), ccw, turns, part)
 
 
-def _arc_block(w: BlockWriter, c: canon.ArcFeed, geo, ccw: bool, turns: int, part: float) -> None:  # noqa: ANN001
+def _arc_block(
+    w: WriterContext,
+    c: canon.ArcFeed,
+    geo: tuple[float, float, float, float],
+    ccw: bool,
+    turns: int,
+    part: float,
+) -> None:
+    """One arc block; ``geo``: end and centre in the plane's axes (output units)."""
     first, second, normal, ci, cj = PLANE_AXES[w.plane]
     end1, end2, cen1, cen2 = geo
     start1, start2 = w.written(first), w.written(second)
@@ -386,7 +393,7 @@ def _arc_block(w: BlockWriter, c: canon.ArcFeed, geo, ccw: bool, turns: int, par
         t[normal] - w.written(normal),
     )
     end_words = w.axis_words(t)
-    inplane = [w.words[first], w.words[second]]
+    inplane = [x for x in (w.words[first], w.words[second]) if x is not None]
     others = [x for x in end_words if x[0] not in (first, second)]
     fmt = _arc_format(w, turns, part, (start1, start2), (end1, end2), (cen1, cen2), ccw)
     centre: list[str] = []
@@ -402,12 +409,14 @@ def _arc_block(w: BlockWriter, c: canon.ArcFeed, geo, ccw: bool, turns: int, par
             ]
         else:
             if not w.centre_abs_on:
-                w.block(w.d.centre_absolute_mode[0])  # type: ignore[index]
+                assert w.d.centre_absolute_mode is not None  # ijk-abs needs a word or a mode
+                w.block(w.d.centre_absolute_mode[0])
                 w.centre_abs_on = True
             centre = [ci + w.fmt.length(cen1), cj + w.fmt.length(cen2)]
     else:
         if w.centre_abs_on:
-            w.block(w.d.centre_absolute_mode[1])  # type: ignore[index]
+            assert w.d.centre_absolute_mode is not None  # it was switched on
+            w.block(w.d.centre_absolute_mode[1])
             w.centre_abs_on = False
         centre = [ci + w.fmt.length(cen1 - start1), cj + w.fmt.length(cen2 - start2)]
     turn_words = []
@@ -415,7 +424,7 @@ def _arc_block(w: BlockWriter, c: canon.ArcFeed, geo, ccw: bool, turns: int, par
         turn_words = [f"{w.d.turns_word}{turns - w.d.turns_offset}"]
     code = w.d.arc_ccw if ccw else w.d.arc_cw
     fw = w.feed_word(length)
-    ends = sorted([*inplane, *others], key=lambda word: "XYZABC".index(word[0]))  # type: ignore[index]
+    ends = sorted([*inplane, *others], key=lambda word: "XYZABC".index(word[0]))
     centre.sort(key=lambda word: word[0])  # I J K
     w.block(w.motion_code(code), *ends, *centre, *turn_words, fw)
 
@@ -434,7 +443,16 @@ def r_centre(
     return mx - side * h * uy, my + side * h * ux
 
 
-def _arc_format(w: BlockWriter, turns: int, part: float, start, end, centre, ccw) -> str:  # noqa: ANN001
+def _arc_format(
+    w: WriterContext,
+    turns: int,
+    part: float,
+    start: tuple[float, float],
+    end: tuple[float, float],
+    centre: tuple[float, float],
+    ccw: bool,
+) -> str:
+    """How the arc's centre is written: the format asked for, or ijk where it cannot be."""
     want = w.o.arc_format
     if want == "ijk-abs" and "ijk-abs" not in w.d.arc_formats:
         if "ijk-abs" not in w.noted:
@@ -464,7 +482,7 @@ def _arc_format(w: BlockWriter, turns: int, part: float, start, end, centre, ccw
     return "r"
 
 
-def _expand_turns(w: BlockWriter, c: canon.ArcFeed, turns: int, part: float) -> None:
+def _expand_turns(w: WriterContext, c: canon.ArcFeed, turns: int, part: float) -> None:
     """Several turns without a turns word: full circles, then the remaining arc."""
     if w.o.on_missing == "refuse":
         w.refuse("CONV-ARC-TURNS", f"{w.d.title} has no multi-turn arcs")
@@ -498,11 +516,11 @@ def _expand_turns(w: BlockWriter, c: canon.ArcFeed, turns: int, part: float) -> 
     )
 
 
-def _line_to(w: BlockWriter, c: canon.Command, first: str, second: str, normal: str) -> None:
+def _line_to(w: WriterContext, c: canon.ArcFeed, first: str, second: str, normal: str) -> None:
     s = w.fmt.scale
-    t = w.target(0, 0, 0, c.a, c.b, c.c)  # type: ignore[attr-defined]
-    t[first], t[second] = c.first_end * s, c.second_end * s  # type: ignore[attr-defined]
-    t[normal] = c.axis_end_point * s  # type: ignore[attr-defined]
+    t = w.target(0, 0, 0, c.a, c.b, c.c)
+    t[first], t[second] = c.first_end * s, c.second_end * s
+    t[normal] = c.axis_end_point * s
     start = [w.written(k) for k in "XYZ"]
     words = w.axis_words(t)
     length = math.dist(start, [w.cur[k] for k in "XYZ"])

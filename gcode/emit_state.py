@@ -8,13 +8,10 @@ it (Sandia's block format example ``X25.0``, research/seed-sandia-full.md §3.3)
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
+from gcode.dialects.spec import Dialect
+from gcode.emit_options import WriterOptions
 from kernel import canon
-
-if TYPE_CHECKING:
-    from gcode.dialects.spec import Dialect
-    from gcode.emit import WriterOptions
+from kernel.diagnostics import Diagnostic
 
 #: plane -> (first axis, second axis, normal axis, centre word of first, of second)
 #: (NISTIR 5970 §3.6.1: in the XZ plane the first axis is Z)
@@ -44,12 +41,10 @@ class Formatter:
         self.places = opts.decimals if opts.decimals is not None else d.decimals_mm
         self._memo: dict[tuple[float, int], str] = {}
         if opts.units is not None and opts.units not in _UNITS:
-            from kernel.diagnostics import Diagnostic
-
             raise Diagnostic("CONV-OPTION", f"units {opts.units!r}: use mm or inch")
 
-    def set_output_units(self, ir_units: canon.Units) -> None:
-        """Output units for a program in ``ir_units`` (the user's choice wins)."""
+    def set_output_units(self, ir_units: canon.Units) -> canon.Units:
+        """Output units for a program in ``ir_units`` (the user's choice wins); returned."""
         out = _UNITS[self.o.units] if self.o.units else ir_units
         if out == canon.Units.CM:  # no G-code for centimetres: write millimetres
             out = canon.Units.MM
@@ -58,6 +53,7 @@ class Formatter:
         self.inch = out == canon.Units.INCHES
         if self.o.decimals is None:
             self.places = self.d.decimals(self.inch)
+        return out
 
     def number(self, value: float, places: int | None = None) -> str:
         """``value`` as a word value; memoised per (value, places): CAM output repeats."""

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import overload
 
 from kernel.diagnostics import Diagnostic, Location
 
@@ -107,7 +108,14 @@ class CycleWords:
     def has(self, key: str) -> bool:
         return key in self.params
 
+    @overload
+    def get(self, key: str) -> float | None: ...
+
+    @overload
+    def get(self, key: str, default: float) -> float: ...
+
     def get(self, key: str, default: float | None = None) -> float | None:
+        """The word's value, else ``default``."""
         return self.params.get(key, default)
 
     def need(self, key: str, what: str) -> float:

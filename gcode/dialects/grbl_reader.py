@@ -25,6 +25,7 @@ import os
 import re
 from collections.abc import Iterator
 
+from gcode.codes import Words
 from gcode.dialects.subset_reader import Vocabulary, code_of, constant_word, read_path, read_text
 from gcode.interpreter import InterpreterOptions
 from gcode.lexer import Block
@@ -82,8 +83,8 @@ class Grbl(Vocabulary):
         if block.assignments:
             raise self.refuse("parameters (#)", file, line, block.assignments[0][2])
         cached = block.cached_words
-        if cached is not None and cached.plain:  # type: ignore[attr-defined]
-            for letter in cached.values:  # type: ignore[attr-defined]
+        if isinstance(cached, Words) and cached.plain:  # a plain line, read at lexing
+            for letter in cached.values:
                 if letter not in LETTERS:
                     col = text.lower().find(letter) + 1
                     raise self.refuse(f"{letter.upper()} axis", file, line, col)

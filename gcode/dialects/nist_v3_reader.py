@@ -60,12 +60,15 @@ class NistV3(Vocabulary):
             if w.letter not in LETTERS:
                 raise self.refuse(f"{w.letter.upper()} word", file, line, w.column)
             self.check_value(w.value, file, line, w.column)
-            if w.letter in "gm" and code_of(w) is None:
+            if w.letter not in "gm":
+                continue
+            code = code_of(w)
+            if code is None:
                 what = f"{w.letter.upper()} code given by an expression"
                 raise self.refuse(what, file, line, w.column)
             if w.letter == "g":
-                self.check_g(block, code_of(w), w.column, file)  # type: ignore[arg-type]
-            elif w.letter == "m" and code_of(w) not in M_CODES:
+                self.check_g(block, code, w.column, file)
+            elif code not in M_CODES:
                 raise self.refuse(f"M{w.value:g}", file, line, w.column)
 
     def check_g(self, block: Block, code: int, column: int, file: str) -> None:

@@ -16,11 +16,13 @@ comment); spindle-synchronised motion is refused. The reader is
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 
 import numpy as np
 
 from gcode import approximate, fastlane
+from gcode import linuxcnc as lc
+from gcode.approximate import nurbs_problem
 from gcode.convert_report import Change, ConversionReport
 from gcode.dialects.sandia_chords import (
     batch_points,
@@ -30,6 +32,7 @@ from gcode.dialects.sandia_chords import (
 )
 from gcode.dialects.spec import Dialect
 from gcode.emit_bulk import COMMANDS_BEFORE_BULK
+from gcode.emit_options import WriterOptions
 from gcode.emit_state import PLANE_AXES, Formatter, clamped_uniform_knots
 from gcode.fastlane import FEED_MOVE, SET_FEED, Run
 from kernel import canon
@@ -83,10 +86,10 @@ _DEFAULTS: dict[str, object] = {
 class SandiaWriter:
     """IR -> generic command lines (streaming)."""
 
-    def __init__(self, d: Dialect, opts: object, report: ConversionReport) -> None:
+    def __init__(self, d: Dialect, opts: WriterOptions, report: ConversionReport) -> None:
         self.d, self.o, self.report = d, opts, report
         report.target_dialect = report.target_dialect or d.name
-        self.fmt = Formatter(d, opts)  # type: ignore[arg-type]
+        self.fmt = Formatter(d, opts)
         self.out: list[str] = []
         self.src: Location | None = None
         self.units: canon.Units | None = None
@@ -110,22 +113,23 @@ class SandiaWriter:
 
     def run(self, commands: Iterable[canon.Command]) -> Iterator[str]:
         """The program, one line at a time."""
-        for text in self.run_text(commands, lines=True):
-            yield from text  # type: ignore[misc]
+        for block in self.run_blocks(commands):
+            yield from "\n".join(block).split("\n")
 
-    def run_text(self, commands: Iterable[canon.Command], lines: bool = False) -> Iterator:
-        """The program as text chunks of whole lines ending with newlines (``lines``: as
-        lists of lines): the chords of a run of moves are joined once, not yielded one
-        by one (the Sandia output is about ten times as long as its G-code source)."""
-        head = self.d.header if self.o.header is None else self.o.header  # type: ignore[attr-defined]
-        foot = self.d.footer if self.o.footer is None else self.o.footer  # type: ignore[attr-defined]
+    def run_text(self, commands: Iterable[canon.Command]) -> Iterator[str]:
+        """The program as text chunks of whole lines ending with newlines: the chords of a
+        run of moves are joined once, not yielded one by one (the Sandia output is about
+        ten times as long as its G-code source)."""
+        for block in self.run_blocks(commands):
+            yield "\n".join(block) + "\n"
 
-        def chunk(block: list[str]) -> object:
-            text = "\n".join(block)
-            return text.split("\n") if lines else text + "\n"
-
+    def run_blocks(self, commands: Iterable[canon.Command]) -> Iterator[list[str]]:
+        """The program as lists of entries, each one line or several joined by newlines
+        (a run's chords); a list is emptied once the next is asked for."""
+        head = self.d.header if self.o.header is None else self.o.header
+        foot = self.d.footer if self.o.footer is None else self.o.footer
         if head:
-            yield chunk(list(head))
+            yield list(head)
         out, report = self.out, self.report
         for cmd in commands:
             if isinstance(cmd, Run):
@@ -137,15 +141,15 @@ class SandiaWriter:
                 self.take(cmd)
             if out:
                 report.blocks += sum(entry.count("\n") + 1 for entry in out)
-                yield chunk(out)
+                yield out
                 out.clear()
         self.flush_moves()
         report.blocks += sum(entry.count("\n") + 1 for entry in out)
         if out:
-            yield chunk(out)
+            yield out
         out.clear()
         if foot:
-            yield chunk(list(foot))
+            yield list(foot)
 
     def take(self, cmd: canon.Command) -> None:
         """One IR command: straight feeds and arcs join the queue of moves (the hot path),
@@ -153,18 +157,17 @@ class SandiaWriter:
         self.report.commands += 1
         if self.ended:
             return
-        kind = type(cmd)
+        if type(cmd) is canon.SetFeedRate:
+            self.feed = cmd.rate
+            return
         if (
-            kind is canon.StraightFeed
-            or (kind is canon.ArcFeed and cmd.rotation and self.o.on_missing != "refuse")  # type: ignore[attr-defined]
-        ) and not (cmd.a or cmd.b or cmd.c):  # type: ignore[attr-defined]
+            type(cmd) is canon.StraightFeed
+            or (type(cmd) is canon.ArcFeed and cmd.rotation and self.o.on_missing != "refuse")
+        ) and not (cmd.a or cmd.b or cmd.c):
             self.src = cmd.source
             if self.moving(1):
                 self.queue.append(cmd)
                 return
-        elif kind is canon.SetFeedRate:
-            self.feed = cmd.rate  # type: ignore[attr-defined]
-            return
         self.flush_moves()
         self.src = cmd.source
         self.handle(cmd)
@@ -227,13 +230,14 @@ class SandiaWriter:
         marks, self.marks = self.marks, []
         self.queue, self.queued = [], 0
         s = self.fmt.scale
-        tol = self.o.tolerance  # type: ignore[attr-defined]
+        tol = self.o.tolerance
         pts, counts, sag, rows = batch_points(queue, *self.plane_start(), tol / s)
         before = np.concatenate(([0], np.cumsum(counts)))  # lines before each row
         lines = self.point_lines(pts, s)
         if isinstance(lines, tuple):  # compiled: one text and where each line starts
             text, starts = lines
-            pieces, at = [], 0
+            pieces: list[str] = []
+            at = 0
             for row, line in marks:
                 cut = int(starts[before[row]])
                 pieces += (text[at:cut], line, "\n")
@@ -269,12 +273,13 @@ class SandiaWriter:
         formatted at once in Python (:mod:`gcode.dialects.sandia_chords`)."""
         places = self.fmt.places
         known = self.known
-        last: list[str | None] = [self.last[k][2:] for k in "XYZ"] if known else [None] * 3
+        written = [self.last[k][2:] for k in "XYZ"]  # the texts written last, when known
+        last: list[str | None] = list(written) if known else [None] * 3
         done = None
         if self.compiled or self.report.commands >= COMMANDS_BEFORE_BULK:
             self.compiled = True
             if places <= 12:  # the kernel's numbers (as gcode.emit_bulk.can_take's)
-                done = fastlane.sandia_text(pts, s, places, last if known else None)  # type: ignore[arg-type]
+                done = fastlane.sandia_text(pts, s, places, written if known else None)
         if done is not None:
             text, starts, after = done
             self.last = {k: f"{k}={v}" for k, v in zip("XYZ", after, strict=True)}
@@ -291,13 +296,15 @@ class SandiaWriter:
         ]
         if len(moving) == 2 and known:  # the usual case: motion in a plane, one % for all
             pair = [("XYZ"[i], pts[:, i]) for i in moving]
-            lines = plane_lines(pair[0], pair[1], places, last)  # type: ignore[arg-type]
+            lines = plane_lines(pair[0], pair[1], places, written)  # updates written
+            texts: Sequence[str | None] = written
         else:
             columns = [format_many(pts[:, i], places) if i in moving else None for i in range(3)]
             if not moving:  # nothing moves: the lines repeat X
                 columns[0] = format_many(pts[:, 0], places)
-            lines = move_lines(*columns, last)
-        self.last = {k: f"{k}={v}" for k, v in zip("XYZ", last, strict=True)}
+            lines = move_lines(columns[0], columns[1], columns[2], last)  # updates last
+            texts = last
+        self.last = {k: f"{k}={v}" for k, v in zip("XYZ", texts, strict=True)}
         self.cur = {k: float(pts[-1, i]) for i, k in enumerate("XYZ")}
         self.known = True
         return lines
@@ -310,16 +317,15 @@ class SandiaWriter:
             self.out.append(text)
 
     def lacking(self, code: str, what: str) -> None:
-        if self.o.on_missing == "refuse":  # type: ignore[attr-defined]
+        if self.o.on_missing == "refuse":
             raise Diagnostic(code, f"{self.d.title} has no {what}", self.src)
         self.report.add(Change(code, "dropped", f"{self.d.title} has no {what}", self.src))
-        if self.o.comments:  # type: ignore[attr-defined]
+        if self.o.comments:
             self.line(f"# {what}: not written")
 
     def ensure_units(self) -> None:
         if self.units is not None and self.fmt.units_out is None:
-            self.fmt.set_output_units(self.units)
-            out_mm = self.fmt.units_out.mm_per_unit  # type: ignore[union-attr]
+            out_mm = self.fmt.set_output_units(self.units).mm_per_unit
             if self.out_mm and out_mm != self.out_mm:  # the same place in the new units
                 self.cur = {k: v * self.out_mm / out_mm for k, v in self.cur.items()}
             self.out_mm = out_mm
@@ -369,7 +375,14 @@ class SandiaWriter:
         self.speed()
         self.line("MoveTo " + " ".join(self.axes(x, y, z, rot)))
 
-    def chords(self, c: canon.Command, pts: list, normal_end: float, what: str, dev: float) -> None:  # noqa: ANN001
+    def chords(
+        self,
+        c: canon.Command,
+        pts: list[tuple[float, float, float]],
+        normal_end: float,
+        what: str,
+        dev: float,
+    ) -> None:
         """``MoveTo`` chords of a curve: ``pts`` are (first, second, fraction of the normal
         axis' travel to ``normal_end``) in the plane in force."""
         first, second, normal, _, _ = PLANE_AXES[self.plane]
@@ -395,7 +408,7 @@ class SandiaWriter:
                 self.src,
                 len(xyz),
                 dev * self.fmt.scale,
-                self.o.tolerance,  # type: ignore[attr-defined]
+                self.o.tolerance,
             )
         )
 
@@ -405,7 +418,7 @@ class SandiaWriter:
         if isinstance(c, canon.UseLengthUnits):
             if self.units != c.units:
                 self.units = c.units
-                if self.o.units is None or self.fmt.units_out is None:  # type: ignore[attr-defined]
+                if self.o.units is None or self.fmt.units_out is None:
                     self.fmt.units_out = None  # declared before the next motion
                     self.known = False
                     self.e_feed = None
@@ -437,15 +450,15 @@ class SandiaWriter:
         elif isinstance(c, canon.ChangeTool):
             tool = self.pending_tool if self.pending_tool is not None else c.slot
             self.line(f"GetTool {c.name or tool}")
-        elif isinstance(c, canon.UseToolLengthOffset) or c.NAME == "USE_TOOL_LENGTH_OFFSET":
-            length = c.length if isinstance(c, canon.UseToolLengthOffset) else c.offset[2]  # type: ignore[attr-defined]
+        elif isinstance(c, canon.UseToolLengthOffset | lc.ToolLengthOffsets):
+            length = c.length if isinstance(c, canon.UseToolLengthOffset) else c.offset[2]
             self.ensure_units()
             self.line(f"SetToolLength {self.fmt.length(length * s)}")
             self.known = False
         elif isinstance(c, canon.Stop):
             self.line("StopMotion")
         elif isinstance(c, canon.Comment):
-            if not c.text.startswith("interpreter:") and self.o.comments:  # type: ignore[attr-defined]
+            if not c.text.startswith("interpreter:") and self.o.comments:
                 self.line(f"# {c.text}")
         elif isinstance(c, canon.SetFeedMode):
             # refused at the first feed motion in it (a lathe reader starts in G99 and may
@@ -504,7 +517,7 @@ class SandiaWriter:
         return unchanged
 
     def curve(self, c: canon.ArcFeed | canon.EllipseFeed) -> None:
-        if self.o.on_missing == "refuse":  # type: ignore[attr-defined]
+        if self.o.on_missing == "refuse":
             raise Diagnostic("CONV-ARC-LINES", f"{self.d.title} has no arcs", self.src)
         if max(abs(c.a), abs(c.b), abs(c.c)) > 1e-9:
             raise Diagnostic(
@@ -515,7 +528,7 @@ class SandiaWriter:
         s = self.fmt.scale or 1.0
         start = (self.cur[first] / s, self.cur[second] / s)
         end, centre = (c.first_end, c.second_end), (c.first_axis, c.second_axis)
-        tol = self.o.tolerance / s  # type: ignore[attr-defined]
+        tol = self.o.tolerance / s
         if isinstance(c, canon.ArcFeed):
             if c.rotation == 0:
                 self.chords(c, [(*end, 1.0)], c.axis_end_point, "ARC_FEED (0 turns)", 0.0)
@@ -532,12 +545,10 @@ class SandiaWriter:
         self.chords(c, ch.plane_points(), c.axis_end_point, c.NAME, ch.deviation)
 
     def nurbs(self, c: canon.NurbsFeed) -> None:
-        from gcode.emit_curves import nurbs_problem
-
         problem = nurbs_problem(c)
         if problem:
             raise Diagnostic("CONV-NURBS", problem, self.src)
-        if self.o.on_missing == "refuse":  # type: ignore[attr-defined]
+        if self.o.on_missing == "refuse":
             raise Diagnostic("CONV-NURBS", f"{self.d.title} has no curves", self.src)
         first, second, normal, _, _ = PLANE_AXES[self.plane]
         pts = np.array(c.points, dtype=float)
@@ -549,6 +560,6 @@ class SandiaWriter:
 
         pieces, dev = approximate.fit_curve(
             curve, knots[0], knots[-1], self.o.tolerance / s, False, knots
-        )  # type: ignore[attr-defined]
+        )
         chords = [(p.end[0], p.end[1], 1.0) for p in pieces]
         self.chords(c, chords, self.cur[normal] / s, "NURBS_FEED", dev)

@@ -71,7 +71,8 @@ def move_lines(
     if not given:
         return []
     if len(given) == 3:
-        lines = [f"MoveTo X={a} Y={b} Z={c}" for a, b, c in zip(xs, ys, zs, strict=True)]  # type: ignore[arg-type]
+        (_, v1, _), (_, v2, _), (_, v3, _) = given  # X, Y, Z
+        lines = [f"MoveTo X={a} Y={b} Z={c}" for a, b, c in zip(v1, v2, v3, strict=True)]
     elif len(given) == 2:
         (k1, v1, _), (k2, v2, _) = given
         lines = [f"MoveTo {k1}={a} {k2}={b}" for a, b in zip(v1, v2, strict=True)]

@@ -30,6 +30,7 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Iterable, Iterator
+from typing import TextIO
 
 from gcode.interpreter import InterpreterOptions
 from kernel import canon
@@ -102,7 +103,8 @@ def interpret(
     return _closing(fh, Reader(name, options or InterpreterOptions()).run(fh))
 
 
-def _closing(fh, commands: Iterator[canon.Command]) -> Iterator[canon.Command]:  # noqa: ANN001
+def _closing(fh: TextIO, commands: Iterator[canon.Command]) -> Iterator[canon.Command]:
+    """The commands, with the file closed once they end (or the generator is closed)."""
     with fh:
         yield from commands
 
@@ -316,6 +318,8 @@ class Reader:
 
     def attributes(self, value: str) -> bool:
         """Decode the bit mask (names joined by ``|`` or an integer); True when relative."""
+        mode: int | None
+        system: int | None
         if value.isascii() and value.isdigit():
             bits = int(value)
             if bits >= 32 or (bits >> 1) > 9:

@@ -18,16 +18,13 @@ oriented stop is ``ORIENT_SPINDLE(0)`` (the orientation angle is a machine param
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 from gcode.codes import Words
+from gcode.fanuc.state import ExecutorState
 from gcode.motion import AXES, PLANE_AXES
 from kernel import canon
 from kernel.canon import Direction
 from kernel.diagnostics import Diagnostic, Location
-
-if TYPE_CHECKING:
-    from gcode.fanuc.executor import Executor
 
 OWN = frozenset({740, 760, 840, 870})
 TAPPING = frozenset({740, 840})
@@ -49,7 +46,7 @@ class _Hole:
     holes: list[tuple[float, float]]
 
 
-def _setup(ex: Executor, w: Words, code: int, sticky: bool) -> _Hole:
+def _setup(ex: ExecutorState, w: Words, code: int, sticky: bool) -> _Hole:
     ip = ex.ip
     s = ip.s
     v = w.values
@@ -112,7 +109,7 @@ def _setup(ex: Executor, w: Words, code: int, sticky: bool) -> _Hole:
     return _Hole(f1, f2, fn, r, bottom, initial, clear, height, holes)
 
 
-def run(ex: Executor, w: Words, code: int, sticky: bool) -> None:
+def run(ex: ExecutorState, w: Words, code: int, sticky: bool) -> None:
     """One G74/G76/G84/G87 block (its words in RS274 form: x y z r p q l)."""
     ip = ex.ip
     s = ip.s
@@ -139,7 +136,9 @@ def run(ex: Executor, w: Words, code: int, sticky: bool) -> None:
     s.spindle = turning
 
 
-def _move(ex: Executor, h: _Hole, kind: type, a: float, b: float, d: float, loc: Location) -> None:
+def _move(
+    ex: ExecutorState, h: _Hole, kind: type, a: float, b: float, d: float, loc: Location
+) -> None:
     s = ex.ip.s
     p = list(s.pos)
     p[h.f1], p[h.f2], p[h.fn] = a, b, d
@@ -147,13 +146,13 @@ def _move(ex: Executor, h: _Hole, kind: type, a: float, b: float, d: float, loc:
     s.pos = p
 
 
-def _dwell(ex: Executor, loc: Location) -> None:
+def _dwell(ex: ExecutorState, loc: Location) -> None:
     p = ex.ip.s.cycle.p
     if p > 0:
         ex.ip.emit(canon.Dwell(p, source=loc))
 
 
-def _tap(ex: Executor, h: _Hole, code: int, a: float, b: float, loc: Location) -> None:
+def _tap(ex: ExecutorState, h: _Hole, code: int, a: float, b: float, loc: Location) -> None:
     ip = ex.ip
     rapid, feed = canon.StraightTraverse, canon.StraightFeed
     reverse = canon.StartSpindleCounterclockwise if code == 840 else canon.StartSpindleClockwise
@@ -171,11 +170,11 @@ def _tap(ex: Executor, h: _Hole, code: int, a: float, b: float, loc: Location) -
         _move(ex, h, rapid, a, b, h.clear, loc)
 
 
-def _orient(ex: Executor, loc: Location) -> None:
+def _orient(ex: ExecutorState, loc: Location) -> None:
     ex.ip.emit(canon.OrientSpindle(0.0, Direction.CLOCKWISE, source=loc))
 
 
-def _bore_out(ex: Executor, h: _Hole, a: float, b: float, loc: Location) -> None:
+def _bore_out(ex: ExecutorState, h: _Hole, a: float, b: float, loc: Location) -> None:
     """G76 and G87 at the bottom: feed there, dwell, orient the spindle and shift by Q off
     the wall, leave by rapids to the clearance height and back over the hole, spindle on."""
     rapid = canon.StraightTraverse
@@ -189,7 +188,7 @@ def _bore_out(ex: Executor, h: _Hole, a: float, b: float, loc: Location) -> None
     ex.ip.emit(canon.StartSpindleClockwise(source=loc))
 
 
-def _fine_bore(ex: Executor, h: _Hole, a: float, b: float, loc: Location) -> None:
+def _fine_bore(ex: ExecutorState, h: _Hole, a: float, b: float, loc: Location) -> None:
     ip = ex.ip
     rapid = canon.StraightTraverse
     _move(ex, h, rapid, a, b, max(h.height, h.r), loc)
@@ -198,7 +197,7 @@ def _fine_bore(ex: Executor, h: _Hole, a: float, b: float, loc: Location) -> Non
     _bore_out(ex, h, a, b, loc)
 
 
-def _back_bore(ex: Executor, h: _Hole, a: float, b: float, loc: Location) -> None:
+def _back_bore(ex: ExecutorState, h: _Hole, a: float, b: float, loc: Location) -> None:
     ip = ex.ip
     rapid = canon.StraightTraverse
     q = ip.s.cycle.q

@@ -11,14 +11,13 @@ counts, M98/M99/G65/G66 (returned to the flow as actions), Haas G187/G47/M97/M50
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Sequence
 
 from gcode.codes import G_GROUPS, Words
-from gcode.fanuc import cycles, moves
-from gcode.fanuc.options import Flavour
-from gcode.fanuc.transforms import Transforms
+from gcode.fanuc import cycles, moves, offsets
+from gcode.fanuc.lexer import WordValue
+from gcode.fanuc.state import Action, ExecutorState, ModalCall
 from gcode.fanuc.words import ARGUMENTS, CYCLES, MOTION, resolve
-from gcode.interpreter import Interpreter
 from kernel import canon
 from kernel.canon import MotionMode, Plane, Units
 from kernel.diagnostics import Diagnostic, Location
@@ -57,50 +56,11 @@ _PLAIN_LETTERS = {a: a.lower() for a in "XYZIJKRF"}
 _PLANES = {170: Plane.XY, 180: Plane.XZ, 190: Plane.YZ}
 
 
-@dataclass
-class Action:
-    """What the flow does after the block: call, return, end."""
-
-    kind: str  # "m98" "g65" "m97" "m99" "end" "g66"
-    number: int = 0
-    repeats: int = 1
-    args: dict[int, float] = field(default_factory=dict)
-    seq: int | None = None
-
-
-@dataclass
-class ModalCall:
-    """G66 P L arguments: the macro called after each move."""
-
-    number: int
-    repeats: int
-    args: dict[int, float]
-    depth: int
-
-
-class Executor:
-    """Per-run Fanuc state around the RS274/NGC machine model ``ip``."""
-
-    def __init__(self, ip: Interpreter, flavour: Flavour) -> None:
-        self.ip = ip
-        self.fl = flavour
-        self.tf = Transforms()
-        self.motion: int | None = 0  # Fanuc modal group 1 (power-on G00)
-        self.nurbs: moves.NurbsCollector | None = None
-        self.lengths: dict[int, list[float]] = {}  # G10 L10/L11: [geometry, wear]
-        self.radii: dict[int, list[float]] = {}  # G10 L12/L13
-        self.modal_call: ModalCall | None = None
-        self.extended: dict[int, list[float]] = {}  # G10 L20 / G54.1 P offsets
-        self.extended_selected: int | None = None
-        self.control = 640  # G61 / G64 for G05.1 Q0 and G09
-        self.lathe = None  # gcode.fanuc.lathe.Lathe when the flavour is a lathe
-        self.depth = 0  # macro call depth (set by the flow)
-        self.last_comment: str | None = None
-        ip.s.retract_r = False  # Fanuc mills power on in G98 (initial level)
-        ip.s.motion_mode = 0
+class Executor(ExecutorState):
+    """Executes Fanuc blocks on the per-run state around the RS274/NGC machine model."""
 
     # ------------------------------------------------------------------ entry
-    def block(self, items: list[tuple[str, object, int]], loc: Location) -> list[Action]:
+    def block(self, items: list[tuple[str, int | float, int]], loc: Location) -> list[Action]:
         """Execute the evaluated words of one block; the flow actions it asks for."""
         ip = self.ip
         s = ip.s
@@ -109,7 +69,7 @@ class Executor:
             return []
         gs: list[int] = []
         ms: list[int] = []
-        raw: dict[str, object] = {}
+        raw: dict[str, int | float] = {}
         cols: dict[str, int] = {}
         for letter, val, col in items:
             at = Location(loc.file, loc.line, col)
@@ -153,7 +113,7 @@ class Executor:
         nurbs = 62 in gset or (self.nurbs is not None and motion is None)
         v = resolve(raw, inch, gset, cycle, nurbs, self.fl.dwell_p_point_seconds)
         if self.lathe is not None:
-            return self.lathe.block(self, gs, ms, v, cols, raw, loc)
+            return self.lathe.block(gs, ms, v, cols, raw, loc)
         return self.mill(gs, ms, v, cols, loc, motion, has_axis)
 
     @property
@@ -170,7 +130,7 @@ class Executor:
             and tf.mirror == [None, None, None]
         )
 
-    def _plain(self, items: list[tuple[str, object, int]]) -> bool:
+    def _plain(self, items: Sequence[tuple[str, WordValue, int]]) -> bool:
         """Run a block of only G00-G03 and X Y Z I J K R F words; False if it is not one."""
         ip = self.ip
         s = ip.s
@@ -188,18 +148,22 @@ class Executor:
                     return False
                 if type(val) is int:
                     values[low] = float(val) if low == "f" else val * inc
+                elif isinstance(val, tuple):  # an expression (never in a plain block)
+                    return False
                 else:
-                    values[low] = val  # type: ignore[assignment]
+                    values[low] = val
             else:
                 return False
         if code is None:
-            if self.motion not in (0, 10, 20, 30) and len(values) != ("f" in values):
+            motion = self.motion
+            moves = len(values) != ("f" in values)
+            if moves and motion not in (0, 10, 20, 30):
                 return False
             w = Words(values=values)
-            if "f" not in values and values and s.motion_mode == self.motion:
+            if "f" not in values and values and s.motion_mode == motion:
                 w.plain = True  # the RS274/NGC executor's own hot path: modal motion
-            elif len(values) != ("f" in values):
-                w.g[1] = self.motion  # type: ignore[assignment]
+            elif moves and motion is not None:  # G00-G03 (checked above)
+                w.g[1] = motion
         else:
             w = Words(g={1: code}, values=values)
             self.motion = code
@@ -268,8 +232,6 @@ class Executor:
         if 1870 in gset:
             self._g187(v, loc)
         if 541 in gset or 1540 in gset:
-            from gcode.fanuc import offsets
-
             offsets.extended_select(self, v, loc)
         elif any(540 <= c <= 590 for c in gset):
             self.extended_selected = None
@@ -434,18 +396,12 @@ class Executor:
         self.ip.emit(canon.SetMotionControlMode(MotionMode.CONTINUOUS, tol, source=loc))
 
     def _g10(self, v: dict[str, float], loc: Location, absolute: bool) -> None:
-        from gcode.fanuc import offsets
-
         offsets.g10(self, v, loc, absolute)
 
     def _tool_length(self, w: Words, v: dict[str, float], negative: bool, loc: Location) -> None:
-        from gcode.fanuc import offsets
-
         offsets.tool_length(self, w, v, negative, loc)
 
     def _radius(self, w: Words, v: dict[str, float]) -> None:
-        from gcode.fanuc import offsets
-
         offsets.radius(self, w, v)
 
     def _spindle_clamp(self, value: float, loc: Location) -> None:
@@ -459,11 +415,11 @@ def _mode(control: int) -> MotionMode:
     return MotionMode.EXACT_STOP if control == 610 else MotionMode.CONTINUOUS
 
 
-def _code(val: object, letter: str, loc: Location) -> int:
+def _code(val: int | float, letter: str, loc: Location) -> int:
     if type(val) is int:
         return val * 10
-    code = round(val * 10)  # type: ignore[operator]
-    if abs(val * 10 - code) > 1e-6 or code < 0:  # type: ignore[operator]
+    code = round(val * 10)
+    if abs(val * 10 - code) > 1e-6 or code < 0:
         raise Diagnostic(f"FANUC-BAD-{letter}", f"bad {letter} code {letter}{val}", loc)
     return code
 

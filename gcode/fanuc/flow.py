@@ -15,6 +15,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 
 from gcode.fanuc.executor import Action, Executor
+from gcode.fanuc.lathe import Lathe
 from gcode.fanuc.lexer import FBlock
 from gcode.fanuc.macro import Variables, evaluate, truth
 from gcode.fanuc.options import Flavour
@@ -58,10 +59,9 @@ class Reader:
         self.ip = Interpreter(ngc)
         self.ex = Executor(self.ip, flavour)
         if flavour.lathe:
-            from gcode.fanuc.lathe import Lathe
-
-            self.ex.lathe = Lathe(self.ex)
-            self.ex.lathe.contour_blocks = self._contour_blocks
+            lathe = Lathe(self.ex)
+            lathe.contour_blocks = self._contour_blocks
+            self.ex.lathe = lathe
         self.vars = Variables(SystemVariables(self), options.parameters)
         self.main = src
         self.loaded: dict[int, tuple[Source, int]] = {}
@@ -141,7 +141,7 @@ class Reader:
     # ------------------------------------------------------------------ blocks
     def _words(self, blk: FBlock, fr: Frame) -> bool:
         path = fr.src.path
-        items: list[tuple[str, object, int]] = []
+        items: list[tuple[str, int | float, int]] = []
         if blk.plain:
             loc = Location(path, blk.line, 1)
             ex = self.ex
@@ -149,16 +149,22 @@ class Reader:
                 ex.ip.loc = loc
                 if ex._plain(blk.words):
                     return False
-            items = [(letter, val, blk.column(index)) for letter, val, index in blk.words]
+            items = [
+                (letter, val, blk.column(index))
+                for letter, val, index in blk.words
+                if not isinstance(val, tuple)  # a plain block has constants only
+            ]
         else:
             loc = Location(path, blk.line, blk.column(blk.words[0][2]) if blk.words else 1)
-            for letter, val, index in blk.words:
+            for letter, word, index in blk.words:
                 col = blk.column(index)
-                if type(val) is not int and type(val) is not float:
-                    val = evaluate(val, self.vars, Location(path, blk.line, col))
-                    if val is None:
+                if isinstance(word, tuple):  # an expression
+                    got = evaluate(word, self.vars, Location(path, blk.line, col))
+                    if got is None:
                         continue  # a vacant variable: the word is not there
-                items.append((letter, val, col))
+                    items.append((letter, got, col))
+                else:
+                    items.append((letter, word, col))
         self.ex.depth = self.vars.depth
         self.ex.last_comment = blk.comment
         return any(self._act(action, fr, loc) for action in self.ex.block(items, loc))
@@ -276,15 +282,14 @@ class Reader:
                 continue
             if blk.kind != "words":
                 raise Diagnostic("FANUC-CYCLE-CONTOUR", "macro statement in a contour", at)
-            raw: dict[str, object] = {}
+            raw: dict[str, int | float] = {}
             gs: list[int] = []
-            for letter, val, _ in blk.words:
-                if type(val) is not int and type(val) is not float:
-                    val = evaluate(val, self.vars, at)
-                    if val is None:
-                        continue
+            for letter, word, _ in blk.words:
+                val = evaluate(word, self.vars, at) if isinstance(word, tuple) else word
+                if val is None:
+                    continue
                 if letter == "G":
-                    gs.append(round(val * 10))  # type: ignore[operator]
+                    gs.append(round(val * 10))
                 elif letter != "N":
                     raw[letter] = val
             yield blk.line, resolve(raw, inch, set(gs), False, False, False), gs

@@ -10,16 +10,23 @@ power-on), G50 coordinate setting or ``G50 S`` spindle clamp, G32 thread cutting
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Iterator, Sequence
 
 from gcode import arcs
-from gcode.codes import Words
+from gcode.codes import G_GROUPS, Words
+from gcode.fanuc.executor import _M_PASS, Executor, ngc_m_code
+from gcode.fanuc.state import Action
+from gcode.fanuc_turning import ProfileStep, cycle_moves
 from kernel import canon
 from kernel.canon import Plane, Units
 from kernel.diagnostics import Diagnostic, Location
 
-if TYPE_CHECKING:
-    from gcode.fanuc.executor import Action, Executor
+#: (P, Q, location) -> (line, words, G codes) of the contour blocks N P .. N Q
+ContourBlocks = Callable[[int, int, Location], Iterator[tuple[int, dict[str, float], list[int]]]]
+
+#: a cycle to run after the block's S, T and M words: name, words, contour, and the
+#: sequence number after which the program goes on (G71-G73)
+_Pending = tuple[str, dict[str, float], Sequence[ProfileStep], int | None]
 
 _SINGLE = {900: "G90", 920: "G92", 940: "G94"}
 _MULTI = {700: "G70", 710: "G71", 720: "G72", 730: "G73", 740: "G74", 750: "G75", 760: "G76"}
@@ -39,7 +46,7 @@ class Lathe:
         self.first: dict[int, dict[str, float]] = {}  # first blocks of two-block cycles
         self.single: dict[str, float] = {}  # modal words of G90/G92/G94
         #: set by the flow: (P, Q, loc) -> [(line, words)] of the contour blocks
-        self.contour_blocks = None
+        self.contour_blocks: ContourBlocks | None = None
 
     def start(self) -> None:
         ip = self.ex.ip
@@ -53,16 +60,14 @@ class Lathe:
     # ------------------------------------------------------------------ one block
     def block(
         self,
-        ex: Executor,
         gs: list[int],
         ms: list[int],
         v: dict[str, float],
         cols: dict[str, int],
-        raw: dict[str, object],
+        raw: dict[str, int | float],
         loc: Location,
     ) -> list[Action]:
-        from gcode.fanuc.executor import Action
-
+        ex = self.ex
         ip = ex.ip
         s = ip.s
         gset = set(gs)
@@ -74,7 +79,7 @@ class Lathe:
         if 670 in gset:
             ex.modal_call = None
         multi = next((c for c in gs if c in _MULTI), None)
-        pending: tuple[str, dict[str, float], object, int | None] | None = None
+        pending: _Pending | None = None
         if multi is not None:  # the cycle runs after the block's S, T and M words
             pending = self._multi(multi, v, raw, loc)
             v = {k: val for k, val in v.items() if k in "ST"}
@@ -119,8 +124,6 @@ class Lathe:
         for m in ms:
             if m in (98, 99, 97, 29):
                 continue
-            from gcode.fanuc.executor import _M_PASS, ngc_m_code
-
             group = _M_PASS.get(m)
             if group is None:
                 raise Diagnostic("FANUC-UNKNOWN-M", f"unsupported M code M{m:02d}", loc)
@@ -173,9 +176,7 @@ class Lathe:
         ip.s.current_tool = tool
 
     # ------------------------------------------------------------------ cycles
-    def _single(
-        self, name: str, new: bool, v: dict[str, float], w: Words
-    ) -> tuple[str, dict[str, float], object, None]:
+    def _single(self, name: str, new: bool, v: dict[str, float], w: Words) -> _Pending:
         """G90/G92/G94 (modal): the cycle's words, X Z R F kept for the next blocks."""
         if new:
             self.single = {}
@@ -187,8 +188,8 @@ class Lathe:
         return name, dict(self.single), (), None
 
     def _multi(
-        self, code: int, v: dict[str, float], raw: dict[str, object], loc: Location
-    ) -> tuple[str, dict[str, float], object, int | None] | None:
+        self, code: int, v: dict[str, float], raw: dict[str, int | float], loc: Location
+    ) -> _Pending | None:
         """G70-G76: None for a first block (kept), else the cycle to run and, for G71-G73,
         the sequence number after which the program goes on."""
         name = _MULTI[code]
@@ -198,16 +199,16 @@ class Lathe:
         for letter in "PQ":
             if letter in raw and type(raw[letter]) is int:
                 if code in _INC_PQ and not (letter == "P" and code == 760 and self._first(code, v)):
-                    params[letter] = raw[letter] * inc  # type: ignore[operator]
+                    params[letter] = raw[letter] * inc
                 else:
-                    params[letter] = float(raw[letter])  # type: ignore[arg-type]
+                    params[letter] = float(raw[letter])
         if code == 730 and self._first(code, v) and "R" in raw:
-            params["R"] = float(raw["R"])  # type: ignore[arg-type]  # G73 R: division count
+            params["R"] = float(raw["R"])  # G73 R: division count
         if code != 700 and self._first(code, v):
             self.first[code] = {"1" + k: val for k, val in params.items() if k not in "ST"}
             return None
         params = {**self.first.pop(code, {}), **params}
-        contour: list = []
+        contour: list[ProfileStep] = []
         if code in (700, 710, 720, 730):
             if "P" not in params or "Q" not in params:
                 raise Diagnostic("FANUC-CYCLE-PQ", f"{name} needs P and Q (contour)", loc)
@@ -223,9 +224,7 @@ class Lathe:
             return not any(a in v for a in "XZUW")
         return False
 
-    def _contour(self, p: int, q: int, loc: Location) -> list:
-        from gcode.fanuc_turning import ProfileStep
-
+    def _contour(self, p: int, q: int, loc: Location) -> list[ProfileStep]:
         s = self.ex.ip.s
         x, z = s.pos[0], s.pos[2]
         mode = 0
@@ -259,12 +258,8 @@ class Lathe:
         return steps
 
     def run_cycle(
-        self, name: str, params: dict[str, float], contour: object, loc: Location
+        self, name: str, params: dict[str, float], contour: Sequence[ProfileStep], loc: Location
     ) -> None:
-        try:
-            from gcode.fanuc_turning import cycle_moves
-        except ImportError:  # pragma: no cover - the module ships with the reader
-            raise Diagnostic("FANUC-CYCLE-UNSUPPORTED", f"{name}: no turning cycles", loc) from None
         ip = self.ex.ip
         s = ip.s
         ip.comp_off("turning cycle")
@@ -274,7 +269,7 @@ class Lathe:
             ip.emit(canon.SetFeedRate(s.feed_rate, source=loc))
         moves = cycle_moves(
             name, start, params, contour, diameter=True, line=loc.line, path=loc.file or ""
-        )  # type: ignore[arg-type]
+        )
         for m in moves:
             if m.feed is not None and m.feed != s.feed_rate:
                 s.feed_rate = m.feed
@@ -300,6 +295,4 @@ class Lathe:
 
 
 def _group(code: int) -> int:
-    from gcode.codes import G_GROUPS
-
     return G_GROUPS[code]

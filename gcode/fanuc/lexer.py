@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from typing import Any
 
 from kernel.diagnostics import Diagnostic, Location
 
@@ -40,7 +41,10 @@ _WORD_RE = re.compile(r"([A-Z])([-+]?(?:\d+\.?\d*|\.\d+))")
 _PROGRAM_RE = re.compile(r"O(\d+)$")
 _SEQ_RE = re.compile(r"N(\d+)")
 
-Expr = object
+#: an expression node (see above): a float constant or a tuple of a kind and its parts
+Expr = float | tuple[Any, ...]
+#: a word's value as read: int (no decimal point), float, or an expression node
+WordValue = int | float | tuple[Any, ...]
 
 
 @dataclass(slots=True)
@@ -54,10 +58,10 @@ class FBlock:
     seq: int | None = None
     deleted: bool = False
     #: (letter, value, index in the blank-free text); value int | float | expression
-    words: list[tuple[str, object, int]] = field(default_factory=list)
+    words: list[tuple[str, WordValue, int]] = field(default_factory=list)
     comment: str | None = None
-    target: Expr = None  # assignment target (index expression)
-    expr: Expr = None  # assigned value / condition / GOTO label
+    target: Expr | None = None  # assignment target (index expression)
+    expr: Expr | None = None  # assigned value / condition / GOTO label
     label: int = 0  # DO/END identifier, O number
     then: tuple[Expr, Expr] | None = None  # IF ... THEN assignment
     plain: bool = False  # constant words only (no G/M dependence decided here)
@@ -240,7 +244,7 @@ class _Scanner:
             if m is not None and (m.end() >= n or s[m.end()] not in "#["):
                 text = m.group(0)
                 self.i = m.end()
-                value: object = float(text) if "." in text else int(text)
+                value: WordValue = float(text) if "." in text else int(text)
             else:
                 value = self.operand()
             blk.words.append((ch, value, start))

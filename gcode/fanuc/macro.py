@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from typing import Protocol
 
+from gcode.fanuc.lexer import Expr
 from kernel.diagnostics import Diagnostic, Location
 
 Value = float | None
@@ -87,27 +88,29 @@ def _num(v: Value) -> float:
     return 0.0 if v is None else v
 
 
-def evaluate(node: object, vars: Variables, loc: Location) -> Value:
+def evaluate(node: Expr | None, vars: Variables, loc: Location) -> Value:
     """Value of an expression node (:mod:`gcode.fanuc.lexer`); vacant is ``None``."""
     if type(node) is float:
-        return node  # type: ignore[return-value]
-    kind = node[0]  # type: ignore[index]
+        return node
+    if not isinstance(node, tuple):
+        raise Diagnostic("FANUC-EXPRESSION", f"cannot evaluate {node!r}", loc)
+    kind = node[0]
     if kind == "#":
-        idx = evaluate(node[1], vars, loc)  # type: ignore[index]
+        idx = evaluate(node[1], vars, loc)
         return vars.read(_num(idx), loc)
     if kind == "neg":
-        v = evaluate(node[1], vars, loc)  # type: ignore[index]
+        v = evaluate(node[1], vars, loc)
         return None if v is None else -v
     if kind == "b":
-        _, op, a, b = node  # type: ignore[misc]
+        _, op, a, b = node
         return _binary(op, evaluate(a, vars, loc), evaluate(b, vars, loc), loc)
     if kind == "f":
-        args = [evaluate(a, vars, loc) for a in node[2:]]  # type: ignore[index]
-        return _function(node[1], args, loc)  # type: ignore[index]
+        args = [evaluate(a, vars, loc) for a in node[2:]]
+        return _function(node[1], args, loc)
     raise Diagnostic("FANUC-EXPRESSION", f"cannot evaluate {node!r}", loc)
 
 
-def truth(node: object, vars: Variables, loc: Location) -> bool:
+def truth(node: Expr | None, vars: Variables, loc: Location) -> bool:
     return _num(evaluate(node, vars, loc)) != 0.0
 
 

@@ -10,11 +10,10 @@ circle), G02/G03 swapped under an odd mirror. Canned cycles map their hole posit
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 from gcode import arcs
 from gcode.codes import Words
+from gcode.fanuc.state import ExecutorState, NurbsCollector
 from gcode.fanuc.transforms import polar_to_cartesian
 from gcode.fanuc.words import CYCLES
 from gcode.motion import PLANE_AXES, PLANE_CENTRE
@@ -22,20 +21,17 @@ from kernel import canon
 from kernel.canon import Plane, Units
 from kernel.diagnostics import Diagnostic, Location
 
-if TYPE_CHECKING:
-    from gcode.fanuc.executor import Executor
-
 AXES = "xyzabc"
 _UPPER = "XYZ"
 
 
-def _prog_pos(ex: Executor) -> list[float]:
+def _prog_pos(ex: ExecutorState) -> list[float]:
     pos = ex.ip.s.pos
     return ex.tf.inverse(pos[:3]) + list(pos[3:])
 
 
 # --------------------------------------------------------------------------- set-up
-def start_scaling(ex: Executor, v: dict[str, float], loc: Location) -> None:
+def start_scaling(ex: ExecutorState, v: dict[str, float], loc: Location) -> None:
     """G51 X Y Z (centre, default the current position) P (all axes) or I J K (per axis)."""
     tf = ex.tf
     here = _prog_pos(ex)
@@ -51,7 +47,7 @@ def start_scaling(ex: Executor, v: dict[str, float], loc: Location) -> None:
     tf.scale_on = True
 
 
-def start_mirror(ex: Executor, v: dict[str, float], loc: Location, absolute: bool) -> None:
+def start_mirror(ex: ExecutorState, v: dict[str, float], loc: Location, absolute: bool) -> None:
     """G51.1 X Y Z: mirror about the given axis values."""
     here = _prog_pos(ex)
     given = [a for a in _UPPER if a in v]
@@ -62,7 +58,7 @@ def start_mirror(ex: Executor, v: dict[str, float], loc: Location, absolute: boo
             ex.tf.mirror[i] = v[a] if absolute else here[i] + v[a]
 
 
-def stop_mirror(ex: Executor, v: dict[str, float]) -> None:
+def stop_mirror(ex: ExecutorState, v: dict[str, float]) -> None:
     """G50.1 X Y Z: cancel the mirror of the given axes (all when none is given)."""
     given = [i for i, a in enumerate(_UPPER) if a in v] or [0, 1, 2]
     for i in given:
@@ -70,7 +66,7 @@ def stop_mirror(ex: Executor, v: dict[str, float]) -> None:
 
 
 def start_rotation(
-    ex: Executor, v: dict[str, float], plane: Plane, absolute: bool, loc: Location
+    ex: ExecutorState, v: dict[str, float], plane: Plane, absolute: bool, loc: Location
 ) -> None:
     """G68 a b R: rotation by R degrees about (a, b) in the plane active at G68."""
     tf = ex.tf
@@ -90,7 +86,9 @@ def start_rotation(
 
 
 # --------------------------------------------------------------------------- motion
-def transform_block(ex: Executor, w: Words, plane: Plane, absolute: bool, loc: Location) -> None:
+def transform_block(
+    ex: ExecutorState, w: Words, plane: Plane, absolute: bool, loc: Location
+) -> None:
     """Rewrite the motion words of ``w`` as absolute transformed coordinates."""
     s = ex.ip.s
     tf = ex.tf
@@ -137,7 +135,7 @@ def transform_block(ex: Executor, w: Words, plane: Plane, absolute: bool, loc: L
 
 
 def _arc(
-    ex: Executor,
+    ex: ExecutorState,
     w: Words,
     code: int,
     plane: Plane,
@@ -171,19 +169,8 @@ def _arc(
 
 
 # --------------------------------------------------------------------------- G06.2
-@dataclass
-class NurbsCollector:
-    """The blocks of one G06.2 curve: control points, weights and knots."""
-
-    order: int
-    points: list[tuple[float, float, float]] = field(default_factory=list)
-    knots: list[float] = field(default_factory=list)
-    end_knots: int = 0
-    loc: Location | None = None
-
-
 def nurbs_block(
-    ex: Executor, v: dict[str, float], loc: Location, start: bool
+    ex: ExecutorState, v: dict[str, float], loc: Location, start: bool
 ) -> NurbsCollector | None:
     """One G06.2 block (``start``) or continuation block; the collector, or None once the
     last knot is read and ``NURBS_FEED`` is emitted."""
@@ -203,8 +190,8 @@ def nurbs_block(
             raise Diagnostic("FANUC-NURBS-ORDER", "G06.2 order P must be 2..6", loc)
         col = NurbsCollector(int(order), loc=loc)
     else:
+        assert ex.nurbs is not None
         col = ex.nurbs
-        assert col is not None
     if "K" not in v:
         raise Diagnostic("FANUC-NURBS-KNOT", "every G06.2 block needs a knot K", loc)
     if col.knots and v["K"] < col.knots[-1] - 1e-12:

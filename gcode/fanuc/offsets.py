@@ -11,25 +11,22 @@ and offsets from the user's table are used the same way. The table is in inches
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import TYPE_CHECKING
 
 from gcode.codes import Words
+from gcode.fanuc.state import ExecutorState
 from gcode.state import INCH_MM
 from gcode.tooltable import Tool
 from kernel.canon import Units
 from kernel.diagnostics import Diagnostic, Location
 
-if TYPE_CHECKING:
-    from gcode.fanuc.executor import Executor
-
 _AXES = "XYZABC"
 
 
-def _table_scale(ex: Executor) -> float:
+def _table_scale(ex: ExecutorState) -> float:
     return INCH_MM if ex.ip.s.units is Units.MM else 1.0
 
 
-def g10(ex: Executor, v: dict[str, float], loc: Location, absolute: bool) -> None:
+def g10(ex: ExecutorState, v: dict[str, float], loc: Location, absolute: bool) -> None:
     if "L" not in v:
         raise Diagnostic("FANUC-G10-L", "G10 without L", loc)
     lword = round(v["L"])
@@ -46,7 +43,9 @@ def g10(ex: Executor, v: dict[str, float], loc: Location, absolute: bool) -> Non
         raise Diagnostic("FANUC-G10-L", f"G10 L{lword} is not read (L2, L10-L13, L20)", loc)
 
 
-def _work_offset(ex: Executor, p: int, v: dict[str, float], loc: Location, absolute: bool) -> None:
+def _work_offset(
+    ex: ExecutorState, p: int, v: dict[str, float], loc: Location, absolute: bool
+) -> None:
     if not 1 <= p <= 6:
         raise Diagnostic("FANUC-G10-P", "G10 L2 P must be 1-6 (G54-G59)", loc)
     row = ex.ip.s.coords[p]
@@ -58,7 +57,7 @@ def _work_offset(ex: Executor, p: int, v: dict[str, float], loc: Location, absol
 
 
 def _offset_memory(
-    ex: Executor, lword: int, n: int, v: dict[str, float], loc: Location, absolute: bool
+    ex: ExecutorState, lword: int, n: int, v: dict[str, float], loc: Location, absolute: bool
 ) -> None:
     if n < 0 or n > 999:
         raise Diagnostic("FANUC-G10-P", f"offset number P{n} out of range", loc)
@@ -79,7 +78,9 @@ def _offset_memory(
         tools.tools[n] = replace(base, diameter=2.0 * (entry[0] + entry[1]) / k)
 
 
-def tool_length(ex: Executor, w: Words, v: dict[str, float], negative: bool, loc: Location) -> None:
+def tool_length(
+    ex: ExecutorState, w: Words, v: dict[str, float], negative: bool, loc: Location
+) -> None:
     """G43 H (H0 cancels); G44 is refused (the IR has no negative length offset of a tool)."""
     if negative:
         raise Diagnostic("FANUC-G44", "G44 (negative tool length offset) is not read", loc)
@@ -92,7 +93,7 @@ def tool_length(ex: Executor, w: Words, v: dict[str, float], negative: bool, loc
         w.values["h"] = float(round(h))
 
 
-def radius(ex: Executor, w: Words, v: dict[str, float]) -> None:
+def radius(ex: ExecutorState, w: Words, v: dict[str, float]) -> None:
     w.values["d"] = float(round(v["D"]))
 
 
@@ -102,11 +103,13 @@ def radius(ex: Executor, w: Words, v: dict[str, float]) -> None:
 EXTENDED_SLOT = 9
 
 
-def _extended_count(ex: Executor) -> int:
+def _extended_count(ex: ExecutorState) -> int:
     return 99 if ex.fl.name == "haas" else 48
 
 
-def extended_set(ex: Executor, n: int, v: dict[str, float], loc: Location, absolute: bool) -> None:
+def extended_set(
+    ex: ExecutorState, n: int, v: dict[str, float], loc: Location, absolute: bool
+) -> None:
     """G10 L20 P n: additional work offset n (G54.1 P n; Haas G154 P n)."""
     if not 1 <= n <= _extended_count(ex):
         raise Diagnostic("FANUC-G10-P", f"G10 L20 P{n}: no such additional offset", loc)
@@ -118,7 +121,7 @@ def extended_set(ex: Executor, n: int, v: dict[str, float], loc: Location, absol
         _load_extended(ex, n)
 
 
-def extended_select(ex: Executor, v: dict[str, float], loc: Location) -> None:
+def extended_select(ex: ExecutorState, v: dict[str, float], loc: Location) -> None:
     """G54.1 P n (Haas G154 P n): make additional work offset n the active system."""
     if "P" not in v or v["P"] != round(v["P"]) or not 1 <= v["P"] <= _extended_count(ex):
         raise Diagnostic("FANUC-G54-1", "G54.1 needs P1-P48 (Haas G154: P1-P99)", loc)
@@ -128,12 +131,12 @@ def extended_select(ex: Executor, v: dict[str, float], loc: Location) -> None:
     ex.ip.execute(Words(g={12: 593}))
 
 
-def _load_extended(ex: Executor, n: int) -> None:
+def _load_extended(ex: ExecutorState, n: int) -> None:
     row = ex.extended.get(n, [0.0] * 6)
     values = {"l": 2.0, "p": float(EXTENDED_SLOT)}
     values.update({a.lower(): row[i] for i, a in enumerate(_AXES)})
     ex.ip.execute(Words(g={0: 100}, values=values))
 
 
-def extended_value(ex: Executor, n: int, axis: int) -> float:
+def extended_value(ex: ExecutorState, n: int, axis: int) -> float:
     return ex.extended.get(n, [0.0] * 6)[axis]

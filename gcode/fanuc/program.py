@@ -14,6 +14,7 @@ import bisect
 import os
 import re
 from array import array
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 from gcode.fanuc.lexer import FBlock, parse_line
@@ -42,6 +43,10 @@ class Lines:
 
     def __len__(self) -> int:
         return len(self.starts)
+
+    def __iter__(self) -> Iterator[str]:
+        """The lines in order (as indexing them one by one would give)."""
+        return (self[i] for i in range(len(self.starts)))
 
     def __getitem__(self, index: int) -> str:
         starts = self.starts

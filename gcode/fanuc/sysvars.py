@@ -9,23 +9,41 @@ length wear, length geometry, radius wear, radius geometry).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from gcode.codes import Words
+from gcode.fanuc import offsets
+from gcode.fanuc.state import ExecutorState
 from kernel import canon
 from kernel.canon import Plane, Units
 from kernel.diagnostics import Diagnostic, Location
 
-if TYPE_CHECKING:
-    from gcode.fanuc.flow import Reader
-
 _PLANE_CODE = {Plane.XY: 17.0, Plane.XZ: 18.0, Plane.YZ: 19.0}
+
+
+class RunView(Protocol):
+    """What the system variables read of a run (:class:`gcode.fanuc.flow.Reader`)."""
+
+    @property
+    def ex(self) -> ExecutorState:
+        """The run's Fanuc state."""
+        ...
+
+    @property
+    def current_seq(self) -> int | None:
+        """The N number of the block being run, if it has one."""
+        ...
+
+    @property
+    def current_program(self) -> int:
+        """The O number of the program being run."""
+        ...
 
 
 class SystemVariables:
     """Reads and writes the machine state behind ``#1000`` and up."""
 
-    def __init__(self, reader: Reader) -> None:
+    def __init__(self, reader: RunView) -> None:
         self.r = reader
 
     def read(self, i: int, loc: Location) -> float | None:
@@ -62,9 +80,7 @@ class SystemVariables:
         if 7001 <= i <= 7946:
             n, k = divmod(i - 7001, 20)
             if k < 6:
-                from gcode.fanuc.offsets import extended_value
-
-                return extended_value(ex, n + 1, k)
+                return offsets.extended_value(ex, n + 1, k)
         if 2001 <= i <= 2400 or 10001 <= i <= 13400:
             return self._offset(i)
         raise Diagnostic("FANUC-SYSTEM-VARIABLE", f"system variable #{i} is not available", loc)
@@ -95,10 +111,8 @@ class SystemVariables:
         if 7001 <= i <= 7946:
             n, k = divmod(i - 7001, 20)
             if k < 6:
-                from gcode.fanuc.offsets import extended_set
-
                 axis = "XYZABC"[k]
-                extended_set(r.ex, n + 1, {axis: value or 0.0}, loc, True)
+                offsets.extended_set(r.ex, n + 1, {axis: value or 0.0}, loc, True)
                 return
         raise Diagnostic("FANUC-SYSTEM-VARIABLE", f"system variable #{i} cannot be set", loc)
 
@@ -153,8 +167,6 @@ class SystemVariables:
         return table.get(n, [0.0, 0.0])[slot]
 
     def _set_offset(self, i: int, value: float, loc: Location) -> None:
-        from gcode.fanuc import offsets
-
         table, n, slot = self._which(i)
         lword = (10 + slot) if table is self.r.ex.lengths else (12 + slot)
         offsets.g10(self.r.ex, {"L": float(lword), "P": float(n), "R": value}, loc, True)

@@ -36,7 +36,7 @@ def code10(value: float, letter: str, loc: Location) -> int:
 
 
 def resolve(
-    raw: dict[str, object],
+    raw: dict[str, int | float],
     inch: bool,
     gset: set[int],
     cycle: bool,
@@ -55,30 +55,30 @@ def resolve(
             else:
                 out[letter] = float(val)
         else:
-            out[letter] = val  # type: ignore[assignment]
+            out[letter] = val
     if 40 in gset:  # G04: X/U seconds (0.001 s without a point), P milliseconds
         for letter in "XU":
             if letter in raw:
                 v = raw[letter]
-                out[letter] = v * 0.001 if type(v) is int else v  # type: ignore[operator]
+                out[letter] = v * 0.001 if type(v) is int else v
         if "P" in raw:
             v = raw["P"]
             literal_point = type(v) is float
-            out["P"] = v if (p_point_seconds and literal_point) else v / 1000.0  # type: ignore[operator]
+            out["P"] = v if (p_point_seconds and literal_point) else v / 1000.0
     if 510 in gset:  # G51 magnification
         for letter in "PIJK":
             if letter in raw:
                 v = raw[letter]
-                out[letter] = v * 0.00001 if type(v) is int else v  # type: ignore[operator]
+                out[letter] = v * 0.00001 if type(v) is int else v
     if 680 in gset and "R" in raw and type(raw["R"]) is int:
-        out["R"] = raw["R"] * 0.001  # type: ignore[operator]
+        out["R"] = raw["R"] * 0.001
     if cycle:
         if "K" in raw:
-            out["K"] = float(raw["K"])  # type: ignore[arg-type]
+            out["K"] = float(raw["K"])
         if "P" in raw:
-            out["P"] = raw["P"] / 1000.0  # type: ignore[operator]
+            out["P"] = raw["P"] / 1000.0
     if nurbs:
         for letter in "KRP":
             if letter in raw:
-                out[letter] = float(raw[letter])  # type: ignore[arg-type]
+                out[letter] = float(raw[letter])
     return out

@@ -107,7 +107,7 @@ class Word:
 class Assign:
     """``R1=expr``, ``R[i]=expr`` or ``NAME=expr``: ``target`` ("R", index node) or ("V", name)."""
 
-    target: tuple[str, object]
+    target: tuple[str, Node | str]
     value: Node
     col: int
 
@@ -386,7 +386,7 @@ class _Statement:
                 return tuple(args)
             self.take(",")
 
-    def _target(self) -> tuple[str, object]:
+    def _target(self) -> tuple[str, Node | str]:
         tok = self.t[self.i] if not self.done() else None
         if tok is None or tok.kind != NAME:
             raise self.error("SIEM-SYNTAX", "a variable or R parameter is expected")

@@ -16,16 +16,12 @@ block that moves, until ``MCALL`` alone. Other cycles are refused (SIEM-CYCLE-UN
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from gcode.siemens import motion
 from gcode.siemens.expr import Node, Variables, evaluate
+from gcode.siemens.machine import Machine, Values
 from gcode.siemens.state import PLANES
 from kernel import canon
 from kernel.diagnostics import Diagnostic
-
-if TYPE_CHECKING:
-    from gcode.siemens.executor import Executor
 
 #: cycle -> its parameters that the expansion uses, in call order
 PARAMETERS = {
@@ -34,7 +30,7 @@ PARAMETERS = {
 }
 
 
-def check_cycle(ex: Executor, name: str, args: tuple[Node | None, ...]) -> None:
+def check_cycle(ex: Machine, name: str, args: tuple[Node | None, ...]) -> None:
     if name not in PARAMETERS:
         raise Diagnostic(
             "SIEM-CYCLE-UNSUPPORTED",
@@ -47,10 +43,8 @@ def check_cycle(ex: Executor, name: str, args: tuple[Node | None, ...]) -> None:
         )
 
 
-def run_cycle(ex: Executor, name: str, args: tuple, scope: Variables) -> None:
+def run_cycle(ex: Machine, name: str, args: tuple, scope: Variables) -> None:
     """Expand one drilling cycle at the current position."""
-    from gcode.siemens.executor import Values
-
     check_cycle(ex, name, args)
     p = dict.fromkeys(PARAMETERS[name], 0.0)
     for key, node in zip(PARAMETERS[name], args, strict=False):
@@ -73,10 +67,11 @@ def run_cycle(ex: Executor, name: str, args: tuple, scope: Variables) -> None:
     saved = (s.motion, s.absolute)
     s.absolute = True
     try:
-        for code, value in ((0, top), (1, depth), (None, p.get("DTB")), (0, p["RTP"])):
+        dwell = p.get("DTB", 0.0)  # CYCLE82's (CYCLE81 has none)
+        for code, value in ((0, top), (1, depth), (None, dwell), (0, p["RTP"])):
             if code is None:
                 if name == "CYCLE82":
-                    ex.emit(canon.Dwell(value, source=ex.loc))  # type: ignore[arg-type]
+                    ex.emit(canon.Dwell(value, source=ex.loc))
                 continue
             s.motion = code
             motion.execute(ex, Values(v={axis: value}), False)

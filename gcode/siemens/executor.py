@@ -9,15 +9,13 @@ functions" and "List of addresses".
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 from gcode import linuxcnc as lc
-from gcode.interpreter import InterpreterOptions
 from gcode.siemens import motion
 from gcode.siemens.blocks import Assign, Block, Word
+from gcode.siemens.cycles import run_cycle
 from gcode.siemens.expr import Variables, evaluate
-from gcode.siemens.state import PLANES, State
-from gcode.tooltable import ToolTable
+from gcode.siemens.machine import Machine, Values
+from gcode.siemens.state import PLANES
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
 
@@ -46,35 +44,8 @@ ADDRESSES = frozenset(
 _PLANE_OF = {17: "XY", 18: "ZX", 19: "YZ"}
 
 
-@dataclass
-class Values:
-    """The evaluated words of one block."""
-
-    g: dict[int, int] = field(default_factory=dict)  # group -> code
-    m: list[int] = field(default_factory=list)
-    v: dict[str, float] = field(default_factory=dict)
-    modes: dict[str, str] = field(default_factory=dict)  # letter -> AC / IC
-    cols: dict[str, int] = field(default_factory=dict)
-
-
-class Executor:
-    """Modal machine of one run; :attr:`out` collects the IR of the block being executed."""
-
-    def __init__(self, options: InterpreterOptions) -> None:
-        self.options = options
-        self.compat = options.linuxcnc_compat
-        self.tools: ToolTable | None = options.tool_table
-        self.params = options.parameters or {}
-        self.s = State()
-        self.out: list[canon.Command] = []
-        self.loc = Location()
-        self.r: dict[int, float] = {}
-
-    def emit(self, cmd: canon.Command) -> None:
-        self.out.append(cmd)
-
-    def at(self, vals: Values, letter: str) -> Location:
-        return Location(self.loc.file, self.loc.line, vals.cols.get(letter, self.loc.column))
+class Executor(Machine):
+    """Executes 840D NC blocks on the modal machine of one run."""
 
     # ------------------------------------------------------------------ start
     def preamble(self, loc: Location) -> None:
@@ -123,11 +94,11 @@ class Executor:
             if isinstance(item, Assign):
                 value = evaluate(item.value, scope)
                 loc = Location(file, block.line, item.col)
-                kind, target = item.target
-                if kind == "R":
-                    scope.r_set(evaluate(target, scope), value, loc)  # type: ignore[arg-type]
-                else:
-                    scope.set(target, value, loc)  # type: ignore[arg-type]
+                target = item.target[1]
+                if isinstance(target, str):  # ("V", name)
+                    scope.set(target, value, loc)
+                else:  # ("R", index node)
+                    scope.r_set(evaluate(target, scope), value, loc)
                 continue
             self._word(vals, item, scope, block.line)
         return vals
@@ -239,8 +210,6 @@ class Executor:
             s.motion = g[1]
         moved = motion.execute(self, vals, g.get(11) == 9)
         if moved and s.mcall is not None:
-            from gcode.siemens.cycles import run_cycle
-
             run_cycle(self, s.mcall[0], s.mcall[1], scope)
         for code in (0, 1):
             if code in m:

@@ -176,22 +176,23 @@ class Parser:
         if tok.kind == NAME and tok.text == "NOT":
             self.pos += 1
             return ("not", self.unary())
-        return self.primary()
+        return self.primary(tok)
 
-    def primary(self) -> Node:
-        tok = self.peek()
+    def primary(self, tok: Token) -> Node:
+        """A number, a parenthesised expression, an R parameter, a variable or a call
+        (``tok``: the token at the current position)."""
         loc = self.loc()
         self.pos += 1
-        if tok.kind == NUM:  # type: ignore[union-attr]
-            return ("num", tok.value)  # type: ignore[union-attr]
-        if tok.kind == OP and tok.text == "(":  # type: ignore[union-attr]
+        if tok.kind == NUM:
+            return ("num", tok.value)
+        if tok.kind == OP and tok.text == "(":
             inner = self.expression()
             self.expect(")")
             return inner
-        if tok.kind == WORD and tok.text[0] == "R" and tok.value >= 0:  # type: ignore[union-attr]
-            return ("num_r", r_index(tok.value, loc), loc)  # type: ignore[union-attr]
-        if tok.kind == NAME:  # type: ignore[union-attr]
-            name = tok.text  # type: ignore[union-attr]
+        if tok.kind == WORD and tok.text[0] == "R" and tok.value >= 0:
+            return ("num_r", r_index(tok.value, loc), loc)
+        if tok.kind == NAME:
+            name = tok.text
             if name == "R" and self._is("["):
                 self.pos += 1
                 index = self.expression()

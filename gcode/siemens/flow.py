@@ -18,7 +18,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
-from gcode.siemens.blocks import Block
+from gcode.siemens.blocks import Block, Word
 from gcode.siemens.cycles import check_cycle, run_cycle
 from gcode.siemens.executor import Executor
 from gcode.siemens.expr import Variables, evaluate
@@ -211,11 +211,12 @@ class Runner:
         values: dict[str, float] = {}
         rpl = None
         for item in block.items:
-            value = evaluate(item.value, level.scope)  # type: ignore[union-attr]
-            if item.address == "RPL":  # type: ignore[union-attr]
+            assert isinstance(item, Word)  # blocks: a frame takes X Y Z RPL words only
+            value = evaluate(item.value, level.scope)
+            if item.address == "RPL":
                 rpl = value
             else:
-                values[item.address] = value  # type: ignore[union-attr]
+                values[item.address] = value
         op = block.args[0]
         if rpl is not None and not op.endswith("ROT"):
             raise Diagnostic("SIEM-FRAME", f"RPL= belongs to ROT/AROT, not {op}", ex.loc)

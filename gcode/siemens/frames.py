@@ -45,12 +45,13 @@ class Frame:
 
     def scaled(self, k: float) -> Frame:
         """The frame after a change of length units by ``k``."""
-        return Frame(tuple(v * k for v in self.t), self.m, self.inv)  # type: ignore[arg-type]
+        x, y, z = self.t
+        return Frame((x * k, y * k, z * k), self.m, self.inv)
 
 
 def _matrix(m: np.ndarray) -> Matrix:
     m = np.where(np.abs(m) < 1e-15, 0.0, m)
-    return tuple(tuple(float(v) for v in row) for row in m)  # type: ignore[return-value]
+    return tuple((float(row[0]), float(row[1]), float(row[2])) for row in m)
 
 
 def _rot_axis(axis: int, degrees: float) -> np.ndarray:
@@ -89,7 +90,7 @@ def change(frame: Frame, op: str, values: dict[str, float], rpl: float | None, p
     else:  # MIRROR: the axes named are mirrored (their value is not used)
         m = m @ np.diag([-1.0 if k in values else 1.0 for k in "XYZ"])
     return Frame(
-        tuple(float(v) for v in t),  # type: ignore[arg-type]
+        (float(t[0]), float(t[1]), float(t[2])),
         _matrix(m),
         _matrix(np.linalg.inv(m)),
     )

@@ -88,7 +88,7 @@ def tokenize(line: str, file: str | None, lineno: int) -> tuple[list[Token], str
         elif kind == "str":
             tokens.append(Token(STR, code[pos + 1 : m.end() - 1], pos + 1))
         elif kind != "ws":
-            tokens.append(Token(kind, text, pos + 1))  # type: ignore[arg-type]
+            tokens.append(Token(kind or "", text, pos + 1))  # every alternative is named
         pos = m.end()
     return tokens, comment
 

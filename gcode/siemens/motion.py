@@ -9,16 +9,13 @@ the IR (gcode.siemens.frames); an arc in a mirrored plane turns the other way.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 from gcode.siemens import arcs
 from gcode.siemens.frames import plane_map
+from gcode.siemens.machine import Machine, Values
 from gcode.siemens.state import PLANES
 from kernel import canon
 from kernel.diagnostics import Diagnostic
-
-if TYPE_CHECKING:
-    from gcode.siemens.executor import Executor, Values
 
 _AXES = "XYZABC"
 _AXIS_SET = frozenset(_AXES)
@@ -28,13 +25,13 @@ CIP = 1000
 _ARC_WORDS = frozenset({"I", "J", "K", "CR", "AR"})
 
 
-def program_position(ex: Executor) -> list[float]:
+def program_position(ex: Machine) -> list[float]:
     """The current point in program coordinates (the frame's inverse of the IR point)."""
     s = ex.s
     return s.frame.inverse(s.pos) if s.frame.linear else s.pos[:3]
 
 
-def ends(ex: Executor, vals: Values) -> tuple[list[float], list[float], list[float]]:
+def ends(ex: Machine, vals: Values) -> tuple[list[float], list[float], list[float]]:
     """(start, end) in program coordinates (XYZ) and the IR end point (XYZABC)."""
     s = ex.s
     v, modes = vals.v, vals.modes
@@ -54,7 +51,7 @@ def ends(ex: Executor, vals: Values) -> tuple[list[float], list[float], list[flo
     return start, end, ir + rot
 
 
-def execute(ex: Executor, vals: Values, exact_stop: bool) -> bool:
+def execute(ex: Machine, vals: Values, exact_stop: bool) -> bool:
     """The block's motion, if it has one; True when it moved (for modal cycle calls)."""
     v = vals.v
     s = ex.s
@@ -101,7 +98,7 @@ def execute(ex: Executor, vals: Values, exact_stop: bool) -> bool:
     return True
 
 
-def _check_feed(ex: Executor, vals: Values) -> None:
+def _check_feed(ex: Machine, vals: Values) -> None:
     s = ex.s
     if s.feed_mode == 1:
         if "F" not in vals.v or vals.v["F"] <= 0:
@@ -113,7 +110,7 @@ def _check_feed(ex: Executor, vals: Values) -> None:
         raise Diagnostic("SIEM-FEED", "G95 (feed per revolution) with spindle speed S0", ex.loc)
 
 
-def _inverse_time(ex: Executor, vals: Values, length: float) -> None:
+def _inverse_time(ex: Machine, vals: Values, length: float) -> None:
     """G93: the move lasts 1/F minutes; the IR carries its per-minute rate (as rs274)."""
     s = ex.s
     if s.feed_mode == 1:
@@ -121,7 +118,7 @@ def _inverse_time(ex: Executor, vals: Values, length: float) -> None:
         ex.emit(canon.SetFeedRate(s.feed, source=ex.loc))
 
 
-def arc(ex: Executor, vals: Values, ccw: bool) -> None:
+def arc(ex: Machine, vals: Values, ccw: bool) -> None:
     s = ex.s
     v, modes = vals.v, vals.modes
     loc = ex.loc
@@ -177,7 +174,7 @@ def arc(ex: Executor, vals: Values, ccw: bool) -> None:
 
 
 def _emit_arc(
-    ex: Executor,
+    ex: Machine,
     vals: Values,
     start: list[float],
     ir_end: list[float],
@@ -227,7 +224,7 @@ def _emit_arc(
     s.pos = ir_end
 
 
-def cip(ex: Executor, vals: Values) -> None:
+def cip(ex: Machine, vals: Values) -> None:
     """CIP X Y Z I1= J1= K1=: the circle from the current point through the intermediate
     point to the end point (840D sl fundamentals, "Circular interpolation with
     intermediate point"). The intermediate point follows G90/G91 (and AC()/IC()); the three
@@ -274,7 +271,7 @@ def _g(plane: str) -> int:
     return {"XY": 17, "ZX": 18, "YZ": 19}[plane]
 
 
-def thread(ex: Executor, vals: Values) -> None:
+def thread(ex: Machine, vals: Values) -> None:
     """G33 Z.. K..: spindle-synchronised feed, lead K (modal)."""
     s = ex.s
     for letter in ("I", "J"):
@@ -297,7 +294,7 @@ def thread(ex: Executor, vals: Values) -> None:
     s.pos = end
 
 
-def probe(ex: Executor, vals: Values, has_axis: bool) -> None:
+def probe(ex: Machine, vals: Values, has_axis: bool) -> None:
     """MEAS=1 G1 X..: a probing move (the reader's probe never trips: it ends at the target)."""
     s = ex.s
     if vals.v["MEAS"] not in (1.0, -1.0, 2.0, -2.0):
@@ -316,7 +313,7 @@ def probe(ex: Executor, vals: Values, has_axis: bool) -> None:
     s.pos = end
 
 
-def dwell(ex: Executor, vals: Values) -> None:
+def dwell(ex: Machine, vals: Values) -> None:
     """G4 F seconds, or G4 S spindle revolutions (at the programmed speed)."""
     v = vals.v
     if ("F" in v) == ("S" in v):

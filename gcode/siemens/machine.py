@@ -1,0 +1,50 @@
+"""What the 840D motion and cycle code needs of a run: its modal state, where the block
+being executed is, and where its IR goes.
+
+:class:`Machine` is the part of :class:`gcode.siemens.executor.Executor` that
+:mod:`gcode.siemens.motion` and :mod:`gcode.siemens.cycles` act on; they receive it typed
+and never import the executor back (the executor imports them).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from gcode.interpreter import InterpreterOptions
+from gcode.siemens.state import State
+from gcode.tooltable import ToolTable
+from kernel import canon
+from kernel.diagnostics import Location
+
+
+@dataclass
+class Values:
+    """The evaluated words of one block."""
+
+    g: dict[int, int] = field(default_factory=dict)  # group -> code
+    m: list[int] = field(default_factory=list)
+    v: dict[str, float] = field(default_factory=dict)
+    modes: dict[str, str] = field(default_factory=dict)  # letter -> AC / IC
+    cols: dict[str, int] = field(default_factory=dict)
+
+
+class Machine:
+    """Modal machine of one run; :attr:`out` collects the IR of the block being executed."""
+
+    def __init__(self, options: InterpreterOptions) -> None:
+        self.options = options
+        self.compat = options.linuxcnc_compat
+        self.tools: ToolTable | None = options.tool_table
+        self.params = options.parameters or {}
+        self.s = State()
+        self.out: list[canon.Command] = []
+        self.loc = Location()
+        self.r: dict[int, float] = {}
+
+    def emit(self, cmd: canon.Command) -> None:
+        """Append one IR command to the block's output."""
+        self.out.append(cmd)
+
+    def at(self, vals: Values, letter: str) -> Location:
+        """Where the block's ``letter`` word stands (the block's location without one)."""
+        return Location(self.loc.file, self.loc.line, vals.cols.get(letter, self.loc.column))
