@@ -29,15 +29,15 @@ from gcode.params import Parameters
 from gcode.predefined import named_parameter, numbered_parameter
 from gcode.program import ProgramFile
 from gcode.state import G80, INCH_MM, Setup
-from gcode.tooltable import Tool, ToolTable
 from kernel import canon
 from kernel.canon import Direction, Plane, Units
 from kernel.diagnostics import Diagnostic, Location
+from kernel.tooltable import Tool, ToolTable
 
 
 @dataclass(frozen=True)
 class InterpreterOptions:
-    tool_table: ToolTable | None = None  # gcode.tooltable; None: any tool, zero offsets
+    tool_table: ToolTable | None = None  # kernel.tooltable; None: any tool, zero offsets
     parameters: dict[int, float] | None = None  # from a .var file (gcode.params.read_var_text)
     search_path: tuple[str, ...] = ()  # subroutine file search path
     linuxcnc_compat: bool = True  # emit LinuxCNC-only commands as rs274 does

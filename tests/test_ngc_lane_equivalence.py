@@ -15,8 +15,8 @@ import pytest
 
 import gcode.interpreter as interp
 from gcode.interpreter import InterpreterOptions, interpret
-from gcode.tooltable import read_tool_table
 from kernel.diagnostics import Diagnostic
+from kernel.tooltable import read_tool_table
 
 ROOT = Path(__file__).resolve().parent
 sys.path.insert(0, str(ROOT.parent / "bench"))

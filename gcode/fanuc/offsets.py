@@ -15,9 +15,9 @@ from typing import TYPE_CHECKING
 
 from gcode.codes import Words
 from gcode.state import INCH_MM
-from gcode.tooltable import Tool
 from kernel.canon import Units
 from kernel.diagnostics import Diagnostic, Location
+from kernel.tooltable import Tool
 
 if TYPE_CHECKING:
     from gcode.fanuc.executor import Executor

@@ -17,9 +17,9 @@ from gcode.siemens import motion
 from gcode.siemens.blocks import Assign, Block, Word
 from gcode.siemens.expr import Variables, evaluate
 from gcode.siemens.state import PLANES, State
-from gcode.tooltable import ToolTable
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
+from kernel.tooltable import ToolTable
 
 INCH_MM = 25.4
 #: G code -> modal group (840D groups: 1 motion, 2 non-modal, 6 plane, 8 settable frame,

@@ -16,13 +16,13 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from gcode.tooltable import ToolTable
 from kernel import canon
 from kernel.check.config import CheckConfig
 from kernel.check.geometry import box_overlaps, motion_end, swept_points
 from kernel.check.state import PLANE_AXES, CheckState
 from kernel.diagnostics import Severity
 from kernel.machine import AXIS_NAMES, Machine
+from kernel.tooltable import ToolTable
 
 FEEDS: tuple[type[canon.Command], ...] = (
     canon.StraightFeed,
