@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from kernel import circle
-from kernel.path import ARC, LINE
+from kernel.segments import ARC, LINE
 
 
 def arc_tangent(seg: np.ndarray, lam: np.ndarray) -> np.ndarray:

@@ -4,9 +4,9 @@ rules: units, offsets, feed modes, arcs, NURBS tessellation, LinuxCNC additions)
 
 Runs of consecutive ``STRAIGHT_FEED`` / ``STRAIGHT_TRAVERSE`` commands (the bulk of CAM
 output) change no modal state: the walk records each run with its state, and
-:func:`kernel.path.segment_table` converts all runs as whole columns (units, G92, XY rotation
-and G5x offset with the same floating-point operations as the command-by-command walk, so
-the table is bit-for-bit the same; tests/test_kernel_path_speedpath.py).
+:func:`kernel.path_columns.segment_table` converts all runs as whole columns (units, G92, XY
+rotation and G5x offset with the same floating-point operations as the command-by-command
+walk, so the table is bit-for-bit the same; tests/test_kernel_path_speedpath.py).
 """
 
 from __future__ import annotations
@@ -19,9 +19,14 @@ from itertools import islice
 import numpy as np
 
 from kernel import canon
+from kernel.blend import blend_corners
+from kernel.curvature import cut_for_machine
 from kernel.diagnostics import Diagnostic
+from kernel.ellipse import ellipse_chords
 from kernel.machine import Machine
-from kernel.path import (
+from kernel.nurbs import NurbsCurve, tessellate
+from kernel.path_columns import StraightRun, segment_table
+from kernel.segments import (
     ARC,
     DWELL,
     FEED,
@@ -34,8 +39,6 @@ from kernel.path import (
     STOP,
     TOOL_CHANGE,
     Path,
-    StraightRun,
-    segment_table,
 )
 
 _PLANE_AXES = {
@@ -244,8 +247,6 @@ class PathBuilder:
         )
 
     def nurbs(self, cmd: canon.NurbsFeed, idx: int) -> None:
-        from kernel.nurbs import NurbsCurve, tessellate
-
         st = self.st
         if not cmd.points or cmd.elided:
             raise Diagnostic(
@@ -268,8 +269,6 @@ class PathBuilder:
         """ELLIPSE_FEED as chords within the chord tolerance (kernel.ellipse), every one a
         feed line mapped back to the command's index; the helix axis follows the swept
         polar angle (NIST rule 2), rotary axes move linearly along the path."""
-        from kernel.ellipse import ellipse_chords
-
         st = self.st
         f, s, ax = _PLANE_AXES[st.plane]
         mm, off = st.mm, st.g92
@@ -363,7 +362,7 @@ class PathBuilder:
 
     def straight_run(self, run: list[canon.Command], idx0: int) -> None:
         """Record consecutive STRAIGHT_FEED / STRAIGHT_TRAVERSE commands with the modal state
-        they run under; :func:`kernel.path.merged_columns` converts all runs at once."""
+        they run under; :func:`kernel.path_columns.merged_columns` converts all runs at once."""
         st = self.st
         if self.rows:
             self.chunks.append(self.rows)
@@ -495,7 +494,4 @@ class PathBuilder:
         seg = segment_table(self.chunks, self.machine, self.file)
         if self.machine.controller.accdec != "scurve":
             return seg
-        from kernel.blend import blend_corners
-        from kernel.curvature import cut_for_machine
-
         return cut_for_machine(blend_corners(Path(seg, self.file)), self.machine).segments

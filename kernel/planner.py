@@ -40,8 +40,8 @@ import numpy as np
 from kernel.blend import blend_corners
 from kernel.curvature import curvature_joint_caps, erode_joint_caps
 from kernel.diagnostics import Diagnostic, Location
-from kernel.machine import Machine
-from kernel.path import ARC, HOLD, RAPID, Path
+from kernel.machine import Machine, filter_time
+from kernel.segments import ARC, HOLD, RAPID, Path
 
 _TINY = 1e-12
 
@@ -346,12 +346,6 @@ class Plan:
     @property
     def total_time(self) -> float:
         return float(self.t_start[-1] + self.duration[-1]) if len(self.duration) else 0.0
-
-
-def filter_time(machine: Machine) -> float:
-    """S-curve smoothing time ``T_f = 2 max_i A_i / J_i`` over the machine's axes (the 2:
-    the moving average's jerk is the acceleration difference across ``T_f``, up to 2A)."""
-    return 2.0 * max(a.acceleration / a.jerk for a in machine.axes)
 
 
 def _erode(

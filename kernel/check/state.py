@@ -96,6 +96,25 @@ class CheckState:
         return self.flood or self.mist
 
 
+def motion_end(st: CheckState, cmd: canon.Command) -> Vec6 | None:
+    """Where ``cmd`` leaves the controlled point (program coordinates), None if no motion."""
+    match cmd:
+        case canon.StraightTraverse() | canon.StraightFeed() | canon.StraightProbe():
+            return (cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)
+        case canon.ArcFeed() | canon.EllipseFeed():
+            i1, i2, n = PLANE_AXES[st.plane]
+            p = list(st.position)
+            p[i1], p[i2], p[n] = cmd.first_end, cmd.second_end, cmd.axis_end_point
+            p[3], p[4], p[5] = cmd.a, cmd.b, cmd.c
+            return (p[0], p[1], p[2], p[3], p[4], p[5])
+        case canon.NurbsFeed(points=pts) if pts:
+            i1, i2, _ = PLANE_AXES[st.plane]
+            p = list(st.position)
+            p[i1], p[i2] = pts[-1][0], pts[-1][1]
+            return (p[0], p[1], p[2], p[3], p[4], p[5])
+    return None
+
+
 def _scaled(st: CheckState, v: tuple[float, ...]) -> Vec6:
     k = st.mm_per_unit
     return (v[0] * k, v[1] * k, v[2] * k, v[3], v[4], v[5])
@@ -129,8 +148,6 @@ def _linuxcnc(st: CheckState, cmd: canon.Command) -> bool:
 
 def advance(st: CheckState, cmd: canon.Command) -> None:  # noqa: C901 - one branch per command
     """Apply ``cmd`` to ``st`` (the modal effects only; rules judge the command beforehand)."""
-    from kernel.check.geometry import motion_end  # local: geometry imports this module
-
     if _linuxcnc(st, cmd):
         return
     match cmd:
