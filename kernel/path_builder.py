@@ -25,7 +25,7 @@ from kernel.diagnostics import Diagnostic
 from kernel.ellipse import ellipse_chords
 from kernel.machine import Machine
 from kernel.nurbs import NurbsCurve, tessellate
-from kernel.path_columns import StraightRun, segment_table
+from kernel.path_columns import ArcRecord, Row, StraightRun, segment_table
 from kernel.segments import (
     ARC,
     DWELL,
@@ -89,11 +89,6 @@ def _loc_line(cmd: canon.Command) -> int:
     return cmd.source.line if cmd.source is not None else 0
 
 
-# light row: kind, category, start, end, rate, mode, mm, spindle, synch, override,
-# exact_stop, blend, source, line, duration, arc record (or None)
-_Row = tuple
-
-
 class PathBuilder:
     """Turns canonical commands into light rows; :meth:`table` vectorises them."""
 
@@ -103,8 +98,8 @@ class PathBuilder:
         self.st.position = tuple(machine.limit_vector("home"))
         self.st.override = machine.controller.feed_override
         self.st.blend = machine.controller.blend_tolerance  # G64 is the initial mode
-        self.rows: list[_Row] = []  # light rows not yet moved into ``chunks``
-        self.chunks: list[list[_Row] | StraightRun] = []  # light rows and runs, in program order
+        self.rows: list[Row] = []  # light rows not yet moved into ``chunks``
+        self.chunks: list[list[Row] | StraightRun] = []  # light rows and runs, in program order
         self.file = file
 
     # ------------------------------------------------------------------ motions
@@ -153,25 +148,8 @@ class PathBuilder:
         if end == start:
             return
         rate = st.traverse if category == RAPID else st.feed
-        self.rows.append(
-            (
-                LINE,
-                category,
-                start,
-                end,
-                rate,
-                st.feed_mode,
-                st.mm,
-                st.spindle,
-                st.synch,
-                st.override,
-                st.exact_stop or category == PROBE,
-                st.blend,
-                idx,
-                _loc_line(cmd),
-                0.0,
-                None,
-            )
+        self._add_row(
+            LINE, category, start, end, cmd, idx, rate, st.exact_stop or category == PROBE
         )
 
     def arc(self, cmd: canon.ArcFeed, idx: int) -> None:
@@ -206,7 +184,7 @@ class PathBuilder:
         e1[f], e1[s] = (start[f] - cf) / r0, (start[s] - cs) / r0
         axial = end[ax] - start[ax]
         length = math.hypot(0.5 * (r0 + r1) * abs(sweep), axial)
-        rec = dict(
+        rec = ArcRecord(
             centre=centre,
             normal=normal,
             e1=e1,
@@ -218,33 +196,15 @@ class PathBuilder:
             length=length,
         )
         if st.rot or any(st.g5x):
-            rot = np.stack([centre, normal, e1, rec["e2"]])
+            rot = np.stack([centre, normal, e1, rec.e2])
             if st.rot:
                 rot = self._rot(rot)
             centre, normal, e1, e2 = rot
-            rec.update(centre=centre + np.array(st.g5x[:3]), normal=normal, e1=e1, e2=e2)
+            rec = rec._replace(centre=centre + np.array(st.g5x[:3]), normal=normal, e1=e1, e2=e2)
             start, end = np.array(self._to_machine(start)), np.array(self._to_machine(end))
         st.position = tuple(end.tolist())
-        self.rows.append(
-            (
-                ARC,
-                FEED,
-                tuple(start.tolist()),
-                st.position,
-                st.feed,
-                st.feed_mode,
-                st.mm,
-                st.spindle,
-                st.synch,
-                st.override,
-                st.exact_stop,
-                st.blend,
-                idx,
-                _loc_line(cmd),
-                0.0,
-                rec,
-            )
-        )
+        start_m = tuple(start.tolist())
+        self._add_row(ARC, FEED, start_m, st.position, cmd, idx, st.feed, st.exact_stop, rec)
 
     def nurbs(self, cmd: canon.NurbsFeed, idx: int) -> None:
         st = self.st
@@ -303,24 +263,43 @@ class PathBuilder:
 
     def hold(self, cmd: canon.Command, seconds: float, category: int, idx: int) -> None:
         p = self.st.position
+        self._add_row(HOLD, category, p, p, cmd, idx, 0.0, True, duration=max(0.0, seconds))
+
+    def _add_row(
+        self,
+        kind: int,
+        category: int,
+        start: tuple[float, ...],
+        end: tuple[float, ...],
+        cmd: canon.Command,
+        idx: int,
+        rate: float,
+        exact_stop: bool,
+        arc: ArcRecord | None = None,
+        duration: float = 0.0,
+    ) -> None:
+        """The one place a light row is made: a motion carries the modal feed state in force,
+        a hold the neutral one (per minute, unit scale, no spindle, override 1, no blend)."""
+        st = self.st
+        moving = kind != HOLD
         self.rows.append(
-            (
-                HOLD,
-                category,
-                p,
-                p,
-                0.0,
-                0,
-                1.0,
-                0.0,
-                0.0,
-                1.0,
-                True,
-                0.0,
-                idx,
-                _loc_line(cmd),
-                max(0.0, seconds),
-                None,
+            Row(
+                kind=kind,
+                category=category,
+                start=start,
+                end=end,
+                rate=rate,
+                feed_mode=st.feed_mode if moving else 0,
+                mm=st.mm if moving else 1.0,
+                spindle=st.spindle if moving else 0.0,
+                synch=st.synch if moving else 0.0,
+                override=st.override if moving else 1.0,
+                exact_stop=exact_stop,
+                blend=st.blend if moving else 0.0,
+                source=idx,
+                line=_loc_line(cmd),
+                duration=duration,
+                arc=arc,
             )
         )
 

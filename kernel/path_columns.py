@@ -19,7 +19,43 @@ from kernel.machine import AXIS_NAMES, Machine
 from kernel.segments import ARC, FEED, HOLD, LINE, MIN_LENGTH, RAPID, SEGMENT_DTYPE
 
 
-# ------------------------------------------------------------------ columns for the builder
+# ------------------------------------------------------------------ rows of the builder
+class ArcRecord(NamedTuple):
+    """The exact-arc columns of one arc row (kernel.segments.SEGMENT_DTYPE names), mm."""
+
+    centre: np.ndarray  # 3
+    normal: np.ndarray  # 3, unit
+    e1: np.ndarray  # 3, unit, centre to start
+    e2: np.ndarray  # 3, normal x e1
+    radius: float  # at the start
+    radius_end: float
+    sweep: float  # signed, rad
+    axial: float  # along the normal (helix)
+    length: float  # path parameter s
+
+
+class Row(NamedTuple):
+    """One motion or hold of the builder (kernel.path_builder), before vectorising: its
+    segment-table fields plus the modal rates its feed is computed from."""
+
+    kind: int  # LINE, ARC, HOLD
+    category: int  # FEED, RAPID, ...
+    start: tuple[float, ...]  # machine position, 6 axes
+    end: tuple[float, ...]
+    rate: float  # programmed feed (or traverse) rate, program units
+    feed_mode: int  # 0 per minute, 1 inverse time, 2 per revolution
+    mm: float  # mm per program unit
+    spindle: float  # spindle speed, rpm
+    synch: float  # feed per revolution of spindle-synchronised motion (0: none)
+    override: float  # feed override factor in force
+    exact_stop: bool
+    blend: float  # G64 P tolerance, mm
+    source: int  # IR index
+    line: int  # source line (0: unknown)
+    duration: float  # holds: seconds
+    arc: ArcRecord | None
+
+
 class StraightRun(NamedTuple):
     """Consecutive STRAIGHT_FEED / STRAIGHT_TRAVERSE commands under one modal state (the
     bulk of CAM output), converted to rows by :func:`merged_columns` all runs at once."""
@@ -59,21 +95,22 @@ def _per_row(values: np.ndarray, counts: np.ndarray) -> np.ndarray:
     return np.repeat(values, counts, axis=0)
 
 
-def _light_columns(rows: list[tuple]) -> list[np.ndarray]:
-    """The builder's light rows (kernel.path_builder) as 15 columns (arc records apart)."""
+def _light_columns(rows: list[Row]) -> list[np.ndarray]:
+    """The builder's light rows as the 15 row columns (arc records apart)."""
     n = len(rows)
-    cols = list(zip(*rows, strict=True))
+    c = Row(*zip(*rows, strict=True))
     return [
-        np.fromiter(cols[0], np.int8, n),
-        np.fromiter(cols[1], np.int8, n),
-        np.fromiter(chain.from_iterable(cols[2]), float, 6 * n).reshape(n, 6),
-        np.fromiter(chain.from_iterable(cols[3]), float, 6 * n).reshape(n, 6),
-        *(np.fromiter(c, float, n) for c in cols[4:10]),
-        np.fromiter(cols[10], bool, n),
-        np.fromiter(cols[11], float, n),
-        np.fromiter(cols[12], np.int64, n),
-        np.fromiter(cols[13], np.int32, n),
-        np.fromiter(cols[14], float, n),
+        np.fromiter(c.kind, np.int8, n),
+        np.fromiter(c.category, np.int8, n),
+        np.fromiter(chain.from_iterable(c.start), float, 6 * n).reshape(n, 6),
+        np.fromiter(chain.from_iterable(c.end), float, 6 * n).reshape(n, 6),
+        *(np.fromiter(v, float, n) for v in (c.rate, c.feed_mode, c.mm, c.spindle)),
+        *(np.fromiter(v, float, n) for v in (c.synch, c.override)),
+        np.fromiter(c.exact_stop, bool, n),
+        np.fromiter(c.blend, float, n),
+        np.fromiter(c.source, np.int64, n),
+        np.fromiter(c.line, np.int32, n),
+        np.fromiter(c.duration, float, n),
     ]
 
 
@@ -127,14 +164,16 @@ def _run_columns(runs: list[StraightRun]) -> tuple[list[np.ndarray], np.ndarray]
     return [c[moved] for c in cols], np.add.reduceat(moved.astype(np.intp), first)
 
 
-def merged_columns(chunks: list) -> tuple[list[np.ndarray], dict[int, dict]]:
+def merged_columns(
+    chunks: list[list[Row] | StraightRun],
+) -> tuple[list[np.ndarray], dict[int, ArcRecord]]:
     """The 15 row columns of the builder's chunks (lists of light rows and
     :class:`StraightRun`) in program order, and the arc records by final row index."""
-    light = [row for ch in chunks if not isinstance(ch, StraightRun) for row in ch]
+    light: list[Row] = [row for ch in chunks if not isinstance(ch, StraightRun) for row in ch]
     runs = [ch for ch in chunks if isinstance(ch, StraightRun)]
     lcols = _light_columns(light) if light else []
     if not runs:
-        return lcols, {i: row[15] for i, row in enumerate(light) if row[15] is not None}
+        return lcols, {i: row.arc for i, row in enumerate(light) if row.arc is not None}
     rcols, kept = _run_columns(runs)
     if not light:
         return rcols, {}
@@ -155,11 +194,13 @@ def merged_columns(chunks: list) -> tuple[list[np.ndarray], dict[int, dict]]:
         out = np.empty((total, *lc.shape[1:]), lc.dtype)
         out[li], out[ri] = lc, rc
         cols.append(out)
-    recs = {int(li[i]): row[15] for i, row in enumerate(light) if row[15] is not None}
+    recs = {int(li[i]): row.arc for i, row in enumerate(light) if row.arc is not None}
     return cols, recs
 
 
-def segment_table(chunks: list, machine: Machine, file: str | None) -> np.ndarray:
+def segment_table(
+    chunks: list[list[Row] | StraightRun], machine: Machine, file: str | None
+) -> np.ndarray:
     """The builder's chunks (kernel.path_builder) vectorised into the segment table:
     lengths, tangents and feeds in mm/s (or deg/s), with the ``PLAN-AXIS`` and
     ``PLAN-FEED`` checks; motions shorter than MIN_LENGTH are dropped.
@@ -181,7 +222,10 @@ def segment_table(chunks: list, machine: Machine, file: str | None) -> np.ndarra
     arc_cols: dict[str, np.ndarray] = {}
     if ai.size:
         arcs = [recs[i] for i in ai.tolist()]
-        arc_cols = {key: np.array([r[key] for r in arcs], dtype=float) for key in arcs[0]}
+        arc_cols = {
+            key: np.array(values, dtype=float)
+            for key, values in zip(ArcRecord._fields, zip(*arcs, strict=True), strict=True)
+        }
         length[ai] = arc_cols["length"]
     rotary_only[ai] = False
     length = np.where(kind == HOLD, 0.0, length)
