@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from kernel import circle
+import kernel.circle as circle
 from kernel.segments import ARC, LINE
 
 

@@ -27,7 +27,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from kernel import canon
+import kernel.canon as canon
 from kernel.blend import blend_corners
 from kernel.machine import Machine
 from kernel.path_builder import PathBuilder

@@ -18,7 +18,7 @@ from itertools import islice
 
 import numpy as np
 
-from kernel import canon
+import kernel.canon as canon
 from kernel.blend import blend_corners
 from kernel.curvature import cut_for_machine
 from kernel.diagnostics import Diagnostic

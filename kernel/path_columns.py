@@ -11,7 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from kernel import canon
+import kernel.canon as canon
 from kernel.bulk import bulk_array
 from kernel.diagnostics import Diagnostic, Location
 from kernel.geometry import arc_tangent

@@ -11,7 +11,7 @@ import math
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from kernel import canon
+import kernel.canon as canon
 from kernel.check.state import PLANE_AXES, CheckState, Vec6, motion_end
 
 TWO_PI = 2.0 * math.pi

@@ -16,7 +16,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from kernel import canon
+import kernel.canon as canon
 from kernel.check.config import CheckConfig
 from kernel.check.geometry import box_overlaps, motion_end, swept_points
 from kernel.check.state import PLANE_AXES, CheckState

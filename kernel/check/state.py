@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from kernel import canon
+import kernel.canon as canon
 from kernel.canon import CompSide, Direction, FeedMode, Plane
 
 Vec6 = tuple[float, float, float, float, float, float]
