@@ -439,22 +439,19 @@ class PathBuilder:
         st = self.st
         name = cmd.NAME
         if name in ("SET_G5X_OFFSET", "SET_G92_OFFSET"):
-            v = [getattr(cmd, k) for k in ("x", "y", "z", "a", "b", "c")]
+            v = [canon.named_field(cmd, k) for k in ("x", "y", "z", "a", "b", "c")]
             scaled = (v[0] * st.mm, v[1] * st.mm, v[2] * st.mm, v[3], v[4], v[5])
             if name == "SET_G5X_OFFSET":
                 st.g5x = scaled
             else:
                 st.g92 = scaled
         elif name == "SET_XY_ROTATION":
-            st.rot = math.radians(cmd.angle)  # type: ignore[attr-defined]
+            st.rot = math.radians(canon.named_field(cmd, "angle"))
         elif name == "RIGID_TAP":  # G33.1: in synchronised, spindle reversal, back out
             start = st.position
             w = self._to_work(start)
-            w[:3] = [
-                cmd.x * st.mm + st.g92[0],
-                cmd.y * st.mm + st.g92[1],  # type: ignore[attr-defined]
-                cmd.z * st.mm + st.g92[2],
-            ]  # type: ignore[attr-defined]
+            x, y, z = (canon.named_field(cmd, k) for k in ("x", "y", "z"))
+            w[:3] = [x * st.mm + st.g92[0], y * st.mm + st.g92[1], z * st.mm + st.g92[2]]
             bottom = self._to_machine(w)
             saved = st.exact_stop
             st.exact_stop = True

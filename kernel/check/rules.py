@@ -129,7 +129,7 @@ def is_cutting(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> bool:
     if stock is None:
         return True
     pts = [st.work_mm(p)[:3] for p in swept_points(st, cmd)]
-    return box_overlaps(pts, stock[0], stock[1])  # type: ignore[arg-type]
+    return box_overlaps(pts, stock[0], stock[1])
 
 
 def tool_length_mm(ctx: CheckContext, tool: int) -> float | None:

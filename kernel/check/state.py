@@ -125,23 +125,31 @@ def _linuxcnc(st: CheckState, cmd: canon.Command) -> bool:
     them by NAME only, never importing a front end). True when ``cmd`` was one of them."""
     name = cmd.NAME
     if name in ("SET_G5X_OFFSET", "SET_G92_OFFSET"):
-        v = (cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)  # type: ignore[attr-defined]
+        v = tuple(canon.named_field(cmd, k) for k in ("x", "y", "z", "a", "b", "c"))
         if name == "SET_G5X_OFFSET":
             st.g5x_mm = _scaled(st, v)
         else:
             st.g92_mm = _scaled(st, v)
-        st.origin_mm = tuple(a + b for a, b in zip(st.g5x_mm, st.g92_mm, strict=True))  # type: ignore[assignment]
+        g5x, g92 = st.g5x_mm, st.g92_mm
+        st.origin_mm = (
+            g5x[0] + g92[0],
+            g5x[1] + g92[1],
+            g5x[2] + g92[2],
+            g5x[3] + g92[3],
+            g5x[4] + g92[4],
+            g5x[5] + g92[5],
+        )
         return True
     if name == "USE_TOOL_LENGTH_OFFSET" and hasattr(cmd, "offset"):
-        st.tlo_mm = cmd.offset[2] * st.mm_per_unit  # type: ignore[attr-defined]
+        st.tlo_mm = canon.named_field(cmd, "offset")[2] * st.mm_per_unit
         st.tlo_set = True
         return True
     if name == "CHANGE_TOOL_NUMBER":
-        st.tool = int(cmd.number)  # type: ignore[attr-defined]
+        st.tool = int(canon.named_field(cmd, "number"))
         st.tool_name = f"T{st.tool}"
         return True
     if name == "SET_XY_ROTATION":
-        st.rotation = math.radians(cmd.angle)  # type: ignore[attr-defined]
+        st.rotation = math.radians(canon.named_field(cmd, "angle"))
         return True
     return False
 
