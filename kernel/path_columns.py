@@ -98,19 +98,19 @@ def _per_row(values: np.ndarray, counts: np.ndarray) -> np.ndarray:
 def _light_columns(rows: list[Row]) -> list[np.ndarray]:
     """The builder's light rows as the 15 row columns (arc records apart)."""
     n = len(rows)
-    c = Row(*zip(*rows, strict=True))
+    c = dict(zip(Row._fields, zip(*rows, strict=True), strict=True))  # field -> column
     return [
-        np.fromiter(c.kind, np.int8, n),
-        np.fromiter(c.category, np.int8, n),
-        np.fromiter(chain.from_iterable(c.start), float, 6 * n).reshape(n, 6),
-        np.fromiter(chain.from_iterable(c.end), float, 6 * n).reshape(n, 6),
-        *(np.fromiter(v, float, n) for v in (c.rate, c.feed_mode, c.mm, c.spindle)),
-        *(np.fromiter(v, float, n) for v in (c.synch, c.override)),
-        np.fromiter(c.exact_stop, bool, n),
-        np.fromiter(c.blend, float, n),
-        np.fromiter(c.source, np.int64, n),
-        np.fromiter(c.line, np.int32, n),
-        np.fromiter(c.duration, float, n),
+        np.fromiter(c["kind"], np.int8, n),
+        np.fromiter(c["category"], np.int8, n),
+        np.fromiter(chain.from_iterable(c["start"]), float, 6 * n).reshape(n, 6),
+        np.fromiter(chain.from_iterable(c["end"]), float, 6 * n).reshape(n, 6),
+        *(np.fromiter(c[k], float, n) for k in ("rate", "feed_mode", "mm", "spindle")),
+        *(np.fromiter(c[k], float, n) for k in ("synch", "override")),
+        np.fromiter(c["exact_stop"], bool, n),
+        np.fromiter(c["blend"], float, n),
+        np.fromiter(c["source"], np.int64, n),
+        np.fromiter(c["line"], np.int32, n),
+        np.fromiter(c["duration"], float, n),
     ]
 
 
