@@ -18,8 +18,8 @@ from dataclasses import dataclass, field
 
 import kernel.canon as canon
 from kernel.check.config import CheckConfig
-from kernel.check.geometry import box_overlaps, motion_end, swept_points
-from kernel.check.state import PLANE_AXES, CheckState
+from kernel.check.geometry import box_overlaps, swept_points
+from kernel.check.state import PLANE_AXES, CheckState, motion_end
 from kernel.diagnostics import Severity
 from kernel.machine import AXIS_NAMES, Machine
 from kernel.tooltable import ToolTable
