@@ -82,21 +82,15 @@ def _simulate(
 ) -> None:
     """Plan, interpolate, measure and servo-simulate; fill ``res``, ``doc`` (and ``images``
     with plots when an HTML report is wanted)."""
-    from kernel.accdec import planning_machine
-    from kernel.interpolate import sample
-    from kernel.measure import measure
-    from kernel.path import build_path
-    from kernel.planner import plan
-    from kernel.trace import Trace, column_dtypes, columns, setup
+    from kernel import simulate
+    from kernel.trace import column_dtypes, columns
 
-    machine = ctx.machine
-    path = build_path(commands, machine, program)
-    pl = plan(path, planning_machine(machine))
-    samples = sample(pl)
-    m = measure(pl, samples)
+    result = simulate(commands, ctx.machine, program)
+    samples = result.samples
+    m = result.measure()
     doc["measure"] = m.to_dict()
     res.cycle_time, res.samples = m.cycle.total, m.samples
-    trace = Trace(samples, setup(machine, samples.period), path.segments)
+    trace = result.servo()
     writer = None
     if opts.trace_format:
         from kernel.trace_writers import open_writer

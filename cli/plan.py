@@ -15,19 +15,13 @@ from rich.table import Table
 from cli.errors import guarded
 from cli.programs import dialect_option, load_machine, program_commands
 from kernel.machine import Machine
-from kernel.measure import Report, measure
+from kernel.measure import Report
+from kernel.simulation import simulate
 
 
 def run(program: str, machine: Machine, dialect: str | None = None) -> Report:
     """Plan, sample and measure ``program`` (the command's work, without printing)."""
-    from kernel.accdec import planning_machine
-    from kernel.interpolate import sample
-    from kernel.path import build_path
-    from kernel.planner import plan
-
-    p = build_path(program_commands(program, dialect=dialect), machine, program)
-    pl = plan(p, planning_machine(machine))
-    return measure(pl, sample(pl))
+    return simulate(program_commands(program, dialect=dialect), machine, program).measure()
 
 
 def _text(report: Report, program: str, console: Console) -> None:

@@ -20,10 +20,10 @@ import click
 
 from gcode.dialects import ALIASES
 from gcode.readers import INPUTS
-from gcode.tooltable import ToolTable, read_tool_table
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
+from kernel.tooltable import ToolTable, read_tool_table
 
 KINDS = ("gcode", "canon", "jsonl", "part21")
 _PART21 = re.compile(r"^\s*ISO-10303-21\s*;", re.M)

@@ -74,11 +74,8 @@ def command(
       cnc trace part.ngc -o traces --plot
       cnc trace part.ngc -o traces --format npz --machine mill.toml
     """
-    from kernel.accdec import planning_machine
-    from kernel.interpolate import sample
-    from kernel.path import build_path
-    from kernel.planner import plan
-    from kernel.trace import Trace, column_dtypes, columns, setup
+    from kernel import simulate
+    from kernel.trace import column_dtypes, columns
     from kernel.trace_writers import check_target, open_writer
 
     machine = load_machine(machine_file)
@@ -103,9 +100,9 @@ def command(
                 "Parquet output needs pyarrow, which is not installed; use --format csv or npz",
                 Location(trace_path),
             )
-    path = build_path(program_commands(program, dialect=dialect), machine, program)
-    samples = sample(plan(path, planning_machine(machine)))
-    trace = Trace(samples, setup(machine, samples.period), path.segments, chunk=chunk)
+    result = simulate(program_commands(program, dialect=dialect), machine, program)
+    samples = result.samples
+    trace = result.servo(chunk)
     os.makedirs(out_dir, exist_ok=True)
     names = columns(samples.axes)
     data = None

@@ -17,14 +17,14 @@ from gcode.comp_api import CutterComp
 from gcode.oword import Flow
 from gcode.params import Parameters
 from gcode.state import SavedModes, Setup
-from gcode.tooltable import Tool, ToolTable
 from kernel import canon
 from kernel.diagnostics import Location
+from kernel.tooltable import Tool, ToolTable
 
 
 @dataclass(frozen=True)
 class InterpreterOptions:
-    tool_table: ToolTable | None = None  # gcode.tooltable; None: any tool, zero offsets
+    tool_table: ToolTable | None = None  # kernel.tooltable; None: any tool, zero offsets
     parameters: dict[int, float] | None = None  # from a .var file (gcode.params.read_var_text)
     search_path: tuple[str, ...] = ()  # subroutine file search path
     linuxcnc_compat: bool = True  # emit LinuxCNC-only commands as rs274 does

@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from enum import StrEnum
+from typing import Any, TypeVar
 
 import numpy as np
 from scipy.signal import lfilter
@@ -114,19 +115,10 @@ def config_from_machine(machine: Machine) -> AccDecConfig:
     unknown = sorted(set(table) - set(_CONFIG_KEYS))
     if unknown:
         raise Diagnostic("MACH-KEY", f"[accdec]: unknown key(s) {', '.join(unknown)}", loc)
-    kw: dict[str, object] = {}
-    for key, enum, field_name in (
-        ("type", AccDecKind, "kind"),
-        ("placement", AccDecPlacement, "placement"),
-    ):
-        if key in table:
-            try:
-                kw[field_name] = enum(table[key])
-            except ValueError:
-                allowed = ", ".join(e.value for e in enum)
-                raise Diagnostic(
-                    "MACH-RANGE", f"accdec.{key} must be one of {allowed}", loc
-                ) from None
+    default = AccDecConfig()
+    kind = _choice(AccDecKind, table, "type", loc) if "type" in table else default.kind
+    placement = _choice(AccDecPlacement, table, "placement", loc) if "placement" in table else None
+    numbers: dict[str, float] = {}
     for key, field_name in (("tau", "tau"), ("tail_tolerance", "exp_tail_tolerance")):
         if key in table:
             v = table[key]
@@ -134,10 +126,28 @@ def config_from_machine(machine: Machine) -> AccDecConfig:
                 raise Diagnostic("MACH-TYPE", f"accdec.{key} must be a number", loc)
             if not (math.isfinite(v) and (v > 0 or (key == "tau" and v == 0))):
                 raise Diagnostic("MACH-RANGE", f"accdec.{key} must be positive, got {v!r}", loc)
-            kw[field_name] = float(v)
-    if "placement" not in kw and kw.get("kind", AccDecKind.LINEAR) is not AccDecKind.NONE:
-        kw["placement"] = AccDecPlacement.AFTER
-    return AccDecConfig(**kw)  # type: ignore[arg-type]
+            numbers[field_name] = float(v)
+    if placement is None:
+        after = kind is not AccDecKind.NONE
+        placement = AccDecPlacement.AFTER if after else default.placement
+    return AccDecConfig(
+        kind=kind,
+        tau=numbers.get("tau", default.tau),
+        placement=placement,
+        exp_tail_tolerance=numbers.get("exp_tail_tolerance", default.exp_tail_tolerance),
+    )
+
+
+_E = TypeVar("_E", AccDecKind, AccDecPlacement)
+
+
+def _choice(enum: type[_E], table: dict[str, Any], key: str, loc: Location) -> _E:
+    """``table[key]`` as a member of ``enum`` (``MACH-RANGE`` naming the allowed values)."""
+    try:
+        return enum(table[key])
+    except ValueError:
+        allowed = ", ".join(e.value for e in enum)
+        raise Diagnostic("MACH-RANGE", f"accdec.{key} must be one of {allowed}", loc) from None
 
 
 def _taps(tau: float, period: float, what: str) -> int:

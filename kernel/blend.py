@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from kernel.path import ARC, LINE, Path
+from kernel.segments import ARC, LINE, Path
 
 _MIN_ANGLE = 1e-6
 _MIN_RADIUS = 1e-6

@@ -32,7 +32,7 @@ import re
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field, fields
 from enum import Enum
-from typing import ClassVar
+from typing import Any, ClassVar
 
 from kernel.diagnostics import Diagnostic, Location
 
@@ -120,7 +120,7 @@ _ENUMS: tuple[type[Enum], ...] = (
     Axis,
     CompSide,
 )
-_ENUM_BY_VALUE: dict[str, Enum] = {m.value: m for e in _ENUMS for m in e}  # type: ignore[misc]
+_ENUM_BY_VALUE: dict[str, Enum] = {m.value: m for e in _ENUMS for m in e}
 # LinuxCNC prints directions with the long NISTIR names too.
 _ENUM_BY_VALUE["CANON_DIRECTION_CLOCKWISE"] = Direction.CLOCKWISE
 _ENUM_BY_VALUE["CANON_DIRECTION_COUNTERCLOCKWISE"] = Direction.COUNTERCLOCKWISE
@@ -166,6 +166,12 @@ class Command:
                 if v not in (None, 0)
             }
         return out
+
+
+def named_field(cmd: Command, name: str) -> Any:
+    """Field ``name`` of ``cmd``, read by name: for the commands the kernel knows by NAME
+    only (LinuxCNC additions a front end defines), whose classes it cannot name."""
+    return getattr(cmd, name)
 
 
 def format_arg(v: object) -> str:
@@ -932,12 +938,13 @@ def to_jsonl(commands: Iterable[Command]) -> Iterator[str]:
         yield json.dumps(cmd.to_json(), separators=(",", ":"))
 
 
-def from_json(obj: dict[str, object]) -> Command:
-    """Inverse of :meth:`Command.to_json`."""
+def from_json(obj: dict[str, Any]) -> Command:
+    """Inverse of :meth:`Command.to_json` (``obj``: a decoded JSON object, whose values
+    may be of any JSON type)."""
     cls = BY_NAME.get(str(obj.get("cmd")))
     if cls is None:
         raise Diagnostic("CANON-UNKNOWN", f"unknown canonical command {obj.get('cmd')!r}")
-    kwargs: dict[str, object] = {}
+    kwargs: dict[str, Any] = {}
     for f in fields(cls):
         if f.name == "source" or f.name not in obj:
             continue
@@ -945,13 +952,13 @@ def from_json(obj: dict[str, object]) -> Command:
         if isinstance(v, str) and v in _ENUM_BY_VALUE:
             v = _ENUM_BY_VALUE[v]
         elif f.name == "mode" and cls is SetFeedMode:
-            v = FeedMode(int(v))  # type: ignore[arg-type]
+            v = FeedMode(int(v))
         elif f.name == "points":
-            v = tuple(tuple(p) for p in v)  # type: ignore[union-attr]
+            v = tuple(tuple(p) for p in v)
         elif f.name == "knots":
-            v = tuple(v)  # type: ignore[arg-type]
+            v = tuple(v)
         kwargs[f.name] = v
     src = obj.get("source")
     if isinstance(src, dict):
         kwargs["source"] = Location(**src)
-    return cls(**kwargs)  # type: ignore[arg-type]
+    return cls(**kwargs)

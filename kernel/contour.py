@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from kernel.path import ARC
+from kernel.segments import ARC
 
 _NEWTON = 12
 

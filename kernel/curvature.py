@@ -46,8 +46,8 @@ from __future__ import annotations
 import numpy as np
 
 from kernel.geometry import evaluate
-from kernel.machine import Machine
-from kernel.path import ARC, HOLD, LINE, MIN_LENGTH, Path
+from kernel.machine import Machine, filter_time
+from kernel.segments import ARC, HOLD, LINE, MIN_LENGTH, Path
 
 #: share of the axis jerk limit given to the acceleration step at a curvature joint
 STEP_SHARE = 0.5
@@ -187,8 +187,6 @@ def cut_for_machine(path: Path, machine: Machine) -> Path:
     path unchanged otherwise). kernel.path_builder applies it when it builds a path for a
     machine, so the planner (which never changes a built path's rows: the samples' segment
     indices refer to them) slows only the stretch next to each joint."""
-    from kernel.planner import filter_time  # the planner imports this module
-
     ctl = machine.controller
     if ctl.accdec != "scurve" or len(path) < 2:
         return path

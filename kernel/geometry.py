@@ -20,8 +20,8 @@ import math
 
 import numpy as np
 
-from kernel import circle
-from kernel.path import ARC, LINE
+import kernel.circle as circle
+from kernel.segments import ARC, LINE
 
 
 def arc_tangent(seg: np.ndarray, lam: np.ndarray) -> np.ndarray:

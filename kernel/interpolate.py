@@ -34,9 +34,9 @@ import numpy as np
 from kernel.bulk import bulk_array
 from kernel.geometry import evaluate
 from kernel.machine import AXIS_NAMES, Controller, Machine
-from kernel.path import ARC, HOLD, LINE
 from kernel.planner import Plan
 from kernel.samples import Samples
+from kernel.segments import ARC, HOLD, LINE
 
 CHUNK = 32_768
 

@@ -129,6 +129,13 @@ class Machine:
         return tuple(out)
 
 
+def filter_time(machine: Machine) -> float:
+    """S-curve smoothing time ``T_f = 2 max_i A_i / J_i`` over the machine's axes (the 2:
+    the moving average's jerk is the acceleration difference across ``T_f``, up to 2A).
+    kernel.planner smooths with it; kernel.curvature cuts lines ``T_f v`` from joints."""
+    return 2.0 * max(a.acceleration / a.jerk for a in machine.axes)
+
+
 DEFAULT_MACHINE = Machine(
     name="default 3-axis mill (mm)",
     axes=(

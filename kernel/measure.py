@@ -14,9 +14,9 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from kernel.path import ARC, DWELL, FEED, ORIENT, PROBE, RAPID, STOP, TOOL_CHANGE
 from kernel.planner import Plan
 from kernel.samples import Samples
+from kernel.segments import ARC, DWELL, FEED, ORIENT, PROBE, RAPID, STOP, TOOL_CHANGE
 
 #: relative and absolute slack before a sample counts as over a limit (rounding)
 RTOL, ATOL = 1e-6, 1e-9

@@ -4,9 +4,9 @@ rules: units, offsets, feed modes, arcs, NURBS tessellation, LinuxCNC additions)
 
 Runs of consecutive ``STRAIGHT_FEED`` / ``STRAIGHT_TRAVERSE`` commands (the bulk of CAM
 output) change no modal state: the walk records each run with its state, and
-:func:`kernel.path.segment_table` converts all runs as whole columns (units, G92, XY rotation
-and G5x offset with the same floating-point operations as the command-by-command walk, so
-the table is bit-for-bit the same; tests/test_kernel_path_speedpath.py).
+:func:`kernel.path_columns.segment_table` converts all runs as whole columns (units, G92, XY
+rotation and G5x offset with the same floating-point operations as the command-by-command
+walk, so the table is bit-for-bit the same; tests/test_kernel_path_speedpath.py).
 """
 
 from __future__ import annotations
@@ -18,11 +18,16 @@ from itertools import islice
 
 import numpy as np
 
-from kernel import canon
+import kernel.canon as canon
 from kernel.arcsweep import arc_sweep
+from kernel.blend import blend_corners
+from kernel.curvature import cut_for_machine
 from kernel.diagnostics import Diagnostic
+from kernel.ellipse import ellipse_chords
 from kernel.machine import Machine
-from kernel.path import (
+from kernel.nurbs import NurbsCurve, tessellate
+from kernel.path_columns import ArcRecord, Row, StraightRun, segment_table
+from kernel.segments import (
     ARC,
     DWELL,
     FEED,
@@ -35,8 +40,6 @@ from kernel.path import (
     STOP,
     TOOL_CHANGE,
     Path,
-    StraightRun,
-    segment_table,
 )
 
 _PLANE_AXES = {
@@ -87,11 +90,6 @@ def _loc_line(cmd: canon.Command) -> int:
     return cmd.source.line if cmd.source is not None else 0
 
 
-# light row: kind, category, start, end, rate, mode, mm, spindle, synch, override,
-# exact_stop, blend, source, line, duration, arc record (or None)
-_Row = tuple
-
-
 class PathBuilder:
     """Turns canonical commands into light rows; :meth:`table` vectorises them."""
 
@@ -101,8 +99,8 @@ class PathBuilder:
         self.st.position = tuple(machine.limit_vector("home"))
         self.st.override = machine.controller.feed_override
         self.st.blend = machine.controller.blend_tolerance  # G64 is the initial mode
-        self.rows: list[_Row] = []  # light rows not yet moved into ``chunks``
-        self.chunks: list[list[_Row] | StraightRun] = []  # light rows and runs, in program order
+        self.rows: list[Row] = []  # light rows not yet moved into ``chunks``
+        self.chunks: list[list[Row] | StraightRun] = []  # light rows and runs, in program order
         self.file = file
 
     # ------------------------------------------------------------------ motions
@@ -151,25 +149,8 @@ class PathBuilder:
         if end == start:
             return
         rate = st.traverse if category == RAPID else st.feed
-        self.rows.append(
-            (
-                LINE,
-                category,
-                start,
-                end,
-                rate,
-                st.feed_mode,
-                st.mm,
-                st.spindle,
-                st.synch,
-                st.override,
-                st.exact_stop or category == PROBE,
-                st.blend,
-                idx,
-                _loc_line(cmd),
-                0.0,
-                None,
-            )
+        self._add_row(
+            LINE, category, start, end, cmd, idx, rate, st.exact_stop or category == PROBE
         )
 
     def arc(self, cmd: canon.ArcFeed, idx: int) -> None:
@@ -201,7 +182,7 @@ class PathBuilder:
         e1[f], e1[s] = (start[f] - cf) / r0, (start[s] - cs) / r0
         axial = end[ax] - start[ax]
         length = math.hypot(0.5 * (r0 + r1) * abs(sweep), axial)
-        rec = dict(
+        rec = ArcRecord(
             centre=centre,
             normal=normal,
             e1=e1,
@@ -213,37 +194,17 @@ class PathBuilder:
             length=length,
         )
         if st.rot or any(st.g5x):
-            rot = np.stack([centre, normal, e1, rec["e2"]])
+            rot = np.stack([centre, normal, e1, rec.e2])
             if st.rot:
                 rot = self._rot(rot)
             centre, normal, e1, e2 = rot
-            rec.update(centre=centre + np.array(st.g5x[:3]), normal=normal, e1=e1, e2=e2)
+            rec = rec._replace(centre=centre + np.array(st.g5x[:3]), normal=normal, e1=e1, e2=e2)
             start, end = np.array(self._to_machine(start)), np.array(self._to_machine(end))
         st.position = tuple(end.tolist())
-        self.rows.append(
-            (
-                ARC,
-                FEED,
-                tuple(start.tolist()),
-                st.position,
-                st.feed,
-                st.feed_mode,
-                st.mm,
-                st.spindle,
-                st.synch,
-                st.override,
-                st.exact_stop,
-                st.blend,
-                idx,
-                _loc_line(cmd),
-                0.0,
-                rec,
-            )
-        )
+        start_m = tuple(start.tolist())
+        self._add_row(ARC, FEED, start_m, st.position, cmd, idx, st.feed, st.exact_stop, rec)
 
     def nurbs(self, cmd: canon.NurbsFeed, idx: int) -> None:
-        from kernel.nurbs import NurbsCurve, tessellate
-
         st = self.st
         if not cmd.points or cmd.elided:
             raise Diagnostic(
@@ -266,8 +227,6 @@ class PathBuilder:
         """ELLIPSE_FEED as chords within the chord tolerance (kernel.ellipse), every one a
         feed line mapped back to the command's index; the helix axis follows the swept
         polar angle (NIST rule 2), rotary axes move linearly along the path."""
-        from kernel.ellipse import ellipse_chords
-
         st = self.st
         f, s, ax = _PLANE_AXES[st.plane]
         mm, off = st.mm, st.g92
@@ -302,24 +261,43 @@ class PathBuilder:
 
     def hold(self, cmd: canon.Command, seconds: float, category: int, idx: int) -> None:
         p = self.st.position
+        self._add_row(HOLD, category, p, p, cmd, idx, 0.0, True, duration=max(0.0, seconds))
+
+    def _add_row(
+        self,
+        kind: int,
+        category: int,
+        start: tuple[float, ...],
+        end: tuple[float, ...],
+        cmd: canon.Command,
+        idx: int,
+        rate: float,
+        exact_stop: bool,
+        arc: ArcRecord | None = None,
+        duration: float = 0.0,
+    ) -> None:
+        """The one place a light row is made: a motion carries the modal feed state in force,
+        a hold the neutral one (per minute, unit scale, no spindle, override 1, no blend)."""
+        st = self.st
+        moving = kind != HOLD
         self.rows.append(
-            (
-                HOLD,
-                category,
-                p,
-                p,
-                0.0,
-                0,
-                1.0,
-                0.0,
-                0.0,
-                1.0,
-                True,
-                0.0,
-                idx,
-                _loc_line(cmd),
-                max(0.0, seconds),
-                None,
+            Row(
+                kind=kind,
+                category=category,
+                start=start,
+                end=end,
+                rate=rate,
+                feed_mode=st.feed_mode if moving else 0,
+                mm=st.mm if moving else 1.0,
+                spindle=st.spindle if moving else 0.0,
+                synch=st.synch if moving else 0.0,
+                override=st.override if moving else 1.0,
+                exact_stop=exact_stop,
+                blend=st.blend if moving else 0.0,
+                source=idx,
+                line=_loc_line(cmd),
+                duration=duration,
+                arc=arc,
             )
         )
 
@@ -361,7 +339,7 @@ class PathBuilder:
 
     def straight_run(self, run: list[canon.Command], idx0: int) -> None:
         """Record consecutive STRAIGHT_FEED / STRAIGHT_TRAVERSE commands with the modal state
-        they run under; :func:`kernel.path.merged_columns` converts all runs at once."""
+        they run under; :func:`kernel.path_columns.merged_columns` converts all runs at once."""
         st = self.st
         if self.rows:
             self.chunks.append(self.rows)
@@ -459,22 +437,19 @@ class PathBuilder:
         st = self.st
         name = cmd.NAME
         if name in ("SET_G5X_OFFSET", "SET_G92_OFFSET"):
-            v = [getattr(cmd, k) for k in ("x", "y", "z", "a", "b", "c")]
+            v = [canon.named_field(cmd, k) for k in ("x", "y", "z", "a", "b", "c")]
             scaled = (v[0] * st.mm, v[1] * st.mm, v[2] * st.mm, v[3], v[4], v[5])
             if name == "SET_G5X_OFFSET":
                 st.g5x = scaled
             else:
                 st.g92 = scaled
         elif name == "SET_XY_ROTATION":
-            st.rot = math.radians(cmd.angle)  # type: ignore[attr-defined]
+            st.rot = math.radians(canon.named_field(cmd, "angle"))
         elif name == "RIGID_TAP":  # G33.1: in synchronised, spindle reversal, back out
             start = st.position
             w = self._to_work(start)
-            w[:3] = [
-                cmd.x * st.mm + st.g92[0],
-                cmd.y * st.mm + st.g92[1],  # type: ignore[attr-defined]
-                cmd.z * st.mm + st.g92[2],
-            ]  # type: ignore[attr-defined]
+            x, y, z = (canon.named_field(cmd, k) for k in ("x", "y", "z"))
+            w[:3] = [x * st.mm + st.g92[0], y * st.mm + st.g92[1], z * st.mm + st.g92[2]]
             bottom = self._to_machine(w)
             saved = st.exact_stop
             st.exact_stop = True
@@ -493,7 +468,4 @@ class PathBuilder:
         seg = segment_table(self.chunks, self.machine, self.file)
         if self.machine.controller.accdec != "scurve":
             return seg
-        from kernel.blend import blend_corners
-        from kernel.curvature import cut_for_machine
-
         return cut_for_machine(blend_corners(Path(seg, self.file)), self.machine).segments

@@ -40,8 +40,8 @@ import numpy as np
 from kernel.blend import blend_corners
 from kernel.curvature import curvature_joint_caps, erode_joint_caps
 from kernel.diagnostics import Diagnostic, Location
-from kernel.machine import Machine
-from kernel.path import ARC, HOLD, RAPID, Path
+from kernel.machine import Machine, filter_time
+from kernel.segments import ARC, HOLD, RAPID, Path
 
 _TINY = 1e-12
 
@@ -54,42 +54,70 @@ def angle_corner_speed(theta: np.ndarray | float, accel: float, period: float) -
         return np.where(den > _TINY, accel * period / np.maximum(den, _TINY), np.inf)
 
 
+def axis_corner_speed(u1: np.ndarray, u2: np.ndarray, dv_max: np.ndarray) -> np.ndarray:
+    """Eqs. 4.89-4.92 at one feed ``F`` on both sides: the largest ``F`` whose per-axis speed
+    step ``F |u2_i - u1_i|`` stays within ``dVm_i`` (inf where no axis changes speed).
+    Rows of ``u1`` / ``u2`` (unit tangents, d position / ds) are corners; the planner's
+    ``axis`` corner rule."""
+    return _ratio_min(np.asarray(dv_max, float), np.asarray(u2, float) - np.asarray(u1, float))
+
+
 def axis_corner_speeds(
     f1: float, f2: float, u1: np.ndarray, u2: np.ndarray, dv_max: np.ndarray
 ) -> tuple[float, float]:
     """Eqs. 4.89-4.92: end speed of N1 and start speed of N2 from per-axis speed steps.
 
     ``Q = min_i dVm_i / |dV_i|`` over axes whose speed changes; ``F_E1 = Q F1``,
-    ``F_S2 = Q F2`` when ``Q < 1`` (the book's "greater than 1" is an erratum).
+    ``F_S2 = Q F2`` when ``Q < 1`` (the book's "greater than 1" is an erratum). The ratio is
+    the one :func:`axis_corner_speed` takes (``dV = u2 - u1`` there: ``F1 = F2 = 1``).
     """
-    dv = np.abs(f2 * np.asarray(u2, float) - f1 * np.asarray(u1, float))
-    moving = dv > _TINY
-    q = float(np.min(np.asarray(dv_max, float)[moving] / dv[moving])) if moving.any() else 1.0
-    q = min(q, 1.0)
+    dv = f2 * np.asarray(u2, float) - f1 * np.asarray(u1, float)
+    q = min(float(_ratio_min(np.asarray(dv_max, float), dv)), 1.0)
     return q * f1, q * f2
 
 
 def arc_feed_limit(
     axis_accel: tuple[float, float], reference_radius: float, radius: float
 ) -> float:
-    """Eqs. 4.85/4.86: ``F_o = sqrt(A_x R_o + A_y R_o)``, ``F_1 = F_o sqrt(R_c / R_o)``."""
+    """Eqs. 4.85/4.86: ``F_o = sqrt(A_x R_o + A_y R_o)``, ``F_1 = F_o sqrt(R_c / R_o)``.
+
+    The book's XY-plane rule for its worked examples; the planner caps arcs per axis and in
+    any plane with :func:`centripetal_speed` (eq. 4.97) instead."""
     fo = math.sqrt(axis_accel[0] * reference_radius + axis_accel[1] * reference_radius)
     return fo * math.sqrt(radius / reference_radius)
 
 
+def centripetal_speed(
+    alpha: np.ndarray | float, radius: np.ndarray | float, weight: np.ndarray | float = 1.0
+) -> np.ndarray:
+    """Eq. 4.97 ``V = sqrt(alpha R)``; ``weight`` is the share of the arc's curvature an axis
+    carries (1 in the book's plane; the planner's per-axis cap ``sqrt(alpha R / w_i)``)."""
+    return np.sqrt(alpha * radius / weight)
+
+
+def chord_error_speed(
+    radius: np.ndarray | float, chord: float, period: np.ndarray | float
+) -> np.ndarray:
+    """Eq. 4.98, read ``R - E``: ``V = 2 R acos((R - E)/(R + E)) / T``, the speed at which
+    one period's chord of an improved-Tustin arc stays within ``E``."""
+    return 2.0 * radius * np.arccos(np.clip((radius - chord) / (radius + chord), -1, 1)) / period
+
+
 def arc_speed_caps(alpha: float, radius: float, chord: float, period: float) -> tuple[float, float]:
     """Eq. 4.97 ``V = sqrt(alpha R)`` and eq. 4.98 ``V = 2 R acos((R-E)/(R+E)) / T``."""
-    v_perf = math.sqrt(alpha * radius)
-    v_err = 2.0 * radius * math.acos((radius - chord) / (radius + chord)) / period
-    return v_perf, v_err
+    return float(centripetal_speed(alpha, radius)), float(chord_error_speed(radius, chord, period))
 
 
 def short_block_peak(
-    length: float, accel: float, decel: float, v_start: float = 0.0, v_end: float = 0.0
-) -> float:
+    length: np.ndarray | float,
+    accel: np.ndarray | float,
+    decel: np.ndarray | float,
+    v_start: np.ndarray | float = 0.0,
+    v_end: np.ndarray | float = 0.0,
+) -> np.ndarray:
     """Peak speed of a block too short to cruise (eq. 4.54 generalised, cases (f)-(h)):
-    ``F^2 = (2 A D L + D vs^2 + A ve^2) / (A + D)``."""
-    return math.sqrt(
+    ``F^2 = (2 A D L + D vs^2 + A ve^2) / (A + D)``; :func:`trapezoids` uses it per block."""
+    return np.sqrt(
         (2 * accel * decel * length + decel * v_start**2 + accel * v_end**2) / (accel + decel)
     )
 
@@ -196,8 +224,7 @@ def trapezoids(
     a = np.where(accel > 0, accel, 1.0)
     d = np.where(decel > 0, decel, 1.0)
     vs, ve = np.asarray(v_start, float), np.asarray(v_end, float)
-    peak2 = (2 * a * d * length + d * vs**2 + a * ve**2) / (a + d)
-    vp = np.minimum(np.asarray(v_cap, float), np.sqrt(peak2))
+    vp = np.minimum(np.asarray(v_cap, float), short_block_peak(length, a, d, vs, ve))
     vp = np.maximum(vp, np.maximum(vs, ve))
     t_acc = (vp - vs) / a
     t_dec = (vp - ve) / d
@@ -221,7 +248,7 @@ def _ratio_min(limit: np.ndarray, comp: np.ndarray) -> np.ndarray:
     c = np.abs(comp)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(c > _TINY, limit / np.where(c > _TINY, c, 1.0), np.inf)
-    return r.min(axis=1)
+    return r.min(axis=-1)
 
 
 def segment_limits(path: Path, machine: Machine) -> tuple[np.ndarray, np.ndarray]:
@@ -255,17 +282,18 @@ def segment_limits(path: Path, machine: Machine) -> tuple[np.ndarray, np.ndarray
         bend = w > 1e-9
         with np.errstate(divide="ignore", invalid="ignore"):
             v_arc = np.where(share > _TINY, vmax[:3] / share, np.inf).min(axis=1)
-            v_cent = np.where(bend, np.sqrt(ratio * amax[:3] * r / w) / frac, np.inf).min(axis=1)
+            v_cent = centripetal_speed(ratio * amax[:3], r, w) / frac
+            v_cent = np.where(bend, v_cent, np.inf).min(axis=1)
             budget = np.where(bend, (1 - ratio) * amax[:3], amax[:3])  # eq. 4.97 share
             a_tan = np.where(share > _TINY, budget / share, np.inf).min(axis=1)
         r1 = r[:, 0]
         f1 = frac[:, 0]
+        period = ctl.interpolation_period * f1  # one period's in-plane travel
         if ctl.circle_method == "improved_tustin":  # eq. 4.98 (R - E reading)
-            e = ctl.chord_tolerance
-            step = 2 * np.arccos(np.clip((r1 - e) / (r1 + e), -1, 1))
+            v_chord = chord_error_speed(r1, ctl.chord_tolerance, period)
         else:  # exact points: sagitta R (1 - cos(dtheta/2)) <= E
             step = 2 * np.arccos(np.clip(1 - ctl.chord_tolerance / r1, -1, 1))
-        v_chord = r1 * step / (ctl.interpolation_period * f1)
+            v_chord = r1 * step / period
         rot = _ratio_min(vmax[3:], sa["u_start"][:, 3:])
         cap[arc] = np.minimum.reduce([feed[arc], v_arc, v_cent, v_chord, rot])
         acc[arc] = np.minimum(a_tan, _ratio_min(amax[3:], sa["u_start"][:, 3:]))
@@ -307,7 +335,7 @@ def junction_caps(path: Path, machine: Machine, cap: np.ndarray, acc: np.ndarray
     _, amax, _ = _machine_vectors(machine)
     if ctl.corner_rule == "axis":  # eqs. 4.89-4.92 with dVm = step x A x T
         dvm = ctl.corner_velocity_step * amax * ctl.interpolation_period
-        corner = _ratio_min(dvm, u2 - u1)
+        corner = axis_corner_speed(u1, u2, dvm)
     else:  # eq. 4.88 on the XYZ direction change
         a3, b3 = u1[:, :3], u2[:, :3]
         na = np.linalg.norm(a3, axis=1)
@@ -346,12 +374,6 @@ class Plan:
     @property
     def total_time(self) -> float:
         return float(self.t_start[-1] + self.duration[-1]) if len(self.duration) else 0.0
-
-
-def filter_time(machine: Machine) -> float:
-    """S-curve smoothing time ``T_f = 2 max_i A_i / J_i`` over the machine's axes (the 2:
-    the moving average's jerk is the acceleration difference across ``T_f``, up to 2A)."""
-    return 2.0 * max(a.acceleration / a.jerk for a in machine.axes)
 
 
 def _erode(
@@ -430,7 +452,10 @@ __all__ = [
     "angle_corner_speed",
     "arc_feed_limit",
     "arc_speed_caps",
+    "axis_corner_speed",
     "axis_corner_speeds",
+    "centripetal_speed",
+    "chord_error_speed",
     "filter_time",
     "junction_caps",
     "lookahead",

@@ -171,12 +171,12 @@ def direct_search(
             passes = (sx and (nx - xf) * (x - xf) < 0) or (sy and (ny - yf) * (y - yf) < 0)
             passes = passes or (sx != 0 and x == xf) or (sy != 0 and y == yf)
             cands.append(None if passes else nx * nx + ny * ny - r2)
-        ok = [i for i, c in enumerate(cands) if c is not None]
+        ok = {i: c for i, c in enumerate(cands) if c is not None}
         if not ok:
             raise Diagnostic("PLAN-PULSE", "direct search has no admissible step")
-        best = min(ok, key=lambda i: abs(cands[i]))  # type: ignore[arg-type]
+        best = min(ok, key=lambda i: abs(ok[i]))
         x, y = x + moves[best][0], y + moves[best][1]
-        d = int(cands[best])  # type: ignore[arg-type]
+        d = int(ok[best])
         rows.append(row(step, tuple(cands)))
         if step > 4 * (abs(x0) + abs(y0) + abs(xf) + abs(yf)) + 8:
             raise Diagnostic("PLAN-PULSE", "direct search did not reach the end point")

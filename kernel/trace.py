@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from kernel import accdec
+import kernel.accdec as accdec
 from kernel.contour import ContourMeter, ErrorTracker, predict_arcs
 from kernel.diagnostics import Diagnostic, Location
 from kernel.machine import Machine

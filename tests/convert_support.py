@@ -14,9 +14,9 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from gcode.interpreter import InterpreterOptions, interpret, interpret_text
-from gcode.tooltable import read_tool_table
 from kernel import canon
 from kernel.diagnostics import Diagnostic
+from kernel.tooltable import read_tool_table
 from tests.data_paths import CORPUS_NGC
 
 HERE = Path(__file__).resolve().parent

@@ -17,9 +17,9 @@ from collections.abc import Callable
 
 from gcode import arcs
 from gcode.cutter_comp import CutterCompensator
-from gcode.tooltable import ToolTable
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
+from kernel.tooltable import ToolTable
 
 _WORD = re.compile(r"([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
 _PLANE_AXES = {canon.Plane.XY: (0, 1, 2), canon.Plane.XZ: (2, 0, 1)}

@@ -9,9 +9,9 @@ from functools import lru_cache
 from pathlib import Path
 
 from gcode.interpreter import InterpreterOptions, interpret
-from gcode.tooltable import ToolTable, read_tool_table
 from kernel import canon
 from kernel.diagnostics import Diagnostic
+from kernel.tooltable import ToolTable, read_tool_table
 from tests.canon_equiv import compare
 
 ENDINGS = ("PROGRAM_END()", "FINISH()")

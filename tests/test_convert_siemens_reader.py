@@ -16,8 +16,8 @@ import tests.canon_equiv as canon_equiv
 from gcode.dialects.siemens840d_reader import interpret, interpret_text
 from gcode.interpreter import InterpreterOptions
 from gcode.readers import read_text
-from gcode.tooltable import read_tool_table
 from kernel import canon
+from kernel.tooltable import read_tool_table
 
 HERE = Path(__file__).resolve().parent / "dialects" / "siemens840d"
 PROGRAMS = sorted(HERE.glob("*.mpf"))

@@ -93,7 +93,7 @@ def _reference_rows_table(rows: list, machine: Machine, file: str | None) -> np.
     is_arc = kind == ARC
     ai = np.flatnonzero(is_arc)
     for i in ai:
-        for key, val in recs[i].items():
+        for key, val in recs[i]._asdict().items():
             seg[key][i] = val
     length[ai] = seg["length"][ai]
     rotary_only[ai] = False

@@ -19,10 +19,15 @@ from kernel.planner import (
     angle_corner_speed,
     arc_feed_limit,
     arc_speed_caps,
+    axis_corner_speed,
     axis_corner_speeds,
+    centripetal_speed,
+    chord_error_speed,
+    junction_caps,
     lookahead,
     plan,
     range_min,
+    segment_limits,
     short_block_peak,
     trapezoids,
 )
@@ -131,6 +136,57 @@ def test_arc_feed_limits_eq_4_86_4_97_4_98_tc21_tc30():
     perf, err = arc_speed_caps(1000, 10, 0.001, 0.008)
     assert perf == pytest.approx(100.0)
     assert err == pytest.approx(49.998, abs=1e-3)
+
+
+def test_axis_corner_speed_is_the_pair_rule_at_one_feed_vectorised():
+    """The planner's corner rule (rows of tangents at once) is eqs. 4.89-4.92 at F1 = F2."""
+    dvm = np.full(3, 20.0)
+    ex, ey = [1.0, 0, 0], [0, 1.0, 0]
+    diag = [math.sqrt(0.5), math.sqrt(0.5), 0]
+    got = axis_corner_speed(np.array([ex, ex, ex]), np.array([ey, diag, ex]), dvm)
+    assert got[:2] == pytest.approx([20.0, 28.284], abs=1e-3)
+    assert np.isinf(got[2])
+    for u2, corner in zip((ey, diag), got[:2], strict=True):
+        for f in (10.0, 100.0):
+            assert axis_corner_speeds(f, f, np.array(ex), np.array(u2), dvm) == pytest.approx(
+                (min(f, corner), min(f, corner))
+            )
+
+
+def test_planner_junction_caps_use_the_axis_corner_rule():
+    """Two lines at a right angle on the axis rule: the junction cap is dVm = A T."""
+    m = _mill(200, 1000.0, corner_rule="axis")
+    path = lines_table(np.zeros(3), np.array([[10.0, 0, 0], [10.0, 10.0, 0]]), 6000.0)
+    cap, acc = segment_limits(path, m)
+    jcap = junction_caps(path, m, cap, acc)
+    assert jcap[1] == pytest.approx(1000.0 * 0.001)
+    assert jcap[1] == axis_corner_speed(np.array([1.0, 0, 0]), np.array([0, 1.0, 0]), 1.0)
+
+
+@pytest.mark.parametrize("method", ["improved_tustin", "exact"])
+@pytest.mark.parametrize("chord", [1e-4, 1e-2])
+def test_arc_cap_is_eq_4_97_or_4_98_in_the_plane(method, chord):
+    """A full XY circle of radius R with feed and axis speed out of the way: the planner's cap
+    is the smaller of the centripetal (eq. 4.97 per axis, alpha = ratio x A) and the chord
+    error speed (eq. 4.98 for improved Tustin, the sagitta bound for exact points)."""
+    m = _mill(200, 1000.0, circle_method=method, chord_tolerance=chord, interpolation_period=0.01)
+    cmds = [
+        canon.SetFeedRate(60000.0),
+        canon.StraightFeed(10.0, 0, 0),
+        canon.ArcFeed(10.0, 0, 0, 0, 1, 0),
+    ]
+    path = build_path(cmds, m)
+    cap, _ = segment_limits(path, m)
+    r, e, t = 10.0, chord, 0.01
+    v_perf = float(centripetal_speed(0.5 * 1000.0, r))
+    assert v_perf == pytest.approx(math.sqrt(0.5 * 1000.0 * r))
+    if method == "improved_tustin":
+        v_chord = float(chord_error_speed(r, e, t))
+        assert v_chord == pytest.approx(2 * r * math.acos((r - e) / (r + e)) / t)
+    else:
+        v_chord = 2 * r * math.acos(1 - e / r) / t
+    assert (v_chord < v_perf) == (chord < 1e-3)  # each bound binds in one of the cases
+    assert cap[-1] == pytest.approx(min(v_perf, v_chord), rel=1e-12)
 
 
 def _mill(lookahead_n: int, acc: float, **ctl: object) -> Machine:

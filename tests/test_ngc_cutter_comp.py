@@ -22,9 +22,9 @@ from hypothesis import strategies as st
 from gcode import offset_geometry as geo
 from gcode.comp_queue import HeldMove, motion_command
 from gcode.cutter_comp import LEFT, RIGHT, CutterCompensator
-from gcode.tooltable import read_linuxcnc_tbl
 from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
+from kernel.tooltable import read_linuxcnc_tbl
 from tests import canon_equiv
 from tests.ngc_comp_driver import run
 

@@ -14,8 +14,8 @@ from pathlib import Path
 import pytest
 
 from gcode.interpreter import InterpreterOptions, interpret
-from gcode.tooltable import read_tool_table
 from kernel.diagnostics import Diagnostic
+from kernel.tooltable import read_tool_table
 
 GOLDEN = Path(__file__).parent / "golden"
 ERRORS = sorted((GOLDEN / "ngc_errors").glob("*.ngc"))

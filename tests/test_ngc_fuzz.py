@@ -14,8 +14,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gcode.interpreter import InterpreterOptions, interpret_text
-from gcode.tooltable import read_tool_table
 from kernel.diagnostics import Diagnostic
+from kernel.tooltable import read_tool_table
 
 GOLDEN = Path(__file__).parent / "golden" / "ngc"
 PROGRAMS = [p.read_text() for p in sorted(GOLDEN.glob("*.ngc")) if "_subfile" not in p.name]

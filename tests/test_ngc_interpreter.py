@@ -12,9 +12,9 @@ from hypothesis import strategies as st
 
 from gcode.interpreter import InterpreterOptions, interpret, interpret_text
 from gcode.linuxcnc import SetG5xOffset
-from gcode.tooltable import read_tool_table
 from kernel import canon
 from kernel.diagnostics import Diagnostic
+from kernel.tooltable import read_tool_table
 
 GOLDEN = Path(__file__).parent / "golden" / "ngc"
 TOOLS = read_tool_table((GOLDEN / "sim.tbl").read_text().splitlines())

@@ -17,8 +17,8 @@ import gcode.interpreter as interp
 from gcode.interpreter import InterpreterOptions, interpret
 from gcode.lane import Lane
 from gcode.program import ProgramFile
-from gcode.tooltable import read_tool_table
 from kernel.diagnostics import Diagnostic
+from kernel.tooltable import read_tool_table
 
 ROOT = Path(__file__).resolve().parent
 sys.path.insert(0, str(ROOT.parent / "bench"))

@@ -15,9 +15,9 @@ from dataclasses import replace
 from gcode.codes import Words
 from gcode.fanuc.state import ExecutorState
 from gcode.state import INCH_MM
-from gcode.tooltable import Tool
 from kernel.canon import Units
 from kernel.diagnostics import Diagnostic, Location
+from kernel.tooltable import Tool
 
 _AXES = "XYZABC"
 

@@ -12,9 +12,9 @@ from dataclasses import dataclass, field
 
 from gcode.interpreter import InterpreterOptions
 from gcode.siemens.state import State
-from gcode.tooltable import ToolTable
 from kernel import canon
 from kernel.diagnostics import Location
+from kernel.tooltable import ToolTable
 
 
 @dataclass

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from kernel import canon
+import kernel.canon as canon
 from kernel.check import rules_tooling  # noqa: F401 - registers the remaining rules
 from kernel.check.config import CheckConfig, config_from_dict
 from kernel.check.findings import Finding
@@ -55,7 +55,7 @@ def check_stream(
     a later finding with the same rule and message is folded into the first the same way.
     """
     active = _active(ctx)
-    per_cmd = [(r, s) for r, s in active if r.check is not None]
+    per_cmd = [(r, r.check, s) for r, s in active if r.check is not None]
     st = CheckState()
     findings: list[Finding] = []
     runs: dict[str, tuple[int, int]] = {}  # rule -> (finding index, repeats)
@@ -73,10 +73,10 @@ def check_stream(
             loc = cmd.source or last_loc
             if loc.line >= last_loc.line or loc.file != last_loc.file:
                 last_loc = loc
-            for r, sev in per_cmd:
+            for r, check, sev in per_cmd:
                 if r.kinds and not isinstance(cmd, r.kinds):
                     continue
-                msg = r.check(cmd, st, ctx)  # type: ignore[misc]
+                msg = check(cmd, st, ctx)
                 if msg is None:
                     if r.id in runs:
                         close(r.id)

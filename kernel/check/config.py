@@ -169,15 +169,16 @@ def config_from_dict(
 def _stock(v: object, loc: Location) -> tuple[tuple[float, float, float], ...]:
     if not isinstance(v, dict) or set(v) != {"min", "max"}:
         raise _fail("check.stock must be a table with keys min and max", loc)
-    out = []
+    out: list[tuple[float, float, float]] = []
     for key in ("min", "max"):
         xs = v[key]
         if not isinstance(xs, list) or len(xs) != 3:
             raise _fail(f"check.stock.{key} must be a list [x, y, z]", loc)
-        out.append(tuple(_num(x, f"check.stock.{key}", loc) for x in xs))
+        what = f"check.stock.{key}"
+        out.append((_num(xs[0], what, loc), _num(xs[1], what, loc), _num(xs[2], what, loc)))
     if not all(a < b for a, b in zip(out[0], out[1], strict=True)):
         raise _fail("check.stock: min must be below max on every axis", loc)
-    return tuple(out)  # type: ignore[return-value]
+    return tuple(out)
 
 
 def spindle_range(extra: dict[str, Any], file: str | None = None) -> tuple[float, float]:

@@ -7,6 +7,15 @@ from dataclasses import dataclass, field
 from kernel.diagnostics import Location, Severity
 
 
+def _int(v: object) -> int:
+    """A line or column of a finding's dict: a number (or its text); missing or 0 is 0."""
+    if not v:
+        return 0
+    if isinstance(v, int | float | str):
+        return int(v)
+    raise TypeError(f"a line or column must be a number, not {v!r}")
+
+
 @dataclass(frozen=True, slots=True)
 class Finding:
     """A problem a rule found. ``code`` is the underlying diagnostic code when the finding
@@ -37,7 +46,11 @@ class Finding:
 
     @classmethod
     def from_dict(cls, d: dict[str, object]) -> Finding:
-        loc = Location(d.get("file"), int(d.get("line") or 0), int(d.get("column") or 0))  # type: ignore[arg-type]
+        """Inverse of :meth:`to_dict` (a finding passed back from a worker process)."""
+        file = d.get("file")
+        loc = Location(
+            None if file is None else str(file), _int(d.get("line")), _int(d.get("column"))
+        )
         code = d.get("code")
         return cls(
             str(d["rule"]),

@@ -16,13 +16,13 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from gcode.tooltable import ToolTable
-from kernel import canon
+import kernel.canon as canon
 from kernel.check.config import CheckConfig
-from kernel.check.geometry import box_overlaps, motion_end, swept_points
-from kernel.check.state import PLANE_AXES, CheckState
+from kernel.check.geometry import box_overlaps, swept_points
+from kernel.check.state import PLANE_AXES, CheckState, motion_end
 from kernel.diagnostics import Severity
 from kernel.machine import AXIS_NAMES, Machine
+from kernel.tooltable import ToolTable
 
 FEEDS: tuple[type[canon.Command], ...] = (
     canon.StraightFeed,
@@ -129,7 +129,7 @@ def is_cutting(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> bool:
     if stock is None:
         return True
     pts = [st.work_mm(p)[:3] for p in swept_points(st, cmd)]
-    return box_overlaps(pts, stock[0], stock[1])  # type: ignore[arg-type]
+    return box_overlaps(pts, stock[0], stock[1])
 
 
 def tool_length_mm(ctx: CheckContext, tool: int) -> float | None:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from kernel import canon
+import kernel.canon as canon
 from kernel.check.config import ARC_TOLERANCES
 from kernel.check.geometry import arc_of, segment_hits_box
 from kernel.check.rules import (
@@ -35,7 +35,9 @@ STOPPED = canon.Direction.STOPPED
     kinds=(canon.SelectTool, canon.ChangeTool),
 )
 def tool_not_in_table(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> str | None:
-    slot = cmd.slot  # type: ignore[attr-defined]
+    if not isinstance(cmd, canon.SelectTool | canon.ChangeTool):
+        return None
+    slot = cmd.slot
     if ctx.tools is None or slot == 0 or slot in ctx.tools:
         return None
     return f"tool T{slot} is not in the tool table"

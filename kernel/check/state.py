@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from kernel import canon
+import kernel.canon as canon
 from kernel.canon import CompSide, Direction, FeedMode, Plane
 
 Vec6 = tuple[float, float, float, float, float, float]
@@ -96,6 +96,25 @@ class CheckState:
         return self.flood or self.mist
 
 
+def motion_end(st: CheckState, cmd: canon.Command) -> Vec6 | None:
+    """Where ``cmd`` leaves the controlled point (program coordinates), None if no motion."""
+    match cmd:
+        case canon.StraightTraverse() | canon.StraightFeed() | canon.StraightProbe():
+            return (cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)
+        case canon.ArcFeed() | canon.EllipseFeed():
+            i1, i2, n = PLANE_AXES[st.plane]
+            p = list(st.position)
+            p[i1], p[i2], p[n] = cmd.first_end, cmd.second_end, cmd.axis_end_point
+            p[3], p[4], p[5] = cmd.a, cmd.b, cmd.c
+            return (p[0], p[1], p[2], p[3], p[4], p[5])
+        case canon.NurbsFeed(points=pts) if pts:
+            i1, i2, _ = PLANE_AXES[st.plane]
+            p = list(st.position)
+            p[i1], p[i2] = pts[-1][0], pts[-1][1]
+            return (p[0], p[1], p[2], p[3], p[4], p[5])
+    return None
+
+
 def _scaled(st: CheckState, v: tuple[float, ...]) -> Vec6:
     k = st.mm_per_unit
     return (v[0] * k, v[1] * k, v[2] * k, v[3], v[4], v[5])
@@ -106,31 +125,37 @@ def _linuxcnc(st: CheckState, cmd: canon.Command) -> bool:
     them by NAME only, never importing a front end). True when ``cmd`` was one of them."""
     name = cmd.NAME
     if name in ("SET_G5X_OFFSET", "SET_G92_OFFSET"):
-        v = (cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)  # type: ignore[attr-defined]
+        v = tuple(canon.named_field(cmd, k) for k in ("x", "y", "z", "a", "b", "c"))
         if name == "SET_G5X_OFFSET":
             st.g5x_mm = _scaled(st, v)
         else:
             st.g92_mm = _scaled(st, v)
-        st.origin_mm = tuple(a + b for a, b in zip(st.g5x_mm, st.g92_mm, strict=True))  # type: ignore[assignment]
+        g5x, g92 = st.g5x_mm, st.g92_mm
+        st.origin_mm = (
+            g5x[0] + g92[0],
+            g5x[1] + g92[1],
+            g5x[2] + g92[2],
+            g5x[3] + g92[3],
+            g5x[4] + g92[4],
+            g5x[5] + g92[5],
+        )
         return True
     if name == "USE_TOOL_LENGTH_OFFSET" and hasattr(cmd, "offset"):
-        st.tlo_mm = cmd.offset[2] * st.mm_per_unit  # type: ignore[attr-defined]
+        st.tlo_mm = canon.named_field(cmd, "offset")[2] * st.mm_per_unit
         st.tlo_set = True
         return True
     if name == "CHANGE_TOOL_NUMBER":
-        st.tool = int(cmd.number)  # type: ignore[attr-defined]
+        st.tool = int(canon.named_field(cmd, "number"))
         st.tool_name = f"T{st.tool}"
         return True
     if name == "SET_XY_ROTATION":
-        st.rotation = math.radians(cmd.angle)  # type: ignore[attr-defined]
+        st.rotation = math.radians(canon.named_field(cmd, "angle"))
         return True
     return False
 
 
 def advance(st: CheckState, cmd: canon.Command) -> None:  # noqa: C901 - one branch per command
     """Apply ``cmd`` to ``st`` (the modal effects only; rules judge the command beforehand)."""
-    from kernel.check.geometry import motion_end  # local: geometry imports this module
-
     if _linuxcnc(st, cmd):
         return
     match cmd:

@@ -1,0 +1,63 @@
+"""The kernel's pipeline for one program: canonical commands -> path -> plan -> samples
+(-> measurements) (-> servo), as ``cnc plan``, ``cnc trace`` and ``cnc run`` use it.
+
+The path is built for the machine (kernel.path), planned on the limits the planner should
+use where the profile puts acc/dec (:func:`kernel.accdec.planning_machine`) and sampled
+every interpolation period (kernel.interpolate). Measuring (kernel.measure) and the servo
+stage (acc/dec after interpolation, fine interpolation, position loops: kernel.trace) are
+asked of the result: ``cnc trace`` does not measure, and the servo stage runs chunk by chunk
+as its :class:`~kernel.trace.Trace` is iterated, its setup errors (``SERVO-*``) coming
+after the measurements are known. Exported as :func:`kernel.simulate`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import kernel.canon as canon
+from kernel.accdec import planning_machine
+from kernel.interpolate import sample
+from kernel.machine import Machine
+from kernel.measure import Report, measure
+from kernel.path import build_path
+from kernel.planner import Plan, plan
+from kernel.samples import Samples
+from kernel.segments import Path
+from kernel.trace import CHUNK, Trace, setup
+
+
+@dataclass(frozen=True, slots=True)
+class SimulationResult:
+    """Path, plan and samples of one program; :meth:`measure` and :meth:`servo` on request."""
+
+    machine: Machine  # the profile as given (the servo stage's limits and settings)
+    path: Path
+    plan: Plan
+    samples: Samples
+
+    def measure(self) -> Report:
+        """Cycle time, lengths, peaks, chord error and limit hits (kernel.measure)."""
+        return measure(self.plan, self.samples)
+
+    def servo(self, chunk: int = CHUNK) -> Trace:
+        """The servo stage over the samples, ``chunk`` rows at a time (``SERVO-*`` on a bad
+        ``[servo]`` table)."""
+        return Trace(
+            self.samples, setup(self.machine, self.samples.period), self.path.segments, chunk
+        )
+
+
+def simulate(
+    commands: Iterable[canon.Command],
+    machine: Machine,
+    file: str | None = None,
+) -> SimulationResult:
+    """Build, plan and sample ``commands`` on ``machine`` (``file``: the program's name in
+    diagnostics). Problems of the program raise ``PLAN-*`` diagnostics."""
+    path = build_path(commands, machine, file)
+    pl = plan(path, planning_machine(machine))
+    return SimulationResult(machine, path, pl, sample(pl))
+
+
+__all__ = ["SimulationResult", "simulate"]
