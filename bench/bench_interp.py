@@ -48,7 +48,7 @@ def best_of(repeat: int, cmd: list[str], cwd: Path) -> float:
 
 def kernel_mode() -> str:
     """How ``cnc canon`` runs the fast lane here: ``aot`` (compiled module) or ``jit`` (numba)."""
-    probe = "from gcode import fastlane; print(fastlane.kernel_mode())"
+    probe = "from gcode.ngc.lane import fastlane; print(fastlane.kernel_mode())"
     out = subprocess.run(
         [sys.executable, "-c", probe], cwd=HERE.parent, capture_output=True, text=True
     )

@@ -1,7 +1,7 @@
 """Benchmark the Part 21 reader on a generated 1,000,000-instance file.
 
 Prints reading time, throughput and memory per instance (retained after reading, and the
-peak while reading). If a G-code interpreter (``gcode.interpreter``) and ``cnc canon`` exist,
+peak while reading). If a G-code interpreter (``gcode.ngc.interpreter``) and ``cnc canon`` exist,
 it also times ``cnc canon`` on an RS274/NGC file of the same byte size and prints the ratio
 (issue 5 asks for < 1.5x); otherwise it says so.
 
@@ -109,7 +109,7 @@ def main() -> None:
     del f
 
     have_gcode = (
-        importlib.util.find_spec("gcode.interpreter") is not None
+        importlib.util.find_spec("gcode.ngc.interpreter") is not None
         and importlib.util.find_spec("cli.canon") is not None
     )
     if have_gcode:
@@ -123,7 +123,7 @@ def main() -> None:
             f"Part 21 read / G-code canon = {t_read / t_ngc:.2f} (target < 1.5)"
         )
     else:
-        print("no gcode.interpreter / cli.canon yet: G-code comparison skipped")
+        print("no gcode.ngc.interpreter / cli.canon yet: G-code comparison skipped")
     if "--keep" not in sys.argv:
         for name in os.listdir(tmp):
             os.remove(os.path.join(tmp, name))

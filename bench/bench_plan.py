@@ -19,12 +19,12 @@ import time
 
 import numpy as np
 
-from kernel import canon
-from kernel.interpolate import sample
+from kernel.interp.interpolate import sample
+from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, with_controller
-from kernel.measure import measure
-from kernel.path import build_path
-from kernel.planner import plan
+from kernel.path.build import build_path
+from kernel.plan.planner import plan
+from kernel.report.measure import measure
 
 
 def cam_program(

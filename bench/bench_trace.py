@@ -23,14 +23,14 @@ import tracemalloc
 
 import numpy as np
 
-from kernel import canon
-from kernel.interpolate import sample
+from kernel.interp.interpolate import sample
+from kernel.interp.samples import Samples
+from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE
-from kernel.path import build_path
-from kernel.planner import plan
-from kernel.samples import Samples
-from kernel.trace import Trace, column_dtypes, columns, setup
-from kernel.trace_writers import open_writer
+from kernel.path.build import build_path
+from kernel.plan.planner import plan
+from kernel.report.trace import Trace, column_dtypes, columns, setup
+from kernel.report.trace_writers import open_writer
 
 FEED = 3000.0  # mm/min
 

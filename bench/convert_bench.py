@@ -2,7 +2,7 @@
 
 Issue 7 asks that converting a 200,000-line program between any two dialects take within
 2x of ``cnc canon`` on the same file. For each FROM dialect with a reader installed
-(:func:`gcode.readers.readable`; readers still being written are skipped) the generated
+(:func:`gcode.registry.readable`; readers still being written are skipped) the generated
 CAM-like program (G1 zig-zags with an R arc every fifth block) is written in FROM by our
 writer; then, in this process and on that file:
 
@@ -10,7 +10,7 @@ writer; then, in this process and on that file:
   RS274/NGC interpreter's chunks with the compiled fast-lane formatter for rs274ngc, the
   FROM reader's commands otherwise; canonical text written in large blocks);
 * ``convert`` does what ``cnc convert FILE --from FROM --to TO -o OUT`` does (cli/convert.py:
-  the FROM reader's IR through the TO writer's text chunks (``gcode.emit.write_text``), and
+  the FROM reader's IR through the TO writer's text chunks (``gcode.write.writer.write_text``), and
   one note formatted per conversion-report entry, as the CLI prints them).
 
 Each pair is timed back to back three times; printed are the best wall seconds of each
@@ -38,11 +38,11 @@ from collections.abc import Callable
 from pathlib import Path
 
 from cli.canon import _write as canon_write
-from gcode import readers
-from gcode.convert_report import ConversionReport
-from gcode.dialects import NAMES, get_dialect
-from gcode.emit import WriterOptions, write, write_text
-from gcode.interpreter import InterpreterOptions, interpret, interpret_chunks
+from gcode import readers, registry
+from gcode.ngc.interpreter import InterpreterOptions, interpret, interpret_chunks
+from gcode.registry import NAMES, get_dialect
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write, write_text
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
 
 REPEATS = 3
@@ -198,7 +198,7 @@ def main() -> None:
         "--cli", action="store_true", help="time the cnc commands as child processes instead"
     )
     args = parser.parse_args()
-    readable = readers.readable()
+    readable = registry.readable()
     sources = readable if args.src == "all" else (args.src,)
     targets = NAMES if args.dst == "all" else (args.dst,)
     print(f"{args.lines} lines; readers installed: {', '.join(readable)}")

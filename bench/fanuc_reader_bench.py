@@ -16,11 +16,11 @@ import tempfile
 import time
 from pathlib import Path
 
-from gcode import interpreter
-from gcode.convert_report import ConversionReport
-from gcode.dialects.fanuc_reader import interpret
-from gcode.emit import WriterOptions, write
-from kernel import canon
+from gcode.fanuc.reader import interpret
+from gcode.ngc import interpreter
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
+from kernel.ir import canon
 
 
 def program(lines: int) -> str:

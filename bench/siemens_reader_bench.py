@@ -18,12 +18,12 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-from gcode.convert_report import ConversionReport
-from gcode.dialects.siemens840d_reader import interpret
-from gcode.emit import WriterOptions, write
-from gcode.interpreter import InterpreterOptions
-from gcode.interpreter import interpret as interpret_ngc
-from kernel import canon
+from gcode.ngc.interpreter import InterpreterOptions
+from gcode.ngc.interpreter import interpret as interpret_ngc
+from gcode.siemens.reader import interpret
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
+from kernel.ir import canon
 
 
 def program(lines: int) -> str:

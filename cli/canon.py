@@ -17,10 +17,10 @@ import click
 
 from cli.errors import guarded
 from cli.programs import detect_kind, dialect_option, load_tool_table, program_dialect, read_head
-from gcode.interpreter import InterpreterOptions, interpret_chunks
-from gcode.params import read_var_text
-from kernel import canon
+from gcode.core.params import read_var_text
+from gcode.ngc.interpreter import InterpreterOptions, interpret_chunks
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
 
 _BATCH = 4096
 _WRITE_CHARS = 1 << 18  # text is written in blocks of about this size (fewer, larger writes)
@@ -90,7 +90,7 @@ def _arc_text(n: int, c: canon.ArcFeed) -> str | None:
 def fast_text(
     commands: Iterable[canon.Command], start: int = 1, linuxcnc: bool = False
 ) -> Iterator[str]:
-    """:func:`kernel.canon.write_text` with the commonest commands formatted inline.
+    """:func:`kernel.ir.canon.write_text` with the commonest commands formatted inline.
 
     CAM programs are mostly ``STRAIGHT_FEED`` lines and arcs; formatting them with one
     %-format instead of the generic per-field path triples the writer's speed. Same text;
@@ -125,7 +125,7 @@ def _commands(chunks: Iterable[object], path: str) -> Iterator[canon.Command]:
         if isinstance(item, canon.Command):
             yield item
         else:
-            from gcode.fastlane import Run
+            from gcode.ngc.lane.fastlane import Run
 
             assert isinstance(item, Run), item
             yield from item.commands(path)
@@ -145,7 +145,7 @@ def _text_blocks(chunks: Iterable[object], linuxcnc: bool) -> Iterator[str]:
                     n += len(pending)
                     pending.clear()
                 continue
-            from gcode import fastlane
+            from gcode.ngc.lane import fastlane
 
             if pending:
                 yield "".join(line + "\n" for line in fast_text(pending, n, linuxcnc))

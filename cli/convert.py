@@ -22,12 +22,11 @@ from typing import cast
 import click
 
 from cli.errors import guarded
-from gcode.convert_report import Change, ConversionReport
-from gcode.dialects import ALIASES, NAMES, get_dialect
-from gcode.emit import ARC_FORMATS, CYCLE_MODES, WriterOptions, write_text
-from gcode.readers import INPUTS, reader_name
-from kernel import canon
+from gcode.registry import ALIASES, INPUTS, NAMES, get_dialect, reader_name
+from gcode.write.report import Change, ConversionReport
+from gcode.write.writer import ARC_FORMATS, CYCLE_MODES, WriterOptions, write_text
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
+from kernel.ir import canon
 
 
 def read_canon(path: str, report: ConversionReport) -> Iterator[canon.Command]:
@@ -51,7 +50,7 @@ def read_canon(path: str, report: ConversionReport) -> Iterator[canon.Command]:
 
 
 def read_jsonl(path: str) -> Iterator[canon.Command]:
-    """The JSON-lines form of the IR (``kernel.canon.to_jsonl``), one command per line."""
+    """The JSON-lines form of the IR (``kernel.ir.canon.to_jsonl``), one command per line."""
     with open(path, encoding="utf-8") as fh:
         for number, line in enumerate(fh, 1):
             if not line.strip():
@@ -74,7 +73,7 @@ def read_program(
 ) -> Iterator[canon.Command]:
     """The program at ``path`` as IR, read by the reader of ``dialect`` (gcode.readers);
     ``cycle_marks`` brackets canned-cycle expansions for a writer that keeps them, and
-    ``keep_cutter_comp`` leaves G41/G42 to the target (gcode.comp_keep)."""
+    ``keep_cutter_comp`` leaves G41/G42 to the target (gcode.ngc.comp.keep)."""
     from cli.programs import load_tool_table
 
     if dialect == "canon":
@@ -85,7 +84,7 @@ def read_program(
         from stepnc.to_canon import canon_from_file
 
         return iter(canon_from_file(path, tool_file=tool_table, mode="default"))
-    from gcode.interpreter import InterpreterOptions
+    from gcode.ngc.interpreter import InterpreterOptions
     from gcode.readers import read_chunks
 
     table = load_tool_table(tool_table) if tool_table else None
@@ -96,7 +95,7 @@ def read_program(
         cycle_marks=cycle_marks,
         keep_cutter_comp=keep_cutter_comp,
     )
-    # RS274/NGC comes as commands and fast-lane runs of plain lines (gcode.fastlane.Run),
+    # RS274/NGC comes as commands and fast-lane runs of plain lines (gcode.ngc.lane.fastlane.Run),
     # which write_text takes in bulk; gcode.readers types that stream as objects
     return cast(Iterator[canon.Command], read_chunks(path, dialect, options))
 

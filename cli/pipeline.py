@@ -1,7 +1,7 @@
 """The whole pipeline for one program, as ``cnc run`` executes it per file.
 
 interpret -> check (kernel.check) -> path -> look-ahead plan -> interpolation -> measure ->
-acc/dec after interpolation and servo simulation (kernel.trace) -> a JSON report, and a
+acc/dec after interpolation and servo simulation (kernel.report.trace) -> a JSON report, and a
 trace file on request. Problems of the program end the pipeline for that file with a
 diagnostic in its report; they never escape to stop a batch.
 """
@@ -16,9 +16,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from cli.programs import program_commands
-from kernel import canon
 from kernel.check import CheckContext, Finding, check_stream
 from kernel.diagnostics import Diagnostic, Location, Severity
+from kernel.ir import canon
 
 REPORT_SCHEMA = "cnc-run-report"
 REPORT_VERSION = 1
@@ -83,7 +83,7 @@ def _simulate(
     """Plan, interpolate, measure and servo-simulate; fill ``res``, ``doc`` (and ``images``
     with plots when an HTML report is wanted)."""
     from kernel import simulate
-    from kernel.trace import column_dtypes, columns
+    from kernel.report.trace import column_dtypes, columns
 
     result = simulate(commands, ctx.machine, program)
     samples = result.samples
@@ -93,7 +93,7 @@ def _simulate(
     trace = result.servo()
     writer = None
     if opts.trace_format:
-        from kernel.trace_writers import open_writer
+        from kernel.report.trace_writers import open_writer
 
         tpath = os.path.join(opts.out_dir, f"{name}_trace.{opts.trace_format}")
         writer = open_writer(
@@ -108,7 +108,7 @@ def _simulate(
     total, done = trace.rows, 0
     data = None
     if opts.html:
-        from kernel.plots import PlotData
+        from kernel.report.plots import PlotData
 
         data = PlotData(samples.axes, total_rows=total)
     try:
@@ -132,12 +132,12 @@ def _simulate(
 
 
 def _plots(data: Any, axes: tuple[str, ...], stem: str) -> dict[str, bytes]:
-    """PNG images of the XY path and of each axis (kernel.plots), by title."""
+    """PNG images of the XY path and of each axis (kernel.report.plots), by title."""
     import io
 
     import matplotlib.pyplot as plt
 
-    from kernel.plots import axis_figure, path_figure
+    from kernel.report.plots import axis_figure, path_figure
 
     figs = []
     if "x" in axes and "y" in axes:

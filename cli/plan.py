@@ -15,7 +15,7 @@ from rich.table import Table
 from cli.errors import guarded
 from cli.programs import dialect_option, load_machine, program_commands
 from kernel.machine import Machine
-from kernel.measure import Report
+from kernel.report.measure import Report
 from kernel.simulation import simulate
 
 

@@ -3,7 +3,7 @@
 The kind is detected by content, not by extension: canonical text (ours or LinuxCNC
 ``rs274`` output, a line like ``    1 N..... STRAIGHT_FEED(...)``), canonical JSON lines
 (``{"cmd": ...}``), ISO 10303-21 (``ISO-10303-21;``: STEP-NC, through stepnc.to_canon) or
-else RS274/NGC G-code (through gcode.interpreter).
+else RS274/NGC G-code (through gcode.ngc.interpreter).
 Errors of the program itself arrive as :class:`~kernel.diagnostics.Diagnostic` from the
 generator, after the commands before them (as rs274 stops at its first error).
 """
@@ -18,10 +18,9 @@ from pathlib import Path
 
 import click
 
-from gcode.dialects import ALIASES
-from gcode.readers import INPUTS
-from kernel import canon
+from gcode.registry import ALIASES, INPUTS, dialect_for_suffix
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
 from kernel.tooltable import ToolTable, read_tool_table
 
@@ -82,7 +81,7 @@ def _canon_text(path: str) -> Iterator[canon.Command]:
 
 
 def inch_tool_table(tools: ToolTable, mm_per_unit: float) -> ToolTable:
-    """The table with lengths in inches, the unit rs274 (and gcode.interpreter) reads tool
+    """The table with lengths in inches, the unit rs274 (and gcode.ngc.interpreter) reads tool
     tables in; ``mm_per_unit`` is the unit of ``tools`` (25.4: already inches)."""
     if mm_per_unit == 25.4:
         return tools
@@ -94,16 +93,12 @@ def inch_tool_table(tools: ToolTable, mm_per_unit: float) -> ToolTable:
     return out
 
 
-#: program file suffixes that name their dialect (``--dialect auto``)
-DIALECT_SUFFIXES = {".mpf": "siemens840d", ".spf": "siemens840d"}
-
-
 def program_dialect(path: str, dialect: str | None) -> str:
     """The dialect a G-code file is read in: ``dialect`` when given (not ``auto``), else
     the one its suffix names (Siemens ``.mpf``/``.spf``), else RS274/NGC."""
     if dialect and dialect != "auto":
         return dialect
-    return DIALECT_SUFFIXES.get(Path(path).suffix.lower(), "rs274ngc")
+    return dialect_for_suffix(Path(path).suffix)
 
 
 def _gcode(
@@ -111,7 +106,7 @@ def _gcode(
 ) -> Iterator[canon.Command]:
     if tools is not None:
         tools = inch_tool_table(tools, mm_per_unit)
-    from gcode.interpreter import InterpreterOptions
+    from gcode.ngc.interpreter import InterpreterOptions
     from gcode.readers import read
 
     search = (str(Path(path).resolve().parent),)

@@ -143,7 +143,7 @@ def check(file: str) -> None:
 @_interpreting
 def canon_cmd(file: str, tool_file: str | None, mode: str, as_json: bool) -> None:
     """Print the canonical machining commands of FILE."""
-    from kernel import canon
+    from kernel.ir import canon
     from stepnc.to_canon import canon_from_file
 
     cmds = canon_from_file(file, tool_file, mode)
@@ -174,7 +174,7 @@ def to_gcode(
 
     if output is not None:
         _write_guard(output, force)
-    from gcode.emit import write as emit_write
+    from gcode.write.writer import write as emit_write
 
     cmds = canon_from_file(file, tool_file, mode)
     text = "".join(f"{line}\n" for line in emit_write(cmds, dialect))

@@ -75,8 +75,8 @@ def command(
       cnc trace part.ngc -o traces --format npz --machine mill.toml
     """
     from kernel import simulate
-    from kernel.trace import column_dtypes, columns
-    from kernel.trace_writers import check_target, open_writer
+    from kernel.report.trace import column_dtypes, columns
+    from kernel.report.trace_writers import check_target, open_writer
 
     machine = load_machine(machine_file)
     stem = os.path.splitext(os.path.basename(program))[0]
@@ -107,7 +107,7 @@ def command(
     names = columns(samples.axes)
     data = None
     if plot:
-        from kernel.plots import PlotData
+        from kernel.report.plots import PlotData
 
         data = PlotData(samples.axes, total_rows=trace.rows)
     writer = open_writer(fmt, trace_path, names, force, trace.rows, column_dtypes(samples.axes))
@@ -154,7 +154,7 @@ def _plots(
 ) -> list[str]:
     import matplotlib.pyplot as plt
 
-    from kernel.plots import PlotData, axis_figure, path_figure
+    from kernel.report.plots import PlotData, axis_figure, path_figure
 
     assert isinstance(data, PlotData)
     out = []

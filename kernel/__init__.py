@@ -1,4 +1,4 @@
-"""The kernel: the canonical-command IR (kernel.canon), machine profiles, path, planner,
+"""The kernel: the canonical-command IR (kernel.ir.canon), machine profiles, path, planner,
 interpolation, measurements, servo and checks; never imports a front end.
 
 :func:`simulate` (defined in kernel.simulation; a module named ``simulate`` would be

@@ -132,7 +132,7 @@ class Machine:
 def filter_time(machine: Machine) -> float:
     """S-curve smoothing time ``T_f = 2 max_i A_i / J_i`` over the machine's axes (the 2:
     the moving average's jerk is the acceleration difference across ``T_f``, up to 2A).
-    kernel.planner smooths with it; kernel.curvature cuts lines ``T_f v`` from joints."""
+    kernel.plan.planner smooths with it; kernel.path.curvature cuts lines ``T_f v`` from joints."""
     return 2.0 * max(a.acceleration / a.jerk for a in machine.axes)
 
 

@@ -1,12 +1,13 @@
 """The kernel's pipeline for one program: canonical commands -> path -> plan -> samples
 (-> measurements) (-> servo), as ``cnc plan``, ``cnc trace`` and ``cnc run`` use it.
 
-The path is built for the machine (kernel.path), planned on the limits the planner should
-use where the profile puts acc/dec (:func:`kernel.accdec.planning_machine`) and sampled
-every interpolation period (kernel.interpolate). Measuring (kernel.measure) and the servo
-stage (acc/dec after interpolation, fine interpolation, position loops: kernel.trace) are
+The path is built for the machine (kernel.path.build), planned on the limits the planner should
+use where the profile puts acc/dec (:func:`kernel.axes.accdec.planning_machine`) and sampled
+every interpolation period (kernel.interp.interpolate). Measuring (kernel.report.measure) and
+the servo
+stage (acc/dec after interpolation, fine interpolation, position loops: kernel.report.trace) are
 asked of the result: ``cnc trace`` does not measure, and the servo stage runs chunk by chunk
-as its :class:`~kernel.trace.Trace` is iterated, its setup errors (``SERVO-*``) coming
+as its :class:`~kernel.report.trace.Trace` is iterated, its setup errors (``SERVO-*``) coming
 after the measurements are known. Exported as :func:`kernel.simulate`.
 """
 
@@ -15,16 +16,16 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-import kernel.canon as canon
-from kernel.accdec import planning_machine
-from kernel.interpolate import sample
+import kernel.ir.canon as canon
+from kernel.axes.accdec import planning_machine
+from kernel.interp.interpolate import sample
+from kernel.interp.samples import Samples
 from kernel.machine import Machine
-from kernel.measure import Report, measure
-from kernel.path import build_path
-from kernel.planner import Plan, plan
-from kernel.samples import Samples
-from kernel.segments import Path
-from kernel.trace import CHUNK, Trace, setup
+from kernel.path.build import build_path
+from kernel.path.segments import Path
+from kernel.plan.planner import Plan, plan
+from kernel.report.measure import Report, measure
+from kernel.report.trace import CHUNK, Trace, setup
 
 
 @dataclass(frozen=True, slots=True)
@@ -37,7 +38,7 @@ class SimulationResult:
     samples: Samples
 
     def measure(self) -> Report:
-        """Cycle time, lengths, peaks, chord error and limit hits (kernel.measure)."""
+        """Cycle time, lengths, peaks, chord error and limit hits (kernel.report.measure)."""
         return measure(self.plan, self.samples)
 
     def servo(self, chunk: int = CHUNK) -> Trace:

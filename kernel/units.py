@@ -7,7 +7,7 @@ kernel works in mm, deg and s throughout; these helpers are the only place the f
 
 from __future__ import annotations
 
-from kernel.canon import Units
+from kernel.ir.canon import Units
 
 SECONDS_PER_MINUTE = 60.0
 

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
 from stepnc.model import Entity, tool_dimension
 from stepnc.tooling import ToolEntry
 from stepnc.toolpaths.code import ARC, FEED, Code

@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kernel import canon
-from kernel.arcsweep import arc_sweep
+from kernel.ir import canon
+from kernel.ir.arcsweep import arc_sweep
 from stepnc.model import Model, tool_dimension
 from stepnc.prisms import Prism, raw_block
 from stepnc.toolpaths.drilling import tip_length

@@ -1,7 +1,7 @@
 """STEP-NC (ISO 14649) program -> canonical machining commands.
 
 ``canon_from_file(path, tool_file=None, mode="nist")`` reads, validates and executes the
-project's main workplan and yields :mod:`kernel.canon` commands, one workingstep at a time
+project's main workplan and yields :mod:`kernel.ir.canon` commands, one workingstep at a time
 (bounded memory). Every command carries ``source=Location(file, line, column, entity=<op
 #id>, workingstep=<ws #id>)``.
 
@@ -16,8 +16,8 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from kernel import canon
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from stepnc.executor import Executor
 from stepnc.frames import Frame, coords, frame_of
 from stepnc.model import Entity, Model, load

@@ -1,7 +1,7 @@
 """Equivalence of two canonical-command texts, as defined in ``tests/data/README.md``.
 
 Two outputs are *equivalent* when, after dropping the LinuxCNC-only commands
-(:data:`kernel.canon.LINUXCNC_ONLY`), they give the same ordered sequence of motions
+(:data:`kernel.ir.canon.LINUXCNC_ONLY`), they give the same ordered sequence of motions
 (``STRAIGHT_TRAVERSE``, ``STRAIGHT_FEED``, ``ARC_FEED``, ``NURBS_FEED``, ``STRAIGHT_PROBE``,
 ``DWELL``) with the same end points and arc data within 1e-4 program units, each motion
 seeing the same feed rate, spindle speed and direction, tool, coolant state, length units
@@ -21,8 +21,8 @@ from __future__ import annotations
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, fields, replace
 
-from kernel import canon
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 
 TOLERANCE = 1e-4 + 1e-9  # 1e-4 in program units; the 1e-9 absorbs float noise of printed values
 MAX_DIFFERENCES = 8

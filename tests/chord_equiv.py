@@ -1,6 +1,6 @@
 """Equivalence of an IR and its re-reading through a language without arcs (Sandia generic).
 
-The Sandia writer (gcode/dialects/sandia.py) replaces every ``ARC_FEED`` and ``NURBS_FEED``
+The Sandia writer (gcode/write/sandia.py) replaces every ``ARC_FEED`` and ``NURBS_FEED``
 by ``MoveTo`` chords within a tolerance and drops what the language cannot state (spindle,
 coolant, dwell, stops; each recorded in its conversion report). :func:`compare` checks a
 re-read IR (``back``) against the original (``ref``) on what the language carries:
@@ -22,9 +22,9 @@ from collections.abc import Iterable, Iterator, Sequence
 
 import numpy as np
 
-from gcode import approximate
-from gcode.emit_state import clamped_uniform_knots
-from kernel import canon
+from gcode.write import approximate
+from gcode.write.state import clamped_uniform_knots
+from kernel.ir import canon
 from tests.canon_equiv import TOLERANCE
 
 #: rounding of the written numbers (5 decimals) on both coordinates of a vertex
@@ -153,7 +153,7 @@ def _arc_diff(
     a0 = math.atan2(start[i2] - cy, start[i1] - cx)
     a1 = math.atan2(c.second_end - cy, c.first_end - cx)
     sweep = (sign * (a1 - a0)) % (2 * math.pi)
-    if sweep <= 1e-12:  # the IR's full turn, as the planner reads it (kernel/path_builder.py)
+    if sweep <= 1e-12:  # the IR's full turn, as the planner reads it (kernel/path/builder.py)
         sweep = 2 * math.pi
     sweep += 2 * math.pi * (abs(c.rotation) - 1)
     r0 = math.hypot(start[i1] - cx, start[i2] - cy)

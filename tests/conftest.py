@@ -1,6 +1,6 @@
 """Suite-wide set-up: the fast lane's compiled kernels are built before any test runs.
 
-The first use of the kernels builds them once (``gcode.fastlane.load_aot``, ~30 s) and says
+The first use of the kernels builds them once (``gcode.ngc.lane.fastlane.load_aot``, ~30 s) and says
 so on stderr; building them here, in the controlling process, keeps that one-off notice and
 its delay out of the tests' own timings and outputs (xdist workers then find them cached).
 """
@@ -13,6 +13,6 @@ import pytest
 def pytest_configure(config: pytest.Config) -> None:
     if hasattr(config, "workerinput"):  # an xdist worker: the controller built them
         return
-    from gcode import fastlane
+    from gcode.ngc.lane import fastlane
 
     fastlane.kernel_mode()

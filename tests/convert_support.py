@@ -13,9 +13,9 @@ import subprocess
 from collections.abc import Iterable
 from pathlib import Path
 
-from gcode.interpreter import InterpreterOptions, interpret, interpret_text
-from kernel import canon
+from gcode.ngc.interpreter import InterpreterOptions, interpret, interpret_text
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from kernel.tooltable import read_tool_table
 from tests.data_paths import CORPUS_NGC
 

@@ -1,4 +1,4 @@
-"""A small G-code driver for testing :mod:`gcode.cutter_comp` without the full interpreter.
+"""A small G-code driver for testing :mod:`gcode.ngc.comp.cutter_comp` without the full interpreter.
 
 It understands only what the cutter-compensation goldens use (one block per line, no
 expressions or parameters): G0-G3 (I J K or R, P), G4, G10 L1 P R, G17/G18, G20/G21,
@@ -6,7 +6,7 @@ G40-G42 and G41.1/G42.1 with D and L, G90/G91, F, S, T, M0/M1/M2/M30/M60, M3-M9,
 Execution order within a line follows LinuxCNC's (messages, F, S, T, M6, spindle, coolant,
 dwell, plane, units, compensation, distance mode, G10, motion, stop). It exists so the
 compensator can be checked against rs274 goldens (tests/golden/ngc/125_*..., 136_...) and
-against rs274 itself on generated programs; :func:`gcode.interpreter.interpret` is the
+against rs274 itself on generated programs; :func:`gcode.ngc.interpreter.interpret` is the
 real front end.
 """
 
@@ -15,10 +15,10 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 
-from gcode import arcs
-from gcode.cutter_comp import CutterCompensator
-from kernel import canon
+from gcode.core import arcs
+from gcode.ngc.comp.cutter_comp import CutterCompensator
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
 from kernel.tooltable import ToolTable
 
 _WORD = re.compile(r"([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")

@@ -8,9 +8,9 @@ from __future__ import annotations
 from functools import lru_cache
 from pathlib import Path
 
-from gcode.interpreter import InterpreterOptions, interpret
-from kernel import canon
+from gcode.ngc.interpreter import InterpreterOptions, interpret
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from kernel.tooltable import ToolTable, read_tool_table
 from tests.canon_equiv import compare
 

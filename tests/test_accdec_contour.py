@@ -1,7 +1,7 @@
 """ADCAI machining errors (book §4.2.3, Table 4.5) reproduced by simulation.
 
 A circle R = 10 mm at F = 100 mm/s is sampled in closed form at T = 1 ms, filtered per axis,
-and its contour error is measured against the exact arc (kernel.contour), not samples.
+and its contour error is measured against the exact arc (kernel.axes.contour), not samples.
 """
 
 from __future__ import annotations
@@ -11,10 +11,10 @@ import math
 import numpy as np
 import pytest
 
-from kernel import accdec
-from kernel.contour import ContourMeter, circle_error, corner_error
-from kernel.path import ARC, LINE, SEGMENT_DTYPE
-from kernel.samples import Samples
+from kernel.axes import accdec
+from kernel.axes.contour import ContourMeter, circle_error, corner_error
+from kernel.interp.samples import Samples
+from kernel.path.build import ARC, LINE, SEGMENT_DTYPE
 
 T = 0.001
 R, F, TAU = 10.0, 100.0, 0.05

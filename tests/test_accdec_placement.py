@@ -12,13 +12,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kernel import canon
-from kernel.accdec import planning_machine
-from kernel.interpolate import sample
+from kernel.axes.accdec import planning_machine
+from kernel.interp.interpolate import sample
+from kernel.ir import canon
 from kernel.machine import parse_machine
-from kernel.path import build_path
-from kernel.planner import plan
-from kernel.trace import Trace, setup
+from kernel.path.build import build_path
+from kernel.plan.planner import plan
+from kernel.report.trace import Trace, setup
 
 L, F = 100.0, 6000.0  # mm, mm/min: 100 mm/s for 1 s
 TAU = 0.05

@@ -9,10 +9,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from kernel import accdec
+from kernel.axes import accdec
 from kernel.diagnostics import Diagnostic
+from kernel.interp.samples import Samples
 from kernel.machine import DEFAULT_MACHINE, Machine
-from kernel.samples import Samples
 from tests.test_kernel_interp_tables import B2 as TABLE_3_9_B2
 
 T = 0.008  # the book's interpolation period

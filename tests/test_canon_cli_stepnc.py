@@ -12,7 +12,7 @@ from pathlib import Path
 from click.testing import CliRunner
 
 from cli.main import cli
-from kernel import canon
+from kernel.ir import canon
 from tests.data_paths import CORPUS_STEPNC
 
 CORPUS = CORPUS_STEPNC

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import pytest
 
-from kernel import canon
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from tests.canon_equiv import compare
 from tests.data_paths import DATA
 

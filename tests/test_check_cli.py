@@ -162,7 +162,7 @@ def test_sarif_report_validates_against_the_sarif_2_1_0_schema(tmp_path: Path) -
 
 def test_program_kind_is_detected_by_content_not_extension(tmp_path: Path) -> None:
     from cli.programs import detect_kind, read_head
-    from kernel import canon
+    from kernel.ir import canon
 
     canon_as_nc = tmp_path / "prog.nc"
     shutil.copy(PROGS / "CNC504.canon", canon_as_nc)

@@ -13,11 +13,11 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 
 from cli.check import load_context
-from kernel import canon
 from kernel.check import RULES, CheckContext, check_stream, config_from_dict
 from kernel.check.geometry import arc_extremes, arc_of, segment_hits_box
 from kernel.check.state import CheckState, advance
 from kernel.diagnostics import Diagnostic, Location, Severity
+from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, AxisLimits, Machine
 from tests.data_paths import CORPUS_NGC
 
@@ -59,7 +59,7 @@ def test_every_rule_has_a_trigger_program_and_a_doc_section() -> None:
 
 
 def test_gcode_trigger_programs_match_their_canonical_twins() -> None:
-    pytest.importorskip("gcode.interpreter")
+    pytest.importorskip("gcode.ngc.interpreter")
     from cli.programs import program_commands
 
     for ngc in sorted(HERE.glob("*.ngc")):
@@ -104,7 +104,7 @@ def test_corpus_trips_the_mill_only_rules_when_they_are_on() -> None:
 
 
 def test_corpus_gcode_has_no_findings_with_the_sim_profile() -> None:
-    pytest.importorskip("gcode.interpreter")
+    pytest.importorskip("gcode.ngc.interpreter")
     from cli.programs import program_commands
 
     found = set()

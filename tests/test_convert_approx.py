@@ -1,4 +1,4 @@
-"""Approximations (gcode.approximate) against closed forms and dense checks.
+"""Approximations (gcode.write.approximate) against closed forms and dense checks.
 
 * A rational quadratic with control points (1,0), (1,1), (0,1), weights 1, sqrt(2)/2, 1 and
   knots 0,0,0,1,1,1 is exactly the unit quarter circle (the classic conic NURBS): one arc
@@ -16,8 +16,8 @@ import numpy as np
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from gcode import approximate as ap
-from kernel.ellipse import ellipse_chords
+from gcode.write import approximate as ap
+from kernel.path.ellipse import ellipse_chords
 
 
 def _distance_to_pieces(points: np.ndarray, start: tuple[float, float], pieces) -> np.ndarray:  # noqa: ANN001

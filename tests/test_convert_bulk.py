@@ -1,4 +1,4 @@
-"""Bulk writing of the fast lane's runs (gcode.emit_bulk) gives the per-command text.
+"""Bulk writing of the fast lane's runs (gcode.write.bulk) gives the per-command text.
 
 For every golden and corpus program, with the fast lane forced on (``LANE_MIN_BYTES`` 0,
 so even small files hand runs of plain lines to the writer as arrays), the text written
@@ -13,12 +13,12 @@ from pathlib import Path
 
 import pytest
 
-import gcode.interpreter as interp
-from gcode import fastlane
-from gcode.convert_report import ConversionReport
-from gcode.emit import WriterOptions, write, write_text
-from gcode.interpreter import InterpreterOptions, interpret
+import gcode.ngc.interpreter as interp
+from gcode.ngc.interpreter import InterpreterOptions, interpret
+from gcode.ngc.lane import fastlane
 from gcode.readers import read_chunks
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write, write_text
 from kernel.diagnostics import Diagnostic
 from tests.convert_support import options, programs
 
@@ -100,9 +100,9 @@ def test_batched_command_streams_write_what_the_commands_write(
     batched into runs for the compiled formatter; with batching from the first command and
     batches cut anywhere, every reader program converts to the same text as command by
     command, refusals included."""
-    import gcode.dialects.sandia as sandia
-    from gcode import emit_bulk
+    import gcode.write.sandia as sandia
     from gcode.readers import read_text
+    from gcode.write import bulk as emit_bulk
 
     compared = 0
     for dialect, text, program in command_streams():
@@ -135,7 +135,7 @@ def test_sandia_queues_of_any_length_write_what_the_commands_write(
     """The Sandia writer queues moves (and the lines written meanwhile, such as SetSpeed)
     up to ``RUN`` at a time; wherever the queue is cut, the compiled text of the fast
     lane's runs equals the per-command text."""
-    import gcode.dialects.sandia as sandia
+    import gcode.write.sandia as sandia
 
     monkeypatch.setattr(interp, "LANE_MIN_BYTES", 0)
     monkeypatch.setattr(sandia, "RUN", queue)
@@ -165,16 +165,16 @@ def test_a_large_plain_program_goes_through_the_bulk_path(tmp_path: Path) -> Non
 @pytest.mark.parametrize("places", [0, 3, 4, 5])
 @pytest.mark.parametrize("point", [False, True])
 def test_compiled_numbers_are_the_formatters_even_at_rounding_ties(places: int, point: bool):
-    """The kernel's word values (gcode.fastlane_kernels._put_num) equal Formatter.number:
+    """The kernel's word values (gcode.ngc.lane.fastlane_kernels._put_num) equal Formatter.number:
     decimal ties of 4-decimal CAM input written with 3 places, exact binary ties (0.0625),
     tiny negatives that must not print -0, and random values."""
     import random
 
     import numpy as np
 
-    from gcode import fastlane_kernels
-    from gcode.dialects import get_dialect
-    from gcode.emit_state import Formatter
+    from gcode.ngc.lane import fastlane_kernels
+    from gcode.registry import get_dialect
+    from gcode.write.state import Formatter
 
     fmt = Formatter(get_dialect("fanuc" if point else "rs274ngc"), WriterOptions(decimals=places))
     rng = random.Random(places)

@@ -91,13 +91,13 @@ def test_from_canon_and_options(tmp_path: Path) -> None:
 def test_unknown_dialect_and_missing_reader_are_errors(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from gcode import readers
+    from gcode import registry
 
     src = tmp_path / "p.ngc"
     src.write_text(SQUARE)
     assert run(str(src), "--to", "heidenhain").exit_code == 2
     # every dialect has a reader today; one uninstalled must be an error, not a traceback
-    monkeypatch.setitem(readers.READER_MODULES, "fanuc", "gcode.dialects.no_such_reader")
+    monkeypatch.setitem(registry.READER_MODULES, "fanuc", "gcode.dialects.no_such_reader")
     result = run(str(src), "--from", "fanuc", "--to", "rs274ngc")
     assert result.exit_code == 1 and "CONV-READER" in result.output
 
@@ -119,8 +119,8 @@ def test_grbl_input_needs_no_program_end(tmp_path: Path) -> None:
 
 
 def test_from_json_lines_keeps_source_lines_for_the_report(tmp_path: Path) -> None:
-    from kernel import canon
     from kernel.diagnostics import Location
+    from kernel.ir import canon
 
     cmds = [
         canon.UseLengthUnits(canon.Units.MM),

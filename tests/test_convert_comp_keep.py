@@ -1,7 +1,7 @@
 """``--cutter-comp keep``: G41/G42 stay in the converted program and compensate the same.
 
 For every golden and corpus program with cutter compensation the RS274/NGC reader is run
-in keep mode (gcode.comp_keep: NISTIR 5970 comp commands around the programmed path); the
+in keep mode (gcode.ngc.comp.keep: NISTIR 5970 comp commands around the programmed path); the
 program is written for LinuxCNC (G41.1/G42.1 D diameter), Fanuc and Haas (G10 L12 radius,
 G41/G42 D register) and read back by that dialect's reader, which compensates it. The
 result must be equivalent (1e-4, tests/canon_equiv.py) to the original program's IR with
@@ -18,12 +18,12 @@ from pathlib import Path
 import pytest
 
 import tests.canon_equiv as canon_equiv
-from gcode.convert_report import ConversionReport
-from gcode.emit import WriterOptions, write
-from gcode.interpreter import interpret, interpret_text
+from gcode.ngc.interpreter import interpret, interpret_text
 from gcode.readers import read_text
-from kernel import canon
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from tests.convert_support import fine_text, options, programs, read_ir
 from tests.test_ngc_cutter_comp import ERROR_PROGRAMS
 

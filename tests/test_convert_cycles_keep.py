@@ -1,7 +1,7 @@
 """``--cycles keep``: drilling cycles stay cycle blocks and still make the same moves.
 
 For every golden and corpus program with a canned cycle, the RS274/NGC reader is run with
-cycle marks (gcode.cycle_marks); the program is written in each dialect whose cycles move
+cycle marks (gcode.core.cycle_marks); the program is written in each dialect whose cycles move
 as RS274/NGC's (LinuxCNC, NIST v3, Fanuc, Haas) with the cycles kept, and read back by that
 dialect's reader, which expands them again. The result must be equivalent (1e-4,
 tests/canon_equiv.py) to the IR of the original, whose expansion no writer touched.
@@ -16,13 +16,13 @@ from pathlib import Path
 import pytest
 
 import tests.canon_equiv as canon_equiv
-from gcode.convert_report import ConversionReport
-from gcode.cycle_marks import CycleEnd, CycleStart
-from gcode.emit import WriterOptions, write
-from gcode.interpreter import InterpreterOptions, interpret, interpret_text
+from gcode.core.cycle_marks import CycleEnd, CycleStart
+from gcode.ngc.interpreter import InterpreterOptions, interpret, interpret_text
 from gcode.readers import read_text
-from kernel import canon
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from tests.convert_support import fine_text, options, programs
 
 CYCLE = re.compile(r"G\s*(73|8[1-9])(?![0-9.])", re.IGNORECASE)

@@ -9,10 +9,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gcode.dialects import fanuc_reader, haas_reader
+from gcode.fanuc import reader as fanuc_reader
 from gcode.fanuc.flow import read_text
 from gcode.fanuc.options import FANUC, HAAS, Flavour
-from gcode.interpreter import InterpreterOptions
+from gcode.haas import reader as haas_reader
+from gcode.ngc.interpreter import InterpreterOptions
 from kernel.diagnostics import Diagnostic
 
 HEAD = "%\nO0001\nG21 G90 G17\nG00 X0 Y0\n"  # the bad block is line 5

@@ -11,8 +11,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gcode.dialects.fanuc_reader import interpret, interpret_text
-from kernel import canon
+from gcode.fanuc.reader import interpret, interpret_text
+from kernel.ir import canon
 
 HEAD = "%\nO0001\nG21 G90 G17\nG00 X0 Y0\n"
 coord = st.floats(-200, 200, allow_nan=False).map(lambda v: round(v, 3))
@@ -65,7 +65,7 @@ def test_lathe_u_is_a_diameter_increment_and_w_a_z_increment() -> None:
 
 
 def test_the_lathe_reader_module_reads_x_as_a_diameter() -> None:
-    from gcode.dialects import fanuc_lathe_reader
+    from gcode.fanuc_lathe import reader as fanuc_lathe_reader
 
     text = "%\nO0001\nG21 G98\nG00 X40. Z2.\nM30\n%\n"
     rapids = [

@@ -1,4 +1,4 @@
-"""The Fanuc lathe writer (gcode/dialects/fanuc_lathe.py): X as a diameter, G18, G99,
+"""The Fanuc lathe writer (gcode/fanuc_lathe/dialect.py): X as a diameter, G18, G99,
 G32, G50 S, T0101, and every hand-derived turning program round-trips through it.
 
 Round trip: each ``tests/dialects/fanuc/1NN_turn_*.nc`` is read by the lathe reader (its
@@ -18,11 +18,11 @@ from pathlib import Path
 import pytest
 
 import tests.canon_equiv as canon_equiv
-from gcode.convert_report import ConversionReport
-from gcode.emit import WriterOptions, write
 from gcode.readers import read_text
-from kernel import canon as c
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon as c
 from tests.convert_support import fine_text
 
 HERE = Path(__file__).resolve().parent

@@ -16,9 +16,9 @@ from pathlib import Path
 import pytest
 
 import tests.canon_equiv as canon_equiv
-from gcode.dialects.fanuc_reader import interpret
-from kernel import canon
+from gcode.fanuc.reader import interpret
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 
 HERE = Path(__file__).resolve().parent / "dialects" / "fanuc"
 PROGRAMS = sorted(HERE.glob("*.nc"))

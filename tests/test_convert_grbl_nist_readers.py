@@ -20,13 +20,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import tests.canon_equiv as canon_equiv
-from gcode import readers
-from gcode.convert_report import ConversionReport
-from gcode.dialects import grbl_reader, nist_v3_reader
-from gcode.emit import WriterOptions, write
-from gcode.interpreter import interpret_text as ngc_text
-from kernel import canon
+from gcode import readers, registry
+from gcode.grbl import reader as grbl_reader
+from gcode.ngc.interpreter import interpret_text as ngc_text
+from gcode.nist_v3 import reader as nist_v3_reader
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from tests.convert_support import fine_text, options, programs, read_ir
 
 PROGRAMS = programs()
@@ -203,7 +204,7 @@ def test_nist_v3_reads_parameters_expressions_cycles_and_ends_like_rs274ngc() ->
 
 
 def test_readers_are_registered() -> None:
-    assert {"grbl", "nist_v3", "sandia"} <= set(readers.readable())
+    assert {"grbl", "nist_v3", "sandia"} <= set(registry.readable())
     cmds = list(readers.read_text("G0 X1\n", "grbl"))
     assert cmds[-1] == canon.StraightTraverse(1, 0, 0)
 

@@ -11,8 +11,9 @@ from __future__ import annotations
 
 import pytest
 
-from gcode.dialects import fanuc_reader, haas_reader
-from kernel import canon
+from gcode.fanuc import reader as fanuc_reader
+from gcode.haas import reader as haas_reader
+from kernel.ir import canon
 
 
 def _run(text: str, reader=haas_reader) -> list[canon.Command]:  # noqa: ANN001

@@ -22,9 +22,9 @@ from pathlib import Path
 import pytest
 from pygcode import Machine
 
-from gcode.dialects import get_dialect
-from gcode.dialects.spec import Dialect
-from gcode.interpreter import interpret_text
+from gcode.ngc.interpreter import interpret_text
+from gcode.registry import get_dialect
+from gcode.write.spec import Dialect
 from tests.convert_support import programs
 from tests.peers import pygcode_peer, toolpath_peer
 from tests.peers.ir_motion import SIX, by_index, corpus, motions, tagged_lines

@@ -21,8 +21,8 @@ import tests.canon_equiv as canon_equiv
 import tests.test_convert_comp_keep as comp_keep
 import tests.test_convert_cycles_keep as cycles_keep
 from cli.convert import read_canon
-from gcode.convert_report import ConversionReport
-from gcode.emit import WriterOptions, write
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
 from tests.convert_support import canon_files, programs, read_ir, rs274
 

@@ -20,11 +20,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import tests.canon_equiv as canon_equiv
-from gcode.convert_report import ConversionReport
-from gcode.emit import WriterOptions, write
-from gcode.interpreter import interpret_text
-from kernel import canon
+from gcode.ngc.interpreter import interpret_text
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from tests.convert_support import fine_text, programs, read_ir, reread
 
 PROGRAMS = programs()

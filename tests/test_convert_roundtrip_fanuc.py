@@ -15,11 +15,12 @@ from pathlib import Path
 import pytest
 
 import tests.canon_equiv as canon_equiv
-from gcode.convert_report import ConversionReport
-from gcode.dialects import fanuc_reader, haas_reader
-from gcode.emit import WriterOptions, write
-from kernel import canon
+from gcode.fanuc import reader as fanuc_reader
+from gcode.haas import reader as haas_reader
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from tests.convert_support import fine_text, options, programs, read_ir
 
 PROGRAMS = programs()

@@ -1,7 +1,7 @@
 """Round trips through the Sandia generic language (issue 7 "Done when"; readers.md §1).
 
 Every golden and corpus program the interpreter accepts is written in the generic language
-(gcode/dialects/sandia.py, 5 decimals) and read back (gcode/dialects/sandia_reader.py).
+(gcode/write/sandia.py, 5 decimals) and read back (gcode/sandia/reader.py).
 The language has no arcs and no spindle, coolant, dwell or stop commands, so:
 
 * a conversion with an empty report must be equivalent by tests/canon_equiv.py (1e-4);
@@ -22,11 +22,11 @@ import pytest
 
 import tests.canon_equiv as canon_equiv
 import tests.chord_equiv as chord_equiv
-from gcode.convert_report import ConversionReport
-from gcode.dialects.sandia_reader import interpret_text
-from gcode.emit import WriterOptions, write
-from kernel import canon
+from gcode.sandia.reader import interpret_text
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from tests.convert_support import fine_text, options, programs, read_ir
 
 PROGRAMS = programs()

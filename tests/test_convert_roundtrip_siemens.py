@@ -24,11 +24,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import tests.canon_equiv as canon_equiv
-from gcode.convert_report import ConversionReport
-from gcode.dialects.siemens840d_reader import interpret_text
-from gcode.emit import WriterOptions, write
-from kernel import canon
+from gcode.siemens.reader import interpret_text
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from tests.convert_support import fine_text, options, programs, read_ir
 from tests.test_convert_roundtrip import programs_ir
 

@@ -1,4 +1,4 @@
-"""The Sandia generic language reader (gcode/dialects/sandia_reader.py; issue 7).
+"""The Sandia generic language reader (gcode/sandia/reader.py; issue 7).
 
 Hand-derived programs (tests/dialects/sandia/*.txt with the expected IR and its derivation
 from seed 003 and research/seed-sandia-full.md §5.3-5.4 in *.canon), located refusals,
@@ -17,12 +17,12 @@ from hypothesis import strategies as st
 
 import tests.canon_equiv as canon_equiv
 import tests.chord_equiv as chord_equiv
-from gcode.convert_report import ConversionReport
-from gcode.dialects.sandia_reader import interpret, interpret_text
-from gcode.emit import WriterOptions, write
 from gcode.readers import read_text
-from kernel import canon
+from gcode.sandia.reader import interpret, interpret_text
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from tests.convert_support import fine_text
 
 HERE = Path(__file__).resolve().parent / "dialects" / "sandia"
@@ -178,7 +178,7 @@ def test_random_ir_survives_the_sandia_round_trip(ir: list[canon.Command], tol: 
 @given(random_ir())
 def test_writing_feeds_and_arcs_together_changes_no_line(ir: list[canon.Command]) -> None:
     """Runs of feeds and arcs are written at once; one at a time gives the same text."""
-    import gcode.dialects.sandia as sandia
+    import gcode.write.sandia as sandia
 
     together = list(write(ir, "sandia", WriterOptions(decimals=4)))
     saved, sandia.RUN = sandia.RUN, 1

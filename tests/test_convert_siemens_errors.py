@@ -9,9 +9,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gcode.dialects.siemens840d_reader import interpret, interpret_text
-from gcode.interpreter import InterpreterOptions
+from gcode.ngc.interpreter import InterpreterOptions
 from gcode.siemens import flow
+from gcode.siemens.reader import interpret, interpret_text
 from kernel.diagnostics import Diagnostic
 
 

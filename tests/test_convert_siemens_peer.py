@@ -18,11 +18,11 @@ from pathlib import Path
 
 import pytest
 
-from gcode.convert_report import ConversionReport
-from gcode.dialects.siemens840d_reader import interpret_text
-from gcode.emit import WriterOptions, write
-from kernel import canon
+from gcode.siemens.reader import interpret_text
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from tests.convert_support import options, programs, read_ir
 
 peer = pytest.importorskip("nc_gcode_interpreter")

@@ -13,10 +13,10 @@ from pathlib import Path
 import pytest
 
 import tests.canon_equiv as canon_equiv
-from gcode.dialects.siemens840d_reader import interpret, interpret_text
-from gcode.interpreter import InterpreterOptions
+from gcode.ngc.interpreter import InterpreterOptions
 from gcode.readers import read_text
-from kernel import canon
+from gcode.siemens.reader import interpret, interpret_text
+from kernel.ir import canon
 from kernel.tooltable import read_tool_table
 
 HERE = Path(__file__).resolve().parent / "dialects" / "siemens840d"

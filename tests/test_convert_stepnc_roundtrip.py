@@ -17,11 +17,12 @@ from pathlib import Path
 import pytest
 
 import tests.canon_equiv as canon_equiv
-from gcode.convert_report import Change, ConversionReport
-from gcode.emit import WriterOptions, write
-from gcode.readers import read_text, readable
-from kernel import canon
+from gcode.readers import read_text
+from gcode.registry import readable
+from gcode.write.report import Change, ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from stepnc.to_canon import canon_from_file
 from tests.convert_support import fine_text
 from tests.data_paths import CORPUS_STEPNC

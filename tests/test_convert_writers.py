@@ -1,4 +1,4 @@
-"""Writers (gcode.emit): IR -> text in each dialect, checked against hand-derived blocks.
+"""Writers (gcode.write.writer): IR -> text in each dialect, checked against hand-derived blocks.
 
 Each expectation is worked out from the dialect's vocabulary (gcode/dialects/*.py, book
 Appendix A Table A.2 for Fanuc, research/seed-sandia-full.md §5.3 for Sandia) and the
@@ -11,11 +11,11 @@ import math
 
 import pytest
 
-from gcode.convert_report import ConversionReport
-from gcode.dialects import get_dialect
-from gcode.emit import WriterOptions, write
-from kernel import canon as c
+from gcode.registry import get_dialect
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon as c
 
 MM = c.UseLengthUnits(c.Units.MM)
 INCH = c.UseLengthUnits(c.Units.INCHES)
@@ -450,7 +450,7 @@ def test_nurbs_without_data_is_refused_with_its_location():
 
 
 def test_an_ellipse_that_does_not_start_on_its_curve_is_refused_at_its_line():
-    """The writer cuts the planner's chords (kernel.ellipse): an ELLIPSE_FEED whose current
+    """The writer cuts the planner's chords (kernel.path.ellipse): an ELLIPSE_FEED whose current
     point is off the ellipse is an error there too, not a silent approximation."""
     bad = c.EllipseFeed(20, 10, 0, -10, 0, 0, 0, 1, 0, source=Location("e.ngc", 4, 1))
     for dialect in ("fanuc", "sandia"):
@@ -465,7 +465,7 @@ def test_an_ellipse_that_does_not_start_on_its_curve_is_refused_at_its_line():
 def test_text_chunks_are_the_lines_with_newlines(dialect: str):
     """``write_text`` (what ``cnc convert`` writes) is exactly ``write``'s lines, each with
     a newline, in chunks of whole lines, also across the batch size."""
-    from gcode.emit import write_text
+    from gcode.write.writer import write_text
 
     cmds = [MM, c.StraightTraverse(0, 0, 5), c.SetFeedRate(100)]
     cmds += [

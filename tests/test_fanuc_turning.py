@@ -14,7 +14,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gcode.fanuc_turning import CycleSettings, LatheMove, ProfileStep, cycle_moves
+from gcode.fanuc.turning.cycles import CycleSettings, LatheMove, ProfileStep, cycle_moves
 from kernel.diagnostics import Diagnostic
 
 P = ProfileStep

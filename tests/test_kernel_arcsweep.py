@@ -1,4 +1,4 @@
-"""The ARC_FEED rotation -> swept angle rule (kernel.arcsweep), against the closed form
+"""The ARC_FEED rotation -> swept angle rule (kernel.ir.arcsweep), against the closed form
 (NISTIR 5970 §3.6.1: |rotation| = N sweeps an angle in ((N-1) 2π, N 2π]) and against an
 oracle that builds the arc from a known sweep; and the STEP-NC gouge check's samples,
 which once gave a two-turn circle a single turn."""
@@ -12,8 +12,8 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from kernel import canon
-from kernel.arcsweep import arc_sweep, arc_sweeps, first_turn, total_sweep
+from kernel.ir import canon
+from kernel.ir.arcsweep import arc_sweep, arc_sweeps, first_turn, total_sweep
 from stepnc.gouge import _samples
 
 PI = math.pi

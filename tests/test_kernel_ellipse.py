@@ -1,4 +1,4 @@
-"""ELLIPSE_FEED planned as chords (kernel.ellipse): against the analytic ellipse, its
+"""ELLIPSE_FEED planned as chords (kernel.path.ellipse): against the analytic ellipse, its
 perimeter (numeric integral and Ramanujan's approximation), NIST's helix rule 2 and the
 closed-form cycle time of a constant-feed move from rest to rest."""
 
@@ -15,12 +15,12 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 
 from cli.plan import command
-from kernel import canon
 from kernel.diagnostics import Diagnostic
-from kernel.interpolate import sample
+from kernel.interp.interpolate import sample
+from kernel.ir import canon
 from kernel.machine import AxisLimits, Controller, Machine, with_controller
-from kernel.path import LINE, build_path
-from kernel.planner import plan
+from kernel.path.build import LINE, build_path
+from kernel.plan.planner import plan
 
 TOL = 0.001
 MILL = Machine(
@@ -132,7 +132,7 @@ def test_cycle_time_is_the_perimeter_at_the_feed_plus_acc_dec():
 
 def test_s_curve_cycle_time_adds_the_smoothing_time():
     """With S-curve acc/dec the moving average of T_f = 2A/J delays the end by T_f: the
-    trapezoid's time plus T_f (kernel.planner)."""
+    trapezoid's time plus T_f (kernel.plan.planner)."""
     a, b, feed = 20.0, 10.0, 10.0
     # the machine starts at home (0, 0): a full ellipse through it, centre (0, b)
     cmds = [

@@ -11,11 +11,11 @@ import math
 import numpy as np
 import pytest
 
-from kernel import circle
 from kernel.diagnostics import Diagnostic
-from kernel.fine import fine_linear, fine_moving_average, fine_positions
-from kernel.nurbs import NurbsCurve, chord_errors, evaluate, interpolate, tessellate
-from kernel.pulse import STAIRS_RULES, dda_circle, dda_line, direct_search, stairs
+from kernel.interp import circle
+from kernel.interp.fine import fine_linear, fine_moving_average, fine_positions
+from kernel.interp.nurbs import NurbsCurve, chord_errors, evaluate, interpolate, tessellate
+from kernel.interp.pulse import STAIRS_RULES, dda_circle, dda_line, direct_search, stairs
 
 TABLE_3_1 = """
  0 15  0 0  0  0 0

@@ -1,4 +1,4 @@
-"""Measurements (kernel.measure) against independent oracles.
+"""Measurements (kernel.report.measure) against independent oracles.
 
 Cycle times of single lines from rest to rest are the trapezoid worked by hand (``L/F + F/A``
 when the block cruises, ``2 sqrt(L/A)`` when it is too short to); path lengths of lines,
@@ -17,13 +17,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from kernel import canon
-from kernel.interpolate import sample
+from kernel.interp.interpolate import sample
+from kernel.interp.samples import Samples
+from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, AxisLimits, Machine, with_controller
-from kernel.measure import ATOL, RTOL, Report, measure
-from kernel.path import ARC, build_path
-from kernel.planner import plan
-from kernel.samples import Samples
+from kernel.path.build import ARC, build_path
+from kernel.plan.planner import plan
+from kernel.report.measure import ATOL, RTOL, Report, measure
 
 #: the default mill's X axis: velocity 250 mm/s, acceleration 2000 mm/s^2
 VX, AX = 250.0, 2000.0

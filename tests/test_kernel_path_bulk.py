@@ -1,5 +1,5 @@
-"""Large segment tables (kernel.path.segment_table, the table in its own 4 KiB-page mapping
-from kernel.bulk) are byte for byte the tables built in ``numpy.zeros``.
+"""Large segment tables (kernel.path.build.segment_table, the table in its own 4 KiB-page mapping
+from kernel.interp.bulk) are byte for byte the tables built in ``numpy.zeros``.
 
 Reference: the same conversion with the bulk threshold raised above the program's size,
 so the table comes from ``numpy.zeros`` (the small-program path, itself checked against
@@ -14,11 +14,12 @@ import math
 
 import pytest
 
-from kernel import bulk, canon
-from kernel.bulk import MAPPED_BYTES
 from kernel.diagnostics import Diagnostic
+from kernel.interp import bulk
+from kernel.interp.bulk import MAPPED_BYTES
+from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE
-from kernel.path import SEGMENT_DTYPE, build_path
+from kernel.path.build import SEGMENT_DTYPE, build_path
 
 ROWS = MAPPED_BYTES // SEGMENT_DTYPE.itemsize + 500  # just over the bulk threshold
 

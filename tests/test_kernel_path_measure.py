@@ -10,15 +10,15 @@ import pytest
 from click.testing import CliRunner
 
 from cli.plan import command
-from gcode.interpreter import interpret_text
-from kernel import canon
+from gcode.ngc.interpreter import interpret_text
 from kernel.diagnostics import Diagnostic
-from kernel.geometry import evaluate
-from kernel.interpolate import sample
+from kernel.interp.interpolate import sample
+from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, AxisLimits, Controller, Machine, with_controller
-from kernel.measure import chord_error, cycle_time, measure
-from kernel.path import ARC, DWELL, HOLD, LINE, RAPID, TOOL_CHANGE, build_path
-from kernel.planner import plan
+from kernel.path.build import ARC, DWELL, HOLD, LINE, RAPID, TOOL_CHANGE, build_path
+from kernel.path.geometry import evaluate
+from kernel.plan.planner import plan
+from kernel.report.measure import chord_error, cycle_time, measure
 
 MILL = Machine(
     "t",
@@ -214,8 +214,8 @@ def test_plan_command_reads_a_machine_profile(tmp_path):
 
 
 def test_nurbs_feed_is_planned_within_the_chord_tolerance_of_the_curve():
-    from kernel.nurbs import NurbsCurve
-    from kernel.nurbs import evaluate as nurbs_at
+    from kernel.interp.nurbs import NurbsCurve
+    from kernel.interp.nurbs import evaluate as nurbs_at
 
     w = 1 / math.sqrt(2)
     pts = ((0.0, 0.0, 1.0), (0.0, 5.0, w), (5.0, 5.0, 1.0), (10.0, 5.0, w), (10.0, 0.0, 1.0))
@@ -308,7 +308,7 @@ def test_golden_programs_plan_within_every_axis_limit():
 
 
 def test_plan_command_runs_g_code_through_the_interpreter(tmp_path):
-    pytest.importorskip("gcode.interpreter")
+    pytest.importorskip("gcode.ngc.interpreter")
     prog = tmp_path / "p.ngc"
     prog.write_text("G21 G17 G90 G54\nF600\nG1 X10 Y0\nG2 X20 Y0 I5 J0\nG4 P0.5\nM2\n")
     r = CliRunner().invoke(command, [str(prog), "--format", "json"])

@@ -1,7 +1,7 @@
 """The columnar fast path of the IR -> segment table conversion changes no number.
 
-:func:`kernel.path.build_path` converts runs of consecutive ``STRAIGHT_FEED`` /
-``STRAIGHT_TRAVERSE`` commands as whole columns (kernel.path_builder). The reference here is
+:func:`kernel.path.build.build_path` converts runs of consecutive ``STRAIGHT_FEED`` /
+``STRAIGHT_TRAVERSE`` commands as whole columns (kernel.path.builder). The reference here is
 the conversion as it was before: every command through :meth:`PathBuilder.feed` one at a
 time, and the light rows vectorised by the former ``table`` (kept verbatim below as
 :func:`_reference_rows_table`; the arc frame's cross product, now scalar, is checked against
@@ -21,12 +21,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from kernel import canon
-from kernel import path_builder as pb
-from kernel.blend import blend_corners
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
 from kernel.machine import AXIS_NAMES, DEFAULT_MACHINE, AxisLimits, Machine
-from kernel.path import (
+from kernel.path.blend import blend_corners
+from kernel.path.build import (
     ARC,
     HOLD,
     LINE,
@@ -36,6 +35,7 @@ from kernel.path import (
     Path,
     build_path,
 )
+from kernel.path.build import builder as pb
 from tests.data_paths import CORPUS_NGC
 
 HERE = FsPath(__file__).resolve().parent
@@ -127,7 +127,7 @@ def _reference_rows_table(rows: list, machine: Machine, file: str | None) -> np.
     length = seg["length"]
     with np.errstate(invalid="ignore"):
         unit = np.where(rotary_only, 1.0, mm)
-        # G93 rates arrive per minute already (kernel.canon.SetFeedMode)
+        # G93 rates arrive per minute already (kernel.ir.canon.SetFeedMode)
         feed = np.where(mode == 2, rate * unit * spindle / 60.0, rate * unit / 60.0)
         feed = np.where(synch > 0, synch * mm * spindle / 60.0, feed) * override
         rapid = seg["category"] == RAPID
@@ -148,7 +148,7 @@ def _reference_rows_table(rows: list, machine: Machine, file: str | None) -> np.
     seg["u_start"], seg["u_end"] = u, u
     arcs = np.flatnonzero(seg["kind"] == ARC)
     if arcs.size:
-        from kernel.geometry import arc_tangent
+        from kernel.path.geometry import arc_tangent
 
         sa = seg[arcs]
         us, ue = arc_tangent(sa, np.zeros(arcs.size)), arc_tangent(sa, np.ones(arcs.size))

@@ -11,11 +11,11 @@ import math
 import numpy as np
 import pytest
 
-from kernel import canon
-from kernel.interpolate import sample
+from kernel.interp.interpolate import sample
+from kernel.ir import canon
 from kernel.machine import AxisLimits, Controller, Machine
-from kernel.path import build_path, lines_table
-from kernel.planner import (
+from kernel.path.build import build_path, lines_table
+from kernel.plan.planner import (
     angle_corner_speed,
     arc_feed_limit,
     arc_speed_caps,
@@ -352,7 +352,7 @@ def test_line_arc_line_of_fig_4_25_runs_through_the_joints_with_capped_arc_feed(
 
 
 def test_eq_4_55_discrete_ramp_increments_tc13():
-    from kernel.blocks import block_iterations
+    from kernel.plan.blocks import block_iterations
 
     b = block_iterations(20.0, 0.0, 100.0, 0.0, 1000.0, 1000.0, 0.01)
     assert b.n_acc == 10 and b.accel == pytest.approx(1000.0)
@@ -361,7 +361,7 @@ def test_eq_4_55_discrete_ramp_increments_tc13():
 
 
 def test_line_normal_block_whole_periods_and_adjusted_acceleration_tc44():
-    from kernel.blocks import block_iterations
+    from kernel.plan.blocks import block_iterations
 
     b = block_iterations(25.0, 0.0, 100.0, 0.0, 1000.0, 1000.0, 0.008)
     assert b.n_acc == 13 and b.accel == pytest.approx(961.54, abs=0.01)
@@ -373,7 +373,7 @@ def test_line_normal_block_whole_periods_and_adjusted_acceleration_tc44():
     ("length", "vs", "ve"), [(3.0, 0.0, 0.0), (1.0, 20.0, 5.0), (7.0, 40.0, 40.0), (0.2, 0.0, 10.0)]
 )
 def test_line_small_block_stays_within_acceleration_and_covers_the_block(length, vs, ve):
-    from kernel.blocks import block_iterations
+    from kernel.plan.blocks import block_iterations
 
     b = block_iterations(length, vs, 100.0, ve, 1000.0, 1000.0, 0.008)
     assert b.displacement.sum() == pytest.approx(length, abs=1e-12)

@@ -3,7 +3,7 @@
 For every program (lines, rapids, arcs and helices, tangent or not): no sample exceeds an
 axis velocity or acceleration limit (nor jerk with S-curve acc/dec, including the change of
 acceleration over the period that crosses a tangent line-arc or arc-arc joint, where the
-curvature jumps: kernel.curvature) beyond rounding; the path speed never exceeds the
+curvature jumps: kernel.path.curvature) beyond rounding; the path speed never exceeds the
 programmed feed; samples lie on the programmed path (no blending: tolerance 0); the speed is
 zero at every barrier; the last sample is the program's end point exactly.
 """
@@ -17,12 +17,12 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from kernel import canon
-from kernel.geometry import evaluate
-from kernel.interpolate import sample
+from kernel.interp.interpolate import sample
+from kernel.ir import canon
 from kernel.machine import AxisLimits, Controller, Machine
-from kernel.path import ARC, HOLD, LINE, build_path
-from kernel.planner import plan
+from kernel.path.build import ARC, HOLD, LINE, build_path
+from kernel.path.geometry import evaluate
+from kernel.plan.planner import plan
 
 RTOL, ATOL = 1e-6, 1e-7
 
@@ -238,7 +238,7 @@ def _assert_s_curve_jerk(path, machine):
 def test_s_curve_programs_with_arcs_respect_the_jerk_limit(cmds, machine):
     """Lines, arcs and helices, tangent or not: the sampled axis jerk within the limit, and
     at every line-arc / arc-arc joint the curvature step within half the jerk budget of a
-    period (kernel.curvature)."""
+    period (kernel.path.curvature)."""
     from kernel.machine import with_controller
 
     machine = with_controller(machine, accdec="scurve")
@@ -307,10 +307,10 @@ def test_tangent_line_arc_joint_speed_is_the_jerk_cap():
 
 
 def test_cut_lines_keep_the_geometry_feeds_and_stops():
-    """S-curve cuts (kernel.curvature.split_lines_at_joints): the pieces of a line are
+    """S-curve cuts (kernel.path.curvature.split_lines_at_joints): the pieces of a line are
     collinear, contiguous and add up to it; only its last piece keeps a G61 stop; a joint
     that is a stop anyway is not cut for."""
-    from kernel.curvature import split_lines_at_joints
+    from kernel.path.curvature import split_lines_at_joints
 
     cmds = [
         canon.SetFeedRate(3000),
@@ -440,7 +440,7 @@ def test_g64_p_blending_stays_within_the_tolerance_and_the_limits(points, machin
 
 
 def test_g64_p_blend_arc_is_tangent_and_bounded_by_p():
-    from kernel.blend import blend_corners
+    from kernel.path.blend import blend_corners
 
     m = Machine("t", tuple(AxisLimits(n, acceleration=1000.0) for n in "xyz"), Controller())
     cmds = [

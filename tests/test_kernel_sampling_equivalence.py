@@ -1,8 +1,8 @@
-"""The optimised sampler (kernel.interpolate.sample) gives the same numbers as before.
+"""The optimised sampler (kernel.interp.interpolate.sample) gives the same numbers as before.
 
 Reference: the sampler as it was before the speed work (issue 3 speed clause), kept
 verbatim below as :func:`reference_sample` (per chunk: the path state from the pieces, then
-every sample through :func:`kernel.geometry.evaluate`). The new one computes the same
+every sample through :func:`kernel.path.geometry.evaluate`). The new one computes the same
 floating-point operations in reused buffers, writes lines straight into the outputs and
 evaluates arcs in batches over chunks; its results must be identical bit for bit
 (``segment`` is now int32: compared by value) for golden programs, a CAM-style zig-zag
@@ -22,15 +22,15 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from kernel import canon
-from kernel.bulk import MAPPED_BYTES, bulk_array
 from kernel.diagnostics import Diagnostic
-from kernel.geometry import evaluate, line_cache
-from kernel.interpolate import _piece_of, sample
+from kernel.interp.bulk import MAPPED_BYTES, bulk_array
+from kernel.interp.interpolate import _piece_of, sample
+from kernel.interp.samples import Samples
+from kernel.ir import canon
 from kernel.machine import AXIS_NAMES, DEFAULT_MACHINE, AxisLimits, Machine, with_controller
-from kernel.path import HOLD, build_path
-from kernel.planner import Plan, plan
-from kernel.samples import Samples
+from kernel.path.build import HOLD, build_path
+from kernel.path.geometry import evaluate, line_cache
+from kernel.plan.planner import Plan, plan
 
 GOLDEN = FsPath(__file__).resolve().parent / "golden" / "ngc"
 FIELDS = ("t", "position", "velocity", "acceleration", "jerk", "segment", "source_line")

@@ -13,15 +13,15 @@ import sys
 import numpy as np
 
 import kernel
-from kernel import canon
-from kernel.accdec import planning_machine
-from kernel.interpolate import sample
+from kernel.axes.accdec import planning_machine
+from kernel.interp.interpolate import sample
+from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE
-from kernel.measure import measure
-from kernel.path import build_path
-from kernel.planner import plan
+from kernel.path.build import build_path
+from kernel.plan.planner import plan
+from kernel.report.measure import measure
+from kernel.report.trace import Trace, setup
 from kernel.simulation import SimulationResult, simulate
-from kernel.trace import Trace, setup
 
 
 def _program() -> list[canon.Command]:
@@ -68,6 +68,6 @@ def test_kernel_exports_simulate() -> None:
 
 
 def test_importing_the_ir_does_not_load_the_pipeline() -> None:
-    probe = "import sys, kernel.canon; print('kernel.simulation' in sys.modules)"
+    probe = "import sys, kernel.ir.canon; print('kernel.simulation' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"

@@ -9,7 +9,7 @@ from click.testing import CliRunner
 
 from cli.canon import fast_text
 from cli.main import cli
-from kernel import canon
+from kernel.ir import canon
 from tests.ngc_reference import run_program
 
 GOLDEN = Path(__file__).parent / "golden" / "ngc"

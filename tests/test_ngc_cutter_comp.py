@@ -1,4 +1,5 @@
-"""Cutter radius compensation (gcode.cutter_comp, gcode.comp_queue, gcode.offset_geometry).
+"""Cutter radius compensation (gcode.ngc.comp.cutter_comp, gcode.ngc.comp.queue,
+gcode.ngc.offset_geometry).
 
 References: closed-form plane geometry; LinuxCNC rs274 goldens (tests/golden/ngc/*cutter_comp*,
 generated with ``rs274 -t sim.tbl -g``); rs274's messages and error lines for the error
@@ -19,11 +20,11 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from gcode import offset_geometry as geo
-from gcode.comp_queue import HeldMove, motion_command
-from gcode.cutter_comp import LEFT, RIGHT, CutterCompensator
-from kernel import canon
+from gcode.ngc import offset_geometry as geo
+from gcode.ngc.comp.cutter_comp import LEFT, RIGHT, CutterCompensator
+from gcode.ngc.comp.queue import HeldMove, motion_command
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
 from kernel.tooltable import read_linuxcnc_tbl
 from tests import canon_equiv
 from tests.ngc_comp_driver import run
@@ -450,7 +451,7 @@ def test_goldens_cover_the_compensation_features():
 
 @pytest.mark.parametrize("program", COMP_GOLDENS, ids=lambda p: p.stem)
 def test_interpreter_matches_rs274_golden(program, monkeypatch):
-    interpreter = pytest.importorskip("gcode.interpreter")
+    interpreter = pytest.importorskip("gcode.ngc.interpreter")
     options = interpreter.InterpreterOptions(tool_table=TOOLS)
     ours = list(interpreter.interpret(program, options))
     monkeypatch.setattr(canon_equiv, "TOLERANCE", TOL)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from gcode.interpreter import InterpreterOptions, interpret
+from gcode.ngc.interpreter import InterpreterOptions, interpret
 from kernel.diagnostics import Diagnostic
 from kernel.tooltable import read_tool_table
 

@@ -1,7 +1,7 @@
 """The compiled fast lane gives exactly what the general RS274/NGC semantics give.
 
 References: Python's own ``float()`` for number parsing and ``f"{v:.4f}"`` (via
-``kernel.canon.write_text``) for the text form; a direct transcription of the NIST v3
+``kernel.ir.canon.write_text``) for the text form; a direct transcription of the NIST v3
 rules for plain lines (F before motion, G0/G1 modal, G90/G91) as the model.
 """
 
@@ -11,8 +11,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gcode import fastlane
-from kernel import canon
+from gcode.ngc.lane import fastlane
+from kernel.ir import canon
 
 AXES = "XYZABC"
 

@@ -1,6 +1,7 @@
 """The fast lane's kernels compiled ahead of time (numba.pycc) behave exactly as the JIT ones.
 
-Reference: the numba JIT build of the same source (gcode/fastlane_kernels.py), itself proven
+Reference: the numba JIT build of the same source (gcode/ngc/lane/fastlane_kernels.py),
+itself proven
 against ``float()``, ``f"{v:.4f}"`` and the general interpreter by test_ngc_fastlane.py and
 test_ngc_lane_equivalence.py. Also: a failed AOT build (no usable C compiler) falls back to
 the JIT kernels, once, without output of its own, and loading a built module imports no
@@ -20,11 +21,11 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-import gcode.interpreter as interp
+import gcode.ngc.interpreter as interp
 from cli.canon import fast_text
 from cli.main import cli
-from gcode import fastlane
-from kernel import canon
+from gcode.ngc.lane import fastlane
+from kernel.ir import canon
 
 ROOT = Path(__file__).resolve().parent
 sys.path.insert(0, str(ROOT.parent / "bench"))
@@ -215,7 +216,7 @@ def test_loading_the_aot_module_imports_no_numba(
     aot: ModuleType, aot_dir: Path, tmp_path: Path
 ) -> None:
     probe = (
-        "import sys; from gcode import fastlane; k = fastlane._kernels(); "
+        "import sys; from gcode.ngc.lane import fastlane; k = fastlane._kernels(); "
         "print(k.__name__, 'numba' in sys.modules)"
     )
     shutil.copytree(aot_dir, tmp_path / "cnc-toolchain")
@@ -229,7 +230,7 @@ def test_loading_the_aot_module_imports_no_numba(
 
 def test_inline_arc_text_is_exactly_the_ir_writers() -> None:
     """cli.canon formats ARC_FEED inline (the CAM bench's arcs); ints and bools in float
-    fields, negative zeros and tiny negatives must print as kernel.canon prints them."""
+    fields, negative zeros and tiny negatives must print as kernel.ir.canon prints them."""
     rng = np.random.default_rng(3)
     arcs = [
         canon.ArcFeed(*rng.normal(0, 300, 4).tolist(), int(t), *rng.normal(0, 9, 4).tolist())
@@ -250,7 +251,7 @@ def test_the_one_off_build_is_announced_on_stderr_once(tmp_path: Path) -> None:
     """A user whose first command builds the kernels is told so on stderr, before the wait;
     a later command (the build remembered) says nothing."""
     probe = (
-        "import sys; from pathlib import Path; from gcode import fastlane; "
+        "import sys; from pathlib import Path; from gcode.ngc.lane import fastlane; "
         "fastlane.build_aot = lambda directory, name: (False, 'no compiler'); "
         "print(fastlane.load_aot(Path(sys.argv[1])))"
     )

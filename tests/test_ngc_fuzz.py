@@ -13,7 +13,7 @@ from pathlib import Path
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gcode.interpreter import InterpreterOptions, interpret_text
+from gcode.ngc.interpreter import InterpreterOptions, interpret_text
 from kernel.diagnostics import Diagnostic
 from kernel.tooltable import read_tool_table
 

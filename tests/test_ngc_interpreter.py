@@ -10,10 +10,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gcode.interpreter import InterpreterOptions, interpret, interpret_text
-from gcode.linuxcnc import SetG5xOffset
-from kernel import canon
+from gcode.core.linuxcnc import SetG5xOffset
+from gcode.ngc.interpreter import InterpreterOptions, interpret, interpret_text
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from kernel.tooltable import read_tool_table
 
 GOLDEN = Path(__file__).parent / "golden" / "ngc"
@@ -84,10 +84,10 @@ def test_file_api_and_subroutine_search_path(tmp_path: Path) -> None:
 def test_fast_lane_gives_the_same_commands_as_the_general_path(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import gcode.interpreter as interpreter
+    import gcode.ngc.interpreter as interpreter
 
     monkeypatch.setattr(interpreter, "LANE_MIN_BYTES", 0)
-    from gcode import lane
+    from gcode.ngc.lane import lane
 
     monkeypatch.setattr(lane.Lane, "WINDOW", 2048)  # many window refills
     cam = "".join(f"X{i * 0.5:.3f} Y{(i % 7) * 1.25:.3f} Z-1\n" for i in range(300))

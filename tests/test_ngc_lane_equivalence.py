@@ -1,6 +1,7 @@
 """The fast lane changes nothing: every program gives the same commands with it as without.
 
-The interpreter uses the compiled lane (gcode/fastlane.py via gcode/lane.py) only for files
+The interpreter uses the compiled lane (gcode/ngc/lane/fastlane.py via gcode/ngc/lane/lane.py)
+only for files
 of 1 MiB and more; here it is forced on for every golden and corpus program, whose outputs
 must be identical, command for command and source line for source line, to the general
 path's. The bench's CAM program exercises long runs.
@@ -13,10 +14,10 @@ from pathlib import Path
 
 import pytest
 
-import gcode.interpreter as interp
-from gcode.interpreter import InterpreterOptions, interpret
-from gcode.lane import Lane
-from gcode.program import ProgramFile
+import gcode.ngc.interpreter as interp
+from gcode.core.program import ProgramFile
+from gcode.ngc.interpreter import InterpreterOptions, interpret
+from gcode.ngc.lane.lane import Lane
 from kernel.diagnostics import Diagnostic
 from kernel.tooltable import read_tool_table
 

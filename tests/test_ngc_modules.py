@@ -1,5 +1,5 @@
 """The RS274/NGC interpreter's modules depend one way: the interpreter imports its parts,
-the parts share state through :class:`gcode.ngc_context.NgcContext` and never import the
+the parts share state through :class:`gcode.ngc.context.NgcContext` and never import the
 interpreter or each other in a circle (imports inside functions and under TYPE_CHECKING
 count too)."""
 
@@ -10,41 +10,39 @@ from pathlib import Path
 
 import pytest
 
-from gcode.state import FeedCode, SavedModes, Setup
-from kernel.canon import Direction, FeedMode, Plane, Units
+from gcode.core.state import FeedCode, SavedModes, Setup
+from kernel.ir.canon import Direction, FeedMode, Plane, Units
 
-GCODE = Path(__file__).resolve().parents[1] / "gcode"
+ROOT = Path(__file__).resolve().parents[1]
 #: the interpreter and the modules it runs (the group that once formed one import cycle)
 GROUP = (
-    "interpreter",
-    "ngc_context",
-    "modes",
-    "motion",
-    "offsets",
-    "cycles",
-    "mcodes",
-    "lane",
-    "oword",
-    "predefined",
-    "threading",
-    "state",
-    "comp_api",
+    "gcode.ngc.interpreter",
+    "gcode.ngc.context",
+    "gcode.ngc.modes",
+    "gcode.ngc.motion",
+    "gcode.ngc.offsets",
+    "gcode.ngc.cycles",
+    "gcode.ngc.mcodes",
+    "gcode.ngc.lane.lane",
+    "gcode.ngc.oword",
+    "gcode.ngc.predefined",
+    "gcode.ngc.threading",
+    "gcode.core.state",
+    "gcode.ngc.comp.api",
 )
 
 
 def _imports(name: str) -> tuple[set[str], list[int]]:
-    """The ``gcode`` modules ``gcode/<name>.py`` imports anywhere, and the lines of imports
-    placed inside functions."""
-    tree = ast.parse((GCODE / f"{name}.py").read_text())
+    """The ``gcode`` modules (dotted names, ``from a import b`` counted as ``a.b`` too) that
+    module ``name`` imports anywhere, and the lines of imports placed inside functions."""
+    tree = ast.parse((ROOT / Path(*name.split("."))).with_suffix(".py").read_text())
     found: set[str] = set()
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("gcode"):
-            if node.module == "gcode":
-                found.update(a.name for a in node.names)
-            else:
-                found.add(node.module.split(".")[1])
+            found.add(node.module)
+            found.update(f"{node.module}.{a.name}" for a in node.names)
         elif isinstance(node, ast.Import):
-            found.update(a.name.split(".")[1] for a in node.names if a.name.startswith("gcode."))
+            found.update(a.name for a in node.names if a.name.startswith("gcode."))
     local = [
         inner.lineno
         for fn in ast.walk(tree)
@@ -55,11 +53,13 @@ def _imports(name: str) -> tuple[set[str], list[int]]:
     return found, local
 
 
-@pytest.mark.parametrize("name", [n for n in GROUP if n != "interpreter"])
+@pytest.mark.parametrize(
+    "name", [n for n in GROUP if n != "gcode.ngc.interpreter"], ids=lambda n: n.split(".")[-1]
+)
 def test_parts_do_not_import_the_interpreter(name: str) -> None:
     found, local = _imports(name)
-    assert "interpreter" not in found
-    assert local == [], f"gcode/{name}.py imports inside functions at lines {local}"
+    assert "gcode.ngc.interpreter" not in found
+    assert local == [], f"{name} imports inside functions at lines {local}"
 
 
 def test_the_group_has_no_import_cycle() -> None:

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from kernel.feedforward import apply_fir, apply_zpetc, fir_coefficients, zpetc
-from kernel.servo import AxisServo, simulate_axis
-from kernel.servo_params import BOOK_PLANT, ServoParams
+from kernel.axes.feedforward import apply_fir, apply_zpetc, fir_coefficients, zpetc
+from kernel.axes.servo import AxisServo, simulate_axis
+from kernel.axes.servo_params import BOOK_PLANT, ServoParams
 
 T = 0.001
 V_BOOK = 10_000.0 / 60.0  # 10 m/min, book §5.5.3

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kernel.servo import AxisServo, simulate_axis
-from kernel.servo_model import closed_loop, drive, pid_coefficients
-from kernel.servo_params import BOOK_PLANT, ServoParams
+from kernel.axes.servo import AxisServo, simulate_axis
+from kernel.axes.servo_model import closed_loop, drive, pid_coefficients
+from kernel.axes.servo_params import BOOK_PLANT, ServoParams
 
 BOOK = {
     "plant": "transfer",

@@ -9,10 +9,10 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from kernel.axes.servo import AxisServo, simulate_axis
+from kernel.axes.servo_model import closed_loop, drive
+from kernel.axes.servo_params import BOOK_PLANT, ServoParams, params_from_table
 from kernel.diagnostics import Diagnostic
-from kernel.servo import AxisServo, simulate_axis
-from kernel.servo_model import closed_loop, drive
-from kernel.servo_params import BOOK_PLANT, ServoParams, params_from_table
 
 T = 0.001
 CASES = [

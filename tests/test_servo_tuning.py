@@ -7,11 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from kernel.diagnostics import Diagnostic
-from kernel.servo import simulate_axis
-from kernel.servo_model import closed_loop, drive
-from kernel.servo_params import BOOK_PLANT, ServoParams
-from kernel.tuning import (
+from kernel.axes.servo import simulate_axis
+from kernel.axes.servo_model import closed_loop, drive
+from kernel.axes.servo_params import BOOK_PLANT, ServoParams
+from kernel.axes.tuning import (
     Gains,
     propose,
     relay_amplitude_gain,
@@ -22,6 +21,7 @@ from kernel.tuning import (
     ziegler_nichols_step,
     ziegler_nichols_ultimate,
 )
+from kernel.diagnostics import Diagnostic
 
 
 def _t(g: Gains) -> tuple[float, float, float]:

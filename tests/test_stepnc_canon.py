@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from kernel import canon
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from stepnc import gouge
 from stepnc.model import load
 from stepnc.to_canon import canon_from_file, canon_from_model

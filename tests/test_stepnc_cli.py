@@ -7,7 +7,7 @@ from pathlib import Path
 from click.testing import CliRunner
 
 from cli.main import cli
-from kernel import canon
+from kernel.ir import canon
 from tests.data_paths import CORPUS_STEPNC
 
 HERE = Path(__file__).resolve().parent

@@ -16,8 +16,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 
-from kernel import canon
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from stepnc import geometry, gouge, part21
 from stepnc.model import Model, load, validate
 from stepnc.to_canon import canon_from_file, canon_from_model

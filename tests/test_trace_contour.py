@@ -1,4 +1,4 @@
-"""Contour error measured exactly against path segments (kernel.contour)."""
+"""Contour error measured exactly against path segments (kernel.axes.contour)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from kernel.contour import ContourMeter, ErrorTracker, distance_to_segments
-from kernel.path import ARC, LINE, SEGMENT_DTYPE
+from kernel.axes.contour import ContourMeter, ErrorTracker, distance_to_segments
+from kernel.path.build import ARC, LINE, SEGMENT_DTYPE
 
 
 def arc_row(

@@ -11,13 +11,13 @@ import pytest
 from click.testing import CliRunner
 
 from cli.main import cli
-from kernel.contour import circle_error
+from kernel.axes.contour import circle_error
 from kernel.diagnostics import Diagnostic
+from kernel.interp.samples import Samples
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
-from kernel.path import ARC, SEGMENT_DTYPE
-from kernel.samples import Samples
-from kernel.trace import Trace, column_dtypes, columns, setup
-from kernel.trace_writers import open_writer
+from kernel.path.build import ARC, SEGMENT_DTYPE
+from kernel.report.trace import Trace, column_dtypes, columns, setup
+from kernel.report.trace_writers import open_writer
 
 T = 0.001
 R, F = 10.0, 100.0

@@ -19,12 +19,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from gcode.codes import Words
+from gcode.core.codes import Words
 from gcode.fanuc.state import ExecutorState
-from gcode.motion import AXES, PLANE_AXES
-from kernel import canon
-from kernel.canon import Direction
+from gcode.ngc.motion import AXES, PLANE_AXES
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
+from kernel.ir.canon import Direction
 
 OWN = frozenset({740, 760, 840, 870})
 TAPPING = frozenset({740, 840})

@@ -1,9 +1,9 @@
 """Executing one evaluated Fanuc block on the RS274/NGC machine model.
 
-The Fanuc layer handles what the RS274/NGC executor (:mod:`gcode.interpreter`) does not
-know or means differently, and hands it the rest as :class:`gcode.codes.Words`, so motion,
-arcs (:mod:`gcode.arcs`), canned cycles (:mod:`gcode.cycles`), cutter compensation
-(:mod:`gcode.cutter_comp`), offsets (:mod:`gcode.offsets`) and M codes run exactly as
+The Fanuc layer handles what the RS274/NGC executor (:mod:`gcode.ngc.interpreter`) does not
+know or means differently, and hands it the rest as :class:`gcode.core.codes.Words`, so motion,
+arcs (:mod:`gcode.core.arcs`), canned cycles (:mod:`gcode.ngc.cycles`), cutter compensation
+(:mod:`gcode.ngc.comp.cutter_comp`), offsets (:mod:`gcode.ngc.offsets`) and M codes run exactly as
 there. Fanuc-only here: G04 X/P, G05.1, G06.2 NURBS, G09, G10 L10-L13 offsets, G15/G16,
 G31 skip (one shot), G50/G51, G50.1/G51.1, G61 = exact stop, G68/G69, G92 S, G44, K repeat
 counts, M98/M99/G65/G66 (returned to the flow as actions), Haas G187/G47/M97/M50.
@@ -13,14 +13,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from gcode.codes import G_GROUPS, Words
+from gcode.core.codes import G_GROUPS, Words
 from gcode.fanuc import cycles, moves, offsets
 from gcode.fanuc.lexer import WordValue
 from gcode.fanuc.state import Action, ExecutorState, ModalCall
 from gcode.fanuc.words import ARGUMENTS, CYCLES, MOTION, resolve
-from kernel import canon
-from kernel.canon import MotionMode, Plane, Units
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
+from kernel.ir.canon import MotionMode, Plane, Units
 
 #: NGC-known codes the Fanuc layer passes on unchanged (round(G*10))
 _PASS = frozenset(
@@ -96,7 +96,7 @@ class Executor(ExecutorState):
             if self.lathe is not None:
                 known = code in self.lathe.codes
             else:
-                known = code in _PASS or code in _OWN or (self.fl.name == "haas" and code in _HAAS)
+                known = code in _PASS or code in _OWN or (self.fl.haas_g_codes and code in _HAAS)
             if not known:
                 name = f"G{code // 10:02d}" + (f".{code % 10}" if code % 10 else "")
                 at = Location(loc.file, loc.line, cols[f"G{code}"])
@@ -304,7 +304,7 @@ class Executor(ExecutorState):
             if group in w.m:
                 raise Diagnostic("FANUC-M-GROUP-CONFLICT", "two M codes of one group", loc)
             w.m[group] = m
-            if m == 19 and "P" in v and self.fl.name == "haas":
+            if m == 19 and "P" in v and self.fl.m19_p_angle:
                 w.values["r"] = v["P"] % 360.0  # Haas M19 P angle
             if m == 19 and "q" in w.values:
                 w.values.pop("q")

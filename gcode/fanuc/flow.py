@@ -22,10 +22,10 @@ from gcode.fanuc.options import Flavour
 from gcode.fanuc.program import Source, find_program_file, read_source
 from gcode.fanuc.sysvars import SystemVariables
 from gcode.fanuc.words import resolve
-from gcode.interpreter import Interpreter, InterpreterOptions
-from kernel import canon
-from kernel.canon import Units
+from gcode.ngc.interpreter import Interpreter, InterpreterOptions
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
+from kernel.ir.canon import Units
 
 MAX_DEPTH = 32
 #: files up to this many lines keep every parsed block (larger ones: loop/subprogram lines)

@@ -3,7 +3,7 @@
 X is a diameter (canonical x is the radius), ``U``/``W`` are incremental X/Z (U a diameter
 increment), there is no G90/G91 distance mode: G90, G92 and G94 are the single-cut
 turning, threading and facing cycles (modal), G70-G76 the multiple repetitive cycles
-(expanded by :mod:`gcode.fanuc_turning`), G98/G99 feed per minute/per revolution (G99 at
+(expanded by :mod:`gcode.fanuc.turning.cycles`), G98/G99 feed per minute/per revolution (G99 at
 power-on), G50 coordinate setting or ``G50 S`` spindle clamp, G32 thread cutting,
 ``T0101`` = turret position 01 with offset 01. The ZX plane (G18) is selected at start.
 """
@@ -12,14 +12,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
 
-from gcode import arcs
-from gcode.codes import G_GROUPS, Words
+from gcode.core import arcs
+from gcode.core.codes import G_GROUPS, Words
 from gcode.fanuc.executor import _M_PASS, Executor, ngc_m_code
 from gcode.fanuc.state import Action
-from gcode.fanuc_turning import ProfileStep, cycle_moves
-from kernel import canon
-from kernel.canon import Plane, Units
+from gcode.fanuc.turning.cycles import ProfileStep, cycle_moves
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
+from kernel.ir.canon import Plane, Units
 
 #: (P, Q, location) -> (line, words, G codes) of the contour blocks N P .. N Q
 ContourBlocks = Callable[[int, int, Location], Iterator[tuple[int, dict[str, float], list[int]]]]
@@ -54,7 +54,7 @@ class Lathe:
         s.diameter_mode = True
         s.plane = Plane.XZ
         ip.emit(canon.SelectPlane(Plane.XZ, source=ip.loc))
-        s.feed_mode = 2
+        s.feed_mode = canon.FeedMode.UNITS_PER_REVOLUTION
         ip.emit(canon.SetFeedMode(canon.FeedMode.UNITS_PER_REVOLUTION, source=ip.loc))
 
     # ------------------------------------------------------------------ one block

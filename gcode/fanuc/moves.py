@@ -3,7 +3,7 @@
 :func:`transform_block` turns a motion block given in program coordinates (absolute or
 incremental, Cartesian or G16 polar) into absolute transformed words for the RS274/NGC
 executor: end point and arc centre mapped by :class:`~gcode.fanuc.transforms.Transforms`,
-``R`` arcs turned into centres first (gcode.arcs, the RS274 rule: R > 0 up to a half
+``R`` arcs turned into centres first (gcode.core.arcs, the RS274 rule: R > 0 up to a half
 circle), G02/G03 swapped under an odd mirror. Canned cycles map their hole position only.
 """
 
@@ -11,15 +11,15 @@ from __future__ import annotations
 
 import math
 
-from gcode import arcs
-from gcode.codes import Words
+from gcode.core import arcs
+from gcode.core.codes import Words
 from gcode.fanuc.state import ExecutorState, NurbsCollector
 from gcode.fanuc.transforms import polar_to_cartesian
 from gcode.fanuc.words import CYCLES
-from gcode.motion import PLANE_AXES, PLANE_CENTRE
-from kernel import canon
-from kernel.canon import Plane, Units
+from gcode.ngc.motion import PLANE_AXES, PLANE_CENTRE
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
+from kernel.ir.canon import Plane, Units
 
 AXES = "xyzabc"
 _UPPER = "XYZ"

@@ -12,11 +12,11 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from gcode.codes import Words
+from gcode.core.codes import Words
+from gcode.core.state import INCH_MM
 from gcode.fanuc.state import ExecutorState
-from gcode.state import INCH_MM
-from kernel.canon import Units
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir.canon import Units
 from kernel.tooltable import Tool
 
 _AXES = "XYZABC"
@@ -104,7 +104,7 @@ EXTENDED_SLOT = 9
 
 
 def _extended_count(ex: ExecutorState) -> int:
-    return 99 if ex.fl.name == "haas" else 48
+    return ex.fl.extended_offsets
 
 
 def extended_set(

@@ -20,6 +20,11 @@ class Flavour:
     local_call: bool = False  # M97 P (N label) L (Haas)
     smoothness: bool = False  # G187 (Haas)
     pallet_m50: bool = False  # M50 = pallet change (Haas)
+    #: Haas's own G codes: G187 smoothness, G47 engraving, G103 look-ahead, G154 P offsets
+    haas_g_codes: bool = False
+    m19_p_angle: bool = False  # M19 P<angle> orients the spindle to an angle (Haas)
+    #: additional work offsets G54.1 P1-P<n> / G154 P1-P<n> (0i/30i: 48; Haas: 99)
+    extended_offsets: int = 48
     max_loops: int = 2_000_000  # backward jumps before FANUC-LOOP-LIMIT
 
 
@@ -31,4 +36,7 @@ HAAS = Flavour(
     local_call=True,
     smoothness=True,
     pallet_m50=True,
+    haas_g_codes=True,
+    m19_p_angle=True,
+    extended_offsets=99,
 )

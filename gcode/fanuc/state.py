@@ -14,7 +14,7 @@ from typing import Protocol
 
 from gcode.fanuc.options import Flavour
 from gcode.fanuc.transforms import Transforms
-from gcode.interpreter import Interpreter
+from gcode.ngc.interpreter import Interpreter
 from kernel.diagnostics import Location
 
 

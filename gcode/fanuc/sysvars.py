@@ -11,12 +11,12 @@ from __future__ import annotations
 
 from typing import Protocol
 
-from gcode.codes import Words
+from gcode.core.codes import Words
 from gcode.fanuc import offsets
 from gcode.fanuc.state import ExecutorState
-from kernel import canon
-from kernel.canon import Plane, Units
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
+from kernel.ir.canon import Plane, Units
 
 _PLANE_CODE = {Plane.XY: 17.0, Plane.XZ: 18.0, Plane.YZ: 19.0}
 

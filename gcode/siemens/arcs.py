@@ -5,7 +5,7 @@
 * end point and radius ``CR=`` (negative: more than a half circle);
 * end point (or centre) and opening angle ``AR=`` (0 < AR < 360 degrees).
 
-The radius check and its tolerances are LinuxCNC's (gcode.arcs) so that a converted
+The radius check and its tolerances are LinuxCNC's (gcode.core.arcs) so that a converted
 program is accepted by both readers.
 """
 
@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-from gcode.arcs import (
+from gcode.core.arcs import (
     R_REACH_INCH,
     R_REACH_MM,
     RADIUS_TOLERANCE_INCH,
@@ -22,8 +22,8 @@ from gcode.arcs import (
     ZERO_RADIUS_INCH,
     ZERO_RADIUS_MM,
 )
-from kernel.arcsweep import arc_sweep
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir.arcsweep import arc_sweep
 
 Point = tuple[float, float]
 

@@ -20,8 +20,8 @@ from gcode.siemens import motion
 from gcode.siemens.expr import Node, Variables, evaluate
 from gcode.siemens.machine import Machine, Values
 from gcode.siemens.state import PLANES
-from kernel import canon
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 
 #: cycle -> its parameters that the expansion uses, in call order
 PARAMETERS = {

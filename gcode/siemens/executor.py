@@ -1,6 +1,6 @@
 """Execution of one Siemens 840D NC block: its words -> modal state changes and IR.
 
-The order within a block follows the RS274/NGC interpreter's (gcode.interpreter, NIST v3
+The order within a block follows the RS274/NGC interpreter's (gcode.ngc.interpreter, NIST v3
 Table 8) so the IR reads the same: feed mode, spindle mode, F, S, T, M6/D, spindle and
 coolant M codes, dwell, plane, units, work offset, path control, distance mode, motion,
 program end. 840D vocabulary: 840D sl programming manual, fundamentals, "List of G
@@ -9,15 +9,15 @@ functions" and "List of addresses".
 
 from __future__ import annotations
 
-from gcode import linuxcnc as lc
+from gcode.core import linuxcnc as lc
 from gcode.siemens import motion
 from gcode.siemens.blocks import Assign, Block, Word
 from gcode.siemens.cycles import run_cycle
 from gcode.siemens.expr import Variables, evaluate
 from gcode.siemens.machine import Machine, Values
 from gcode.siemens.state import PLANES
-from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
 
 INCH_MM = 25.4
 #: G code -> modal group (840D groups: 1 motion, 2 non-modal, 6 plane, 8 settable frame,

@@ -25,8 +25,8 @@ from gcode.siemens.expr import Variables, evaluate
 from gcode.siemens.fastpath import plain_words
 from gcode.siemens.frames import change
 from gcode.siemens.program import Program, find_subprogram
-from kernel import canon
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
 
 MAX_LOOPS = 1_000_000
 END = Block(0)  # the block that ended a level (M2/M17/M30), when read by the fast path

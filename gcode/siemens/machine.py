@@ -10,10 +10,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from gcode.interpreter import InterpreterOptions
+from gcode.ngc.interpreter import InterpreterOptions
 from gcode.siemens.state import State
-from kernel import canon
 from kernel.diagnostics import Location
+from kernel.ir import canon
 from kernel.tooltable import ToolTable
 
 

@@ -14,8 +14,8 @@ from gcode.siemens import arcs
 from gcode.siemens.frames import plane_map
 from gcode.siemens.machine import Machine, Values
 from gcode.siemens.state import PLANES
-from kernel import canon
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 
 _AXES = "XYZABC"
 _AXIS_SET = frozenset(_AXES)

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from gcode.siemens.frames import Frame
-from kernel import canon
+from kernel.ir import canon
 
 #: plane name -> (IR plane, (first, second, normal) axis indexes, centre letters)
 PLANES: dict[str, tuple[canon.Plane, tuple[int, int, int], tuple[str, str]]] = {

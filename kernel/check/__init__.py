@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-import kernel.canon as canon
+import kernel.ir.canon as canon
 from kernel.check import rules_tooling  # noqa: F401 - registers the remaining rules
 from kernel.check.config import CheckConfig, config_from_dict
 from kernel.check.findings import Finding

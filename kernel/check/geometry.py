@@ -11,9 +11,9 @@ import math
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-import kernel.canon as canon
-from kernel.arcsweep import arc_sweep
+import kernel.ir.canon as canon
 from kernel.check.state import PLANE_AXES, CheckState, Vec6, motion_end
+from kernel.ir.arcsweep import arc_sweep
 
 TWO_PI = 2.0 * math.pi
 

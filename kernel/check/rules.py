@@ -16,7 +16,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-import kernel.canon as canon
+import kernel.ir.canon as canon
 from kernel.check.config import CheckConfig
 from kernel.check.geometry import box_overlaps, swept_points
 from kernel.check.state import PLANE_AXES, CheckState, motion_end

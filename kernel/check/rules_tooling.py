@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-import kernel.canon as canon
+import kernel.ir.canon as canon
 from kernel.check.config import ARC_TOLERANCES
 from kernel.check.geometry import arc_of, segment_hits_box
 from kernel.check.rules import (

@@ -12,8 +12,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-import kernel.canon as canon
-from kernel.canon import CompSide, Direction, FeedMode, Plane
+import kernel.ir.canon as canon
+from kernel.ir.canon import CompSide, Direction, FeedMode, Plane
 
 Vec6 = tuple[float, float, float, float, float, float]
 ZERO6: Vec6 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
@@ -121,7 +121,7 @@ def _scaled(st: CheckState, v: tuple[float, ...]) -> Vec6:
 
 
 def _linuxcnc(st: CheckState, cmd: canon.Command) -> bool:
-    """LinuxCNC-only commands a front end may pass through (gcode.linuxcnc; the kernel knows
+    """LinuxCNC-only commands a front end may pass through (gcode.core.linuxcnc; the kernel knows
     them by NAME only, never importing a front end). True when ``cmd`` was one of them."""
     name = cmd.NAME
     if name in ("SET_G5X_OFFSET", "SET_G92_OFFSET"):

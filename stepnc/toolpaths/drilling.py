@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from kernel import canon
+from kernel.ir import canon
 from stepnc.executor import TINY, UP
 from stepnc.model import Entity, tool_dimension
 

@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import math
 
-from kernel import canon
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from stepnc.executor import TINY
 from stepnc.frames import Frame, coords, frame_of
 from stepnc.model import Entity

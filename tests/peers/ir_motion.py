@@ -1,6 +1,6 @@
 """What a peer reader must find: each IR motion's end point, centre, plane and feed, in mm.
 
-The writer (:func:`gcode.emit.write`) is a generator that pulls one canonical command,
+The writer (:func:`gcode.write.writer.write`) is a generator that pulls one canonical command,
 handles it and yields its blocks before pulling the next one, so every written line can be
 tagged with the index of the command that produced it (:func:`tagged_lines`). A peer then
 runs the blocks of command ``i`` and must stand where the IR's command ``i`` ends.
@@ -18,10 +18,10 @@ from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
-from gcode.convert_report import ConversionReport
-from gcode.emit import WriterOptions, write
-from kernel import canon
+from gcode.write.report import ConversionReport
+from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 from tests.convert_support import programs, read_ir
 
 #: plane -> (first, second, normal) axis letters, NISTIR 5970 §3.6.1

@@ -24,8 +24,8 @@ from collections import defaultdict
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from gcode.emit import WriterOptions
-from kernel import canon
+from gcode.write.writer import WriterOptions
+from kernel.ir import canon
 from tests.peers.ir_motion import PLANE_LETTERS, SIX, Motion, group_lines
 
 SCRIPT = Path(__file__).with_name("toolpath.js")

@@ -16,7 +16,7 @@ sys.path.insert(0, str(HERE))
 
 from programs import PROGRAMS, render  # noqa: E402
 
-from kernel import canon  # noqa: E402
+from kernel.ir import canon  # noqa: E402
 from stepnc.to_canon import canon_from_file  # noqa: E402
 
 

@@ -1,0 +1,1 @@
+"""Shared G-code machinery: lexing, expressions, parameters, blocks, codes, program files."""

@@ -1,0 +1,44 @@
+"""Comments that are more than comments: ``(MSG, ...)`` and ``(DEBUG, ...)`` (LinuxCNC).
+
+Only the last comment of a line is kept (LinuxCNC's block holds one comment). ``MSG``
+becomes ``MESSAGE`` with the text after the comma; ``DEBUG`` too, with ``#n`` and
+``#<name>`` replaced by their values (``%f``, or ``######`` when undefined); ``PRINT`` and
+``LOG*`` go to the operator's terminal or a log file and give no canonical command; any
+other comment is a ``COMMENT``.
+"""
+
+from __future__ import annotations
+
+import re
+
+from gcode.core.params import Parameters
+from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
+
+_PARAM_RE = re.compile(r"#(?:<([^>]*)>|(\d+))")
+_SILENT = ("print,", "logopen,", "logappend,", "logclose", "log,", "probeopen", "probeclose")
+
+
+def _substitute(text: str, params: Parameters, loc: Location) -> str:
+    def repl(m: re.Match[str]) -> str:
+        try:
+            if m.group(1) is not None:
+                name = "".join(m.group(1).split()).lower()
+                return f"{params.named(name, loc):f}"
+            return f"{params.numbered(float(m.group(2)), loc):f}"
+        except Diagnostic:
+            return "######"
+
+    return _PARAM_RE.sub(repl, text)
+
+
+def comment_commands(text: str, params: Parameters, loc: Location) -> list[canon.Command]:
+    """The canonical commands for one (the last) comment of a line."""
+    head = text.lstrip().lower()
+    if head.startswith("msg,"):
+        return [canon.Message(text.lstrip()[4:], source=loc)]
+    if head.startswith("debug,"):
+        return [canon.Message(_substitute(text.lstrip()[6:], params, loc), source=loc)]
+    if head.startswith(_SILENT):
+        return []
+    return [canon.Comment(text, source=loc)]

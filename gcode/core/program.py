@@ -1,0 +1,143 @@
+"""Streaming access to program files for the interpreter, with the seeks O-words need.
+
+Programs are read line by line (a million-line file is never held in memory); loops and
+subroutine calls jump back by byte offset, as LinuxCNC does. Parsed blocks are cached by
+(file, offset) with a bounded size so loop bodies are parsed once.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import re
+from collections import OrderedDict
+from dataclasses import dataclass
+from pathlib import Path
+from typing import BinaryIO
+
+from gcode.core.lexer import Block, parse_line
+from kernel.diagnostics import Diagnostic, Location
+
+_CACHE_SIZE = 4096
+_OWORD_LINE_RE = re.compile(rb"^\s*/?\s*(?:[nN]\s*[\d.]+\s*)?[oO]")
+
+
+@dataclass(frozen=True, slots=True)
+class Position:
+    """A place in a program: which file, the byte offset of a line start, its number."""
+
+    file: str
+    offset: int
+    line: int
+
+
+class ProgramFile:
+    """One open program file with line numbers and seekable offsets."""
+
+    def __init__(self, path: str, data: bytes | None = None) -> None:
+        self.path = path
+        if data is not None:
+            self._fh: BinaryIO = io.BytesIO(data)
+        else:
+            try:
+                self._fh = open(path, "rb")  # noqa: SIM115 - closed by close()
+            except OSError as exc:
+                raise Diagnostic(
+                    "IO-OPEN", f"cannot open program: {exc.strerror or exc}", Location(path)
+                ) from None
+        self.line = 0
+        self._offset = 0  # byte offset of the next line
+        self.line_offset = 0  # byte offset of the line read last
+        self.last_nonblank = 0  # number of the last line holding more than blanks
+        self._cache: OrderedDict[int, Block] = OrderedDict()
+        #: keep parsed blocks for re-reading (set while loops or subroutines are active)
+        self.caching = True
+
+    def close(self) -> None:
+        self._fh.close()
+
+    def tell(self) -> Position:
+        return Position(self.path, self._offset, self.line)
+
+    def seek_to(self, offset: int, line: int) -> None:
+        """Continue reading at byte ``offset``, which starts line ``line + 1``."""
+        self._fh.seek(offset)
+        self._offset = offset
+        self.line = line
+        self.last_nonblank = line
+
+    def current(self) -> Position:
+        """Position of the line read last (to come back to it: loops)."""
+        return Position(self.path, self.line_offset, self.line - 1)
+
+    def seek(self, pos: Position) -> None:
+        self._fh.seek(pos.offset)
+        self._offset = pos.offset
+        self.line = pos.line
+
+    def next_raw(self) -> tuple[int, bytes] | None:
+        """The next raw line with its offset, or None at end of file."""
+        offset = self._offset
+        data = self._fh.readline()
+        if not data:
+            return None
+        self._offset = offset + len(data)
+        self.line += 1
+        self.line_offset = offset
+        if not data.isspace():
+            self.last_nonblank = self.line
+        return offset, data
+
+    def next_block(self) -> Block | None:
+        raw = self.next_raw()
+        if raw is None:
+            return None
+        offset, data = raw
+        cache = self._cache
+        if not self.caching:
+            if not cache:
+                return parse_line(_decode(data, self.path, self.line), self.line, self.path)
+            cached = cache.get(offset)
+            if cached is not None:
+                return cached
+            return parse_line(_decode(data, self.path, self.line), self.line, self.path)
+        cached = cache.get(offset)
+        if cached is not None:
+            return cached
+        block = parse_line(_decode(data, self.path, self.line), self.line, self.path)
+        if len(cache) >= _CACHE_SIZE:
+            cache.popitem(last=False)
+        cache[offset] = block
+        return block
+
+    def next_oword_block(self) -> Block | None:
+        """Skip forward to the next line holding an O-word (used when skipping bodies)."""
+        while True:
+            raw = self.next_raw()
+            if raw is None:
+                return None
+            offset, data = raw
+            if _OWORD_LINE_RE.match(data):
+                cached = self._cache.get(offset)
+                if cached is not None and cached.oword is not None:
+                    return cached
+                block = parse_line(_decode(data, self.path, self.line), self.line, self.path)
+                if block.oword is not None:
+                    return block
+
+
+def _decode(data: bytes, path: str, line: int) -> str:
+    try:
+        return data.decode("utf-8").rstrip("\r\n")
+    except UnicodeDecodeError:
+        return data.decode("latin-1").rstrip("\r\n")
+
+
+def find_subroutine_file(name: str, search_path: list[str], current_dir: str) -> str | None:
+    """``o<name> call`` of a subroutine not defined in the program: ``name.ngc`` on the path."""
+    for d in [*search_path, current_dir]:
+        for candidate in (f"{name}.ngc", f"{name}.NGC"):
+            p = os.path.join(d, candidate)
+            if os.path.isfile(p):
+                return str(Path(p))
+    return None

@@ -1,0 +1,1 @@
+"""Grbl 1.1 programs: an RS274/NGC subset."""

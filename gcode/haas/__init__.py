@@ -1,0 +1,1 @@
+"""Haas mill programs: the Fanuc reader with Haas's differences."""

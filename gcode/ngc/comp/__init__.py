@@ -1,0 +1,1 @@
+"""Cutter radius compensation (G41/G42) for the RS274/NGC interpreter."""

@@ -1,0 +1,1 @@
+"""The fast lane: plain CAM lines read by compiled kernels."""

@@ -1,0 +1,401 @@
+"""Compiled fast lane for the commonest CAM lines: plain axis, feed and G0/G1 words.
+
+A CAM post's output is mostly lines like ``X12.5 Y-3.25 Z-1.0`` or ``F800`` while the
+modal state stays simple (G0 or G1, G94, no cutter compensation, no canned cycle).
+Interpreting them one by one through the general machinery costs microseconds a line;
+this module scans a run of such lines straight from the program's bytes with a
+numba-compiled loop and returns the resulting events as arrays (:func:`scan`), and
+formats events as canonical text in compiled code too (:func:`events_text`).
+
+Semantics are exactly those of the general interpreter for these lines (NIST RS274/NGC v3
+§3.3 and §3.8 order of execution; LinuxCNC): blanks and tabs are ignored; an ``F`` word
+emits ``SET_FEED_RATE`` each time it appears, before the line's motion; a line with axis
+words emits one ``STRAIGHT_TRAVERSE`` (G0) or ``STRAIGHT_FEED`` (G1) to the new position
+even when it equals the current one; in G91 the words are increments. A line is *plain*
+when it holds an optional integer ``N`` word first, then words among X Y Z A B C F and one
+G0/G1 (only beside an axis word), each letter at most once, each with a plain decimal
+number, and ``F`` positive.
+A run ends before the first line that is not plain or that would feed at a zero feed rate;
+the general interpreter takes that line, and owns every diagnostic.
+
+Numbers are parsed as an integer mantissa over a power of ten: the correctly rounded
+value, the same as ``float()``, for mantissas of up to 15 digits (longer ones end the run).
+Formatting matches ``f"{v:.4f}"``; the rare values on a rounding tie within floating-point
+noise are flagged and re-formatted in Python.
+
+The kernels (:mod:`gcode.ngc.lane.fastlane_kernels`) are compiled ahead of time by numba.pycc into
+a plain extension module, built once in a child process on first use and kept in a cache
+directory (:func:`cache_dir`) under a name keyed by the kernel source and the Python and
+numpy versions; loading it takes under a millisecond and imports no numba. Where it cannot
+be built (no C compiler, read-only cache), the same kernels run through numba's JIT, whose
+start-up costs a few tenths of a second; ``CNC_FASTLANE_JIT=1`` forces that path. The
+interpreter uses the lane only for large programs either way.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib.util
+import logging
+import os
+import sys
+import sysconfig
+import zlib
+from dataclasses import dataclass
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+
+from kernel.ir import canon
+
+#: event kinds
+TRAVERSE = 0  # STRAIGHT_TRAVERSE to ``position``
+FEED_MOVE = 1  # STRAIGHT_FEED to ``position``
+SET_FEED = 2  # SET_FEED_RATE(``feed``)
+
+#: letter -> slot: 0-5 axes X Y Z A B C, 6 F, 7 G (0/1 only), 8 N; -1 other
+_SLOT = np.full(256, -1, dtype=np.int64)
+for _k, _c in enumerate("XYZABCFGN"):
+    _SLOT[ord(_c)] = _k
+    _SLOT[ord(_c.lower())] = _k
+_POW10 = 10.0 ** np.arange(23)
+
+
+@dataclass(frozen=True, slots=True)
+class Run:
+    """Events of a run of plain lines, in program order.
+
+    ``kind[i]`` is :data:`TRAVERSE`, :data:`FEED_MOVE` or :data:`SET_FEED`;
+    ``position[i]`` (x y z a b c, program coordinates) is the position after the event,
+    ``feed[i]`` the feed rate in force, ``line[i]`` the 1-based program line. ``consumed``
+    is the number of bytes and ``lines`` the number of program lines taken; the state after
+    the run is ``end_position``, ``end_feed`` and ``end_traverse`` (True in G0).
+    """
+
+    kind: np.ndarray
+    position: np.ndarray
+    feed: np.ndarray
+    line: np.ndarray
+    consumed: int
+    lines: int
+    end_position: tuple[float, ...]
+    end_feed: float
+    end_traverse: bool
+
+    def __len__(self) -> int:
+        return int(self.kind.shape[0])
+
+    def commands(self, file: str | None = None) -> list[canon.Command]:
+        """The events as IR command objects, each with its source line."""
+        out: list[canon.Command] = []
+        loc = canon.Location
+        for k, pos, fv, ln in zip(
+            self.kind.tolist(),
+            self.position.tolist(),
+            self.feed.tolist(),
+            self.line.tolist(),
+            strict=True,
+        ):
+            src = loc(file, ln, 1)
+            if k == TRAVERSE:
+                out.append(canon.StraightTraverse(*pos, source=src))
+            elif k == FEED_MOVE:
+                out.append(canon.StraightFeed(*pos, source=src))
+            else:
+                out.append(canon.SetFeedRate(fv, source=src))
+        return out
+
+
+def scan(
+    buf: np.ndarray,
+    start: int,
+    position: tuple[float, ...] | list[float],
+    feed: float,
+    *,
+    incremental: bool,
+    traverse: bool,
+    first_line: int,
+    max_events: int = 8192,
+) -> Run:
+    """The run of plain lines that starts at byte ``start`` of ``buf`` (a uint8 array).
+
+    ``position`` (x y z a b c, program coordinates) and ``feed`` are the interpreter's
+    state before the run, ``incremental`` is G91 and ``traverse`` G0 (else G1). The run
+    ends at the first line the lane cannot take, at the end of the buffer, or after about
+    ``max_events`` events. ``buf`` must end at a line end or at the end of the file.
+    """
+    start_pos = np.array(position, dtype=np.float64)
+    if start_pos.shape != (6,) or start < 0:
+        raise ValueError("position must hold 6 axes and start must be >= 0")
+    kind, pos, feed_arr, line, end, line_no, cur, end_feed, end_trav = _kernels().scan(
+        np.ascontiguousarray(buf, dtype=np.uint8).reshape(-1),
+        int(start),
+        _SLOT,
+        _POW10,
+        start_pos,
+        float(feed),
+        bool(incremental),
+        bool(traverse),
+        int(first_line),
+        max(int(max_events), 2),
+    )
+    return Run(
+        kind,
+        pos,
+        feed_arr,
+        line,
+        int(end - start),
+        int(line_no - first_line),
+        tuple(cur.tolist()),
+        float(end_feed),
+        bool(end_trav),
+    )
+
+
+_NAMES = (b"STRAIGHT_TRAVERSE", b"STRAIGHT_FEED", b"SET_FEED_RATE")
+_NAME_TABLE = np.zeros((3, max(len(n) for n in _NAMES)), dtype=np.uint8)
+for _k, _n in enumerate(_NAMES):
+    _NAME_TABLE[_k, : len(_n)] = np.frombuffer(_n, dtype=np.uint8)
+_NAME_LEN = np.array([len(n) for n in _NAMES], dtype=np.int64)
+
+
+def events_text(run: Run, seq0: int) -> str:
+    """Canonical text of a run's events numbered from ``seq0``.
+
+    Identical to ``kernel.ir.canon.write_text(run.commands(), seq0)`` joined with newlines
+    (each line ends in a newline).
+    """
+    if len(run) == 0:
+        return ""
+    m = len(run)
+    raw, python, flagged = _kernels().format(
+        np.ascontiguousarray(run.kind, dtype=np.int8),
+        np.ascontiguousarray(run.position, dtype=np.float64).reshape(m, 6),
+        np.ascontiguousarray(run.feed, dtype=np.float64).reshape(m),
+        int(seq0),
+        _NAME_TABLE,
+        _NAME_LEN,
+    )
+    text = raw.tobytes().decode("ascii")
+    if not flagged:
+        return text
+    lines = text.split("\n")
+    cmds = run.commands()
+    for r in np.flatnonzero(python).tolist():
+        lines[r] = f"{seq0 + r:5d} N..... {cmds[r].to_text()}"
+    return "\n".join(lines)
+
+
+@dataclass(frozen=True, slots=True)
+class GcodeLayout:
+    """What :func:`gcode_text` needs of a dialect, as the kernel takes it (made once per
+    writer): its rapid and linear motion codes, the axes it has among X Y Z A B C, and
+    those written as a diameter (twice the coordinate)."""
+
+    codes: tuple[str, str]
+    axes: list[int]
+    code_buf: np.ndarray
+    code_len: np.ndarray
+    letters: np.ndarray
+    axes_arr: np.ndarray
+    factor: np.ndarray
+    absent: np.ndarray
+
+    @classmethod
+    def of(cls, codes: tuple[str, str], dialect_axes: str, diameter: str = "") -> GcodeLayout:
+        axes = [i for i, letter in enumerate("XYZABC") if letter in dialect_axes]
+        code_buf = np.zeros((2, 8), dtype=np.uint8)
+        for k, code in enumerate(codes):
+            code_buf[k, : len(code)] = np.frombuffer(code.encode("ascii"), dtype=np.uint8)
+        return cls(
+            codes,
+            axes,
+            code_buf,
+            np.array([len(c) for c in codes], dtype=np.int64),
+            np.array([ord("XYZABC"[i]) for i in axes], dtype=np.uint8),
+            np.array(axes, dtype=np.int64),
+            np.array([2.0 if "XYZABC"[i] in diameter else 1.0 for i in axes]),
+            np.array([i for i in range(6) if i not in axes], dtype=np.int64),
+        )
+
+
+def _state(words: list[str]) -> np.ndarray:
+    """Words as the kernels read them: each followed by a zero byte (read-only bytes)."""
+    return np.frombuffer(("\0".join(words) + "\0").encode("ascii"), dtype=np.uint8)
+
+
+def gcode_text(
+    run: Run,
+    scale: float,
+    layout: GcodeLayout,
+    places: int,
+    point: bool,
+    last: list[str | None],
+    motion: int,
+    feed: tuple[str | None, float],
+    separator: str,
+) -> tuple[str, list[str], int, str, int, int] | None:
+    """G-code blocks of a run formatted in compiled code (gcode.write.bulk.write_run's
+    rules): X Y Z and F times ``scale`` are the output's; ``last`` the words last written
+    of ``layout.axes``, ``motion`` the index in ``layout.codes`` of the motion code in force
+    (-1: none), ``feed`` the F word last written and the feed rate in force. Returns (text
+    with a newline after each block, the axis words after, the motion index after, the F
+    word after, the longest block, the number of blocks), or None where the kernel cannot
+    write the run (a number of 1e12 or more, an axis the dialect lacks off zero), so that
+    the caller writes it command by command."""
+    raw, cannot, motion_after, longest, blocks, state = _kernels().gcode(
+        np.ascontiguousarray(run.kind, dtype=np.int8),
+        np.ascontiguousarray(run.position, dtype=np.float64),
+        np.ascontiguousarray(run.feed, dtype=np.float64),
+        float(scale),
+        layout.axes_arr,
+        layout.factor,
+        layout.absent,
+        layout.letters,
+        int(places),
+        bool(point),
+        _state([w or "" for w in last] + [feed[0] or ""]),
+        layout.code_buf,
+        layout.code_len,
+        int(motion),
+        float(feed[1]),
+        np.uint8(ord(separator)),
+    )
+    if cannot:
+        return None
+    words = state.tobytes().decode("ascii").split("\0")
+    na = len(layout.axes)
+    return raw.tobytes().decode("ascii"), words[:na], int(motion_after), words[na], longest, blocks
+
+
+def sandia_text(
+    points: np.ndarray, scale: float, places: int, last: list[str] | None
+) -> tuple[str, np.ndarray, list[str]] | None:
+    """``MoveTo`` lines to ``points`` (N, 3 in program units; times ``scale`` in the
+    output's) formatted in compiled code, writing an axis when its text changes
+    (gcode.write.sandia_chords.move_lines' rule); ``last``: the X, Y, Z texts written
+    last (None: every axis on the first line). Returns (text with a newline after each
+    line, the offset where each line starts and the text's length, the texts after), or
+    None where a number is too large for the kernel."""
+    raw, starts, too_large, state = _kernels().sandia(
+        np.ascontiguousarray(points, dtype=np.float64),
+        float(scale),
+        int(places),
+        _state(last or ["", "", ""]),
+        last is not None,
+    )
+    if too_large:
+        return None
+    return raw.tobytes().decode("ascii"), starts, state.tobytes().decode("ascii").split("\0")[:3]
+
+
+# ---------------------------------------------------------------- loading the kernels
+_KERNEL_SOURCE = Path(__file__).with_name("fastlane_kernels.py")
+_loaded: Any = None
+#: Warnings reach stderr through logging's last-resort handler when nobody configured one.
+_log = logging.getLogger("cnc.fastlane")
+#: What a user is told before the one-off build (measured: 8 s of CPU, 25 s on a busy 2-core
+#: machine).
+BUILD_NOTICE = "building fast kernels, once, ~30 s (cached in %s)"
+
+
+def cache_dir() -> Path:
+    """Where the AOT kernel module is kept: ``$XDG_CACHE_HOME/cnc-toolchain`` (default
+    ``~/.cache/cnc-toolchain``)."""
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "cnc-toolchain"
+
+
+def aot_name() -> str:
+    """Module name of the AOT build of the current kernel source for this Python and numpy.
+
+    The key is two 32-bit checksums (zlib: no OpenSSL to load at start-up).
+    """
+    data = _KERNEL_SOURCE.read_bytes() + (
+        f"|{sys.version}|{np.__version__}|{sysconfig.get_platform()}".encode()
+    )
+    return f"_fastlane_aot_{zlib.crc32(data):08x}{zlib.adler32(data):08x}"
+
+
+def build_aot(directory: Path, name: str) -> tuple[bool, str]:
+    """Build the AOT module ``name`` into ``directory`` in a child process (its compiler
+    output never reaches ours); the file appears atomically. Returns (ok, error text).
+
+    Builds of other kernel sources stay (another checkout may share the cache).
+    """
+    import subprocess
+    import tempfile
+
+    suffix = sysconfig.get_config_var("EXT_SUFFIX")
+    package_root = str(_KERNEL_SOURCE.parents[3])  # gcode/ngc/lane/ -> the checkout
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (package_root, env.get("PYTHONPATH")) if p)
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryDirectory(dir=directory, prefix=".build-") as tmp:
+            proc = subprocess.run(
+                [sys.executable, "-m", "gcode.ngc.lane.fastlane_kernels", tmp, name],
+                capture_output=True,
+                env=env,
+                timeout=600,
+                stdin=subprocess.DEVNULL,
+            )
+            built = Path(tmp) / (name + suffix)
+            if proc.returncode != 0 or not built.is_file():
+                return False, (proc.stderr or proc.stdout).decode(errors="replace")[-2000:]
+            os.replace(built, directory / (name + suffix))
+    except (OSError, subprocess.SubprocessError) as exc:
+        return False, str(exc)
+    return True, ""
+
+
+def load_aot(directory: Path) -> ModuleType | None:
+    """The AOT kernel module from ``directory``, built there first if missing; None when it
+    cannot be built (the failure is remembered in ``NAME.failed``: delete it to retry)."""
+    name = aot_name()
+    path = directory / (name + sysconfig.get_config_var("EXT_SUFFIX"))
+    failed = directory / (name + ".failed")
+    if not path.is_file():
+        if failed.exists():
+            return None
+        _log.warning(BUILD_NOTICE, directory)
+        ok, error = build_aot(directory, name)
+        if not ok:
+            with contextlib.suppress(OSError):
+                failed.write_text(error)
+            return None
+    try:
+        spec = importlib.util.spec_from_file_location(name, path)
+        if spec is None or spec.loader is None:
+            return None
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    except ImportError:
+        return None
+    return module
+
+
+def load_jit() -> ModuleType:
+    """The kernels through numba's JIT (imports numba)."""
+    from gcode.ngc.lane import fastlane_kernels
+
+    return fastlane_kernels
+
+
+def kernel_mode() -> str:
+    """``"aot"`` or ``"jit"``: how this process runs the kernels (loads them if not yet).
+
+    Raises ImportError when neither an AOT module nor numba is available.
+    """
+    return "jit" if _kernels() is sys.modules.get("gcode.ngc.lane.fastlane_kernels") else "aot"
+
+
+def _kernels() -> Any:
+    """The kernel module in use: AOT if possible, else JIT (loaded once per process)."""
+    global _loaded
+    if _loaded is None:
+        aot = None if os.environ.get("CNC_FASTLANE_JIT") else load_aot(cache_dir())
+        _loaded = aot if aot is not None else load_jit()
+    return _loaded

@@ -1,0 +1,587 @@
+"""The compiled kernels of the fast lane (:mod:`gcode.ngc.lane.fastlane`): scanner and text
+formatters.
+
+The source is shared by two ways of compiling it: numba's JIT (``@njit(cache=True)``,
+imported only as a fallback) and numba.pycc ahead of time into a plain extension module
+that needs neither numba nor its compile at run time (:func:`build`, run by
+:mod:`gcode.ngc.lane.fastlane` in a child process as
+``python -m gcode.ngc.lane.fastlane_kernels DIR NAME``).
+The AOT entry points take exactly the argument types in :data:`SIGNATURES`; an AOT module
+does not check types, so :mod:`gcode.ngc.lane.fastlane` converts every argument before the call.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+from numba import njit
+from numba import types as nt
+
+
+@njit(cache=True)
+def _skip_blanks(buf, j, e):  # pragma: no cover - compiled
+    while j < e and (buf[j] == 32 or buf[j] == 9):
+        j += 1
+    return j
+
+
+@njit(cache=True)
+def _number(buf, j, e, pow10):  # pragma: no cover - compiled
+    """Parse ``[+-]digits[.digits]`` (blanks allowed inside) at ``j``.
+
+    Returns (value, next index, ok, had a point).
+    """
+    negative = False
+    if j < e and (buf[j] == 43 or buf[j] == 45):
+        negative = buf[j] == 45
+        j = _skip_blanks(buf, j + 1, e)
+    mant = 0.0
+    ndig = 0
+    nfrac = 0
+    point = False
+    while j < e:
+        c = buf[j]
+        if 48 <= c <= 57:
+            mant = mant * 10.0 + (c - 48)
+            ndig += 1
+            if point:
+                nfrac += 1
+        elif c == 46 and not point:
+            point = True
+        elif c != 32 and c != 9:
+            break
+        j += 1
+    if ndig == 0 or ndig > 15:
+        return 0.0, j, False, point
+    v = mant / pow10[nfrac]
+    return (-v if negative else v), j, True, point
+
+
+@njit(cache=True)
+def _scan(buf, start, slot_of, pow10, pos, feed, incremental, traverse, first_line, max_events):
+    # pragma: no cover - compiled
+    n = buf.shape[0]
+    kind = np.empty(max_events, dtype=np.int8)
+    out_pos = np.empty((max_events, 6), dtype=np.float64)
+    out_feed = np.empty(max_events, dtype=np.float64)
+    out_line = np.empty(max_events, dtype=np.int64)
+    cur = pos.copy()
+    words = np.zeros(9, dtype=np.float64)
+    k = 0
+    i = start
+    line_no = first_line
+    while i < n and k + 2 <= max_events:
+        line_start = i
+        e = i
+        while e < n and buf[e] != 10:
+            e += 1
+        next_line = e + 1 if e < n else n
+        if e > i and buf[e - 1] == 13:
+            e -= 1
+        have = 0
+        ok = True
+        j = _skip_blanks(buf, i, e)
+        first = True
+        while j < e:
+            c = buf[j]
+            slot = slot_of[c]
+            if slot < 0 or (have >> slot) & 1 or (slot == 8 and not first):
+                ok = False
+                break
+            first = False
+            v, j, good, point = _number(buf, _skip_blanks(buf, j + 1, e), e, pow10)
+            if not good or (slot == 8 and (point or v < 0.0)):
+                ok = False
+                break
+            words[slot] = v
+            have |= 1 << slot
+            j = _skip_blanks(buf, j, e)
+        line_traverse = traverse
+        if ok and have & 128:
+            # G0/G1 with no axis word still moves, to the current point (rs274): general path
+            if not have & 63:
+                ok = False
+            elif words[7] == 0.0 or words[7] == 1.0:
+                line_traverse = words[7] == 0.0
+            else:
+                ok = False
+        if ok and have & 64 and words[6] <= 0.0:
+            ok = False
+        line_feed = words[6] if have & 64 else feed
+        axes = have & 63
+        if ok and axes and not line_traverse and line_feed <= 0.0:
+            ok = False
+        if not ok:
+            i = line_start
+            break
+        if have & 64:
+            feed = line_feed
+            kind[k] = 2
+            out_feed[k] = feed
+            out_line[k] = line_no
+            for a in range(6):
+                out_pos[k, a] = cur[a]
+            k += 1
+        if axes:
+            for a in range(6):
+                if (axes >> a) & 1:
+                    if incremental:
+                        cur[a] += words[a]
+                    else:
+                        cur[a] = words[a]
+            kind[k] = 0 if line_traverse else 1
+            for a in range(6):
+                out_pos[k, a] = cur[a]
+            out_feed[k] = feed
+            out_line[k] = line_no
+            k += 1
+        traverse = line_traverse
+        i = next_line
+        line_no += 1
+    return kind[:k], out_pos[:k], out_feed[:k], out_line[:k], i, line_no, cur, feed, traverse
+
+
+@njit(cache=True)
+def _put_int(out, o, v, width, fill):  # pragma: no cover - compiled
+    """Write non-negative ``v`` right-aligned in at least ``width`` columns."""
+    t = 1
+    p = 10
+    while p <= v and t < 19:
+        p *= 10
+        t += 1
+    for _ in range(width - t):
+        out[o] = fill
+        o += 1
+    for q in range(t - 1, -1, -1):
+        out[o + q] = 48 + v % 10
+        v //= 10
+    return o + t
+
+
+@njit(cache=True, error_model="numpy")
+def _put_fixed4(out, o, v):  # pragma: no cover - compiled
+    """Write ``v`` with four decimals; returns (offset, needs Python formatting).
+
+    Digits come from unsigned arithmetic (divisions by constants compile to multiplies).
+    """
+    a = -v if v < 0.0 else v
+    if not a < 1e12:
+        return o, True
+    scaled = a * 10000.0
+    frac = scaled - np.floor(scaled)
+    tie = abs(frac - 0.5) < 1e-6
+    ten = np.uint64(10)
+    zero = np.uint64(48)  # "0"
+    q = np.uint64(np.floor(scaled + 0.5))
+    if v < 0.0 and q != 0:
+        out[o] = 45
+        o += 1
+    whole = q // np.uint64(10000)
+    r = q - whole * np.uint64(10000)
+    t = 1
+    p = ten
+    while p <= whole:  # whole < 1e8: no overflow
+        p *= ten
+        t += 1
+    for j in range(t - 1, -1, -1):
+        d = whole // ten
+        out[o + j] = zero + (whole - d * ten)
+        whole = d
+    o += t
+    out[o] = 46
+    for j in range(4, 0, -1):
+        d = r // ten
+        out[o + j] = zero + (r - d * ten)
+        r = d
+    return o + 5, tie
+
+
+@njit(cache=True)
+def _format(kind, pos, feed, seq0, names, name_len):  # pragma: no cover - compiled
+    """Canonical text of the events (bytes), which lines need Python formatting, how many."""
+    m = kind.shape[0]
+    out = np.empty(m * 200 + 16, dtype=np.uint8)
+    python = np.zeros(m, dtype=np.bool_)
+    flagged = 0
+    o = 0
+    for k in range(m):
+        o = _put_int(out, o, seq0 + k, 5, 32)
+        for c in (32, 78, 46, 46, 46, 46, 46, 32):  # " N..... "
+            out[o] = c
+            o += 1
+        kk = kind[k]
+        for q in range(name_len[kk]):
+            out[o] = names[kk, q]
+            o += 1
+        out[o] = 40
+        o += 1
+        if kk == 2:
+            o, flag = _put_fixed4(out, o, feed[k])
+            python[k] |= flag
+        else:
+            for a in range(6):
+                if a:
+                    out[o] = 44
+                    out[o + 1] = 32
+                    o += 2
+                o, flag = _put_fixed4(out, o, pos[k, a])
+                python[k] |= flag
+        if python[k]:
+            flagged += 1
+        out[o] = 41
+        out[o + 1] = 10
+        o += 2
+    return out[:o], python, flagged
+
+
+@njit(cache=True, error_model="numpy")
+def _put_num(out, o, v, places, point):  # pragma: no cover - compiled
+    """``v`` as a G-code word value (gcode.write.state.Formatter rules): ``places``
+    decimals, trailing zeros dropped, the point kept when ``point`` (Fanuc), no ``-0``.
+    Returns (offset, too large for the kernel: 1e12 or more)."""
+    a = -v if v < 0.0 else v
+    if not a < 1e12:
+        return o, True
+    scale = 1.0
+    for _ in range(places):
+        scale *= 10.0
+    scaled = a * scale
+    low = np.floor(scaled)
+    if abs(scaled - low - 0.5) < 1e-6:
+        # near a rounding tie: decide it on the exact product a * 10^places, as Python's
+        # correctly rounded "%.*f" does (Veltkamp split, Dekker's two-product; exact ties
+        # go to the even digit)
+        c = 134217729.0 * a
+        a_hi = c - (c - a)
+        a_lo = a - a_hi
+        c = 134217729.0 * scale
+        s_hi = c - (c - scale)
+        s_lo = scale - s_hi
+        err = ((a_hi * s_hi - scaled) + a_hi * s_lo + a_lo * s_hi) + a_lo * s_lo
+        d = (scaled - (low + 0.5)) + err
+        if d > 0.0 or (d == 0.0 and low % 2.0 == 1.0):
+            low += 1.0
+        q = np.uint64(low)
+    else:
+        q = np.uint64(np.floor(scaled + 0.5))
+    if q >= np.uint64(10) ** np.uint64(17):
+        return o, True
+    ten = np.uint64(10)
+    if v < 0.0 and q != 0:
+        out[o] = 45
+        o += 1
+    div = np.uint64(1)
+    for _ in range(places):
+        div *= ten
+    whole = q // div
+    r = q - whole * div
+    t = 1
+    p = ten
+    while p <= whole:
+        p *= ten
+        t += 1
+    for j in range(t - 1, -1, -1):
+        d = whole // ten
+        out[o + j] = 48 + (whole - d * ten)
+        whole = d
+    o += t
+    if places == 0:
+        return o, False
+    digits = places
+    while digits > 0 and r % ten == 0:  # trailing zeros of the fraction
+        r //= ten
+        digits -= 1
+    if digits == 0:
+        if point:
+            out[o] = 46
+            o += 1
+        return o, False
+    out[o] = 46
+    for j in range(digits, 0, -1):
+        d = r // ten
+        out[o + j] = 48 + (r - d * ten)
+        r = d
+    return o + digits + 1, False
+
+
+@njit(cache=True)
+def _read_words(state, rows, width):  # pragma: no cover - compiled
+    """The zero-terminated words of ``state`` as rows of a (``rows``, ``width``) array and
+    their lengths; the last length is -1 when a word does not fit."""
+    words = np.zeros((rows, width), dtype=np.uint8)
+    lens = np.zeros(rows, dtype=np.int64)
+    r = 0
+    for b in state:
+        if r >= rows:
+            break
+        if b == 0:
+            r += 1
+        elif lens[r] >= width:
+            lens[rows - 1] = -1
+            break
+        else:
+            words[r, lens[r]] = b
+            lens[r] += 1
+    return words, lens
+
+
+@njit(cache=True)
+def _write_words(words, lens, rows):  # pragma: no cover - compiled
+    """The first ``rows`` words, each followed by a zero byte (the form _read_words reads)."""
+    out = np.empty(rows * (words.shape[1] + 1), dtype=np.uint8)
+    o = 0
+    for r in range(rows):
+        for j in range(lens[r]):
+            out[o] = words[r, j]
+            o += 1
+        out[o] = 0
+        o += 1
+    return out[:o]
+
+
+@njit(cache=True)
+def _gcode(
+    kind,
+    pos,
+    feed,
+    scale,
+    axes,
+    factor,
+    absent,
+    letters,
+    places,
+    point,
+    state,
+    codes,
+    code_len,
+    motion,
+    feed0,
+    sep,
+):  # pragma: no cover - compiled
+    """G-code blocks of a run's events (gcode.write.bulk.write_run's rules), joined by
+    newlines. ``pos`` and ``feed`` are in program units (X Y Z and F times ``scale`` are the
+    output's), an axis word's value is times its ``factor`` (2 on a diameter axis); ``state``
+    holds the axis words last written and the F word last written
+    (letters included, each ending in a zero byte, empty when unknown); ``feed0`` is the
+    feed rate in force; ``absent``: the axes the dialect lacks. Returns (text, whether the
+    kernel cannot write the run: a number too large or an absent axis off zero, the motion
+    code index after, the longest block, the number of blocks, ``state`` after)."""
+    m = kind.shape[0]
+    na = axes.shape[0]
+    for k in range(m):
+        for a in absent:
+            if abs(pos[k, a]) > 1e-9:  # the handlers refuse it at its line
+                return np.empty(0, dtype=np.uint8), True, motion, 0, 0, state.copy()
+    last, last_len = _read_words(state, na + 2, 64)
+    too_large = last_len[na + 1] < 0
+    fw = na + 1  # row of the F word of the feed in force; row na: the F word written
+    last[fw, 0] = 70
+    n, big = _put_num(last[fw], 1, feed0 * scale, places, point)
+    too_large |= big
+    last_len[fw] = n
+    out = np.empty(m * (12 + 32 * (na + 1)) + 64, dtype=np.uint8)
+    word = np.empty(32, dtype=np.uint8)
+    o = 0
+    longest = 0
+    blocks = 0
+    for k in range(m):
+        kk = kind[k]
+        if kk == 2:  # SET_FEED: the F word of the new rate, written with the next move
+            n, big = _put_num(last[fw], 1, feed[k] * scale, places, point)
+            too_large |= big
+            last_len[fw] = n
+            continue
+        start = o
+        if kk != motion:
+            motion = kk
+            for j in range(code_len[kk]):
+                out[o] = codes[kk, j]
+                o += 1
+        changed = False
+        for a in range(na):
+            word[0] = letters[a]
+            v = pos[k, axes[a]]
+            if axes[a] < 3:
+                v = v * scale
+            n, big = _put_num(word, 1, v * factor[a], places, point)
+            too_large |= big
+            if not _same_arr(word, n, last[a], last_len[a]):
+                for j in range(n):
+                    last[a, j] = word[j]
+                last_len[a] = n
+                if o > start:
+                    out[o] = sep
+                    o += 1
+                for j in range(n):
+                    out[o] = word[j]
+                    o += 1
+                changed = True
+        if not changed:  # the handlers write the first axis (X) of a move in place
+            if o > start:
+                out[o] = sep
+                o += 1
+            for j in range(last_len[0]):
+                out[o] = last[0, j]
+                o += 1
+        if not _same_arr(last[fw], last_len[fw], last[na], last_len[na]):  # feed_word
+            for j in range(last_len[fw]):
+                last[na, j] = last[fw, j]
+            last_len[na] = last_len[fw]
+            if o > start:
+                out[o] = sep
+                o += 1
+            for j in range(last_len[fw]):
+                out[o] = last[fw, j]
+                o += 1
+        longest = max(longest, o - start)
+        blocks += 1
+        out[o] = 10
+        o += 1
+    return out[:o], too_large, motion, longest, blocks, _write_words(last, last_len, na + 1)
+
+
+@njit(cache=True)
+def _sandia(pts, scale, places, state, known):  # pragma: no cover - compiled
+    """``MoveTo`` lines to the points (N, 3; x y z in program units, times ``scale`` in the
+    output's), each axis written when its text changes (gcode.write.sandia_chords
+    .move_lines' rule: a line where none does repeats X); numbers as the Formatter writes
+    them with at least one decimal. ``state``: the X, Y, Z texts written last (no letter,
+    each ending in a zero byte); ``known`` False writes every axis on the first line.
+    Returns (text, the offset where each line starts and the text's length, a number too
+    large for the kernel, ``state`` after)."""
+    m = pts.shape[0]
+    last, last_len = _read_words(state, 3, 32)
+    too_large = last_len[2] < 0
+    out = np.empty(m * 100 + 16, dtype=np.uint8)
+    starts = np.empty(m + 1, dtype=np.int64)
+    word = np.empty(32, dtype=np.uint8)
+    head = np.array([77, 111, 118, 101, 84, 111], dtype=np.uint8)  # "MoveTo"
+    o = 0
+    for k in range(m):
+        starts[k] = o
+        for j in range(6):
+            out[o + j] = head[j]
+        o += 6
+        changed = False
+        for a in range(3):
+            n, big = _put_num(word, 0, pts[k, a] * scale, places, True)
+            too_large |= big
+            if word[n - 1] == 46:  # at least one decimal: "12." -> "12.0"
+                word[n] = 48
+                n += 1
+            if known and _same_arr(word, n, last[a], last_len[a]):
+                continue
+            for j in range(n):
+                last[a, j] = word[j]
+            last_len[a] = n
+            out[o] = 32
+            out[o + 1] = 88 + a  # X Y Z
+            out[o + 2] = 61  # =
+            o += 3
+            for j in range(n):
+                out[o] = word[j]
+                o += 1
+            changed = True
+        if not changed:
+            out[o] = 32
+            out[o + 1] = 88
+            out[o + 2] = 61
+            o += 3
+            for j in range(last_len[0]):
+                out[o] = last[0, j]
+                o += 1
+        known = True
+        out[o] = 10
+        o += 1
+    starts[m] = o
+    return out[:o], starts, too_large, _write_words(last, last_len, 3)
+
+
+@njit(cache=True)
+def _same_arr(a, la, b, lb):  # pragma: no cover - compiled
+    if la != lb:
+        return False
+    for j in range(la):  # noqa: SIM110 - a compiled loop, no generator
+        if a[j] != b[j]:
+            return False
+    return True
+
+
+_U8 = nt.Array(nt.uint8, 1, "C")
+_U8_RO = nt.Array(nt.uint8, 1, "C", readonly=True)
+_I8 = nt.Array(nt.int8, 1, "C")
+_I64 = nt.Array(nt.int64, 1, "C")
+_F64 = nt.Array(nt.float64, 1, "C")
+_F64_2D = nt.Array(nt.float64, 2, "C")
+
+#: exported name -> (JIT function, explicit signature for numba.pycc)
+SIGNATURES = {
+    "scan": (
+        _scan,
+        nt.Tuple((_I8, _F64_2D, _F64, _I64, nt.int64, nt.int64, _F64, nt.float64, nt.boolean))(
+            _U8_RO,
+            nt.int64,
+            _I64,
+            _F64,
+            _F64,
+            nt.float64,
+            nt.boolean,
+            nt.boolean,
+            nt.int64,
+            nt.int64,
+        ),
+    ),
+    "format": (
+        _format,
+        nt.Tuple((_U8, nt.Array(nt.boolean, 1, "C"), nt.int64))(
+            _I8, _F64_2D, _F64, nt.int64, nt.Array(nt.uint8, 2, "C"), _I64
+        ),
+    ),
+    "gcode": (
+        _gcode,
+        nt.Tuple((_U8, nt.boolean, nt.int64, nt.int64, nt.int64, _U8))(
+            _I8,
+            _F64_2D,
+            _F64,
+            nt.float64,
+            _I64,
+            _F64,
+            _I64,
+            _U8,
+            nt.int64,
+            nt.boolean,
+            _U8_RO,
+            nt.Array(nt.uint8, 2, "C"),
+            _I64,
+            nt.int64,
+            nt.float64,
+            nt.uint8,
+        ),
+    ),
+    "sandia": (
+        _sandia,
+        nt.Tuple((_U8, _I64, nt.boolean, _U8))(_F64_2D, nt.float64, nt.int64, _U8_RO, nt.boolean),
+    ),
+}
+
+#: the JIT forms under the exported names (the fallback when no AOT module can be built)
+scan = _scan
+format = _format  # noqa: A001 - the exported name
+gcode = _gcode
+sandia = _sandia
+
+
+def build(directory: str, name: str) -> None:
+    """Compile the kernels ahead of time into extension module ``name`` in ``directory``."""
+    from numba.pycc import CC
+
+    cc = CC(name)
+    cc.output_dir = directory
+    for exported, (function, signature) in SIGNATURES.items():
+        cc.export(exported, signature)(function.py_func)
+    cc.compile()
+
+
+if __name__ == "__main__":
+    build(sys.argv[1], sys.argv[2])

@@ -1,0 +1,122 @@
+"""The dialect registry: one row per language, the single table every lookup is made from.
+
+A row names the dialect, its aliases, the file suffixes that identify its programs for
+``--dialect auto``, the module holding its :class:`~gcode.write.spec.Dialect` (what its writer
+may write; absent for an input-only language) and the module reading it (``interpret(path,
+options)`` and ``interpret_text(text, name, options)``, imported only when a program of the
+dialect is read). The CLI's ``--dialect``, ``--from`` and ``--to`` choices and their help are
+generated from it. Adding a dialect is one package under ``gcode/`` plus one row here
+(docs/architecture.md).
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+from types import ModuleType
+
+from gcode.write.spec import Dialect
+from kernel.diagnostics import Diagnostic
+
+
+@dataclass(frozen=True)
+class DialectEntry:
+    """One language: its canonical name and where its writer data and reader live."""
+
+    name: str
+    #: module with ``DIALECT`` (the writer's vocabulary); None for an input-only language
+    dialect: str | None
+    #: module with ``interpret`` and ``interpret_text``; None for an output-only language
+    reader: str | None
+    aliases: tuple[str, ...] = ()
+    #: program suffixes (lower case) that name this dialect for ``--dialect auto``
+    suffixes: tuple[str, ...] = ()
+
+
+#: Every language, writers' order (the order of ``--to`` and of error messages).
+REGISTRY: tuple[DialectEntry, ...] = (
+    DialectEntry("rs274ngc", "gcode.ngc.dialect", "gcode.ngc.interpreter", ("ngc", "linuxcnc")),
+    DialectEntry("nist_v3", "gcode.nist_v3.dialect", "gcode.nist_v3.reader", ("nist",)),
+    DialectEntry("fanuc", "gcode.fanuc.dialect", "gcode.fanuc.reader"),
+    DialectEntry("fanuc_lathe", "gcode.fanuc_lathe.dialect", "gcode.fanuc_lathe.reader"),
+    DialectEntry("grbl", "gcode.grbl.dialect", "gcode.grbl.reader"),
+    DialectEntry("haas", "gcode.haas.dialect", "gcode.haas.reader"),
+    DialectEntry(
+        "siemens840d",
+        "gcode.siemens.dialect",
+        "gcode.siemens.reader",
+        ("siemens", "840d"),
+        (".mpf", ".spf"),
+    ),
+    DialectEntry("sandia", "gcode.sandia.dialect", "gcode.sandia.reader", ("generic",)),
+)
+_BY_NAME = {entry.name: entry for entry in REGISTRY}
+
+#: the dialects a program can be written in
+NAMES: tuple[str, ...] = tuple(e.name for e in REGISTRY if e.dialect is not None)
+#: alias -> canonical name
+ALIASES: dict[str, str] = {alias: e.name for e in REGISTRY for alias in e.aliases}
+#: canonical name -> the module reading it
+READER_MODULES: dict[str, str] = {e.name: e.reader for e in REGISTRY if e.reader is not None}
+#: every name a program can be read in
+INPUTS: tuple[str, ...] = tuple(READER_MODULES)
+#: program suffix -> the dialect it names (``--dialect auto``)
+SUFFIXES: dict[str, str] = {suffix: e.name for e in REGISTRY for suffix in e.suffixes}
+#: what ``--dialect auto`` reads a program of no known suffix as
+DEFAULT_INPUT = "rs274ngc"
+
+
+def canonical_name(name: str) -> str:
+    """The canonical name of a dialect name or alias (``CONV-DIALECT`` if unknown)."""
+    key = ALIASES.get(name.lower(), name.lower())
+    if key not in _BY_NAME:
+        raise Diagnostic("CONV-DIALECT", f"unknown dialect {name!r}; known: {', '.join(NAMES)}")
+    return key
+
+
+def get_dialect(name: str) -> Dialect:
+    """The dialect called ``name`` (or an alias); ``CONV-DIALECT`` if there is none."""
+    module = _BY_NAME[canonical_name(name)].dialect
+    if module is None:
+        raise Diagnostic("CONV-DIALECT", f"unknown dialect {name!r}; known: {', '.join(NAMES)}")
+    dialect: Dialect = importlib.import_module(module).DIALECT
+    return dialect
+
+
+def dialect_for_suffix(suffix: str) -> str:
+    """The input dialect a program suffix names, else :data:`DEFAULT_INPUT`."""
+    return SUFFIXES.get(suffix.lower(), DEFAULT_INPUT)
+
+
+def reader_name(dialect: str) -> str:
+    """The canonical name of an input language (a dialect name or alias)."""
+    key = dialect.lower()
+    return key if key in READER_MODULES else get_dialect(key).name
+
+
+def reader_module(dialect: str) -> ModuleType:
+    """The reader of ``dialect`` (a name or alias); ``CONV-READER`` if it has none."""
+    name = reader_name(dialect)
+    module = READER_MODULES.get(name)
+    if module is None:
+        raise Diagnostic("CONV-READER", f"no reader for {name} programs")
+    try:
+        return importlib.import_module(module)
+    except ModuleNotFoundError as exc:  # the reader (or its package) is not installed
+        if exc.name is None or not (module == exc.name or module.startswith(exc.name + ".")):
+            raise  # something the reader itself needs is missing: a real error
+        raise Diagnostic("CONV-READER", f"no reader for {name} programs") from None
+
+
+def readable() -> tuple[str, ...]:
+    """The writable dialects that have a reader installed."""
+    names = []
+    for name, module in READER_MODULES.items():
+        if name not in NAMES:
+            continue
+        try:
+            importlib.import_module(module)
+        except ModuleNotFoundError:
+            continue
+        names.append(name)
+    return tuple(names)

@@ -1,0 +1,1 @@
+"""The Sandia generic language (Sandia architecture report)."""

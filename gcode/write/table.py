@@ -1,0 +1,103 @@
+"""Which writer function handles which canonical command (by class, then by name)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from gcode.core.cycle_marks import CycleEnd, CycleStart
+from gcode.ngc.comp.keep import CompRegister
+from gcode.write.curves import ellipse, nurbs
+from gcode.write.cycles import cycle_end, cycle_start
+from gcode.write.extras import BY_NAME
+from gcode.write.handlers import (
+    arc,
+    change_tool,
+    comment,
+    comp_radius,
+    comp_register,
+    comp_start,
+    comp_stop,
+    coolant,
+    dwell,
+    event,
+    feed,
+    feed_mode,
+    feed_rate,
+    feed_reference,
+    ignore,
+    message,
+    motion_mode,
+    naive,
+    orient,
+    origin,
+    overrides,
+    pallet,
+    plane,
+    probe,
+    select_tool,
+    speed,
+    spindle,
+    spindle_mode,
+    sync_start,
+    sync_stop,
+    tool_length,
+    traverse,
+    units,
+)
+from kernel.ir import canon
+
+HANDLERS: dict[type, Callable] = {
+    CycleStart: cycle_start,
+    CycleEnd: cycle_end,
+    CompRegister: comp_register,
+    canon.InitCanon: ignore,
+    canon.EndCanon: ignore,
+    canon.TurnProbeOn: ignore,
+    canon.TurnProbeOff: ignore,
+    canon.SetTraverseRate: ignore,
+    canon.UseLengthUnits: units,
+    canon.SelectPlane: plane,
+    canon.SetFeedRate: feed_rate,
+    canon.SetFeedMode: feed_mode,
+    canon.SetFeedReference: feed_reference,
+    canon.SetMotionControlMode: motion_mode,
+    canon.SetNaivecamTolerance: naive,
+    canon.SetSpindleSpeed: speed,
+    canon.SetSpindleMode: spindle_mode,
+    canon.StartSpindleClockwise: spindle(canon.Direction.CLOCKWISE),
+    canon.StartSpindleCounterclockwise: spindle(canon.Direction.COUNTERCLOCKWISE),
+    canon.StopSpindleTurning: spindle(canon.Direction.STOPPED),
+    canon.MistOn: coolant("mist", True),
+    canon.MistOff: coolant("mist", False),
+    canon.FloodOn: coolant("flood", True),
+    canon.FloodOff: coolant("flood", False),
+    canon.StartSpeedFeedSynch: sync_start,
+    canon.StopSpeedFeedSynch: sync_stop,
+    canon.Comment: comment,
+    canon.Message: message,
+    canon.ProgramStop: event("stop"),
+    canon.OptionalProgramStop: event("optional_stop"),
+    canon.ProgramEnd: event("end"),
+    canon.PalletShuttle: pallet,
+    canon.SelectTool: select_tool,
+    canon.ChangeTool: change_tool,
+    canon.UseToolLengthOffset: tool_length,
+    canon.SetOriginOffsets: origin,
+    canon.EnableFeedOverride: overrides("feed", True),
+    canon.DisableFeedOverride: overrides("feed", False),
+    canon.EnableSpeedOverride: overrides("speed", True),
+    canon.DisableSpeedOverride: overrides("speed", False),
+    canon.OrientSpindle: orient,
+    canon.Dwell: dwell,
+    canon.SetCutterRadiusCompensation: comp_radius,
+    canon.StartCutterRadiusCompensation: comp_start,
+    canon.StopCutterRadiusCompensation: comp_stop,
+    canon.StraightTraverse: traverse,
+    canon.StraightFeed: feed,
+    canon.StraightProbe: probe,
+    canon.ArcFeed: arc,
+    canon.NurbsFeed: nurbs,
+    canon.EllipseFeed: ellipse,
+}
+
+__all__ = ["BY_NAME", "HANDLERS"]

@@ -1,0 +1,1 @@
+"""Per-axis simulation: acc/dec after interpolation, servo loops, feedforward, errors."""

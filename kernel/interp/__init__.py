@@ -1,0 +1,1 @@
+"""Interpolation: sampling lines, arcs, helices and NURBS at the controller's period."""

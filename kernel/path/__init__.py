@@ -1,0 +1,1 @@
+"""IR -> path: the segment table, its builder, corner blends and curvature caps."""

@@ -1,0 +1,92 @@
+"""Corner blending for ``G64 P<tolerance>`` (NISTIR 5970 §3.5.3 continuous mode with the
+deviation bound LinuxCNC's ``P`` supplies; book §4.2.4 / §4.3: block overlap at corners).
+
+Between two straight feed moves that meet at an angle, with a blending tolerance ``P`` in
+force on the first, the corner is replaced by a circular arc tangent to both lines. The
+arc's largest distance from the programmed corner is ``e = r (1/cos(theta/2) - 1)`` for a
+direction change ``theta`` and radius ``r``; ``r`` is the largest with ``e <= P`` and
+tangent length ``r tan(theta/2)`` at most half of either line (so neighbouring blends never
+overlap). The tool then passes the corner at the arc's speed (centripetal cap of the
+planner) instead of the per-axis corner speed, and never leaves the ``P`` band around the
+programmed path. Exact stop (G61), rotary motion, holds and arcs are left unblended.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from kernel.path.segments import ARC, LINE, Path
+
+_MIN_ANGLE = 1e-6
+_MIN_RADIUS = 1e-6
+
+
+def blend_corners(path: Path) -> Path:
+    """A copy of ``path`` with blend arcs inserted at every eligible line-line corner."""
+    seg = path.segments
+    n = len(seg)
+    if n < 2 or not np.any(seg["blend"] > 0):
+        return path
+    a, b = seg[:-1], seg[1:]
+    u1, u2 = a["u_end"][:, :3], b["u_start"][:, :3]
+    cos = np.clip(np.einsum("ij,ij->i", u1, u2), -1.0, 1.0)
+    theta = np.arccos(cos)
+    ok = (
+        (a["kind"] == LINE)
+        & (b["kind"] == LINE)
+        & (a["blend"] > 0)
+        & ~a["exact_stop"]
+        & (theta > _MIN_ANGLE)
+        & (theta < np.pi - 1e-3)
+        & np.all(np.abs(a["u_end"][:, 3:]) == 0, axis=1)
+        & np.all(np.abs(b["u_start"][:, 3:]) == 0, axis=1)
+        & (a["category"] == b["category"])
+    )
+    half = np.where(ok, theta / 2, 1.0)
+    r_tol = a["blend"] / np.maximum(1 / np.cos(half) - 1, 1e-300)
+    r_len = 0.5 * np.minimum(a["length"], b["length"]) / np.tan(half)
+    r = np.where(ok, np.minimum(r_tol, r_len), 0.0)
+    ok &= r > _MIN_RADIUS
+    corners = np.flatnonzero(ok)
+    if not corners.size:
+        return path
+    rows = seg.copy()
+    r = r[corners]
+    d = r * np.tan(theta[corners] / 2)
+    c = seg["end"][corners, :3]
+    v1, v2 = u1[corners], u2[corners]
+    start = c - d[:, None] * v1
+    end = c + d[:, None] * v2
+    inward = v2 - cos[corners][:, None] * v1
+    inward /= np.linalg.norm(inward, axis=1)[:, None]
+    centre = start + r[:, None] * inward
+    normal = np.cross(v1, v2)
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    e1 = (start - centre) / r[:, None]
+    e2 = np.cross(normal, e1)  # = v1: the arc leaves A along the first line
+    arcs = np.zeros(corners.size, dtype=seg.dtype)
+    arcs["kind"] = ARC
+    arcs["category"] = seg["category"][corners]
+    arcs["start"] = seg["end"][corners]
+    arcs["end"] = seg["end"][corners]
+    arcs["start"][:, :3], arcs["end"][:, :3] = start, end
+    arcs["length"] = r * theta[corners]
+    arcs["centre"], arcs["normal"], arcs["e1"], arcs["e2"] = centre, normal, e1, e2
+    arcs["radius"] = arcs["radius_end"] = r
+    arcs["sweep"] = theta[corners]
+    arcs["u_start"][:, :3], arcs["u_end"][:, :3] = v1, v2
+    arcs["feed"] = np.minimum(seg["feed"][corners], seg["feed"][corners + 1])
+    arcs["blend"] = seg["blend"][corners]
+    arcs["source"] = seg["source"][corners + 1]
+    arcs["line"] = seg["line"][corners + 1]
+    # shorten the lines on both sides
+    rows["end"][corners, :3] = start
+    rows["length"][corners] -= d
+    rows["start"][corners + 1, :3] = end
+    rows["length"][corners + 1] -= d
+    out = np.insert(rows, corners + 1, arcs)
+    # a line shortened from both ends by half its length is gone (not -1e-16 long)
+    gone = (out["kind"] == LINE) & (out["length"] <= 1e-12)
+    if gone.any():
+        out = out[~gone]
+    return Path(out, path.file)

@@ -1,0 +1,1 @@
+"""Acc/dec before interpolation (ADCBI): speed caps, look-ahead and profiles."""

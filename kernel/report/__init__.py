@@ -1,0 +1,1 @@
+"""Measurements, traces and plots of a simulated program."""

@@ -1,0 +1,240 @@
+"""Measurements of a planned and sampled program (DESIGN.md, kernel.report.measure).
+
+Cycle time split into cutting (feed and probe moves), rapid, dwell, tool change and other
+stand-stills (spindle orientation, program stops); path lengths; peak axis velocity,
+acceleration and jerk; the chord error of arcs between consecutive samples (book eq. 3.38,
+``EH = R - |chord midpoint|``); and every place a sample exceeds an axis limit (velocity,
+acceleration, jerk when the profile is jerk-limited, travel), with the program line.
+Following and contour error of the servo are measured by the servo stage (issue 4).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from kernel.interp.samples import Samples
+from kernel.path.segments import ARC, DWELL, FEED, ORIENT, PROBE, RAPID, STOP, TOOL_CHANGE
+from kernel.plan.planner import Plan
+
+#: relative and absolute slack before a sample counts as over a limit (rounding)
+RTOL, ATOL = 1e-6, 1e-9
+
+
+@dataclass(frozen=True, slots=True)
+class CycleTime:
+    """Seconds per kind of activity; ``total`` is their sum."""
+
+    total: float
+    cutting: float
+    rapid: float
+    dwell: float
+    tool_change: float
+    other: float
+
+
+@dataclass(frozen=True, slots=True)
+class LimitHit:
+    """A run of consecutive samples over one axis limit."""
+
+    axis: str
+    kind: str  # velocity, acceleration, jerk, travel
+    value: float  # the worst value in the run
+    limit: float
+    time: float  # first sample of the run, s
+    samples: int  # length of the run
+    line: int  # program line of the first sample (0: unknown)
+
+
+@dataclass(frozen=True, slots=True)
+class Report:
+    """Everything :func:`measure` finds; plain data (``to_dict`` for JSON)."""
+
+    cycle: CycleTime
+    feed_length: float
+    rapid_length: float
+    segments: int
+    samples: int
+    peak_velocity: dict[str, float]
+    peak_acceleration: dict[str, float]
+    peak_jerk: dict[str, float]
+    chord_error: float
+    hits: list[LimitHit] = field(default_factory=list)
+    hits_total: int = 0
+
+    def to_dict(self) -> dict[str, object]:
+        return asdict(self)
+
+
+def cycle_time(plan: Plan) -> CycleTime:
+    """Time per category from the plan (S-curve pauses count with their segment)."""
+    cat = plan.path.segments["category"]
+    d = plan.duration
+
+    def part(mask: np.ndarray) -> float:
+        return float(d[mask].sum())
+
+    cutting = part((cat == FEED) | (cat == PROBE))
+    rapid = part(cat == RAPID)
+    dwell = part(cat == DWELL)
+    tool = part(cat == TOOL_CHANGE)
+    total = plan.total_time
+    other = part((cat == ORIENT) | (cat == STOP))
+    return CycleTime(total, cutting, rapid, dwell, tool, other)
+
+
+def chord_error(plan: Plan, samples: Samples) -> float:
+    """Largest ``|R - |midpoint - centre||`` over consecutive samples on the same arc."""
+    seg = plan.path.segments
+    k = samples.segment
+    if len(k) < 2 or "x" not in samples.axes:
+        return 0.0
+    on_arc = np.ascontiguousarray(seg["kind"]) == ARC
+    same = k[1:] == k[:-1]
+    same &= k[:-1] >= 0
+    same &= on_arc.take(k[:-1], mode="wrap")  # -1 (holds) wraps, and is masked above
+    idx = np.flatnonzero(same)
+    if not idx.size:
+        return 0.0
+    cols = [samples.axes.index(a) for a in ("x", "y", "z") if a in samples.axes]
+    mid = 0.5 * (samples.position[idx] + samples.position[idx + 1])[:, cols]
+    rows = k[idx]
+    centre = seg["centre"][rows][:, : len(cols)]
+    normal = seg["normal"][rows][:, : len(cols)]
+    rel = mid - centre
+    rel = rel - np.sum(rel * normal, axis=1)[:, None] * normal
+    r_mid = np.linalg.norm(rel, axis=1)
+    r_ref = 0.5 * (seg["radius"][rows] + seg["radius_end"][rows])
+    tol = np.abs(seg["radius_end"][rows] - seg["radius"][rows])
+    return float(np.max(np.clip(np.abs(r_ref - r_mid) - tol, 0.0, None)))
+
+
+def _runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Start indices and lengths of runs of True."""
+    m = np.concatenate([[False], mask, [False]]).astype(np.int8)
+    d = np.diff(m)
+    starts = np.flatnonzero(d == 1)
+    ends = np.flatnonzero(d == -1)
+    return starts, ends - starts
+
+
+def _column_extremes(arr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per-column maximum and minimum of an (n, k) array, column by column (a strided
+    column reduces an order of magnitude faster than ``arr.max(axis=0)``)."""
+    if not len(arr):
+        return np.zeros(arr.shape[1]), np.zeros(arr.shape[1])
+    cols = range(arr.shape[1])
+    return np.array([arr[:, j].max() for j in cols]), np.array([arr[:, j].min() for j in cols])
+
+
+def _peak(extremes: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """``max |x|`` per column from the extremes (exact; NaN propagates)."""
+    hi, lo = extremes
+    return np.maximum(hi, -lo)
+
+
+def limit_hits(
+    plan: Plan,
+    samples: Samples,
+    max_hits: int = 50,
+    extremes: dict[str, tuple[np.ndarray, np.ndarray]] | None = None,
+) -> tuple[list[LimitHit], int]:
+    """Runs of samples over an axis limit: the first ``max_hits`` and the total count.
+
+    A column is scanned for runs only when its extreme value is over the limit (the usual
+    case has no hit at all). ``extremes``: per array name (``position``, ``velocity``,
+    ``acceleration``, ``jerk``) the per-axis maxima and minima, when already known."""
+    machine = plan.machine
+    checks = ["velocity", "acceleration"]
+    if machine.controller.accdec == "scurve":
+        checks.append("jerk")
+    known = dict(extremes or {})
+    for name in ("position", *checks):
+        if name not in known:
+            known[name] = _column_extremes(getattr(samples, name))
+    hits: list[LimitHit] = []
+    total = 0
+    if not len(samples):
+        return hits, total
+    for j, name in enumerate(samples.axes):
+        ax = machine.axis(name)
+        for kind in checks:
+            lim = float(getattr(ax, kind))
+            threshold = lim * (1 + RTOL) + ATOL
+            if not _peak(known[kind])[j] > threshold:
+                continue
+            col = np.abs(getattr(samples, kind)[:, j])
+            starts, lens = _runs(col > threshold)
+            total += len(starts)
+            for s, n in zip(starts[:max_hits], lens[:max_hits], strict=False):
+                worst = float(col[s : s + n].max())
+                hits.append(
+                    LimitHit(
+                        name,
+                        kind,
+                        worst,
+                        lim,
+                        float(samples.t[s]),
+                        int(n),
+                        int(samples.source_line[s]),
+                    )
+                )
+        hi, lo = known["position"][0][j], known["position"][1][j]
+        pos = samples.position[:, j]
+        for kind, over, lim in (
+            ("travel", hi > ax.max + ATOL, ax.max),
+            ("travel", lo < ax.min - ATOL, ax.min),
+        ):
+            if not over:
+                continue
+            mask = pos > ax.max + ATOL if lim == ax.max else pos < ax.min - ATOL
+            starts, lens = _runs(mask)
+            total += len(starts)
+            for s, n in zip(starts[:max_hits], lens[:max_hits], strict=False):
+                seg = pos[s : s + n]
+                worst = float(seg.max() if lim == ax.max else seg.min())
+                hits.append(
+                    LimitHit(
+                        name,
+                        kind,
+                        worst,
+                        float(lim),
+                        float(samples.t[s]),
+                        int(n),
+                        int(samples.source_line[s]),
+                    )
+                )
+    hits.sort(key=lambda h: h.time)
+    return hits[:max_hits], total
+
+
+def measure(plan: Plan, samples: Samples) -> Report:
+    """Cycle time, lengths, peaks, chord error and limit hits of a sampled plan."""
+    seg = plan.path.segments
+    cat = seg["category"]
+    length = seg["length"]
+
+    extremes = {
+        name: _column_extremes(getattr(samples, name))
+        for name in ("position", "velocity", "acceleration", "jerk")
+    }
+
+    def peaks(name: str) -> dict[str, float]:
+        m = _peak(extremes[name])
+        return {a: float(v) for a, v in zip(samples.axes, m, strict=True)}
+
+    hits, total = limit_hits(plan, samples, extremes=extremes)
+    return Report(
+        cycle=cycle_time(plan),
+        feed_length=float(length[(cat == FEED) | (cat == PROBE)].sum()),
+        rapid_length=float(length[cat == RAPID].sum()),
+        segments=len(seg),
+        samples=len(samples),
+        peak_velocity=peaks("velocity"),
+        peak_acceleration=peaks("acceleration"),
+        peak_jerk=peaks("jerk"),
+        chord_error=chord_error(plan, samples),
+        hits=hits,
+        hits_total=total,
+    )
