@@ -22,7 +22,15 @@ from typing import cast
 import click
 
 from cli.errors import guarded
-from gcode.registry import ALIASES, INPUTS, NAMES, get_dialect, reader_name
+from gcode.registry import (
+    ALIASES,
+    DEFAULT_INPUT,
+    INPUTS,
+    NAMES,
+    get_dialect,
+    reader_name,
+    suffix_summary,
+)
 from gcode.write.report import Change, ConversionReport
 from gcode.write.writer import ARC_FORMATS, CYCLE_MODES, WriterOptions, write_text
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
@@ -143,7 +151,7 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
         ["auto", "canon", "jsonl", "stepnc", *INPUTS, *ALIASES], case_sensitive=False
     ),
     help="input language (auto: canonical text, JSON lines and STEP-NC by content, "
-    ".mpf/.spf Siemens, else rs274ngc)",
+    f"{suffix_summary()} by suffix, else {DEFAULT_INPUT})",
 )
 @click.option(
     "--to",

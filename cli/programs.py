@@ -18,7 +18,7 @@ from pathlib import Path
 
 import click
 
-from gcode.registry import ALIASES, INPUTS, dialect_for_suffix
+from gcode.registry import ALIASES, DEFAULT_INPUT, INPUTS, dialect_for_suffix, suffix_summary
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
@@ -148,9 +148,9 @@ dialect_option = click.option(
     default="auto",
     show_default=True,
     type=click.Choice(["auto", *INPUTS, *ALIASES], case_sensitive=False),
-    help="Language of G-code input: rs274ngc (LinuxCNC), nist_v3, fanuc, fanuc_lathe, haas, "
-    "grbl, siemens840d, sandia; auto: by suffix (.mpf/.spf Siemens), else rs274ngc. Canonical "
-    "text, JSON lines and Part 21 are recognised by content whatever this says.",
+    help=f"Language of G-code input: {', '.join(INPUTS)}; auto: by suffix ({suffix_summary()}), "
+    f"else {DEFAULT_INPUT}. Canonical text, JSON lines and Part 21 are recognised by content "
+    "whatever this says.",
 )
 
 #: ``--jobs/-j`` of the batch commands (check, run)

@@ -83,6 +83,11 @@ def get_dialect(name: str) -> Dialect:
     return dialect
 
 
+def suffix_summary() -> str:
+    """The suffixes ``--dialect auto`` recognises, for help texts (``.mpf/.spf siemens840d``)."""
+    return ", ".join(f"{'/'.join(e.suffixes)} {e.name}" for e in REGISTRY if e.suffixes)
+
+
 def dialect_for_suffix(suffix: str) -> str:
     """The input dialect a program suffix names, else :data:`DEFAULT_INPUT`."""
     return SUFFIXES.get(suffix.lower(), DEFAULT_INPUT)

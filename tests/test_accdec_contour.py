@@ -14,7 +14,7 @@ import pytest
 from kernel.axes import accdec
 from kernel.axes.contour import ContourMeter, circle_error, corner_error
 from kernel.interp.samples import Samples
-from kernel.path.build import ARC, LINE, SEGMENT_DTYPE
+from kernel.path.segments import ARC, LINE, SEGMENT_DTYPE
 
 T = 0.001
 R, F, TAU = 10.0, 100.0, 0.05

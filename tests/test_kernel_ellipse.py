@@ -19,7 +19,8 @@ from kernel.diagnostics import Diagnostic
 from kernel.interp.interpolate import sample
 from kernel.ir import canon
 from kernel.machine import AxisLimits, Controller, Machine, with_controller
-from kernel.path.build import LINE, build_path
+from kernel.path.build import build_path
+from kernel.path.segments import LINE
 from kernel.plan.planner import plan
 
 TOL = 0.001

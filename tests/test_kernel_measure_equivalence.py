@@ -21,7 +21,8 @@ from kernel.interp.interpolate import sample
 from kernel.interp.samples import Samples
 from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, AxisLimits, Machine, with_controller
-from kernel.path.build import ARC, build_path
+from kernel.path.build import build_path
+from kernel.path.segments import ARC
 from kernel.plan.planner import plan
 from kernel.report.measure import ATOL, RTOL, Report, measure
 

@@ -19,7 +19,8 @@ from kernel.interp import bulk
 from kernel.interp.bulk import MAPPED_BYTES
 from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE
-from kernel.path.build import SEGMENT_DTYPE, build_path
+from kernel.path.build import build_path
+from kernel.path.segments import SEGMENT_DTYPE
 
 ROWS = MAPPED_BYTES // SEGMENT_DTYPE.itemsize + 500  # just over the bulk threshold
 

@@ -15,8 +15,9 @@ from kernel.diagnostics import Diagnostic
 from kernel.interp.interpolate import sample
 from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, AxisLimits, Controller, Machine, with_controller
-from kernel.path.build import ARC, DWELL, HOLD, LINE, RAPID, TOOL_CHANGE, build_path
+from kernel.path.build import build_path
 from kernel.path.geometry import evaluate
+from kernel.path.segments import ARC, DWELL, HOLD, LINE, RAPID, TOOL_CHANGE
 from kernel.plan.planner import plan
 from kernel.report.measure import chord_error, cycle_time, measure
 

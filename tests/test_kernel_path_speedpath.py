@@ -25,17 +25,9 @@ from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.machine import AXIS_NAMES, DEFAULT_MACHINE, AxisLimits, Machine
 from kernel.path.blend import blend_corners
-from kernel.path.build import (
-    ARC,
-    HOLD,
-    LINE,
-    MIN_LENGTH,
-    RAPID,
-    SEGMENT_DTYPE,
-    Path,
-    build_path,
-)
-from kernel.path.build import builder as pb
+from kernel.path.build import build_path
+from kernel.path import builder as pb
+from kernel.path.segments import ARC, HOLD, LINE, MIN_LENGTH, RAPID, SEGMENT_DTYPE, Path
 from tests.data_paths import CORPUS_NGC
 
 HERE = FsPath(__file__).resolve().parent

@@ -20,8 +20,9 @@ from hypothesis import strategies as st
 from kernel.interp.interpolate import sample
 from kernel.ir import canon
 from kernel.machine import AxisLimits, Controller, Machine
-from kernel.path.build import ARC, HOLD, LINE, build_path
+from kernel.path.build import build_path
 from kernel.path.geometry import evaluate
+from kernel.path.segments import ARC, HOLD, LINE
 from kernel.plan.planner import plan
 
 RTOL, ATOL = 1e-6, 1e-7

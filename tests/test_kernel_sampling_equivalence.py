@@ -28,8 +28,9 @@ from kernel.interp.interpolate import _piece_of, sample
 from kernel.interp.samples import Samples
 from kernel.ir import canon
 from kernel.machine import AXIS_NAMES, DEFAULT_MACHINE, AxisLimits, Machine, with_controller
-from kernel.path.build import HOLD, build_path
+from kernel.path.build import build_path
 from kernel.path.geometry import evaluate, line_cache
+from kernel.path.segments import HOLD
 from kernel.plan.planner import Plan, plan
 
 GOLDEN = FsPath(__file__).resolve().parent / "golden" / "ngc"

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kernel.axes.contour import ContourMeter, ErrorTracker, distance_to_segments
-from kernel.path.build import ARC, LINE, SEGMENT_DTYPE
+from kernel.path.segments import ARC, LINE, SEGMENT_DTYPE
 
 
 def arc_row(

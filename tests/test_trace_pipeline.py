@@ -15,7 +15,7 @@ from kernel.axes.contour import circle_error
 from kernel.diagnostics import Diagnostic
 from kernel.interp.samples import Samples
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
-from kernel.path.build import ARC, SEGMENT_DTYPE
+from kernel.path.segments import ARC, SEGMENT_DTYPE
 from kernel.report.trace import Trace, column_dtypes, columns, setup
 from kernel.report.trace_writers import open_writer
 

@@ -33,19 +33,10 @@ from kernel.path.blend import blend_corners
 from kernel.path.builder import PathBuilder
 from kernel.path.columns import StraightRun, merged_columns, segment_table
 from kernel.path.segments import (
-    ARC,
-    CATEGORY_NAMES,
-    DWELL,
     FEED,
-    HOLD,
     LINE,
     MIN_LENGTH,
-    ORIENT,
-    PROBE,
-    RAPID,
     SEGMENT_DTYPE,
-    STOP,
-    TOOL_CHANGE,
     Path,
 )
 
@@ -96,24 +87,4 @@ def lines_table(
     return Path(seg)
 
 
-__all__ = [
-    "ARC",
-    "CATEGORY_NAMES",
-    "DWELL",
-    "FEED",
-    "HOLD",
-    "LINE",
-    "MIN_LENGTH",
-    "ORIENT",
-    "PROBE",
-    "RAPID",
-    "SEGMENT_DTYPE",
-    "STOP",
-    "TOOL_CHANGE",
-    "Path",
-    "StraightRun",
-    "build_path",
-    "lines_table",
-    "merged_columns",
-    "segment_table",
-]
+__all__ = ["StraightRun", "build_path", "lines_table", "merged_columns", "segment_table"]
