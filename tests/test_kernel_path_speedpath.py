@@ -24,9 +24,9 @@ from hypothesis import strategies as st
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.machine import AXIS_NAMES, DEFAULT_MACHINE, AxisLimits, Machine
+from kernel.path import builder as pb
 from kernel.path.blend import blend_corners
 from kernel.path.build import build_path
-from kernel.path import builder as pb
 from kernel.path.segments import ARC, HOLD, LINE, MIN_LENGTH, RAPID, SEGMENT_DTYPE, Path
 from tests.data_paths import CORPUS_NGC
 
