@@ -1,4 +1,4 @@
-"""Grbl 1.1 and NIST RS274/NGC v3 readers (gcode/dialects/{grbl,nist_v3}_reader.py; issue 7).
+"""Grbl 1.1 and NIST RS274/NGC v3 readers (gcode/grbl/reader.py, gcode/nist_v3/reader.py; issue 7).
 
 * Round trip over the whole corpus (readers.md §1): each program's IR written in the
   dialect (5 decimals) and read back by the dialect's reader is equivalent by

@@ -1,6 +1,6 @@
 """Writers (gcode.write.writer): IR -> text in each dialect, checked against hand-derived blocks.
 
-Each expectation is worked out from the dialect's vocabulary (gcode/dialects/*.py, book
+Each expectation is worked out from the dialect's vocabulary (gcode/*/dialect.py, book
 Appendix A Table A.2 for Fanuc, research/seed-sandia-full.md §5.3 for Sandia) and the
 arc rules of NISTIR 5970 §3.6.1 (G3 = positive rotation; XZ plane = (Z, X)).
 """
