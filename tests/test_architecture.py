@@ -121,3 +121,16 @@ def test_front_ends_import_no_cli() -> None:
         if name.split(".")[0] in ("gcode", "stepnc")
     }
     assert {k: v for k, v in offending.items() if v} == {}
+
+
+def test_every_package_has_its_paragraph_in_the_architecture_map() -> None:
+    """docs/architecture.md names every package folder (as ``path/`` or, under a folder it
+    describes, as ``name/``), so the map cannot fall behind the tree."""
+    text = (ROOT / "docs" / "architecture.md").read_text()
+    missing = []
+    for package in PACKAGES:
+        for init in sorted((ROOT / package).rglob("__init__.py")):
+            folder = init.parent.relative_to(ROOT)
+            if f"`{folder.as_posix()}/`" not in text and f"`{folder.name}/`" not in text:
+                missing.append(folder.as_posix())
+    assert missing == []
