@@ -4,6 +4,7 @@ events in the IR; the machine profile names and times them; check, plan and conv
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 
 import pytest
 
@@ -13,8 +14,13 @@ from gcode.grbl import reader as grbl_reader
 from gcode.haas import reader as haas_reader
 from gcode.ngc import interpreter as ngc
 from gcode.siemens import reader as siemens_reader
-from kernel.diagnostics import Diagnostic
+from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
+from kernel.machine import DEFAULT_MACHINE, MCode, parse_machine
+from kernel.path.build import build_path
+from kernel.path.segments import HOLD, LINE, MACHINE_FUNCTION
+from kernel.plan.planner import plan
+from kernel.report.measure import cycle_time
 
 FANUC = """%
 O0001
@@ -59,7 +65,9 @@ def test_text_form() -> None:
     assert canon.MachineFunction(5, q=2.5).to_text() == "MACHINE_FUNCTION(5, Q=2.5000)"
 
 
-@pytest.mark.parametrize("bad", ["MACHINE_FUNCTION()", "MACHINE_FUNCTION(3, R=1)", "MACHINE_FUNCTION(3.5)"])
+@pytest.mark.parametrize(
+    "bad", ["MACHINE_FUNCTION()", "MACHINE_FUNCTION(3, R=1)", "MACHINE_FUNCTION(3.5)"]
+)
 def test_bad_text_is_a_located_syntax_error(bad: str) -> None:
     with pytest.raises(Diagnostic) as info:
         list(canon.read_commands(["", bad], "x.canon"))
@@ -123,3 +131,93 @@ def test_rs274ngc_and_grbl_still_refuse_unknown_m_codes(read, code: str | None) 
     assert info.value.location.line == 3
     if code is not None:
         assert info.value.code == code
+
+
+# --------------------------------------------------------------------------- the profile
+PROFILE = """
+name = "mf"
+[axes.x]
+min = -100.0
+max = 100.0
+[axes.y]
+min = -100.0
+max = 100.0
+[axes.z]
+min = -100.0
+max = 100.0
+[m_codes]
+31 = { name = "chip conveyor on", time = 2.5 }
+M75 = { time = 1.25 }
+99 = { name = "door open", forbid = true }
+"""
+
+
+def _cuts(middle: canon.Command) -> list[canon.Command]:
+    src = Location("p.nc", 7, 1)
+    return [
+        canon.SetFeedRate(600.0),
+        canon.StraightFeed(10, 0, 0),
+        replace(middle, source=src),
+        canon.StraightFeed(20, 0, 0),
+        canon.ProgramEnd(),
+    ]
+
+
+def test_profile_m_codes_are_read() -> None:
+    m = parse_machine(PROFILE, "mf.toml")
+    assert m.m_codes == {
+        31: MCode("chip conveyor on", 2.5),
+        75: MCode("", 1.25),
+        99: MCode("door open", 0.0, True),
+    }
+    assert DEFAULT_MACHINE.m_codes == {}
+
+
+@pytest.mark.parametrize(
+    ("table", "code"),
+    [
+        ("31 = 2.0", "MACH-TYPE"),
+        ("X31 = {}", "MACH-KEY"),
+        ("31 = { wait = 1.0 }", "MACH-KEY"),
+        ("31 = { time = -1.0 }", "MACH-RANGE"),
+        ("31 = { forbid = 1 }", "MACH-TYPE"),
+        ('31 = {}\n"M31" = {}', "MACH-KEY"),
+    ],
+)
+def test_bad_m_codes_table_is_refused(table: str, code: str) -> None:
+    with pytest.raises(Diagnostic) as info:
+        parse_machine(PROFILE.split("[m_codes]")[0] + "[m_codes]\n" + table, "bad.toml")
+    assert info.value.code == code
+
+
+@pytest.mark.parametrize(("code", "seconds"), [(31, 2.5), (75, 1.25), (32, 0.0)])
+def test_machine_function_is_a_hold_of_its_profile_time(code: int, seconds: float) -> None:
+    m = parse_machine(PROFILE)
+    event = cycle_time(plan(build_path(_cuts(canon.MachineFunction(code)), m), m))
+    dwell = cycle_time(plan(build_path(_cuts(canon.Dwell(seconds)), m), m))
+    # the machine stops there exactly as at a dwell of that time; counted as "other"
+    assert event.total == pytest.approx(dwell.total, abs=1e-12)
+    assert event.other == pytest.approx(seconds, abs=1e-12) and event.dwell == 0.0
+    zero = cycle_time(plan(build_path(_cuts(canon.Dwell(0.0)), m), m))
+    assert event.total - zero.total == pytest.approx(seconds, abs=1e-9)
+    seg = build_path(_cuts(canon.MachineFunction(code)), m).segments
+    assert list(seg["kind"]) == [LINE, HOLD, LINE, HOLD]
+    assert seg["category"][1] == MACHINE_FUNCTION and seg["line"][1] == 7
+
+
+def test_programs_without_machine_functions_keep_their_cycle_time() -> None:
+    cmds = [c for c in _cuts(canon.Dwell(0.0)) if not isinstance(c, canon.Dwell)]
+    m = parse_machine(PROFILE)
+    plain = parse_machine(PROFILE.split("[m_codes]")[0])
+    assert cycle_time(plan(build_path(cmds, m), m)) == cycle_time(
+        plan(build_path(cmds, plain), plain)
+    )
+
+
+def test_forbidden_machine_function_is_a_located_error() -> None:
+    m = parse_machine(PROFILE)
+    with pytest.raises(Diagnostic) as info:
+        build_path(_cuts(canon.MachineFunction(99)), m)
+    d = info.value
+    assert (d.code, d.location.file, d.location.line) == ("PLAN-M-FORBIDDEN", "p.nc", 7)
+    assert "door open" in d.message
