@@ -14,6 +14,7 @@ from gcode.grbl import reader as grbl_reader
 from gcode.haas import reader as haas_reader
 from gcode.ngc import interpreter as ngc
 from gcode.siemens import reader as siemens_reader
+from kernel.check import RULES, CheckContext, check_stream, config_from_dict
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, MCode, parse_machine
@@ -148,7 +149,7 @@ max = 100.0
 [m_codes]
 31 = { name = "chip conveyor on", time = 2.5 }
 M75 = { time = 1.25 }
-99 = { name = "door open", forbid = true }
+199 = { name = "door open", forbid = true }
 """
 
 
@@ -168,7 +169,7 @@ def test_profile_m_codes_are_read() -> None:
     assert m.m_codes == {
         31: MCode("chip conveyor on", 2.5),
         75: MCode("", 1.25),
-        99: MCode("door open", 0.0, True),
+        199: MCode("door open", 0.0, True),
     }
     assert DEFAULT_MACHINE.m_codes == {}
 
@@ -217,7 +218,29 @@ def test_programs_without_machine_functions_keep_their_cycle_time() -> None:
 def test_forbidden_machine_function_is_a_located_error() -> None:
     m = parse_machine(PROFILE)
     with pytest.raises(Diagnostic) as info:
-        build_path(_cuts(canon.MachineFunction(99)), m)
+        build_path(_cuts(canon.MachineFunction(199)), m)
     d = info.value
     assert (d.code, d.location.file, d.location.line) == ("PLAN-M-FORBIDDEN", "p.nc", 7)
     assert "door open" in d.message
+
+
+# --------------------------------------------------------------------------- cnc check
+def _findings(config: dict[str, object]) -> list[tuple[str, str, int]]:
+    m = parse_machine(PROFILE)
+    ctx = CheckContext(m, config_from_dict(config, set(RULES)))
+    found = check_stream(fanuc_reader.interpret_text(FANUC.replace("M32", "M199"), "mf.nc"), ctx)
+    return [(f.rule, f.severity.value, f.location.line) for f in found if f.rule >= "CNC70"]
+
+
+def test_check_notes_unnamed_machine_functions_and_refuses_forbidden_ones() -> None:
+    # M31 and M75 are named; M262 is not (a note); M199 is forbidden (an error)
+    assert _findings({}) == [("CNC702", "note", 7), ("CNC703", "error", 8)]
+
+
+def test_check_unnamed_machine_function_severity_is_configurable() -> None:
+    assert _findings({"rules": {"CNC702": "warning"}})[0] == ("CNC702", "warning", 7)
+    assert _findings({"rules": {"CNC702": "off"}}) == [("CNC703", "error", 8)]
+
+
+def test_check_unsupported_knows_machine_function_codes() -> None:
+    assert ("CNC701", "error", 5) in _findings({"unsupported": ["M31"]})
