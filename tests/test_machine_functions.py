@@ -5,15 +5,22 @@ from __future__ import annotations
 
 import json
 from dataclasses import replace
+from pathlib import Path
 
 import pytest
+from click.testing import CliRunner
 
+from cli import convert
 from gcode.fanuc import reader as fanuc_reader
 from gcode.fanuc_lathe import reader as lathe_reader
 from gcode.grbl import reader as grbl_reader
 from gcode.haas import reader as haas_reader
 from gcode.ngc import interpreter as ngc
+from gcode.readers import read_text
 from gcode.siemens import reader as siemens_reader
+from gcode.write.options import WriterOptions
+from gcode.write.report import ConversionReport
+from gcode.write.writer import write
 from kernel.check import RULES, CheckContext, check_stream, config_from_dict
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
@@ -244,3 +251,91 @@ def test_check_unnamed_machine_function_severity_is_configurable() -> None:
 
 def test_check_unsupported_knows_machine_function_codes() -> None:
     assert ("CNC701", "error", 5) in _findings({"unsupported": ["M31"]})
+
+
+# --------------------------------------------------------------------------- cnc convert
+PROGRAM = FANUC.replace("M31\n", "M03 S1000\nM31\n").replace("M32", "M32 (conveyor off)")
+
+
+def _round_trip(target: str) -> tuple[list[tuple[int, float | None, float | None]], list[str]]:
+    report = ConversionReport()
+    text = "\n".join(write(fanuc_reader.interpret_text(PROGRAM, "p.nc"), target, None, report))
+    back = read_text(text, target, "out")
+    events = [(c.code, c.p, c.q) for c in back if isinstance(c, canon.MachineFunction)]
+    return events, [f"{c.code}:{c.source.line if c.source else 0}" for c in report.changes]
+
+
+@pytest.mark.parametrize("target", ["fanuc", "haas"])
+def test_convert_to_fanuc_family_keeps_the_m_codes(target: str) -> None:
+    events, changes = _round_trip(target)
+    assert events == [(31, None, None), (75, None, None), (262, 5.0, 2.0), (32, None, None)]
+    assert changes == []
+
+
+def test_convert_to_siemens_keeps_the_m_codes_and_reports_p_and_q() -> None:
+    events, changes = _round_trip("siemens840d")
+    assert events == [(31, None, None), (75, None, None), (262, None, None), (32, None, None)]
+    assert changes == ["CONV-MACHINE-FUNCTION:8", "CONV-MACHINE-FUNCTION:8"]
+
+
+def test_siemens_to_fanuc_keeps_the_m_codes() -> None:
+    text = "G90 G71 G17\nG0 X0 Y0\nM31\nG1 X10 F100 M75\nM30\n"
+    out = "\n".join(write(siemens_reader.interpret_text(text, "s.mpf"), "fanuc"))
+    assert "M31" in out.splitlines() and "M75" in out.splitlines()
+
+
+def test_a_code_the_target_defines_itself_is_not_written_through() -> None:
+    text = FANUC.replace("M31", "M97 P100")  # a Fanuc's PLC code; Haas's local call
+    report = ConversionReport()
+    out = list(write(fanuc_reader.interpret_text(text, "p.nc"), "haas", None, report))
+    assert not any(line.startswith("M97") for line in out)
+    assert [(c.code, c.source.line if c.source else 0) for c in report.changes] == [
+        ("CONV-MACHINE-FUNCTION", 5)
+    ]
+
+
+@pytest.mark.parametrize("target", ["rs274ngc", "grbl", "nist_v3", "sandia"])
+def test_targets_that_would_refuse_them_report_every_one(target: str) -> None:
+    report = ConversionReport()
+    out = list(write(fanuc_reader.interpret_text(PROGRAM, "p.nc"), target, None, report))
+    mf = [c for c in report.changes if c.code == "CONV-MACHINE-FUNCTION"]
+    assert [(c.kind, c.source.line if c.source else 0) for c in mf] == [
+        ("dropped", 6),
+        ("dropped", 7),
+        ("dropped", 8),
+        ("dropped", 9),
+    ]
+    assert not any(line.split()[:1] in (["M31"], ["M75"]) for line in out)
+    assert any("M31" in line and "not written" in line for line in out)  # a comment says so
+
+
+@pytest.mark.parametrize("target", ["rs274ngc", "grbl", "sandia"])
+def test_on_missing_refuse_makes_it_a_located_error(target: str) -> None:
+    with pytest.raises(Diagnostic) as info:
+        list(
+            write(
+                fanuc_reader.interpret_text(FANUC, "p.nc"),  # no spindle: Sandia has none
+                target,
+                WriterOptions(on_missing="refuse"),
+            )
+        )
+    d = info.value
+    assert (d.code, d.location.file, d.location.line) == ("CONV-MACHINE-FUNCTION", "p.nc", 5)
+
+
+def test_rs274ngc_output_still_reads_in_the_rs274ngc_reader() -> None:
+    out = "\n".join(write(fanuc_reader.interpret_text(PROGRAM, "p.nc"), "rs274ngc"))
+    assert not any(isinstance(c, canon.MachineFunction) for c in ngc.interpret_text(out, "o.ngc"))
+
+
+def test_cli_convert_refuses_with_on_missing_refuse(tmp_path: Path) -> None:
+    src = tmp_path / "p.nc"
+    src.write_text(PROGRAM)
+    ok = CliRunner().invoke(convert.command, [str(src), "--from", "fanuc", "--to", "haas"])
+    assert ok.exit_code == 0 and "M262 P5. Q2." in ok.output
+    bad = CliRunner().invoke(
+        convert.command,
+        [str(src), "--from", "fanuc", "--to", "rs274ngc", "--on-missing", "refuse"],
+    )
+    assert bad.exit_code == 1
+    assert "p.nc:6:1: error[CONV-MACHINE-FUNCTION]" in bad.output
