@@ -6,7 +6,8 @@ arcs (:mod:`gcode.core.arcs`), canned cycles (:mod:`gcode.ngc.cycles`), cutter c
 (:mod:`gcode.ngc.comp.cutter_comp`), offsets (:mod:`gcode.ngc.offsets`) and M codes run exactly as
 there. Fanuc-only here: G04 X/P, G05.1, G06.2 NURBS, G09, G10 L10-L13 offsets, G15/G16,
 G31 skip (one shot), G50/G51, G50.1/G51.1, G61 = exact stop, G68/G69, G92 S, G44, K repeat
-counts, M98/M99/G65/G66 (returned to the flow as actions), Haas G187/G47/M97/M50.
+counts, M98/M99/G65/G66 (returned to the flow as actions), Haas G187/G47/M97/M50, and M
+codes the control does not define, which go to the machine as MACHINE_FUNCTION events.
 """
 
 from __future__ import annotations
