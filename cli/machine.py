@@ -74,6 +74,15 @@ max_speed = 12000.0
 # file = "tools.tbl"
 # units = "mm"
 
+# M codes the machine's PLC takes (MACHINE_FUNCTION events of Fanuc, Haas and Siemens
+# programs): a name, the seconds the machine stops there (default 0) and `forbid = true` for
+# one it must never be sent. `cnc check` notes M codes not listed here (CNC702).
+[m_codes]
+# 31 = { name = "chip conveyor on", time = 0.0 }
+# 32 = { name = "chip conveyor off", time = 0.0 }
+# 10 = { name = "clamp", time = 1.5 }
+# 75 = { name = "tool setter", forbid = true }
+
 # `cnc check` settings (docs/check-rules.md): uncomment what applies to your shop.
 [check]
 # safe_z = 5.0                                        # mm, work coordinates
@@ -123,7 +132,13 @@ def machine_dict(m: Machine) -> dict[str, Any]:
             del d["servo"]
         axes[a.name] = d
     ctrl = {f.name: getattr(m.controller, f.name) for f in fields(Controller)}
-    return {"name": m.name, "axes": axes, "controller": ctrl, **m.extra}
+    out: dict[str, Any] = {"name": m.name, "axes": axes, "controller": ctrl}
+    if m.m_codes:
+        out["m_codes"] = {
+            str(code): {"name": spec.name, "time": spec.time, "forbid": spec.forbid}
+            for code, spec in sorted(m.m_codes.items())
+        }
+    return {**out, **m.extra}
 
 
 def machine_toml(m: Machine) -> str:
@@ -132,8 +147,11 @@ def machine_toml(m: Machine) -> str:
     for name, axis in d["axes"].items():
         _table(f"axes.{name}", axis, out)
     _table("controller", d["controller"], out)
+    if "m_codes" in d:  # one inline table per code: `31 = { name = ..., time = ... }`
+        out.append("\n[m_codes]")
+        out.extend(f"{code} = {_value(spec)}" for code, spec in d["m_codes"].items())
     for k, v in d.items():
-        if k in ("name", "axes", "controller"):
+        if k in ("name", "axes", "controller", "m_codes"):
             continue
         if isinstance(v, dict):
             _table(k, v, out)

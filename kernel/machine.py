@@ -4,10 +4,12 @@ A profile is a TOML file (DESIGN.md, *The machine profile*); :data:`DEFAULT_MACH
 built-in 3-axis mill used when none is given. Units are the kernel's: mm (deg for rotary
 axes), seconds, and their powers. Every field is documented in ``docs/machine-profile.md``.
 
-Tables other than ``[axes.*]`` and ``[controller]`` (``[spindle]``, ``[servo]``,
-``[tools]``, ...) belong to other parts of the toolchain; they are kept verbatim in
-:attr:`Machine.extra`. Inside the two tables read here an unknown key is an error
-(``MACH-KEY``), so a misspelt limit never silently falls back to a default.
+``[m_codes]`` names the M codes the machine's PLC takes (MACHINE_FUNCTION events), with the
+time each holds the program and whether it is forbidden. Tables other than ``[axes.*]``,
+``[controller]`` and ``[m_codes]`` (``[spindle]``, ``[servo]``, ``[tools]``, ...) belong to
+other parts of the toolchain; they are kept verbatim in :attr:`Machine.extra`. Inside the
+tables read here an unknown key is an error (``MACH-KEY``), so a misspelt limit never
+silently falls back to a default.
 """
 
 from __future__ import annotations
@@ -93,13 +95,28 @@ class Controller:
 
 
 @dataclass(frozen=True, slots=True)
+class MCode:
+    """One ``[m_codes]`` entry: an M code the machine's PLC takes (a MACHINE_FUNCTION).
+
+    ``time``: seconds the machine holds there (the program waits for the PLC's answer);
+    ``forbid``: the machine must never be sent it (a located error in plan and check).
+    """
+
+    name: str = ""
+    time: float = 0.0
+    forbid: bool = False
+
+
+@dataclass(frozen=True, slots=True)
 class Machine:
-    """A machine profile: named axes in order, controller settings, other tables verbatim."""
+    """A machine profile: named axes in order, controller settings, the PLC's M codes,
+    other tables verbatim."""
 
     name: str
     axes: tuple[AxisLimits, ...]
     controller: Controller = field(default_factory=Controller)
     extra: dict[str, Any] = field(default_factory=dict, compare=False)
+    m_codes: dict[int, MCode] = field(default_factory=dict, hash=False)
 
     @property
     def axis_names(self) -> tuple[str, ...]:
@@ -227,6 +244,46 @@ def _controller(table: object, loc: Location) -> Controller:
     return Controller(**kw)
 
 
+_M_CODE_KEYS = {"name", "time", "forbid"}
+
+
+def _m_codes(table: object, loc: Location) -> dict[int, MCode]:
+    """``[m_codes]``: ``31 = {name = "chip conveyor on", time = 2.0, forbid = false}``."""
+    if not isinstance(table, dict):
+        raise Diagnostic("MACH-TYPE", "[m_codes] must be a table", loc)
+    out: dict[int, MCode] = {}
+    for key, entry in table.items():
+        digits = key[1:] if key[:1] in ("M", "m") else key
+        if not digits.isdigit() or len(digits) > 8:
+            raise Diagnostic(
+                "MACH-KEY",
+                f"[m_codes]: {key!r} is not an M code (31 or M31, 8 digits at most)",
+                loc,
+            )
+        code = int(digits)
+        what = f"m_codes.{key}"
+        if code in out:
+            raise Diagnostic("MACH-KEY", f"[m_codes]: M{code} given twice", loc)
+        if not isinstance(entry, dict):
+            raise Diagnostic("MACH-TYPE", f"{what} must be a table (name, time, forbid)", loc)
+        unknown = set(entry) - _M_CODE_KEYS
+        if unknown:
+            raise Diagnostic(
+                "MACH-KEY", f"{what}: unknown key(s) {', '.join(sorted(unknown))}", loc
+            )
+        name = entry.get("name", "")
+        if not isinstance(name, str):
+            raise Diagnostic("MACH-TYPE", f"{what}.name must be a string", loc)
+        forbid = entry.get("forbid", False)
+        if not isinstance(forbid, bool):
+            raise Diagnostic("MACH-TYPE", f"{what}.forbid must be true or false", loc)
+        time = _number(entry.get("time", 0.0), f"{what}.time", loc)
+        if not 0.0 <= time < math.inf:
+            raise Diagnostic("MACH-RANGE", f"{what}.time must be a finite number >= 0", loc)
+        out[code] = MCode(name, time, forbid)
+    return out
+
+
 def machine_from_dict(data: dict[str, Any], file: str | None = None) -> Machine:
     """Build a :class:`Machine` from parsed TOML; raises ``MACH-*`` diagnostics."""
     loc = Location(file)
@@ -239,8 +296,9 @@ def machine_from_dict(data: dict[str, Any], file: str | None = None) -> Machine:
     name = data.get("name", file or "machine")
     if not isinstance(name, str):
         raise Diagnostic("MACH-TYPE", "name must be a string", loc)
-    extra = {k: v for k, v in data.items() if k not in ("axes", "controller", "name")}
-    return Machine(name, axes, controller, extra)
+    m_codes = _m_codes(data.get("m_codes", {}), loc)
+    extra = {k: v for k, v in data.items() if k not in ("axes", "controller", "name", "m_codes")}
+    return Machine(name, axes, controller, extra, m_codes)
 
 
 def parse_machine(text: str, file: str | None = None) -> Machine:
@@ -256,4 +314,10 @@ def with_controller(machine: Machine, **changes: Any) -> Machine:
     """A copy of ``machine`` with some controller fields replaced (validated like TOML)."""
     current = {f: getattr(machine.controller, f) for f in _CONTROLLER_FIELDS}
     current.update(changes)
-    return Machine(machine.name, machine.axes, _controller(current, Location()), machine.extra)
+    return Machine(
+        machine.name,
+        machine.axes,
+        _controller(current, Location()),
+        machine.extra,
+        machine.m_codes,
+    )

@@ -15,12 +15,13 @@ from gcode.fanuc.options import FANUC, HAAS, Flavour
 from gcode.haas import reader as haas_reader
 from gcode.ngc.interpreter import InterpreterOptions
 from kernel.diagnostics import Diagnostic
+from kernel.ir import canon
 
 HEAD = "%\nO0001\nG21 G90 G17\nG00 X0 Y0\n"  # the bad block is line 5
 
 CASES = [
     ("G07.1 C20.", "FANUC-UNKNOWN-G"),
-    ("M123", "FANUC-UNKNOWN-M"),
+    ("M123456789", "FANUC-UNKNOWN-M"),  # M123: a machine function (issue 14)
     ("G01 X1.2.3 F100.", "FANUC-SYNTAX"),
     ("G01 X F100.", "FANUC-SYNTAX"),
     ("G01 X1. (open comment", "FANUC-COMMENT"),
@@ -101,9 +102,10 @@ def test_haas_refuses_engraving_and_fanuc_does_not_know_m97() -> None:
     with pytest.raises(Diagnostic) as info:
         list(haas_reader.interpret_text(HEAD + "G47 P0 X0 Y0 I0 J.1 R.1 Z-.01 F10.\n", "e.nc"))
     assert (info.value.code, info.value.location.line) == ("HAAS-ENGRAVING", 5)
-    with pytest.raises(Diagnostic) as info:
-        list(fanuc_reader.interpret_text(HEAD + "M97 P100\n", "e.nc"))
-    assert info.value.code == "FANUC-UNKNOWN-M"
+    # a Fanuc hands the M97 it does not define to the machine (issue 14)
+    cmds = list(fanuc_reader.interpret_text(HEAD + "M97 P100\nM30\n", "e.nc"))
+    (event,) = [c for c in cmds if isinstance(c, canon.MachineFunction)]
+    assert (event.code, event.p, event.source.line) == (97, 100.0, 5)
 
 
 ALPHABET = "GXYZIJKRFPQLMNO#[]=+-*/.0123456789 ()%;\n" + "ABCDEHSTUVW"

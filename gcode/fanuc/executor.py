@@ -6,7 +6,8 @@ arcs (:mod:`gcode.core.arcs`), canned cycles (:mod:`gcode.ngc.cycles`), cutter c
 (:mod:`gcode.ngc.comp.cutter_comp`), offsets (:mod:`gcode.ngc.offsets`) and M codes run exactly as
 there. Fanuc-only here: G04 X/P, G05.1, G06.2 NURBS, G09, G10 L10-L13 offsets, G15/G16,
 G31 skip (one shot), G50/G51, G50.1/G51.1, G61 = exact stop, G68/G69, G92 S, G44, K repeat
-counts, M98/M99/G65/G66 (returned to the flow as actions), Haas G187/G47/M97/M50.
+counts, M98/M99/G65/G66 (returned to the flow as actions), Haas G187/G47/M97/M50, and M
+codes the control does not define, which go to the machine as MACHINE_FUNCTION events.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from gcode.core.codes import G_GROUPS, Words
+from gcode.core.machine_functions import machine_function
 from gcode.fanuc import cycles, moves, offsets
 from gcode.fanuc.lexer import WordValue
 from gcode.fanuc.state import Action, ExecutorState, ModalCall
@@ -291,16 +293,17 @@ class Executor(ExecutorState):
         if 530 in gset:
             w.g[1] = 0  # G53 positions at rapid traverse (one shot)
         # ---- M codes
+        machine: list[int] = []  # M codes the control hands to the machine (PLC)
         for m in ms:
-            if m in _M_FLOW:
+            if m in _M_FLOW and (m != 97 or self.fl.local_call):
                 continue
             if m == 29:  # rigid tapping mode: G84 taps synchronised anyway
                 continue
             m = ngc_m_code(m, self.fl.pallet_m50)
             group = _M_PASS.get(m)
             if group is None:
-                at = Location(loc.file, loc.line, cols.get(f"M{m}", loc.column))
-                raise Diagnostic("FANUC-UNKNOWN-M", f"unsupported M code M{m:02d}", at)
+                machine.append(m)
+                continue
             if group in w.m:
                 raise Diagnostic("FANUC-M-GROUP-CONFLICT", "two M codes of one group", loc)
             w.m[group] = m
@@ -308,6 +311,8 @@ class Executor(ExecutorState):
                 w.values["r"] = v["P"] % 360.0  # Haas M19 P angle
             if m == 19 and "q" in w.values:
                 w.values.pop("q")
+        if machine:
+            machine_events(self, machine, gs, ms, v, w, cols, loc)
         # ---- motion group bookkeeping and transforms
         if 1 in w.g and w.g[1] != 382 and 530 not in gset:
             self.motion = w.g[1]
@@ -351,9 +356,7 @@ class Executor(ExecutorState):
         for m in ms:
             if m == 98:
                 out.append(self._m98(v, loc))
-            elif m == 97:
-                if not self.fl.local_call:
-                    raise Diagnostic("FANUC-UNKNOWN-M", "unsupported M code M97", loc)
+            elif m == 97 and self.fl.local_call:  # else a machine function (block above)
                 if "P" not in v:
                     raise Diagnostic("FANUC-CALL", "M97 without P (sequence number)", loc)
                 out.append(Action("m97", 0, _count(v.get("L", 1.0), loc), seq=int(v["P"])))
@@ -413,6 +416,30 @@ class Executor(ExecutorState):
 
 def _mode(control: int) -> MotionMode:
     return MotionMode.EXACT_STOP if control == 610 else MotionMode.CONTINUOUS
+
+
+def machine_events(
+    ex: ExecutorState,
+    codes: list[int],
+    gs: list[int],
+    ms: list[int],
+    v: dict[str, float],
+    w: Words,
+    cols: dict[str, int],
+    loc: Location,
+) -> None:
+    """Emit a MACHINE_FUNCTION for each M code of the block the control does not define,
+    before the block's other commands. The block's P and Q go with it when it is the block's only
+    such code and no G code or M19/M97/M98/M99 of the block takes them."""
+    taken = bool(gs) or any(m in (19, 97, 98, 99) and m not in codes for m in ms)
+    own = len(codes) == 1 and not taken
+    p = v.get("P") if own else None
+    q = v.get("Q") if own else None
+    if q is not None:
+        w.values.pop("q", None)
+    for m in codes:
+        at = Location(loc.file, loc.line, cols.get(f"M{m}", loc.column))
+        ex.ip.emit(machine_function(m, p, q, at, "FANUC-UNKNOWN-M"))
 
 
 def _code(val: int | float, letter: str, loc: Location) -> int:

@@ -14,7 +14,7 @@ from collections.abc import Callable, Iterator, Sequence
 
 from gcode.core import arcs
 from gcode.core.codes import G_GROUPS, Words
-from gcode.fanuc.executor import _M_PASS, Executor, ngc_m_code
+from gcode.fanuc.executor import _M_PASS, Executor, machine_events, ngc_m_code
 from gcode.fanuc.state import Action
 from gcode.fanuc.turning.cycles import ProfileStep, cycle_moves
 from kernel.diagnostics import Diagnostic, Location
@@ -121,13 +121,17 @@ class Lathe:
             if letter in v:
                 w.values[letter.lower()] = v[letter]
                 w.columns[letter.lower()] = cols.get(letter, loc.column)
+        machine: list[int] = []  # M codes the control hands to the machine (PLC)
         for m in ms:
-            if m in (98, 99, 97, 29):
+            if m in (98, 99, 29) or (m == 97 and ex.fl.local_call):
                 continue
             group = _M_PASS.get(m)
             if group is None:
-                raise Diagnostic("FANUC-UNKNOWN-M", f"unsupported M code M{m:02d}", loc)
+                machine.append(m)
+                continue
             w.m[group] = ngc_m_code(m, False)
+        if machine:
+            machine_events(ex, machine, gs, ms, v, w, cols, loc)
         run = motion if motion is not None else (ex.motion if has_axis else None)
         moving = has_axis and w.g.get(0) is None
         if run in _SINGLE and (motion is not None or moving):

@@ -52,6 +52,11 @@ DIALECT = Dialect(
     tool_number=None,
     rigid_tap=None,
     io_codes=False,
+    own_m_codes=frozenset(
+        {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 19, 29, 30, 48, 49, 50, 60, 97, 98, 99}
+    ),  # the reader's own
+    machine_function="M{code:02d}",  # M codes it does not define go to the PLC
+    machine_function_words="PQ",
     xy_rotation=None,  # G68 rotates the commanded path itself; the IR keeps it apart
     cutter_comp=None,
     comp_radius_set="G10 L12 P{register} R{radius}",

@@ -10,6 +10,7 @@ functions" and "List of addresses".
 from __future__ import annotations
 
 from gcode.core import linuxcnc as lc
+from gcode.core.machine_functions import machine_function
 from gcode.siemens import motion
 from gcode.siemens.blocks import Assign, Block, Word
 from gcode.siemens.cycles import run_cycle
@@ -130,13 +131,14 @@ class Executor(Machine):
             return
         if a == "M":
             code = int(value) if value == int(value) else -1
-            if code not in M_CODES:
+            if code < 0:
                 raise Diagnostic(
                     "SIEM-M-CODE", f"M{value:g} is not supported by this reader", self._col(col)
                 )
             if code in vals.m:
                 raise Diagnostic("SIEM-M-CODE", f"M{code} twice in one block", self._col(col))
             vals.m.append(code)
+            vals.cols[f"M{code}"] = col  # an M code outside M_CODES: a machine function
             return
         if a in vals.v:
             raise Diagnostic("SIEM-WORD", f"{a} twice in one block", self._col(col))
@@ -190,6 +192,10 @@ class Executor(Machine):
         if "D" in v:
             self._edge(vals)
         self._spindle(vals)
+        for code in m:
+            if code not in M_CODES:  # the PLC's (M_CODES are the NC's own)
+                at = self._col(vals.cols[f"M{code}"])
+                self.emit(machine_function(code, None, None, at, "SIEM-M-CODE"))
         if dwell:
             motion.dwell(self, vals)
         if 6 in g:

@@ -131,6 +131,29 @@ def event(attr: str) -> Callable[[WriterContext, canon.Command], None]:
     return handler
 
 
+def machine_function(w: WriterContext, c: canon.MachineFunction) -> None:
+    """``M<code>`` (with P and Q) where the target hands M codes to its PLC; else, or where
+    the target's own M code of that number means something else, reported (never silently
+    dropped) or refused with ``--on-missing refuse``."""
+    w.flush()
+    what = f"machine function {c.word}"
+    if w.d.machine_function is None:
+        w.lacking("CONV-MACHINE-FUNCTION", f"{what} (it refuses M codes it does not define)")
+        return
+    if c.code in w.d.own_m_codes:
+        w.lacking("CONV-MACHINE-FUNCTION", f"{what} (its own {c.word} means something else)")
+        return
+    words = [w.d.machine_function.format(code=c.code)]
+    for letter, value in (("P", c.p), ("Q", c.q)):
+        if value is None:
+            continue
+        if letter in w.d.machine_function_words:
+            words.append(letter + w.fmt.number(value))
+        else:
+            w.lacking("CONV-MACHINE-FUNCTION", f"{letter} word on {c.word}", note=False)
+    w.block(*words)
+
+
 def pallet(w: WriterContext, c: canon.PalletShuttle) -> None:
     if w.d.pallet is None:
         w.lacking("CONV-UNSUPPORTED", "pallet shuttle code")

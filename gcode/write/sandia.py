@@ -445,6 +445,8 @@ class SandiaWriter:
             self.line("Deactivate")  # the device goes inactive (Figure 3): nothing runs after
             self.line("# end of program")
             self.ended = True
+        elif isinstance(c, canon.MachineFunction):
+            self.lacking("CONV-MACHINE-FUNCTION", f"machine function {c.word} (M code for the PLC)")
         elif self.no_op(c):
             return
         else:

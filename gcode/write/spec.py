@@ -116,6 +116,14 @@ class Dialect:
     coolant_off: str = "M9"
     feed_override: tuple[str, str] | None = ("M50 P1", "M50 P0")  # enable, disable
     speed_override: tuple[str, str] | None = ("M51 P1", "M51 P0")
+    # ---- machine functions (MACHINE_FUNCTION: M codes for the PLC): how one is written,
+    # None when the control refuses an M code it does not define; and the letters (P, Q)
+    # that may follow it
+    machine_function: str | None = None  # "M{code:02d}"
+    machine_function_words: str = ""
+    # the M codes the control defines itself: one of them written for the PLC would mean
+    # something else there (Haas M97 is a call, Fanuc M98 ...)
+    own_m_codes: frozenset[int] = frozenset()
     # ---- program flow
     stop: str = "M0"
     optional_stop: str | None = "M1"

@@ -347,6 +347,8 @@ def codes_of(cmd: canon.Command) -> tuple[str, ...]:
             return ("M4",)
         case canon.ChangeTool():
             return ("M6",)
+        case canon.MachineFunction(code=code):
+            return (f"M{code}",)
     return ()
 
 
@@ -364,6 +366,39 @@ def unsupported_code(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> s
     if bad:
         return f"{'/'.join(bad)} is not supported by the target controller ({cmd.NAME})"
     return None
+
+
+@rule(
+    "CNC702",
+    "machine-function-unknown",
+    Severity.NOTE,
+    "An M code for the machine's PLC (MACHINE_FUNCTION) that the profile's [m_codes] does "
+    "not name.",
+    kinds=(canon.MachineFunction,),
+)
+def machine_function_unknown(
+    cmd: canon.MachineFunction, st: CheckState, ctx: CheckContext
+) -> str | None:
+    if cmd.code in ctx.machine.m_codes:
+        return None
+    return f"M{cmd.code} goes to the machine's PLC but the profile's [m_codes] does not name it"
+
+
+@rule(
+    "CNC703",
+    "machine-function-forbidden",
+    Severity.ERROR,
+    "An M code the profile's [m_codes] forbids (forbid = true).",
+    kinds=(canon.MachineFunction,),
+)
+def machine_function_forbidden(
+    cmd: canon.MachineFunction, st: CheckState, ctx: CheckContext
+) -> str | None:
+    spec = ctx.machine.m_codes.get(cmd.code)
+    if spec is None or not spec.forbid:
+        return None
+    what = f" ({spec.name})" if spec.name else ""
+    return f"M{cmd.code}{what} is forbidden on this machine ([m_codes] forbid = true)"
 
 
 # --------------------------------------------------------------------------- CNC8xx comp

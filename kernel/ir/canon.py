@@ -15,7 +15,10 @@ Additions, each because a seed or the reference interpreter requires it:
   (NISTIR 5970 §3.5.3 says a maximum deviation setter is missing; G64 P supplies it);
 * the feed and spindle modes (G93/G94/G95, G96/G97; book Appendix A) and the synchronised
   feed per revolution of ``START_SPEED_FEED_SYNCH`` (G33, G76, rigid tapping), which the
-  kernel needs to turn a program into time.
+  kernel needs to turn a program into time;
+* ``MACHINE_FUNCTION`` (our extension, docs/canonical-ir.md): an M code the control does not
+  define and hands to the machine's PLC (chip conveyor, clamps, ...), kept so that planning,
+  checks and conversion see it rather than a reader refusing the program.
 
 Every command may carry ``source`` (file, line, column, and for STEP-NC the workingstep id)
 so that reports and errors point back to the program.
@@ -620,6 +623,35 @@ class ProgramEnd(Command):
     NAME: ClassVar[str] = "PROGRAM_END"
 
 
+# --------------------------------------------------------------------------- machine functions
+@dataclass(frozen=True, slots=True)
+class MachineFunction(Command):
+    """An M code the control passes to the machine (its PLC): ``code`` with the block's
+    optional P and Q values. Our extension; the machine profile's ``[m_codes]`` names it
+    and gives its time (kernel.machine). Text form ``MACHINE_FUNCTION(31)``, with
+    ``P=``/``Q=`` arguments when the block gave them: ``MACHINE_FUNCTION(59, P=1101.0000)``."""
+
+    NAME: ClassVar[str] = "MACHINE_FUNCTION"
+    code: int
+    p: float | None = None
+    q: float | None = None
+
+    def to_text(self) -> str:
+        """``MACHINE_FUNCTION(code[, P=p][, Q=q])``: P and Q are named, so either may be
+        absent without the other shifting place."""
+        extra = "".join(
+            f", {k}={format_arg(float(v))}"
+            for k, v in (("P", self.p), ("Q", self.q))
+            if v is not None
+        )
+        return f"{self.NAME}({self.code}{extra})"
+
+    @property
+    def word(self) -> str:
+        """The code as a G-code word: ``M31``."""
+        return f"M{self.code}"
+
+
 # --------------------------------------------------------------------------- LinuxCNC additions
 # Commands LinuxCNC's rs274 prints that NISTIR 5970 lacks and that carry data the kernel or
 # the readers of reference outputs use (offsets, rotation, rigid tapping, tool-table edits).
@@ -878,6 +910,8 @@ def parse_command(tc: TextCommand, file: str | None = None) -> Command:
             )
         if cls is UseToolLengthOffset and len(args) == 9:  # LinuxCNC: x y z, a b c, u v w
             return UseToolLengthOffset(float(args[2]), source=loc)
+        if cls is MachineFunction:
+            return _machine_function(args, loc)
         if cls is SetSpindleMode and len(args) == 2 and "." not in args[0]:
             # LinuxCNC: spindle index (an integer), css max (0: G97)
             return SetSpindleMode(float(args[1]), float(args[1]) > 0, source=loc)
@@ -907,6 +941,22 @@ def parse_command(tc: TextCommand, file: str | None = None) -> Command:
         raise Diagnostic(
             "CANON-SYNTAX", f"cannot read {tc.name}({', '.join(tc.args)}): {exc}", loc
         ) from None
+
+
+def _machine_function(args: list[str], loc: Location) -> MachineFunction:
+    """``MACHINE_FUNCTION(code[, P=p][, Q=q])`` back into its command."""
+    if not args:
+        raise ValueError("no M code")
+    named: dict[str, float] = {}
+    for a in args[1:]:
+        key, sep, value = a.partition("=")
+        if not sep or key not in ("P", "Q") or key in named:
+            raise ValueError(f"argument {a!r} is not P=value or Q=value")
+        named[key] = float(value)
+    code = float(args[0])
+    if code != int(code) or code < 0:
+        raise ValueError(f"M code {args[0]} is not a whole number >= 0")
+    return MachineFunction(int(code), named.get("P"), named.get("Q"), source=loc)
 
 
 def read_commands(

@@ -33,6 +33,7 @@ from kernel.path.segments import (
     FEED,
     HOLD,
     LINE,
+    MACHINE_FUNCTION,
     MIN_LENGTH,
     ORIENT,
     PROBE,
@@ -263,6 +264,19 @@ class PathBuilder:
         p = self.st.position
         self._add_row(HOLD, category, p, p, cmd, idx, 0.0, True, duration=max(0.0, seconds))
 
+    def machine_function(self, cmd: canon.MachineFunction, idx: int) -> None:
+        """An M code for the PLC: the machine stops and waits ``[m_codes]`` time (0 s for
+        one the profile does not name); a forbidden one is a located ``PLAN-M-FORBIDDEN``."""
+        spec = self.machine.m_codes.get(cmd.code)
+        if spec is not None and spec.forbid:
+            what = f" ({spec.name})" if spec.name else ""
+            raise Diagnostic(
+                "PLAN-M-FORBIDDEN",
+                f"M{cmd.code}{what} is forbidden on this machine ([m_codes] forbid = true)",
+                cmd.source,
+            )
+        self.hold(cmd, spec.time if spec is not None else 0.0, MACHINE_FUNCTION, idx)
+
     def _add_row(
         self,
         kind: int,
@@ -399,6 +413,8 @@ class PathBuilder:
                 self.hold(cmd, c.program_stop_time, STOP, idx)
             case canon.ProgramEnd():
                 self.hold(cmd, 0.0, STOP, idx)
+            case canon.MachineFunction():
+                self.machine_function(cmd, idx)
             case canon.UseLengthUnits():
                 st.mm = cmd.units.mm_per_unit
             case canon.SetOriginOffsets():

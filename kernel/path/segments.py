@@ -13,8 +13,17 @@ import numpy as np
 # segment kinds
 LINE, ARC, HOLD = 0, 1, 2
 # categories, for the cycle-time breakdown (kernel.report.measure)
-FEED, RAPID, PROBE, DWELL, TOOL_CHANGE, ORIENT, STOP = range(7)
-CATEGORY_NAMES = ("feed", "rapid", "probe", "dwell", "tool_change", "orient", "stop")
+FEED, RAPID, PROBE, DWELL, TOOL_CHANGE, ORIENT, STOP, MACHINE_FUNCTION = range(8)
+CATEGORY_NAMES = (
+    "feed",
+    "rapid",
+    "probe",
+    "dwell",
+    "tool_change",
+    "orient",
+    "stop",
+    "machine_function",
+)
 
 SEGMENT_DTYPE = np.dtype(
     [
@@ -69,6 +78,7 @@ __all__ = [
     "FEED",
     "HOLD",
     "LINE",
+    "MACHINE_FUNCTION",
     "MIN_LENGTH",
     "ORIENT",
     "PROBE",

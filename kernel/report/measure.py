@@ -15,7 +15,17 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from kernel.interp.samples import Samples
-from kernel.path.segments import ARC, DWELL, FEED, ORIENT, PROBE, RAPID, STOP, TOOL_CHANGE
+from kernel.path.segments import (
+    ARC,
+    DWELL,
+    FEED,
+    MACHINE_FUNCTION,
+    ORIENT,
+    PROBE,
+    RAPID,
+    STOP,
+    TOOL_CHANGE,
+)
 from kernel.plan.planner import Plan
 
 #: relative and absolute slack before a sample counts as over a limit (rounding)
@@ -80,7 +90,7 @@ def cycle_time(plan: Plan) -> CycleTime:
     dwell = part(cat == DWELL)
     tool = part(cat == TOOL_CHANGE)
     total = plan.total_time
-    other = part((cat == ORIENT) | (cat == STOP))
+    other = part((cat == ORIENT) | (cat == STOP) | (cat == MACHINE_FUNCTION))
     return CycleTime(total, cutting, rapid, dwell, tool, other)
 
 
