@@ -39,8 +39,6 @@ _INC_PQ = frozenset({740, 750, 760})
 class Lathe:
     """Lathe-mode state of one run."""
 
-    codes = _PASS | _OWN | frozenset(_SINGLE) | frozenset(_MULTI)
-
     def __init__(self, ex: Executor) -> None:
         self.ex = ex
         self.first: dict[int, dict[str, float]] = {}  # first blocks of two-block cycles
@@ -114,6 +112,7 @@ class Lathe:
         motion = next((c for c in reversed(gs) if c in (0, 10, 20, 30, 320) or c in _SINGLE), None)
         if motion is not None:
             ex.motion = motion
+            ex.group01 = motion
         has_axis = any(a in v for a in "XYZC")
         if "T" in v:
             self._turret(v.pop("T"), loc)

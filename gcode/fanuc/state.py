@@ -82,7 +82,9 @@ class ExecutorState:
         self.ip = ip
         self.fl = flavour
         self.tf = Transforms()
-        self.motion: int | None = 0  # Fanuc modal group 1 (power-on G00)
+        #: what an axis word alone runs: the group 01 mode, or the canned cycle (group 09)
+        self.motion: int | None = 0
+        self.group01: int | None = 0  # Fanuc modal group 01 (power-on G00)
         self.nurbs: NurbsCollector | None = None
         self.lengths: dict[int, list[float]] = {}  # G10 L10/L11: [geometry, wear]
         self.radii: dict[int, list[float]] = {}  # G10 L12/L13
