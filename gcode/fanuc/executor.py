@@ -15,6 +15,7 @@ from collections.abc import Sequence
 
 from gcode.core.codes import G_GROUPS, Words
 from gcode.fanuc import cycles, groups, moves, offsets
+from gcode.fanuc.comp import FanucCompensator
 from gcode.fanuc.lexer import WordValue
 from gcode.fanuc.state import Action, ExecutorState, ModalCall
 from gcode.fanuc.words import ARGUMENTS, CYCLES, MOTION, resolve
@@ -275,6 +276,7 @@ class Executor(ExecutorState):
             self._tool_length(w, v, 440 in gset, loc)
         if "D" in v and (410 in gset or 420 in gset):
             self._radius(w, v)
+        new_radius = offsets.comp_reissued(self, w, loc)
         has_axis = any(a in v for a in "XYZABC")
         pass_letters = "XYZABCFSTIJKRQ"
         for code in (760, 870):
@@ -350,6 +352,8 @@ class Executor(ExecutorState):
                 if letter in motion_words.values:
                     w.values[letter] = motion_words.values.pop(letter)
         ended = ip.execute(w) if (w.g or w.m or w.values) else False
+        if new_radius is not None and isinstance(ip.comp, FanucCompensator):
+            ip.comp.change_radius(new_radius, loc.line, loc)  # Fanuc: from this block's end
         if tapping is not None:
             cycles.run(self, motion_words, tapping, sticky=previous == tapping)
         if transformed:

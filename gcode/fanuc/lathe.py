@@ -14,7 +14,7 @@ from collections.abc import Callable, Iterator, Sequence
 
 from gcode.core import arcs
 from gcode.core.codes import G_GROUPS, Words
-from gcode.fanuc import haas_lathe_m
+from gcode.fanuc import haas_lathe_m, offsets
 from gcode.fanuc.executor import _M_PASS, Executor, ngc_m_code
 from gcode.fanuc.state import Action
 from gcode.fanuc.turning.cycles import ProfileStep, cycle_moves
@@ -93,6 +93,7 @@ class Lathe:
                 w.g[_group(code)] = code
         if 610 in gset:
             w.g[13] = 611
+        offsets.comp_reissued(ex, w, loc)
         if 100 in gset:
             ex._g10(v, loc, True)
             for letter in "XYZUWRPQL":
