@@ -19,23 +19,22 @@ from kernel.diagnostics import Diagnostic, Location
 class FanucCompensator(CutterCompensator):
     """The RS274/NGC compensator plus Fanuc's new D in offset mode."""
 
-    def change_radius(self, radius: float, line: int, source: Location | None) -> None:
-        """After the block of source line ``line`` that gave the new D: its held end moves
+    def change_radius(self, radius: float, source: Location | None) -> None:
+        """After the block at ``source`` that gave the new D: its held end moves
         from the old offset path to the new one (``radius``), and the radius changes."""
         if self.first_move or self.radius <= 0.0:
             self.radius = radius  # no compensated move yet: the start-up uses the new value
             return
         items = self._queue.items
-        last = next(
-            (i for i in reversed(range(len(items))) if isinstance(items[i], HeldMove)), None
-        )
-        held = items[last] if last is not None else None
+        last = next((i for i in reversed(range(len(items))) if isinstance(items[i], HeldMove)), -1)
+        held = items[last] if last >= 0 else None
         if (
             not isinstance(held, HeldMove)
             or held.is_arc
             or held.direction == (0.0, 0.0)
             or held.source is None
-            or held.source.line != line
+            or source is None
+            or (held.source.file, held.source.line) != (source.file, source.line)
         ):
             raise Diagnostic(
                 "FANUC-COMP-CHANGE",

@@ -353,7 +353,7 @@ class Executor(ExecutorState):
                     w.values[letter] = motion_words.values.pop(letter)
         ended = ip.execute(w) if (w.g or w.m or w.values) else False
         if new_radius is not None and isinstance(ip.comp, FanucCompensator):
-            ip.comp.change_radius(new_radius, loc.line, loc)  # Fanuc: from this block's end
+            ip.comp.change_radius(new_radius, loc)  # Fanuc: from this block's end
         if tapping is not None:
             cycles.run(self, motion_words, tapping, sticky=previous == tapping)
         if transformed:
