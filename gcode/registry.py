@@ -41,6 +41,7 @@ REGISTRY: tuple[DialectEntry, ...] = (
     DialectEntry("fanuc_lathe", "gcode.fanuc_lathe.dialect", "gcode.fanuc_lathe.reader"),
     DialectEntry("grbl", "gcode.grbl.dialect", "gcode.grbl.reader"),
     DialectEntry("haas", "gcode.haas.dialect", "gcode.haas.reader"),
+    DialectEntry("haas_lathe", "gcode.haas_lathe.dialect", "gcode.haas_lathe.reader"),
     DialectEntry(
         "siemens840d",
         "gcode.siemens.dialect",

@@ -16,7 +16,8 @@ from collections.abc import Sequence
 
 from gcode.core.codes import G_GROUPS, Words
 from gcode.core.machine_functions import machine_function
-from gcode.fanuc import cycles, moves, offsets
+from gcode.fanuc import cycles, groups, moves, offsets
+from gcode.fanuc.comp import FanucCompensator
 from gcode.fanuc.lexer import WordValue
 from gcode.fanuc.state import Action, ExecutorState, ModalCall
 from gcode.fanuc.words import ARGUMENTS, CYCLES, MOTION, resolve
@@ -38,6 +39,9 @@ _OWN = frozenset(
 #: codes whose X Y Z ... words are settings (centre, axis, offset), not a move
 _SETTING = frozenset({100, 500, 501, 510, 511, 680})
 _HAAS = frozenset({1870, 470, 1030, 1540})
+_HAAS_MILL = {**groups.MILL, **groups.HAAS_MILL}
+#: group 01 codes the NGC words carry (G06.2 runs here)
+_GROUP01 = frozenset({0, 10, 20, 30, 330})
 _M_PASS = {0: 4, 1: 4, 2: 4, 30: 4, 60: 4, 3: 7, 4: 7, 5: 7, 19: 7, 6: 6, 7: 8, 8: 8, 9: 8}
 _M_PASS.update({48: 9, 49: 9})
 _M_FLOW = frozenset({98, 99, 97})
@@ -93,16 +97,13 @@ class Executor(ExecutorState):
                     )
                 raw[letter] = val
                 cols[letter] = col
-        gset = set(gs)
+        table = self.groups
         for code in gs:
-            if self.lathe is not None:
-                known = code in self.lathe.codes
-            else:
-                known = code in _PASS or code in _OWN or (self.fl.haas_g_codes and code in _HAAS)
-            if not known:
-                name = f"G{code // 10:02d}" + (f".{code % 10}" if code % 10 else "")
+            if code not in table:
                 at = Location(loc.file, loc.line, cols[f"G{code}"])
-                raise Diagnostic("FANUC-UNKNOWN-G", f"unsupported G code {name}", at)
+                raise Diagnostic("FANUC-UNKNOWN-G", f"unsupported G code {groups.name(code)}", at)
+        gs = groups.last_of_each_group(gs, table)  # of one group, the last code counts
+        gset = set(gs)
         if 470 in gset:
             raise Diagnostic(
                 "HAAS-ENGRAVING", "G47 engraving is not read (text to strokes is out of scope)", loc
@@ -110,13 +111,24 @@ class Executor(ExecutorState):
         inch = 200 in gset or (210 not in gset and s.units is Units.INCHES)
         motion = next((c for c in reversed(gs) if c in MOTION), None)
         has_axis = any(a in raw for a in "XYZABCUVW")
-        run_motion = motion if motion is not None else (self.motion if has_axis else None)
+        # G80 cancels the cycle; group 01 stays as it was
+        motion_now = self.group01 if motion is None and 800 in gset else self.motion
+        run_motion = motion if motion is not None else (motion_now if has_axis else None)
         cycle = run_motion in CYCLES and self.lathe is None
         nurbs = 62 in gset or (self.nurbs is not None and motion is None)
         v = resolve(raw, inch, gset, cycle, nurbs, self.fl.dwell_p_point_seconds)
         if self.lathe is not None:
             return self.lathe.block(gs, ms, v, cols, raw, loc)
         return self.mill(gs, ms, v, cols, loc, motion, has_axis)
+
+    @property
+    def groups(self) -> dict[int, int]:
+        """The G code group table of this control (gcode.fanuc.groups)."""
+        if self.lathe is not None:
+            return groups.LATHE
+        if self.fl.haas_g_codes:
+            return _HAAS_MILL
+        return groups.MILL
 
     @property
     def plain_ok(self) -> bool:
@@ -169,6 +181,7 @@ class Executor(ExecutorState):
         else:
             w = Words(g={1: code}, values=values)
             self.motion = code
+            self.group01 = code
         ip.execute(w)
         s.motion_mode = self.motion
         return True
@@ -202,6 +215,7 @@ class Executor(ExecutorState):
         if 62 in gset or (self.nurbs is not None and not gs and not ms):
             self.nurbs = moves.nurbs_block(self, v, loc, start=62 in gset)
             self.motion = 62 if self.nurbs is not None else 10
+            self.group01 = self.motion
             return []
         for letter in "UVW":
             if letter in v and not (letter == "U" and 40 in gset):
@@ -264,6 +278,7 @@ class Executor(ExecutorState):
             self._tool_length(w, v, 440 in gset, loc)
         if "D" in v and (410 in gset or 420 in gset):
             self._radius(w, v)
+        new_radius = offsets.comp_reissued(self, w, loc)
         has_axis = any(a in v for a in "XYZABC")
         pass_letters = "XYZABCFSTIJKRQ"
         for code in (760, 870):
@@ -314,8 +329,16 @@ class Executor(ExecutorState):
         if machine:
             machine_events(self, machine, gs, ms, v, w, cols, loc)
         # ---- motion group bookkeeping and transforms
+        block_g01 = next((c for c in reversed(gs) if c in _GROUP01), None)
+        if block_g01 is not None:
+            self.group01 = block_g01
+        if w.g.get(1) == 800:  # G80 (group 09): the cycle ends, group 01 is untouched
+            if block_g01 is not None:
+                w.g[1] = block_g01  # G00 G80 X..: the motion runs (and ends NGC's cycle)
+            elif has_axis and w.g.get(0) is None:
+                w.g[1] = self.group01 if self.group01 is not None else 800
         if 1 in w.g and w.g[1] != 382 and 530 not in gset:
-            self.motion = w.g[1]
+            self.motion = self.group01 if w.g[1] == 800 else w.g[1]
         one_shot = 310 in gset or 530 in gset
         previous = s.motion_mode if s.cycle_series else None
         moving = (1 in w.g and w.g[1] != 800) or (
@@ -334,6 +357,8 @@ class Executor(ExecutorState):
                 if letter in motion_words.values:
                     w.values[letter] = motion_words.values.pop(letter)
         ended = ip.execute(w) if (w.g or w.m or w.values) else False
+        if new_radius is not None and isinstance(ip.comp, FanucCompensator):
+            ip.comp.change_radius(new_radius, loc)  # Fanuc: from this block's end
         if tapping is not None:
             cycles.run(self, motion_words, tapping, sticky=previous == tapping)
         if transformed:

@@ -14,6 +14,7 @@ from collections.abc import Callable, Iterator, Sequence
 
 from gcode.core import arcs
 from gcode.core.codes import G_GROUPS, Words
+from gcode.fanuc import haas_lathe_m, offsets
 from gcode.fanuc.executor import _M_PASS, Executor, machine_events, ngc_m_code
 from gcode.fanuc.state import Action
 from gcode.fanuc.turning.cycles import ProfileStep, cycle_moves
@@ -38,8 +39,6 @@ _INC_PQ = frozenset({740, 750, 760})
 
 class Lathe:
     """Lathe-mode state of one run."""
-
-    codes = _PASS | _OWN | frozenset(_SINGLE) | frozenset(_MULTI)
 
     def __init__(self, ex: Executor) -> None:
         self.ex = ex
@@ -94,6 +93,7 @@ class Lathe:
                 w.g[_group(code)] = code
         if 610 in gset:
             w.g[13] = 611
+        offsets.comp_reissued(ex, w, loc)
         if 100 in gset:
             ex._g10(v, loc, True)
             for letter in "XYZUWRPQL":
@@ -114,6 +114,7 @@ class Lathe:
         motion = next((c for c in reversed(gs) if c in (0, 10, 20, 30, 320) or c in _SINGLE), None)
         if motion is not None:
             ex.motion = motion
+            ex.group01 = motion
         has_axis = any(a in v for a in "XYZC")
         if "T" in v:
             self._turret(v.pop("T"), loc)
@@ -124,6 +125,8 @@ class Lathe:
         machine: list[int] = []  # M codes the control hands to the machine (PLC)
         for m in ms:
             if m in (98, 99, 29) or (m == 97 and ex.fl.local_call):
+                continue
+            if ex.fl.haas_lathe and self._haas_m(m, loc):
                 continue
             group = _M_PASS.get(m)
             if group is None:
@@ -160,6 +163,21 @@ class Lathe:
             mc = ex.modal_call
             actions.append(Action("g65", mc.number, mc.repeats, dict(mc.args)))
         return actions + ex._flow_m(ms, v, loc)
+
+    def _haas_m(self, m: int, loc: Location) -> bool:
+        """A Haas lathe M code the manual documents (gcode/fanuc/haas_lathe_m.py): through-
+        spindle coolant is the IR's own command (True: handled); a device function is named
+        in a comment and left, like any code the control hands to the machine, to become a
+        MACHINE_FUNCTION event (False), so a conversion writes the M code itself."""
+        ip = self.ex.ip
+        if m in haas_lathe_m.THROUGH_SPINDLE:
+            on = haas_lathe_m.THROUGH_SPINDLE[m]
+            ip.emit(canon.ThroughToolOn(source=loc) if on else canon.ThroughToolOff(source=loc))
+            return True
+        name = haas_lathe_m.MACHINE_FUNCTIONS.get(m)
+        if name is not None:
+            ip.emit(canon.Comment(f"M{m:02d}: {name}", source=loc))
+        return False
 
     def _incremental(self, v: dict[str, float], loc: Location) -> None:
         s = self.ex.ip.s
@@ -208,6 +226,8 @@ class Lathe:
                     params[letter] = float(raw[letter])
         if code == 730 and self._first(code, v) and "R" in raw:
             params["R"] = float(raw["R"])  # G73 R: division count
+        if self.ex.fl.haas_lathe and code in (710, 720, 730) and not self._first(code, v):
+            params.update(self._haas_one_block(code, params, raw, loc))
         if code != 700 and self._first(code, v):
             self.first[code] = {"1" + k: val for k, val in params.items() if k not in "ST"}
             return None
@@ -219,6 +239,34 @@ class Lathe:
             contour = self._contour(int(params["P"]), int(params["Q"]), loc)
         skip = int(params["Q"]) if code in (710, 720, 730) else None
         return name, {k: val for k, val in params.items() if k not in "ST"}, contour, skip
+
+    def _haas_one_block(
+        self, code: int, params: dict[str, float], raw: dict[str, int | float], loc: Location
+    ) -> dict[str, float]:
+        """Haas's one-block G71/G72 ``P Q U W D F`` (D: depth of cut, a radius) and G73
+        ``P Q U W I K D F`` (I K: relief along X (radius) and Z, D: number of passes) as the
+        first-block words of Fanuc's two-block form."""
+        name = _MULTI[code]
+        first: dict[str, float] = {}
+        for letter in "IKDR":
+            params.pop(letter, None)
+        if code == 730:
+            for src, dst in (("I", "1U"), ("K", "1W")):
+                if src in raw:
+                    first[dst] = _length(raw[src], self.ex.ip.s.units)
+            if "D" in raw:
+                first["1R"] = float(raw["D"])
+            return first
+        for letter in "IKR":
+            if letter in raw:
+                raise Diagnostic(
+                    "HAAS-CYCLE-WORD",
+                    f"{name} {letter}: the rough-pass allowance / type II form is not read",
+                    loc,
+                )
+        if "D" in raw:
+            first["1W" if code == 720 else "1U"] = _length(raw["D"], self.ex.ip.s.units)
+        return first
 
     @staticmethod
     def _first(code: int, v: dict[str, float]) -> bool:
@@ -296,6 +344,13 @@ class Lathe:
             else:
                 raise Diagnostic("FANUC-CYCLE-MOVE", f"{name}: unknown move {m.kind}", loc)
             s.pos = [m.x, y, m.z, a, b, c]
+
+
+def _length(value: int | float, units: Units) -> float:
+    """A length word: without a decimal point it counts least input increments."""
+    if type(value) is int:
+        return value * (0.0001 if units is Units.INCHES else 0.001)
+    return float(value)
 
 
 def _group(code: int) -> int:

@@ -13,7 +13,8 @@ from __future__ import annotations
 from dataclasses import replace
 
 from gcode.core.codes import Words
-from gcode.core.state import INCH_MM
+from gcode.core.state import INCH_MM, CompCode
+from gcode.fanuc.comp import FanucCompensator
 from gcode.fanuc.state import ExecutorState
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir.canon import Units
@@ -95,6 +96,61 @@ def tool_length(
 
 def radius(ex: ExecutorState, w: Words, v: dict[str, float]) -> None:
     w.values["d"] = float(round(v["D"]))
+
+
+def comp_reissued(ex: ExecutorState, w: Words, loc: Location) -> float | None:
+    """G41/G42 given again while compensation is on (Fanuc 0i-MF, Haas: allowed).
+
+    The same side with the same D (or no D) changes nothing: the code is dropped and the
+    path goes on as compensated. A new D on the same side is returned (the compensator
+    applies it after the block, :meth:`gcode.fanuc.comp.FanucCompensator.change_radius`)
+    and dropped from the words too. A change of side is refused (``FANUC-COMP-CHANGE``).
+    """
+    code = w.g.get(7)
+    ip = ex.ip
+    s = ip.s
+    if code is None:
+        return None
+    if ip.comp is None and not ip.options.keep_cutter_comp:
+        ip.comp = FanucCompensator(comments=ip.compat)
+        ip.comp.set_units(s.units is Units.INCHES)
+    if code == 400:
+        ex.comp_d = None
+        return None
+    if s.comp_side not in (CompCode.G41, CompCode.G42):
+        ex.comp_d = w.values.get("d")
+        return None
+    d = w.values.get("d", ex.comp_d)
+    if code == s.comp_side and d == ex.comp_d:
+        del w.g[7]
+        w.values.pop("d", None)
+        return None
+    if code != s.comp_side:
+        raise Diagnostic(
+            "FANUC-COMP-CHANGE",
+            f"G{code // 10} changes the compensation side while compensation is on"
+            " (not read: cancel with G40 first)",
+            loc,
+        )
+    if not isinstance(ip.comp, FanucCompensator) or d is None:
+        raise Diagnostic(
+            "FANUC-COMP-CHANGE",
+            f"G{code // 10} D{d or 0:g} changes the offset while compensation is kept as"
+            " G41/G42 (not read)",
+            loc,
+        )
+    found = ip.tools.get(int(d) if d else s.current_tool)
+    if found is None:
+        raise Diagnostic("FANUC-COMP-D", f"no offset D{d:g}", loc)
+    radius = found.diameter * _table_scale(ex) / 2.0
+    if radius < 0.0:
+        raise Diagnostic(
+            "FANUC-COMP-CHANGE", "a negative offset changes the side (not read in offset mode)", loc
+        )
+    del w.g[7]
+    w.values.pop("d", None)
+    ex.comp_d = d
+    return radius
 
 
 # --------------------------------------------------------------------------- G54.1 P

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 
 @dataclass(frozen=True)
@@ -25,6 +25,9 @@ class Flavour:
     m19_p_angle: bool = False  # M19 P<angle> orients the spindle to an angle (Haas)
     #: additional work offsets G54.1 P1-P<n> / G154 P1-P<n> (0i/30i: 48; Haas: 99)
     extended_offsets: int = 48
+    #: Haas lathe: one-block G71/G72 (D depth of cut) and G73 (I K relief, D passes), and
+    #: the machine-function M codes of gcode/fanuc/haas_lathe_m.py
+    haas_lathe: bool = False
     max_loops: int = 2_000_000  # backward jumps before FANUC-LOOP-LIMIT
 
 
@@ -40,3 +43,6 @@ HAAS = Flavour(
     m19_p_angle=True,
     extended_offsets=99,
 )
+#: Haas lathe (NGC control): Haas's program and call conventions, Fanuc lathe mode, and the
+#: Haas lathe cycle forms and M codes
+HAAS_LATHE = replace(HAAS, name="haas_lathe", lathe=True, haas_lathe=True)

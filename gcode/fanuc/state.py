@@ -82,7 +82,9 @@ class ExecutorState:
         self.ip = ip
         self.fl = flavour
         self.tf = Transforms()
-        self.motion: int | None = 0  # Fanuc modal group 1 (power-on G00)
+        #: what an axis word alone runs: the group 01 mode, or the canned cycle (group 09)
+        self.motion: int | None = 0
+        self.group01: int | None = 0  # Fanuc modal group 01 (power-on G00)
         self.nurbs: NurbsCollector | None = None
         self.lengths: dict[int, list[float]] = {}  # G10 L10/L11: [geometry, wear]
         self.radii: dict[int, list[float]] = {}  # G10 L12/L13
@@ -90,6 +92,7 @@ class ExecutorState:
         self.extended: dict[int, list[float]] = {}  # G10 L20 / G54.1 P offsets
         self.extended_selected: int | None = None
         self.control = 640  # G61 / G64 for G05.1 Q0 and G09
+        self.comp_d: float | None = None  # D word of the G41/G42 in force
         self.lathe: LatheMode | None = None  # set by the flow when the flavour is a lathe
         self.depth = 0  # macro call depth (set by the flow)
         self.last_comment: str | None = None

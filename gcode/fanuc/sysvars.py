@@ -121,7 +121,7 @@ class SystemVariables:
         ex = self.r.ex
         s = ex.ip.s
         if group == 1:
-            m = ex.motion
+            m = ex.group01
             return None if m is None else m / 10.0
         if group == 2:
             return _PLANE_CODE[s.plane]

@@ -1,0 +1,1 @@
+"""Haas lathe programs: the Fanuc lathe engine with Haas's differences."""
