@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
+from gcode.core.loopguard import LoopGuard
 from gcode.siemens.blocks import Block, Word
 from gcode.siemens.cycles import check_cycle, run_cycle
 from gcode.siemens.executor import Executor
@@ -59,10 +60,13 @@ class Runner:
         self.levels = [Level(main, Variables(ex.r))]
         self.programs: dict[str, Program] = {main.name: main}
         self.loops = 0
+        opts = ex.options
+        self.guard = LoopGuard(opts.max_blocks, opts.max_idle_blocks)
 
     def run(self) -> Iterator[canon.Command]:
         ex = self.ex
         out = ex.out
+        guard = self.guard
         main = self.levels[0].program
         ex.preamble(Location(main.name, 0, 0))
         yield from out
@@ -77,6 +81,7 @@ class Runner:
                     continue
                 index = level.index
                 level.index += 1
+                guard.blocks += 1
                 words = plain_words(program.line(index))
                 if words is not None:
                     if words:
@@ -84,6 +89,7 @@ class Runner:
                         if ex.execute_words(words, level.scope) and self._return(level, END):
                             break
                         if out:
+                            guard.output += len(out)
                             yield from out
                             out.clear()
                     continue
@@ -98,6 +104,7 @@ class Runner:
                 else:
                     self.statement(level, block, index)
                 if out:
+                    guard.output += len(out)
                     yield from out
                     out.clear()
         except Diagnostic:
@@ -236,12 +243,13 @@ class Runner:
         if target < 0:
             return
         if target <= here:
-            self._count()
+            self._count(f"{how} {label}")
             level.program.caching = True
         level.structures = [o for o in level.structures if o.start < target <= o.end]
         level.index = target
 
-    def _count(self) -> None:
+    def _count(self, construct: str) -> None:
+        """A loop pass or backward jump: the reader's pass limit, then the shared guard."""
         self.loops += 1
         if self.loops > MAX_LOOPS:
             raise Diagnostic(
@@ -249,6 +257,7 @@ class Runner:
                 f"more than {MAX_LOOPS} loop passes or backward jumps",
                 self.ex.loc,
             )
+        self.guard.back(construct, self.ex.loc)
 
     def structure(self, level: Level, block: Block, index: int) -> None:
         ex = self.ex
@@ -298,13 +307,13 @@ class Runner:
             level.index = top.end + 1
         elif kind == "ENDWHILE":
             opened.pop()
-            self._count()
+            self._count(f"WHILE (line {top.start + 1})")
             level.index = top.start
         elif kind == "ENDFOR":
             target, stop = top.data
             self._assign(scope, target, self._read(scope, target) + 1)
             if self._read(scope, target) <= stop:
-                self._count()
+                self._count(f"FOR (line {top.start + 1})")
                 level.index = top.start + 1
             else:
                 opened.pop()
@@ -312,10 +321,10 @@ class Runner:
             if evaluate(block.args[0], scope):
                 opened.pop()
             else:
-                self._count()
+                self._count(f"REPEAT (line {top.start + 1})")
                 level.index = top.start + 1
         else:  # ENDLOOP
-            self._count()
+            self._count(f"LOOP (line {top.start + 1})")
             level.index = top.start + 1
         program.caching = True
 
