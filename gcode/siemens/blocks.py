@@ -4,9 +4,10 @@ either a control statement or the ordered words and assignments of an NC block.
 Block structure after the 840D sl programming manual (fundamentals, "Block structure";
 job planning, "Program jumps", "Control structures", "Variable definition"): ``N10``,
 ``LABEL:``, ``IF cond GOTOF label``, ``IF``/``ELSE``/``ENDIF``, ``WHILE``/``ENDWHILE``,
-``FOR i=a TO b``/``ENDFOR``, ``REPEAT``/``UNTIL``, ``LOOP``/``ENDLOOP``, ``DEF REAL a=1``,
-``MSG("...")``, frames (``TRANS X10`` ...), cycle calls (``CYCLE81(...)``) and subprogram
-calls (``L100``, ``NAME P3``).
+``FOR i=a TO b``/``ENDFOR``, ``REPEAT``/``UNTIL``, ``LOOP``/``ENDLOOP``,
+``DEF REAL a=1``, ``MSG("...")``, frames (``TRANS X10`` ...), cycle calls
+(``CYCLE81(...)``), subprograms with parameters (``PROC NAME(REAL A, VAR INT B)``,
+``EXTERN NAME(REAL, VAR INT)``) and subprogram calls (``L100``, ``NAME P3``, ``NAME(1, R2)``).
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ KEYWORDS = (
     | JUMPS
     | TYPES
     | {"IF", "WHILE", "FOR", "TO", "UNTIL", "DEF", "PROC", "MSG", "MCALL", "NOT", "AND", "OR"}
+    | {"EXTERN", "VAR"}
 )
 #: 840D instructions this reader knows it does not implement (refused, never taken for
 #: subprogram names): transformations, path and dynamic modes, splines, calls
@@ -87,6 +89,21 @@ UNSUPPORTED = frozenset(
         "WAITE",
         "SAVE",
         "DISPLOF",
+        "PRINT",
+        "WRITE",
+        "READ",
+        "SETAL",
+        "DELETE",
+        "EXECSTRING",
+        "EXECTAB",
+        "SPRINT",
+        "SETM",
+        "CLEARM",
+        "GET",
+        "GETD",
+        "RELEASE",
+        "DEFINE",
+        "GOTOS",
     ]
 )
 #: drilling cycles expanded into moves (gcode.siemens.cycles)
@@ -319,16 +336,79 @@ class _Statement:
         self.b.kind, self.b.args = "DEF", (kind, tuple(names))
 
     def _proc(self) -> None:
-        name = self.name()
+        """``PROC NAME(REAL A, VAR INT B)``: args (name, ((by_reference, type, name), ...))."""
+        name = self._program_name()
+        params: list[tuple[bool, str, str]] = []
         if self.is_op("("):
             self.i += 1
-            if not self.is_op(")"):
+            while not self.is_op(")"):
+                by_reference = self._var()
+                kind = self._type(f"PROC {name}")
+                at = self.loc()
+                pname = self.name()
+                if self.is_op("["):
+                    raise self.error(
+                        "SIEM-UNSUPPORTED", f"PROC {name}: array parameter {pname}[...]"
+                    )
+                if any(p[2] == pname for p in params):
+                    raise Diagnostic("SIEM-PROC", f"PROC {name}: parameter {pname} twice", at)
+                params.append((by_reference, kind, pname))
+                if not self.is_op(")"):
+                    self.take(",")
+            self.i += 1
+        while not self.done() and self.t[self.i].kind == NAME:
+            if self.t[self.i].text in ("DISPLOF", "SBLOF", "ACTBLOCNO"):
+                self.i += 1  # display and single-block attributes: no IR meaning
+            elif self.t[self.i].text == "SAVE":
                 raise self.error(
-                    "SIEM-UNSUPPORTED", "subprograms with parameters are not supported"
+                    "SIEM-UNSUPPORTED",
+                    f"PROC {name} SAVE (the caller's modal state restored at the return) "
+                    "is not supported",
                 )
+            else:
+                break
+        self.end()
+        self.b.kind, self.b.args = "PROC", (name, tuple(params))
+
+    def _program_name(self) -> str:
+        """A subprogram's name: a name, or an ``L`` number (``L140``)."""
+        if not self.done() and self.t[self.i].kind == WORD and self.t[self.i].text[0] == "L":
+            self.i += 1
+            return self.t[self.i - 1].text
+        return self.name()
+
+    def _var(self) -> bool:
+        if not self.done() and self.t[self.i].kind == NAME and self.t[self.i].text == "VAR":
+            self.i += 1
+            return True
+        return False
+
+    def _type(self, what: str) -> str:
+        at = self.loc()
+        kind = self.name()
+        if kind not in TYPES:
+            raise Diagnostic(
+                "SIEM-UNSUPPORTED", f"{what}: {kind} parameters (only REAL, INT and BOOL)", at
+            )
+        return kind
+
+    def _extern(self) -> None:
+        """``EXTERN NAME(REAL, VAR INT)``: the parameter types of a subprogram the main
+        program calls with arguments; args (name, ((by_reference, type), ...))."""
+        name = self._program_name()
+        types: list[tuple[bool, str]] = []
+        if self.is_op("("):
+            self.i += 1
+            while not self.is_op(")"):
+                by_reference = self._var()
+                types.append((by_reference, self._type(f"EXTERN {name}")))
+                if self.is_op("["):
+                    raise self.error("SIEM-UNSUPPORTED", f"EXTERN {name}: array parameters")
+                if not self.is_op(")"):
+                    self.take(",")
             self.i += 1
         self.end()
-        self.b.kind, self.b.args = "PROC", (name,)
+        self.b.kind, self.b.args = "EXTERN", (name, tuple(types))
 
     def _msg(self) -> None:
         self.take("(")
@@ -364,14 +444,19 @@ class _Statement:
         self.b.kind, self.b.args = "FRAME", (head,)
 
     def _call(self, name: str) -> None:
+        """``NAME``, ``L100 P3``, ``NAME(1.5, , R2) P2``: args (name, passes, arguments or
+        None; an omitted argument is None)."""
         repeat: Node = ("num", 1.0)
+        args: tuple[Node | None, ...] | None = None
+        if self.is_op("("):
+            args = self._arguments(name)
+            if args == (None,):
+                args = ()
         if not self.done() and self.t[self.i].kind == WORD and self.t[self.i].text[0] == "P":
             repeat = ("num", self.t[self.i].value)
             self.i += 1
-        elif self.is_op("("):
-            raise self.error("SIEM-UNSUPPORTED", f"{name}: subprogram parameters are not supported")
         self.end()
-        self.b.kind, self.b.args = "CALL", (name, repeat)
+        self.b.kind, self.b.args = "CALL", (name, repeat, args)
 
     def _arguments(self, head: str) -> tuple[Node | None, ...]:
         self.take("(")

@@ -9,6 +9,10 @@ jumps" and "Control structures"; fundamentals, "Subprograms").
   ``LOOP``/``ENDLOOP``. A jump out of a structure leaves it.
 * ``L100``/``NAME`` call ``L100.SPF``/``NAME.SPF``, ``P n`` times; ``M17``, ``RET``, ``M2``
   or ``M30`` (or the file's end) return. R parameters are global, DEF variables local.
+  ``NAME(a, b)`` passes arguments to the callee's ``PROC NAME(REAL A, VAR INT B)``
+  parameters: by value, or for ``VAR`` by reference (the caller's variable or R parameter
+  gets the parameter's value at the return); an omitted argument is 0 (fundamentals,
+  "Subprograms with parameter transfer"; job planning, "Subprogram technique").
 * Bounded: at most :data:`MAX_LOOPS` backward jumps and loop passes in a run, and
   :data:`MAX_DEPTH` program levels (SIEM-LOOP-LIMIT, SIEM-CALL-DEPTH).
 """
@@ -52,6 +56,10 @@ class Level:
     repeat: int = 1
     structures: list[Open] = field(default_factory=list)
     call: Location | None = None
+    #: PROC parameters as passed (type, name, value): bound again at each pass (P)
+    bound: tuple[tuple[str, str, float], ...] = ()
+    #: VAR parameters: (parameter name, the caller's target) written back at the return
+    results: tuple[tuple[str, tuple], ...] = ()
 
 
 class Runner:
@@ -121,10 +129,13 @@ class Runner:
             level.repeat -= 1
             level.index = 0
             level.structures.clear()
-            level.scope = Variables(self.ex.r)
+            level.scope = self._bind(level.bound)
             return False
         self.levels.pop()
         if self.levels:
+            caller = self.levels[-1].scope
+            for name, target in level.results:
+                self._assign(caller, target, level.scope.get(name, self.ex.loc))
             return False
         if block is not None:
             self._end()
@@ -144,7 +155,7 @@ class Runner:
         ex.emit(canon.ProgramEnd(source=loc))
 
     def call(self, level: Level, block: Block) -> None:
-        name, repeat_node = block.args
+        name, repeat_node, args = block.args
         ex = self.ex
         repeat = evaluate(repeat_node, level.scope)
         if repeat < 1 or repeat != int(repeat):
@@ -160,7 +171,50 @@ class Runner:
         if program is None:
             program = self.programs[path] = Program.load(path)
         program.caching = True
-        self.levels.append(Level(program, Variables(ex.r), repeat=int(repeat), call=ex.loc))
+        bound, results = self._parameters(name, program, args, level.scope)
+        callee = Level(program, self._bind(bound), repeat=int(repeat), call=ex.loc)
+        callee.bound, callee.results = bound, results
+        self.levels.append(callee)
+
+    def _bind(self, bound: tuple[tuple[str, str, float], ...]) -> Variables:
+        scope = Variables(self.ex.r)
+        for kind, pname, value in bound:
+            scope.define(kind, pname, value, self.ex.loc)
+        return scope
+
+    def _parameters(
+        self, name: str, program: Program, args: tuple | None, scope: Variables
+    ) -> tuple[tuple[tuple[str, str, float], ...], tuple[tuple[str, tuple], ...]]:
+        """The callee's PROC parameters with the call's arguments: (type, name, value) by
+        value, and (name, caller target) for each VAR parameter."""
+        ex = self.ex
+        params = _proc_parameters(program)
+        given = args or ()
+        if len(given) > len(params):
+            raise Diagnostic(
+                "SIEM-CALL",
+                f"{name}: {len(given)} arguments for {len(params)} parameters of its PROC",
+                ex.loc,
+            )
+        bound: list[tuple[str, str, float]] = []
+        results: list[tuple[str, tuple]] = []
+        for i, (by_reference, kind, pname) in enumerate(params):
+            node = given[i] if i < len(given) else None
+            if by_reference:
+                target = _target_of(node)
+                if target is None:
+                    raise Diagnostic(
+                        "SIEM-CALL",
+                        f"{name}: VAR parameter {pname} needs a variable or R parameter as "
+                        "its argument",
+                        ex.loc,
+                    )
+                results.append((pname, target))
+                value = self._read(scope, target)
+            else:
+                value = evaluate(node, scope) if node is not None else 0.0
+            bound.append((kind, pname, value))
+        return tuple(bound), tuple(results)
 
     # ------------------------------------------------------------------ statements
     def statement(self, level: Level, block: Block, index: int) -> None:
@@ -340,6 +394,30 @@ class Runner:
         if kind == "R":
             return scope.r_get(evaluate(what, scope), self.ex.loc)
         return scope.get(what, self.ex.loc)
+
+
+def _proc_parameters(program: Program) -> tuple[tuple[bool, str, str], ...]:
+    """The parameters of a subprogram's ``PROC`` (its first block), () without one."""
+    index = 0
+    while program.has_line(index):
+        if program.line(index).split(";", 1)[0].strip():
+            block = program.block(index)
+            return block.args[1] if block.kind == "PROC" else ()
+        index += 1
+    return ()
+
+
+def _target_of(node: tuple | None) -> tuple | None:
+    """The variable or R parameter an argument names (for a VAR parameter), else None."""
+    if node is None:
+        return None
+    if node[0] == "var":
+        return ("V", node[1])
+    if node[0] == "num_r":
+        return ("R", ("num", float(node[1])))
+    if node[0] == "r":
+        return ("R", node[1])
+    return None
 
 
 def _first_code_line(program: Program, index: int) -> int:
