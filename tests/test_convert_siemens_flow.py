@@ -1,7 +1,8 @@
-"""Siemens 840D subprograms with parameters (issue 14): PROC with parameters, calls with
-arguments, EXTERN; and refusals that name the construct met. Expected results follow the
-840D sl programming manuals (fundamentals and job planning, "Subprograms with parameter
-transfer"): docs/readers/siemens840d.md."""
+"""Siemens 840D flow control and subprograms with parameters (issue 14): CASE, REPEAT and
+REPEATB, PROC with parameters, calls with arguments, EXTERN; and refusals that name the
+construct met. Expected results follow the 840D sl programming manuals (job planning,
+"Program jumps" (CASE), "Program section repetition" (REPEAT, REPEATB); fundamentals and
+job planning, "Subprograms with parameter transfer"): docs/readers/siemens840d.md."""
 
 from __future__ import annotations
 
@@ -32,6 +33,60 @@ def _error(text: str, tmp: Path | None = None) -> Diagnostic:
 
 
 HEAD = "G0 X0 Y0 Z0\nF100\n"
+
+
+@pytest.mark.parametrize(("value", "x"), [(1, 1.0), (2, 2.0), (5, 3.0), (-1, 4.0)])
+def test_case_jumps_to_the_matching_constant_else_default(value: int, x: float) -> None:
+    text = (
+        f"{HEAD}R1={value}\n"
+        "CASE R1 OF 1 GOTOF AA -1 GOTOF DD 2 GOTOF BB DEFAULT GOTOF CC\n"
+        "AA: G1 X1\nGOTOF EE\nBB: G1 X2\nGOTOF EE\nCC: G1 X3\nGOTOF EE\nDD: G1 X4\nEE: M30\n"
+    )
+    assert _xyz(text) == [(x, 0.0, 0.0)]
+
+
+def test_case_without_a_match_nor_default_goes_on() -> None:
+    text = f"{HEAD}CASE 7 OF 1 GOTOF AA 2 GOTOF AA\nG1 X5\nAA: G1 Y5\nM30\n"
+    assert _xyz(text) == [(5.0, 0.0, 0.0), (5.0, 5.0, 0.0)]
+
+
+def test_case_jumps_backward_and_its_endless_loop_is_stopped() -> None:
+    text = f"{HEAD}AA: R1=R1+1\nCASE R1 OF 3 GOTOF BB DEFAULT GOTOB AA\nBB: G1 X=R1\nM30\n"
+    assert _xyz(text) == [(3.0, 0.0, 0.0)]
+    err = _error(f"{HEAD}AA: R1=1\nCASE R1 OF 1 GOTOB AA\nM30\n")
+    assert (err.code, err.location.line) == ("LOOP-NO-PROGRESS", 4)
+    assert "GOTOB AA" in err.message
+
+
+def test_repeat_runs_the_section_up_to_the_repeat_p_more_times() -> None:
+    text = f"{HEAD}AA: G91 G1 X1\nG90\nREPEAT AA P=3\nG1 Y1\nM30\n"
+    assert _xyz(text) == [(float(i), 0.0, 0.0) for i in range(1, 5)] + [(4.0, 1.0, 0.0)]
+
+
+def test_repeat_between_two_labels_and_to_endlabel() -> None:
+    text = (
+        f"{HEAD}GOTOF GO\nAA: G1 X1\nBB: G1 X2\nG1 X3\nGO: REPEAT AA BB P2\nG1 Y1\n"
+        "CC: G1 Z1\nENDLABEL: G1 Z2\nG1 Z3\nREPEAT CC ENDLABEL\nM30\n"
+    )
+    assert [p[0] for p in _xyz(text)[:4]] == [1.0, 2.0, 1.0, 2.0]
+    assert [p[2] for p in _xyz(text)[5:]] == [1.0, 2.0, 3.0, 1.0, 2.0]
+
+
+def test_repeatb_repeats_one_line_searching_backward_then_forward() -> None:
+    assert _xyz(f"{HEAD}AA: G91 G1 X1\nREPEATB AA P=2\nG90 G1 Y1\nM30\n") == [
+        (1.0, 0.0, 0.0),
+        (2.0, 0.0, 0.0),
+        (3.0, 0.0, 0.0),
+        (3.0, 1.0, 0.0),
+    ]
+    # forward: the line after the REPEATB runs once (P1), then the program goes on after
+    # the REPEATB, where it runs again in its turn
+    assert _xyz(f"{HEAD}REPEATB AA P1\nAA: G91 G1 X1\nM30\n") == [(1.0, 0.0, 0.0), (2.0, 0.0, 0.0)]
+
+
+def test_repeat_inside_a_repeat_until_loop_is_no_structure() -> None:
+    text = f"{HEAD}REPEAT\nR1=R1+1\nAB: G1 X=R1\nREPEATB AB P1\nUNTIL R1>=2\nM30\n"
+    assert [p[0] for p in _xyz(text)] == [1.0, 1.0, 2.0, 2.0]
 
 
 @pytest.fixture
@@ -88,6 +143,11 @@ def test_bad_calls_are_refused_naming_the_call(
         ("PROC MAIN(STRING[8] NAME)\n", "SIEM-UNSUPPORTED", "STRING", 11),
         ("PROC MAIN(REAL AA) SAVE\n", "SIEM-UNSUPPORTED", "SAVE", 20),
         ("PROC MAIN(REAL AA, REAL AA)\n", "SIEM-PROC", "AA twice", 25),
+        ("CASE R1 GOTOF AA\n", "SIEM-SYNTAX", "OF", 9),
+        ("CASE R1 OF 1 AA\n", "SIEM-SYNTAX", "GOTOF", 14),
+        ("AA: G1 X1\nREPEAT AA P=0\n", "SIEM-REPEAT", "P=0", 1),
+        ("AA: G1 X1\nREPEAT AA BB\nBB: G1 X2\n", "SIEM-REPEAT", "holds the REPEAT", 1),
+        ("REPEAT NOWHERE P=2\n", "SIEM-LABEL", "NOWHERE", 1),
     ],
 )
 def test_refusals_name_the_construct_met(text: str, code: str, words: str, column: int) -> None:

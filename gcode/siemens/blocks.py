@@ -4,7 +4,8 @@ either a control statement or the ordered words and assignments of an NC block.
 Block structure after the 840D sl programming manual (fundamentals, "Block structure";
 job planning, "Program jumps", "Control structures", "Variable definition"): ``N10``,
 ``LABEL:``, ``IF cond GOTOF label``, ``IF``/``ELSE``/``ENDIF``, ``WHILE``/``ENDWHILE``,
-``FOR i=a TO b``/``ENDFOR``, ``REPEAT``/``UNTIL``, ``LOOP``/``ENDLOOP``,
+``FOR i=a TO b``/``ENDFOR``, ``REPEAT``/``UNTIL``, ``LOOP``/``ENDLOOP``, ``CASE e OF 1
+GOTOF A DEFAULT GOTOF B``, section repetition (``REPEAT A B P=2``, ``REPEATB A P=3``),
 ``DEF REAL a=1``, ``MSG("...")``, frames (``TRANS X10`` ...), cycle calls
 (``CYCLE81(...)``), subprograms with parameters (``PROC NAME(REAL A, VAR INT B)``,
 ``EXTERN NAME(REAL, VAR INT)``) and subprogram calls (``L100``, ``NAME P3``, ``NAME(1, R2)``).
@@ -32,7 +33,7 @@ KEYWORDS = (
     | JUMPS
     | TYPES
     | {"IF", "WHILE", "FOR", "TO", "UNTIL", "DEF", "PROC", "MSG", "MCALL", "NOT", "AND", "OR"}
-    | {"EXTERN", "VAR"}
+    | {"CASE", "OF", "DEFAULT", "REPEATB", "EXTERN", "VAR", "ENDLABEL"}
 )
 #: 840D instructions this reader knows it does not implement (refused, never taken for
 #: subprogram names): transformations, path and dynamic modes, splines, calls
@@ -226,6 +227,10 @@ class _Statement:
         b = self.b
         if tok.kind == NAME and not self._assignment_ahead():
             head = tok.text
+            if head == "REPEAT" and self.i + 1 < len(self.t):
+                self.i += 1
+                self._section("REPEAT")
+                return
             if head in ALONE:
                 self.i += 1
                 self.end()
@@ -409,6 +414,59 @@ class _Statement:
             self.i += 1
         self.end()
         self.b.kind, self.b.args = "EXTERN", (name, tuple(types))
+
+    def _case(self) -> None:
+        """``CASE e OF 1 GOTOF A 2 GOTOB B DEFAULT GOTOF C``: args (expression,
+        ((constant node, jump, label), ...), (jump, label) or None)."""
+        value = self.expr()
+        if self.done() or self.t[self.i].text != "OF":
+            raise self.error("SIEM-SYNTAX", "CASE expression OF expected")
+        self.i += 1
+        cases: list[tuple[Node, str, str]] = []
+        default: tuple[str, str] | None = None
+        while not self.done():
+            if self.t[self.i].kind == NAME and self.t[self.i].text == "DEFAULT":
+                self.i += 1
+                default = (self._jump("CASE DEFAULT"), self._label())
+                break
+            constant = self.expr()
+            cases.append((constant, self._jump("CASE"), self._label()))
+        self.end()
+        if not cases and default is None:
+            raise self.error("SIEM-SYNTAX", "CASE without a constant or DEFAULT")
+        self.b.kind, self.b.args = "CASE", (value, tuple(cases), default)
+
+    def _jump(self, what: str) -> str:
+        tok = self.t[self.i] if not self.done() else None
+        if tok is None or tok.kind != NAME or tok.text not in JUMPS:
+            raise self.error("SIEM-SYNTAX", f"{what}: GOTOF, GOTOB, GOTO or GOTOC expected")
+        self.i += 1
+        return tok.text
+
+    def _repeatb(self) -> None:
+        self._section("REPEATB")
+
+    def _section(self, head: str) -> None:
+        """``REPEAT A P=n``, ``REPEAT A B P=n``, ``REPEAT A ENDLABEL P=n``, ``REPEATB A
+        P=n``: args (head, start label, end label or None, passes node)."""
+        start = self._label()
+        end: str | None = None
+        if head == "REPEAT" and not self.done() and self.t[self.i].kind in (NAME, WORD):
+            tok = self.t[self.i]
+            if not (tok.text == "P" or (tok.kind == WORD and tok.text[0] == "P")):
+                end = self._label()
+        passes: Node = ("num", 1.0)
+        if not self.done():
+            tok = self.t[self.i]
+            if tok.kind == WORD and tok.text[0] == "P":
+                passes = ("num", tok.value)
+                self.i += 1
+            elif tok.kind == NAME and tok.text == "P":
+                self.i += 1
+                self.take("=")
+                passes = self.expr()
+        self.end()
+        self.b.kind, self.b.args = "SECTION", (head, start, end, passes)
 
     def _msg(self) -> None:
         self.take("(")

@@ -7,6 +7,12 @@ jumps" and "Control structures"; fundamentals, "Subprograms").
 * ``IF``/``ELSE``/``ENDIF``, ``WHILE``/``ENDWHILE``, ``FOR``/``ENDFOR`` (the counter
   steps by 1; no pass when the start exceeds the end), ``REPEAT``/``UNTIL``,
   ``LOOP``/``ENDLOOP``. A jump out of a structure leaves it.
+* ``CASE e OF c1 GOTOF A ... DEFAULT GOTOF B``: the jump of the first constant equal to
+  the value, else DEFAULT's, else the next block (job planning, "Program jumps").
+* ``REPEAT A P=n`` (the lines from label A up to the REPEAT), ``REPEAT A B P=n`` (A to B),
+  ``REPEAT A ENDLABEL P=n`` (A to the next ``ENDLABEL:``), ``REPEATB A P=n`` (the line of
+  A): the section runs n more times, then the block after the REPEAT (job planning,
+  "Program section repetition"); without P once.
 * ``L100``/``NAME`` call ``L100.SPF``/``NAME.SPF``, ``P n`` times; ``M17``, ``RET``, ``M2``
   or ``M30`` (or the file's end) return. R parameters are global, DEF variables local.
   ``NAME(a, b)`` passes arguments to the callee's ``PROC NAME(REAL A, VAR INT B)``
@@ -49,6 +55,17 @@ class Open:
 
 
 @dataclass
+class Section:
+    """A running section repetition: its first and last line, passes left, where to go on."""
+
+    start: int
+    end: int
+    left: int
+    after: int
+    construct: str
+
+
+@dataclass
 class Level:
     program: Program
     scope: Variables
@@ -60,6 +77,7 @@ class Level:
     bound: tuple[tuple[str, str, float], ...] = ()
     #: VAR parameters: (parameter name, the caller's target) written back at the return
     results: tuple[tuple[str, tuple], ...] = ()
+    sections: list[Section] = field(default_factory=list)
 
 
 class Runner:
@@ -100,6 +118,8 @@ class Runner:
                             guard.output += len(out)
                             yield from out
                             out.clear()
+                    if level.sections and level.sections[-1].end == index:
+                        self._section_end(level)
                     continue
                 block = program.block(index)
                 ex.loc = Location(program.name, block.line, block.col)
@@ -111,6 +131,8 @@ class Runner:
                         break
                 else:
                     self.statement(level, block, index)
+                if level.sections and level.sections[-1].end == index:
+                    self._section_end(level)
                 if out:
                     guard.output += len(out)
                     yield from out
@@ -129,6 +151,7 @@ class Runner:
             level.repeat -= 1
             level.index = 0
             level.structures.clear()
+            level.sections.clear()
             level.scope = self._bind(level.bound)
             return False
         self.levels.pop()
@@ -259,6 +282,16 @@ class Runner:
             ex.s.mcall = None if block.args[0] is None else (block.args[0], block.args[1])
         elif kind == "CALL":
             self.call(level, block)
+        elif kind == "CASE":
+            value = evaluate(block.args[0], scope)
+            for constant, how, label in block.args[1]:
+                if evaluate(constant, scope) == value:
+                    self.jump(level, how, label, index)
+                    return
+            if block.args[2] is not None:
+                self.jump(level, block.args[2][0], block.args[2][1], index)
+        elif kind == "SECTION":
+            self.section(level, block, index)
         elif kind == "RET":
             if len(self.levels) == 1:
                 raise Diagnostic("SIEM-RET", "RET in the main program", ex.loc)
@@ -291,6 +324,53 @@ class Runner:
             for i in range(3):
                 s.pos[i] += old[i] - s.frame.t[i]
             ex.emit_offsets()
+
+    def section(self, level: Level, block: Block, here: int) -> None:
+        """REPEAT / REPEATB: run a section of this program again P times."""
+        head, start_label, end_label, passes_node = block.args
+        ex = self.ex
+        passes = evaluate(passes_node, level.scope)
+        if passes < 1 or passes != int(passes):
+            raise Diagnostic(
+                "SIEM-REPEAT", f"{head} P={passes:g}: the pass count is a whole number >= 1", ex.loc
+            )
+        program = level.program
+        start = _near(program, start_label, here, ex.loc, head == "REPEATB")
+        if head == "REPEATB":
+            end = start
+        elif end_label is None:
+            end = here - 1
+        else:
+            ends = [i for i in program.targets().get(end_label, []) if i >= start]
+            if not ends:
+                raise Diagnostic(
+                    "SIEM-LABEL",
+                    f"{head}: end label {end_label} not found after {start_label}",
+                    ex.loc,
+                )
+            end = ends[0]
+        if start <= here <= end:
+            raise Diagnostic(
+                "SIEM-REPEAT", f"{head}: the section {start_label} holds the {head} itself", ex.loc
+            )
+        if len(level.sections) >= MAX_DEPTH:
+            raise Diagnostic("SIEM-REPEAT", f"more than {MAX_DEPTH} nested REPEAT sections", ex.loc)
+        construct = f"{head} {start_label} (line {here + 1})"
+        level.sections.append(Section(start, end, int(passes) - 1, here + 1, construct))
+        self._count(construct)
+        program.caching = True
+        level.index = start
+
+    def _section_end(self, level: Level) -> None:
+        """The last line of a repeated section ran: again from its start, or on after it."""
+        top = level.sections[-1]
+        if top.left > 0:
+            top.left -= 1
+            self._count(top.construct)
+            level.index = top.start
+        else:
+            level.sections.pop()
+            level.index = top.after
 
     def jump(self, level: Level, how: str, label: str, here: int) -> None:
         target = level.program.jump(label, how, here, self.ex.loc)
@@ -394,6 +474,19 @@ class Runner:
         if kind == "R":
             return scope.r_get(evaluate(what, scope), self.ex.loc)
         return scope.get(what, self.ex.loc)
+
+
+def _near(program: Program, label: str, here: int, loc: Location, forward: bool) -> int:
+    """The line of ``label`` for a section repetition: the nearest before ``here``, else
+    (REPEATB) the nearest after it."""
+    lines = program.targets().get(label, [])
+    before = [i for i in lines if i < here]
+    if before:
+        return before[-1]
+    after = [i for i in lines if i > here]
+    if forward and after:
+        return after[0]
+    raise Diagnostic("SIEM-LABEL", f"section start {label} not found", loc)
 
 
 def _proc_parameters(program: Program) -> tuple[tuple[bool, str, str], ...]:
