@@ -1,6 +1,6 @@
 """Siemens 840D flow control and subprograms with parameters (issue 14): CASE, REPEAT and
-REPEATB, PROC with parameters, calls with arguments, EXTERN; and refusals that name the
-construct met. Expected results follow the 840D sl programming manuals (job planning,
+REPEATB, PROC with parameters, calls with arguments, EXTERN, settable frames G505-G599,
+axes the machine lacks (W); and refusals that name the construct met. Expected results follow the 840D sl programming manuals (job planning,
 "Program jumps" (CASE), "Program section repetition" (REPEAT, REPEATB); fundamentals and
 job planning, "Subprograms with parameter transfer"): docs/readers/siemens840d.md."""
 
@@ -155,3 +155,30 @@ def test_refusals_name_the_construct_met(text: str, code: str, words: str, colum
     assert (err.code, err.location.column) == (code, column)
     assert words in err.message
     assert "parameters are not supported" not in err.message
+
+
+def test_settable_frames_g505_to_g599() -> None:
+    """G505-G599 select the settable frames 5-99 (fundamentals, "Settable zero offset"):
+    1-9 with their parameters, 10-99 zero, in the IR's system 9."""
+    params = {5221: 1.0, 5381: 3.0}  # G54 X1, G509 (frame 9) X3
+    text = "G54 G0 X1\nG510\nG1 X2 F10\nG509\nG599 G1 X4\nG505\nG500\nM30\n"
+    cmds = list(interpret_text(text, "f.mpf", InterpreterOptions(parameters=params)))
+    g5x = [(c.index, c.x) for c in cmds if isinstance(c, canon.SetG5xOffset)]
+    assert g5x == [(1, 1.0), (1, 1.0), (9, 0.0), (9, 3.0), (9, 0.0), (5, 0.0)]
+    feeds = [c.x for c in cmds if isinstance(c, canon.StraightFeed)]
+    assert feeds == [2.0, 4.0]
+    nist = list(
+        interpret_text(text, "f.mpf", InterpreterOptions(parameters=params, linuxcnc_compat=False))
+    )
+    totals = [c.x for c in nist if isinstance(c, canon.SetOriginOffsets)]
+    assert totals == [1.0, 1.0, 0.0, 3.0, 0.0, 0.0, 0.0]
+
+
+@pytest.mark.parametrize(
+    ("text", "letter", "column"),
+    [("G0 X1 W5\n", "W", 7), ("G1 W=5 F10\n", "W", 4), ("V2\n", "V", 1)],
+)
+def test_axes_the_machine_lacks_are_refused_by_name(text: str, letter: str, column: int) -> None:
+    err = _error(text)
+    assert (err.code, err.location.line, err.location.column) == ("SIEM-AXIS", 1, column)
+    assert f"no {letter} axis" in err.message

@@ -107,6 +107,18 @@ UNSUPPORTED = frozenset(
         "GOTOS",
     ]
 )
+#: axis addresses of 840D machines with more axes (W: a second Z, e.g. a quill) that the
+#: machine profile (kernel.machine: X Y Z A B C) and the IR do not have
+ABSENT_AXES = frozenset({"U", "V", "W"})
+
+
+def _no_axis(letter: str) -> str:
+    return (
+        f"{letter}: this machine has no {letter} axis (the machine profile's and the IR's "
+        "axes are X Y Z A B C)"
+    )
+
+
 #: drilling cycles expanded into moves (gcode.siemens.cycles)
 CYCLES = frozenset({"CYCLE81", "CYCLE82", "CYCLE83"})
 
@@ -552,6 +564,8 @@ class _Statement:
             tok = t[self.i]
             if tok.kind == WORD:
                 letter = tok.text[0]
+                if letter in ABSENT_AXES:
+                    raise self.error("SIEM-AXIS", _no_axis(letter))
                 if letter not in LETTERS:
                     raise self.error("SIEM-WORD", f"unknown address {letter} in {tok.text}")
                 items.append(Word(letter, ("num", tok.value), tok.col))
@@ -574,6 +588,8 @@ class _Statement:
                 raise self.error("SIEM-WORD", f"unknown word {name}")
             if name in UNSUPPORTED:
                 raise self.error("SIEM-UNSUPPORTED", f"{name}= is not supported by this reader")
+            if name in ABSENT_AXES:
+                raise self.error("SIEM-AXIS", _no_axis(name))
             if name in LETTERS or name in EXTENDED:
                 self.i += 2
                 items.append(self._value(name, tok.col))
