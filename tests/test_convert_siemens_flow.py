@@ -1,8 +1,11 @@
 """Siemens 840D flow control and subprograms with parameters (issue 14): CASE, REPEAT and
 REPEATB, PROC with parameters, calls with arguments, EXTERN, settable frames G505-G599,
-axes the machine lacks (W); and refusals that name the construct met. Expected results follow the 840D sl programming manuals (job planning,
-"Program jumps" (CASE), "Program section repetition" (REPEAT, REPEATB); fundamentals and
-job planning, "Subprograms with parameter transfer"): docs/readers/siemens840d.md."""
+axes the machine lacks (W); and refusals that name the construct met.
+
+Expected results follow the 840D sl programming manuals (job planning, "Program jumps"
+(CASE), "Program section repetition" (REPEAT, REPEATB); fundamentals and job planning,
+"Subprograms with parameter transfer"; fundamentals, "Settable zero offset"):
+docs/readers/siemens840d.md."""
 
 from __future__ import annotations
 
