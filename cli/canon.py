@@ -17,6 +17,7 @@ import click
 
 from cli.errors import guarded
 from cli.programs import detect_kind, dialect_option, load_tool_table, program_dialect, read_head
+from gcode.core.loopguard import MAX_BLOCKS
 from gcode.core.params import read_var_text
 from gcode.ngc.interpreter import InterpreterOptions, interpret_chunks
 from kernel.diagnostics import Diagnostic, Location
@@ -31,7 +32,11 @@ _FLOATS = {float}
 
 
 def _options(
-    tool_table: str | None, params: str | None, search: tuple[str, ...], nist: bool
+    tool_table: str | None,
+    params: str | None,
+    search: tuple[str, ...],
+    nist: bool,
+    max_blocks: int = MAX_BLOCKS,
 ) -> InterpreterOptions:
     tools = None
     if tool_table is not None:
@@ -40,7 +45,11 @@ def _options(
     if params is not None:
         values = read_var_text(Path(params).read_text().splitlines(), params)
     return InterpreterOptions(
-        tool_table=tools, parameters=values, search_path=search, linuxcnc_compat=not nist
+        tool_table=tools,
+        parameters=values,
+        search_path=search,
+        linuxcnc_compat=not nist,
+        max_blocks=max_blocks,
     )
 
 
@@ -236,6 +245,13 @@ def _write(chunks: Iterator[object], path: str, fmt: str, linuxcnc: bool, out: T
     help="Write to this file instead of standard output.",
 )
 @click.option("--force", is_flag=True, help="Overwrite an existing output file.")
+@click.option(
+    "--max-blocks",
+    type=click.IntRange(min=1),
+    default=MAX_BLOCKS,
+    show_default=True,
+    help="Stop with LOOP-LIMIT after this many G-code blocks executed (endless loops).",
+)
 @dialect_option
 @guarded
 def command(
@@ -247,6 +263,7 @@ def command(
     nist: bool,
     output: str | None,
     force: bool,
+    max_blocks: int,
     dialect: str,
 ) -> None:
     """Interpret PROGRAM into canonical machining commands (NISTIR 5970).
@@ -278,9 +295,9 @@ def command(
         from gcode.readers import read
 
         here = (*search, str(Path(program).resolve().parent))
-        chunks = iter(read(program, language, _options(tool_table, params, here, nist)))
+        chunks = iter(read(program, language, _options(tool_table, params, here, nist, max_blocks)))
     else:
-        chunks = interpret_chunks(program, _options(tool_table, params, search, nist))
+        chunks = interpret_chunks(program, _options(tool_table, params, search, nist, max_blocks))
     if output is None:
         try:
             _write(chunks, program, fmt, linuxcnc, sys.stdout)

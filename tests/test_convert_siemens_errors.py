@@ -54,7 +54,7 @@ def _error(text: str, options: InterpreterOptions | None = None) -> Diagnostic:
         ("CYCLE800(1,2)\n", "SIEM-CYCLE-UNSUPPORTED", 1, 1),
         ("CYCLE81(10, 0, 2, 5)\n", "SIEM-CYCLE-ARGS", 1, 1),
         ("T1 D2 M6\n", "SIEM-TOOL-EDGE", 1, 4),
-        ("G510\n", "SIEM-WORK-OFFSET", 1, 1),
+        ("G0 X1 W5\n", "SIEM-AXIS", 1, 7),
         ("G4 F1 S2\n", "SIEM-DWELL", 1, 1),
         ("G33 Z-10 K1\n", "SIEM-THREAD", 1, 1),
         ("RET\n", "SIEM-RET", 1, 1),

@@ -67,6 +67,7 @@ class Reader:
         self.loaded: dict[int, tuple[Source, int]] = {}
         self.frames = [Frame(src, 0, src.main_program_line(), 0, "main")]
         self.jumps = 0
+        self.guard = self.ip.flow.guard  # gcode.core.loopguard, shared with the interpreter
         self.current_seq: int | None = None
         self.current_program = 0
 
@@ -91,8 +92,10 @@ class Reader:
             self.ex.lathe.start()
         keep_all = len(self.main.lines) <= KEEP_ALL_LINES
         frames = self.frames
+        guard = self.guard
         while True:
             if out:
+                guard.output += len(out)
                 yield from out
                 out.clear()
             fr = frames[-1]
@@ -103,6 +106,7 @@ class Reader:
                 continue
             idx = fr.pc
             fr.pc += 1
+            guard.blocks += 1
             blk = src.block(idx, keep_all or len(frames) > 1 or bool(fr.loops))
             kind = blk.kind
             if kind == "empty":
@@ -201,7 +205,7 @@ class Reader:
             if start is None:
                 raise Diagnostic("FANUC-LOOP", f"END{blk.label} without DO{blk.label}", loc)
             fr.pc = start
-            self._count_jump(loc)
+            self._count_jump(loc, f"WHILE ... DO{blk.label} (line {start + 1}) END{blk.label}")
 
     @staticmethod
     def _check_loop_id(label: int, loc: Location) -> None:
@@ -225,18 +229,20 @@ class Reader:
         if line is None:
             raise Diagnostic("FANUC-GOTO", f"sequence number N{int(target)} not found", loc)
         if line < fr.pc:
-            self._count_jump(loc)
+            self._count_jump(loc, f"GOTO{int(target)}")
         fr.pc = line
         for m, start in list(fr.loops.items()):
             if start >= line:  # jumping out of (or back before) a loop ends it
                 del fr.loops[m]
 
-    def _count_jump(self, loc: Location) -> None:
+    def _count_jump(self, loc: Location, construct: str) -> None:
+        """A jump back: the flavour's jump limit, then the shared loop guard."""
         self.jumps += 1
         if self.jumps > self.fl.max_loops:
             raise Diagnostic(
                 "FANUC-LOOP-LIMIT", f"more than {self.fl.max_loops} jumps back: endless loop?", loc
             )
+        self.guard.back(construct, loc)
 
     # ------------------------------------------------------------------ calls
     def _act(self, a: Action, fr: Frame, loc: Location) -> bool:
@@ -335,7 +341,7 @@ class Reader:
             fr.pc = fr.entry
             fr.started = fr.start >= 0
             fr.loops.clear()
-            self._count_jump(loc)
+            self._count_jump(loc, "M99 (subprogram repeat)")
             if fr.kind == "g65":
                 self.vars.leave()
                 self.vars.enter(fr.args or {})

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from gcode.core.loopguard import MAX_BLOCKS, MAX_IDLE_BLOCKS
 from gcode.core.params import Parameters
 from gcode.core.state import SavedModes, Setup
 from gcode.ngc.comp.api import CutterComp
@@ -36,6 +37,10 @@ class InterpreterOptions:
     # selected, as rs274 says it) even without linuxcnc_compat, instead of NIST's one
     # SET_ORIGIN_OFFSETS total (a writer can then say G54 rather than set the table)
     g5x_offsets: bool = False
+    # the loop guard of every reader (gcode.core.loopguard): blocks in a run before
+    # LOOP-LIMIT, blocks with no canonical command emitted before LOOP-NO-PROGRESS
+    max_blocks: int = MAX_BLOCKS
+    max_idle_blocks: int = MAX_IDLE_BLOCKS
 
 
 class AnyTool(ToolTable):

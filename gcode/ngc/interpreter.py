@@ -22,6 +22,7 @@ from gcode.core import linuxcnc as lc
 from gcode.core.blocks import Assignment, check_letter_uses, evaluate_block, is_constant
 from gcode.core.codes import Words
 from gcode.core.lexer import Block
+from gcode.core.loopguard import LoopGuard
 from gcode.core.messages import comment_commands
 from gcode.core.program import ProgramFile
 from gcode.core.state import G80, INVERSE_TIME, ControlCode, FeedCode, SavedModes
@@ -90,7 +91,10 @@ class Interpreter(NgcContext):
     """One run of one program. Not reusable; create one per program."""
 
     def __init__(self, options: InterpreterOptions) -> None:
-        super().__init__(options, Flow(self, options.search_path))
+        super().__init__(
+            options,
+            Flow(self, options.search_path, LoopGuard(options.max_blocks, options.max_idle_blocks)),
+        )
         self.params.predefined = self._named
         self.params.dynamic = self._numbered
         offsets.init_offsets(self)
@@ -118,11 +122,13 @@ class Interpreter(NgcContext):
         self.loc = Location(main.path, 0, 0)
         self._preamble()
         out = self.out
+        guard = self.flow.guard
         try:
             while True:
                 if lane is not None:
                     found = lane.take(self)
                     if found is not None:
+                        guard.output += 1
                         if out:
                             yield from out
                             out.clear()
@@ -132,6 +138,7 @@ class Interpreter(NgcContext):
                     self.flow.end_of_file()
                     break
                 if out:
+                    guard.output += len(out)
                     yield from out
                     out.clear()
                 if self.execute_line(block):

@@ -15,6 +15,7 @@ from typing import Protocol
 
 from gcode.core.expr import evaluate
 from gcode.core.lexer import Block, OWord
+from gcode.core.loopguard import LoopGuard
 from gcode.core.params import Parameters
 from gcode.core.program import Position, ProgramFile, find_subroutine_file
 from gcode.core.state import SavedModes
@@ -65,8 +66,11 @@ class FlowHost(Protocol):
 class Flow:
     """Where the interpreter reads next, and the O-word stacks."""
 
-    def __init__(self, host: FlowHost, search_path: tuple[str, ...] = ()) -> None:
+    def __init__(
+        self, host: FlowHost, search_path: tuple[str, ...] = (), guard: LoopGuard | None = None
+    ) -> None:
         self.host = host
+        self.guard = guard if guard is not None else LoopGuard()
         self.search_path = search_path
         self.file: ProgramFile
         self.main: ProgramFile
@@ -104,6 +108,7 @@ class Flow:
             block = f.next_block()
             if block is None:
                 return None
+            self.guard.blocks += 1
             if block.percent:
                 if not self.seen_line:
                     self.percent = True
@@ -353,6 +358,7 @@ class Flow:
         ctl = self._top(("do", "while"), name)
         if ctl is not None and ctl.kind == "do":
             if self._cond(ow, loc):
+                self._back(ctl, loc)
                 self.file.seek(ctl.head)
             else:
                 self._pop(ctl)
@@ -370,7 +376,13 @@ class Flow:
         ctl = self._top(("while",), name)
         if ctl is None:
             raise self._label_error(block, loc)
+        self._back(ctl, loc)
         self.file.seek(ctl.head)
+
+    def _back(self, ctl: _Control, loc: Location) -> None:
+        """A loop going back to its head: the shared loop guard's check."""
+        line = ctl.head.line + 1 if ctl.kind == "while" else ctl.head.line
+        self.guard.back(f"o{ctl.name} {ctl.kind} (line {line})", loc)
 
     def _kw_do(self, block: Block, ow: OWord, name: str, loc: Location) -> None:
         self._check_unique(block, name, loc)
@@ -391,6 +403,7 @@ class Flow:
             raise self._label_error(block, loc)
         ctl.count -= 1
         if ctl.count > 0:
+            self._back(ctl, loc)
             self.file.seek(ctl.head)
         else:
             self._pop(ctl)
@@ -409,6 +422,7 @@ class Flow:
             raise self._label_error(block, loc)
         del self.controls[self.controls.index(ctl) + 1 :]  # leave the inner ifs
         if ctl.kind == "while":
+            self._back(ctl, loc)
             self.file.seek(ctl.head)
         elif ctl.kind == "repeat":
             self._kw_endrepeat(block, ow, name, loc)

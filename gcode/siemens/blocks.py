@@ -4,9 +4,11 @@ either a control statement or the ordered words and assignments of an NC block.
 Block structure after the 840D sl programming manual (fundamentals, "Block structure";
 job planning, "Program jumps", "Control structures", "Variable definition"): ``N10``,
 ``LABEL:``, ``IF cond GOTOF label``, ``IF``/``ELSE``/``ENDIF``, ``WHILE``/``ENDWHILE``,
-``FOR i=a TO b``/``ENDFOR``, ``REPEAT``/``UNTIL``, ``LOOP``/``ENDLOOP``, ``DEF REAL a=1``,
-``MSG("...")``, frames (``TRANS X10`` ...), cycle calls (``CYCLE81(...)``) and subprogram
-calls (``L100``, ``NAME P3``).
+``FOR i=a TO b``/``ENDFOR``, ``REPEAT``/``UNTIL``, ``LOOP``/``ENDLOOP``, ``CASE e OF 1
+GOTOF A DEFAULT GOTOF B``, section repetition (``REPEAT A B P=2``, ``REPEATB A P=3``),
+``DEF REAL a=1``, ``MSG("...")``, frames (``TRANS X10`` ...), cycle calls
+(``CYCLE81(...)``), subprograms with parameters (``PROC NAME(REAL A, VAR INT B)``,
+``EXTERN NAME(REAL, VAR INT)``) and subprogram calls (``L100``, ``NAME P3``, ``NAME(1, R2)``).
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ KEYWORDS = (
     | JUMPS
     | TYPES
     | {"IF", "WHILE", "FOR", "TO", "UNTIL", "DEF", "PROC", "MSG", "MCALL", "NOT", "AND", "OR"}
+    | {"CASE", "OF", "DEFAULT", "REPEATB", "EXTERN", "VAR", "ENDLABEL"}
 )
 #: 840D instructions this reader knows it does not implement (refused, never taken for
 #: subprogram names): transformations, path and dynamic modes, splines, calls
@@ -87,8 +90,35 @@ UNSUPPORTED = frozenset(
         "WAITE",
         "SAVE",
         "DISPLOF",
+        "PRINT",
+        "WRITE",
+        "READ",
+        "SETAL",
+        "DELETE",
+        "EXECSTRING",
+        "EXECTAB",
+        "SPRINT",
+        "SETM",
+        "CLEARM",
+        "GET",
+        "GETD",
+        "RELEASE",
+        "DEFINE",
+        "GOTOS",
     ]
 )
+#: axis addresses of 840D machines with more axes (W: a second Z, e.g. a quill) that the
+#: machine profile (kernel.machine: X Y Z A B C) and the IR do not have
+ABSENT_AXES = frozenset({"U", "V", "W"})
+
+
+def _no_axis(letter: str) -> str:
+    return (
+        f"{letter}: this machine has no {letter} axis (the machine profile's and the IR's "
+        "axes are X Y Z A B C)"
+    )
+
+
 #: drilling cycles expanded into moves (gcode.siemens.cycles)
 CYCLES = frozenset({"CYCLE81", "CYCLE82", "CYCLE83"})
 
@@ -209,6 +239,10 @@ class _Statement:
         b = self.b
         if tok.kind == NAME and not self._assignment_ahead():
             head = tok.text
+            if head == "REPEAT" and self.i + 1 < len(self.t):
+                self.i += 1
+                self._section("REPEAT")
+                return
             if head in ALONE:
                 self.i += 1
                 self.end()
@@ -319,16 +353,132 @@ class _Statement:
         self.b.kind, self.b.args = "DEF", (kind, tuple(names))
 
     def _proc(self) -> None:
-        name = self.name()
+        """``PROC NAME(REAL A, VAR INT B)``: args (name, ((by_reference, type, name), ...))."""
+        name = self._program_name()
+        params: list[tuple[bool, str, str]] = []
         if self.is_op("("):
             self.i += 1
-            if not self.is_op(")"):
+            while not self.is_op(")"):
+                by_reference = self._var()
+                kind = self._type(f"PROC {name}")
+                at = self.loc()
+                pname = self.name()
+                if self.is_op("["):
+                    raise self.error(
+                        "SIEM-UNSUPPORTED", f"PROC {name}: array parameter {pname}[...]"
+                    )
+                if any(p[2] == pname for p in params):
+                    raise Diagnostic("SIEM-PROC", f"PROC {name}: parameter {pname} twice", at)
+                params.append((by_reference, kind, pname))
+                if not self.is_op(")"):
+                    self.take(",")
+            self.i += 1
+        while not self.done() and self.t[self.i].kind == NAME:
+            if self.t[self.i].text in ("DISPLOF", "SBLOF", "ACTBLOCNO"):
+                self.i += 1  # display and single-block attributes: no IR meaning
+            elif self.t[self.i].text == "SAVE":
                 raise self.error(
-                    "SIEM-UNSUPPORTED", "subprograms with parameters are not supported"
+                    "SIEM-UNSUPPORTED",
+                    f"PROC {name} SAVE (the caller's modal state restored at the return) "
+                    "is not supported",
                 )
+            else:
+                break
+        self.end()
+        self.b.kind, self.b.args = "PROC", (name, tuple(params))
+
+    def _program_name(self) -> str:
+        """A subprogram's name: a name, or an ``L`` number (``L140``)."""
+        if not self.done() and self.t[self.i].kind == WORD and self.t[self.i].text[0] == "L":
+            self.i += 1
+            return self.t[self.i - 1].text
+        return self.name()
+
+    def _var(self) -> bool:
+        if not self.done() and self.t[self.i].kind == NAME and self.t[self.i].text == "VAR":
+            self.i += 1
+            return True
+        return False
+
+    def _type(self, what: str) -> str:
+        at = self.loc()
+        kind = self.name()
+        if kind not in TYPES:
+            raise Diagnostic(
+                "SIEM-UNSUPPORTED", f"{what}: {kind} parameters (only REAL, INT and BOOL)", at
+            )
+        return kind
+
+    def _extern(self) -> None:
+        """``EXTERN NAME(REAL, VAR INT)``: the parameter types of a subprogram the main
+        program calls with arguments; args (name, ((by_reference, type), ...))."""
+        name = self._program_name()
+        types: list[tuple[bool, str]] = []
+        if self.is_op("("):
+            self.i += 1
+            while not self.is_op(")"):
+                by_reference = self._var()
+                types.append((by_reference, self._type(f"EXTERN {name}")))
+                if self.is_op("["):
+                    raise self.error("SIEM-UNSUPPORTED", f"EXTERN {name}: array parameters")
+                if not self.is_op(")"):
+                    self.take(",")
             self.i += 1
         self.end()
-        self.b.kind, self.b.args = "PROC", (name,)
+        self.b.kind, self.b.args = "EXTERN", (name, tuple(types))
+
+    def _case(self) -> None:
+        """``CASE e OF 1 GOTOF A 2 GOTOB B DEFAULT GOTOF C``: args (expression,
+        ((constant node, jump, label), ...), (jump, label) or None)."""
+        value = self.expr()
+        if self.done() or self.t[self.i].text != "OF":
+            raise self.error("SIEM-SYNTAX", "CASE expression OF expected")
+        self.i += 1
+        cases: list[tuple[Node, str, str]] = []
+        default: tuple[str, str] | None = None
+        while not self.done():
+            if self.t[self.i].kind == NAME and self.t[self.i].text == "DEFAULT":
+                self.i += 1
+                default = (self._jump("CASE DEFAULT"), self._label())
+                break
+            constant = self.expr()
+            cases.append((constant, self._jump("CASE"), self._label()))
+        self.end()
+        if not cases and default is None:
+            raise self.error("SIEM-SYNTAX", "CASE without a constant or DEFAULT")
+        self.b.kind, self.b.args = "CASE", (value, tuple(cases), default)
+
+    def _jump(self, what: str) -> str:
+        tok = self.t[self.i] if not self.done() else None
+        if tok is None or tok.kind != NAME or tok.text not in JUMPS:
+            raise self.error("SIEM-SYNTAX", f"{what}: GOTOF, GOTOB, GOTO or GOTOC expected")
+        self.i += 1
+        return tok.text
+
+    def _repeatb(self) -> None:
+        self._section("REPEATB")
+
+    def _section(self, head: str) -> None:
+        """``REPEAT A P=n``, ``REPEAT A B P=n``, ``REPEAT A ENDLABEL P=n``, ``REPEATB A
+        P=n``: args (head, start label, end label or None, passes node)."""
+        start = self._label()
+        end: str | None = None
+        if head == "REPEAT" and not self.done() and self.t[self.i].kind in (NAME, WORD):
+            tok = self.t[self.i]
+            if not (tok.text == "P" or (tok.kind == WORD and tok.text[0] == "P")):
+                end = self._label()
+        passes: Node = ("num", 1.0)
+        if not self.done():
+            tok = self.t[self.i]
+            if tok.kind == WORD and tok.text[0] == "P":
+                passes = ("num", tok.value)
+                self.i += 1
+            elif tok.kind == NAME and tok.text == "P":
+                self.i += 1
+                self.take("=")
+                passes = self.expr()
+        self.end()
+        self.b.kind, self.b.args = "SECTION", (head, start, end, passes)
 
     def _msg(self) -> None:
         self.take("(")
@@ -364,14 +514,19 @@ class _Statement:
         self.b.kind, self.b.args = "FRAME", (head,)
 
     def _call(self, name: str) -> None:
+        """``NAME``, ``L100 P3``, ``NAME(1.5, , R2) P2``: args (name, passes, arguments or
+        None; an omitted argument is None)."""
         repeat: Node = ("num", 1.0)
+        args: tuple[Node | None, ...] | None = None
+        if self.is_op("("):
+            args = self._arguments(name)
+            if args == (None,):
+                args = ()
         if not self.done() and self.t[self.i].kind == WORD and self.t[self.i].text[0] == "P":
             repeat = ("num", self.t[self.i].value)
             self.i += 1
-        elif self.is_op("("):
-            raise self.error("SIEM-UNSUPPORTED", f"{name}: subprogram parameters are not supported")
         self.end()
-        self.b.kind, self.b.args = "CALL", (name, repeat)
+        self.b.kind, self.b.args = "CALL", (name, repeat, args)
 
     def _arguments(self, head: str) -> tuple[Node | None, ...]:
         self.take("(")
@@ -409,6 +564,8 @@ class _Statement:
             tok = t[self.i]
             if tok.kind == WORD:
                 letter = tok.text[0]
+                if letter in ABSENT_AXES:
+                    raise self.error("SIEM-AXIS", _no_axis(letter))
                 if letter not in LETTERS:
                     raise self.error("SIEM-WORD", f"unknown address {letter} in {tok.text}")
                 items.append(Word(letter, ("num", tok.value), tok.col))
@@ -431,6 +588,8 @@ class _Statement:
                 raise self.error("SIEM-WORD", f"unknown word {name}")
             if name in UNSUPPORTED:
                 raise self.error("SIEM-UNSUPPORTED", f"{name}= is not supported by this reader")
+            if name in ABSENT_AXES:
+                raise self.error("SIEM-AXIS", _no_axis(name))
             if name in LETTERS or name in EXTENDED:
                 self.i += 2
                 items.append(self._value(name, tok.col))

@@ -43,6 +43,8 @@ ADDRESSES = frozenset(
     | {"CR", "AR", "TURN", "SPOS", "LIMS", "ADIS", "MEAS", "I1", "J1", "K1"}
 )
 _PLANE_OF = {17: "XY", 18: "ZX", 19: "YZ"}
+#: RS274/NGC's coordinate systems (G54-G59.3): the IR's SET_G5X_OFFSET indexes 1-9
+G5X_SLOTS = 9
 
 
 class Executor(Machine):
@@ -61,8 +63,9 @@ class Executor(Machine):
 
     def _g5x_values(self, index: int) -> tuple[float, ...]:
         """A settable frame's offsets: RS274/NGC parameters 5221 + 20 (i - 1) + k from the
-        options (the machine's offset table), else zero; G500 is zero."""
-        if index == 0:
+        options (the machine's offset table), else zero; G500 is zero, and so are frames
+        10-99 (G510-G599), which no parameter of RS274/NGC holds."""
+        if index == 0 or index > G5X_SLOTS:
             return (0.0,) * 6
         base = 5221 + 20 * (index - 1)
         return tuple(float(self.params.get(base + k, 0.0)) for k in range(6))
@@ -81,7 +84,7 @@ class Executor(Machine):
             if s.work == 0:
                 self.emit(canon.SetOriginOffsets(0.0, 0.0, 0.0, source=loc))
             else:
-                self.emit(lc.SetG5xOffset(s.work, *s.g5x, source=loc))
+                self.emit(lc.SetG5xOffset(min(s.work, G5X_SLOTS), *s.g5x, source=loc))
         self.emit(lc.SetG92Offset(*t, source=loc))
         if g5x and s.work != 0:
             self.emit(lc.SetXYRotation(0.0, source=loc))
@@ -361,15 +364,11 @@ class Executor(Machine):
         s.units_code = code
 
     def select_work(self, code: int) -> None:
-        """G54-G57, G505-G599 (settable frames 1-4, 5-99) and G500 (none)."""
+        """G54-G57, G505-G599 (settable frames 1-4, 5-99) and G500 (none). Frames 10-99
+        go to the IR in the last of RS274/NGC's nine coordinate systems (SET_G5X_OFFSET 9
+        with the frame's values), as the Fanuc reader does with G54.1 P."""
         s = self.s
         index = 0 if code == 500 else code - 53 if code < 100 else code - 500
-        if index > 9:
-            raise Diagnostic(
-                "SIEM-WORK-OFFSET",
-                f"G{code}: settable frames beyond the 9 of RS274/NGC (G509) have no IR equivalent",
-                self.loc,
-            )
         old = s.g5x
         s.work = index
         s.g5x = self._g5x_values(index)

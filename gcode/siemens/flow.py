@@ -7,8 +7,18 @@ jumps" and "Control structures"; fundamentals, "Subprograms").
 * ``IF``/``ELSE``/``ENDIF``, ``WHILE``/``ENDWHILE``, ``FOR``/``ENDFOR`` (the counter
   steps by 1; no pass when the start exceeds the end), ``REPEAT``/``UNTIL``,
   ``LOOP``/``ENDLOOP``. A jump out of a structure leaves it.
+* ``CASE e OF c1 GOTOF A ... DEFAULT GOTOF B``: the jump of the first constant equal to
+  the value, else DEFAULT's, else the next block (job planning, "Program jumps").
+* ``REPEAT A P=n`` (the lines from label A up to the REPEAT), ``REPEAT A B P=n`` (A to B),
+  ``REPEAT A ENDLABEL P=n`` (A to the next ``ENDLABEL:``), ``REPEATB A P=n`` (the line of
+  A): the section runs n more times, then the block after the REPEAT (job planning,
+  "Program section repetition"); without P once.
 * ``L100``/``NAME`` call ``L100.SPF``/``NAME.SPF``, ``P n`` times; ``M17``, ``RET``, ``M2``
   or ``M30`` (or the file's end) return. R parameters are global, DEF variables local.
+  ``NAME(a, b)`` passes arguments to the callee's ``PROC NAME(REAL A, VAR INT B)``
+  parameters: by value, or for ``VAR`` by reference (the caller's variable or R parameter
+  gets the parameter's value at the return); an omitted argument is 0 (fundamentals,
+  "Subprograms with parameter transfer"; job planning, "Subprogram technique").
 * Bounded: at most :data:`MAX_LOOPS` backward jumps and loop passes in a run, and
   :data:`MAX_DEPTH` program levels (SIEM-LOOP-LIMIT, SIEM-CALL-DEPTH).
 """
@@ -18,6 +28,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
+from gcode.core.loopguard import LoopGuard
 from gcode.siemens.blocks import Block, Word
 from gcode.siemens.cycles import check_cycle, run_cycle
 from gcode.siemens.executor import Executor
@@ -44,6 +55,17 @@ class Open:
 
 
 @dataclass
+class Section:
+    """A running section repetition: its first and last line, passes left, where to go on."""
+
+    start: int
+    end: int
+    left: int
+    after: int
+    construct: str
+
+
+@dataclass
 class Level:
     program: Program
     scope: Variables
@@ -51,6 +73,11 @@ class Level:
     repeat: int = 1
     structures: list[Open] = field(default_factory=list)
     call: Location | None = None
+    #: PROC parameters as passed (type, name, value): bound again at each pass (P)
+    bound: tuple[tuple[str, str, float], ...] = ()
+    #: VAR parameters: (parameter name, the caller's target) written back at the return
+    results: tuple[tuple[str, tuple], ...] = ()
+    sections: list[Section] = field(default_factory=list)
 
 
 class Runner:
@@ -59,10 +86,13 @@ class Runner:
         self.levels = [Level(main, Variables(ex.r))]
         self.programs: dict[str, Program] = {main.name: main}
         self.loops = 0
+        opts = ex.options
+        self.guard = LoopGuard(opts.max_blocks, opts.max_idle_blocks)
 
     def run(self) -> Iterator[canon.Command]:
         ex = self.ex
         out = ex.out
+        guard = self.guard
         main = self.levels[0].program
         ex.preamble(Location(main.name, 0, 0))
         yield from out
@@ -77,6 +107,7 @@ class Runner:
                     continue
                 index = level.index
                 level.index += 1
+                guard.blocks += 1
                 words = plain_words(program.line(index))
                 if words is not None:
                     if words:
@@ -84,8 +115,11 @@ class Runner:
                         if ex.execute_words(words, level.scope) and self._return(level, END):
                             break
                         if out:
+                            guard.output += len(out)
                             yield from out
                             out.clear()
+                    if level.sections and level.sections[-1].end == index:
+                        self._section_end(level)
                     continue
                 block = program.block(index)
                 ex.loc = Location(program.name, block.line, block.col)
@@ -97,7 +131,10 @@ class Runner:
                         break
                 else:
                     self.statement(level, block, index)
+                if level.sections and level.sections[-1].end == index:
+                    self._section_end(level)
                 if out:
+                    guard.output += len(out)
                     yield from out
                     out.clear()
         except Diagnostic:
@@ -114,10 +151,14 @@ class Runner:
             level.repeat -= 1
             level.index = 0
             level.structures.clear()
-            level.scope = Variables(self.ex.r)
+            level.sections.clear()
+            level.scope = self._bind(level.bound)
             return False
         self.levels.pop()
         if self.levels:
+            caller = self.levels[-1].scope
+            for name, target in level.results:
+                self._assign(caller, target, level.scope.get(name, self.ex.loc))
             return False
         if block is not None:
             self._end()
@@ -137,7 +178,7 @@ class Runner:
         ex.emit(canon.ProgramEnd(source=loc))
 
     def call(self, level: Level, block: Block) -> None:
-        name, repeat_node = block.args
+        name, repeat_node, args = block.args
         ex = self.ex
         repeat = evaluate(repeat_node, level.scope)
         if repeat < 1 or repeat != int(repeat):
@@ -153,7 +194,50 @@ class Runner:
         if program is None:
             program = self.programs[path] = Program.load(path)
         program.caching = True
-        self.levels.append(Level(program, Variables(ex.r), repeat=int(repeat), call=ex.loc))
+        bound, results = self._parameters(name, program, args, level.scope)
+        callee = Level(program, self._bind(bound), repeat=int(repeat), call=ex.loc)
+        callee.bound, callee.results = bound, results
+        self.levels.append(callee)
+
+    def _bind(self, bound: tuple[tuple[str, str, float], ...]) -> Variables:
+        scope = Variables(self.ex.r)
+        for kind, pname, value in bound:
+            scope.define(kind, pname, value, self.ex.loc)
+        return scope
+
+    def _parameters(
+        self, name: str, program: Program, args: tuple | None, scope: Variables
+    ) -> tuple[tuple[tuple[str, str, float], ...], tuple[tuple[str, tuple], ...]]:
+        """The callee's PROC parameters with the call's arguments: (type, name, value) by
+        value, and (name, caller target) for each VAR parameter."""
+        ex = self.ex
+        params = _proc_parameters(program)
+        given = args or ()
+        if len(given) > len(params):
+            raise Diagnostic(
+                "SIEM-CALL",
+                f"{name}: {len(given)} arguments for {len(params)} parameters of its PROC",
+                ex.loc,
+            )
+        bound: list[tuple[str, str, float]] = []
+        results: list[tuple[str, tuple]] = []
+        for i, (by_reference, kind, pname) in enumerate(params):
+            node = given[i] if i < len(given) else None
+            if by_reference:
+                target = _target_of(node)
+                if target is None:
+                    raise Diagnostic(
+                        "SIEM-CALL",
+                        f"{name}: VAR parameter {pname} needs a variable or R parameter as "
+                        "its argument",
+                        ex.loc,
+                    )
+                results.append((pname, target))
+                value = self._read(scope, target)
+            else:
+                value = evaluate(node, scope) if node is not None else 0.0
+            bound.append((kind, pname, value))
+        return tuple(bound), tuple(results)
 
     # ------------------------------------------------------------------ statements
     def statement(self, level: Level, block: Block, index: int) -> None:
@@ -198,6 +282,16 @@ class Runner:
             ex.s.mcall = None if block.args[0] is None else (block.args[0], block.args[1])
         elif kind == "CALL":
             self.call(level, block)
+        elif kind == "CASE":
+            value = evaluate(block.args[0], scope)
+            for constant, how, label in block.args[1]:
+                if evaluate(constant, scope) == value:
+                    self.jump(level, how, label, index)
+                    return
+            if block.args[2] is not None:
+                self.jump(level, block.args[2][0], block.args[2][1], index)
+        elif kind == "SECTION":
+            self.section(level, block, index)
         elif kind == "RET":
             if len(self.levels) == 1:
                 raise Diagnostic("SIEM-RET", "RET in the main program", ex.loc)
@@ -231,17 +325,65 @@ class Runner:
                 s.pos[i] += old[i] - s.frame.t[i]
             ex.emit_offsets()
 
+    def section(self, level: Level, block: Block, here: int) -> None:
+        """REPEAT / REPEATB: run a section of this program again P times."""
+        head, start_label, end_label, passes_node = block.args
+        ex = self.ex
+        passes = evaluate(passes_node, level.scope)
+        if passes < 1 or passes != int(passes):
+            raise Diagnostic(
+                "SIEM-REPEAT", f"{head} P={passes:g}: the pass count is a whole number >= 1", ex.loc
+            )
+        program = level.program
+        start = _near(program, start_label, here, ex.loc, head == "REPEATB")
+        if head == "REPEATB":
+            end = start
+        elif end_label is None:
+            end = here - 1
+        else:
+            ends = [i for i in program.targets().get(end_label, []) if i >= start]
+            if not ends:
+                raise Diagnostic(
+                    "SIEM-LABEL",
+                    f"{head}: end label {end_label} not found after {start_label}",
+                    ex.loc,
+                )
+            end = ends[0]
+        if start <= here <= end:
+            raise Diagnostic(
+                "SIEM-REPEAT", f"{head}: the section {start_label} holds the {head} itself", ex.loc
+            )
+        if len(level.sections) >= MAX_DEPTH:
+            raise Diagnostic("SIEM-REPEAT", f"more than {MAX_DEPTH} nested REPEAT sections", ex.loc)
+        construct = f"{head} {start_label} (line {here + 1})"
+        level.sections.append(Section(start, end, int(passes) - 1, here + 1, construct))
+        self._count(construct)
+        program.caching = True
+        level.index = start
+
+    def _section_end(self, level: Level) -> None:
+        """The last line of a repeated section ran: again from its start, or on after it."""
+        top = level.sections[-1]
+        if top.left > 0:
+            top.left -= 1
+            self._count(top.construct)
+            level.index = top.start
+        else:
+            level.sections.pop()
+            level.index = top.after
+
     def jump(self, level: Level, how: str, label: str, here: int) -> None:
         target = level.program.jump(label, how, here, self.ex.loc)
         if target < 0:
             return
         if target <= here:
-            self._count()
+            self._count(f"{how} {label}")
             level.program.caching = True
         level.structures = [o for o in level.structures if o.start < target <= o.end]
         level.index = target
 
-    def _count(self) -> None:
+    def _count(self, construct: str) -> None:
+        """A loop pass or backward jump: the reader's pass limit, then the shared guard."""
         self.loops += 1
         if self.loops > MAX_LOOPS:
             raise Diagnostic(
@@ -249,6 +391,7 @@ class Runner:
                 f"more than {MAX_LOOPS} loop passes or backward jumps",
                 self.ex.loc,
             )
+        self.guard.back(construct, self.ex.loc)
 
     def structure(self, level: Level, block: Block, index: int) -> None:
         ex = self.ex
@@ -298,13 +441,13 @@ class Runner:
             level.index = top.end + 1
         elif kind == "ENDWHILE":
             opened.pop()
-            self._count()
+            self._count(f"WHILE (line {top.start + 1})")
             level.index = top.start
         elif kind == "ENDFOR":
             target, stop = top.data
             self._assign(scope, target, self._read(scope, target) + 1)
             if self._read(scope, target) <= stop:
-                self._count()
+                self._count(f"FOR (line {top.start + 1})")
                 level.index = top.start + 1
             else:
                 opened.pop()
@@ -312,10 +455,10 @@ class Runner:
             if evaluate(block.args[0], scope):
                 opened.pop()
             else:
-                self._count()
+                self._count(f"REPEAT (line {top.start + 1})")
                 level.index = top.start + 1
         else:  # ENDLOOP
-            self._count()
+            self._count(f"LOOP (line {top.start + 1})")
             level.index = top.start + 1
         program.caching = True
 
@@ -331,6 +474,43 @@ class Runner:
         if kind == "R":
             return scope.r_get(evaluate(what, scope), self.ex.loc)
         return scope.get(what, self.ex.loc)
+
+
+def _near(program: Program, label: str, here: int, loc: Location, forward: bool) -> int:
+    """The line of ``label`` for a section repetition: the nearest before ``here``, else
+    (REPEATB) the nearest after it."""
+    lines = program.targets().get(label, [])
+    before = [i for i in lines if i < here]
+    if before:
+        return before[-1]
+    after = [i for i in lines if i > here]
+    if forward and after:
+        return after[0]
+    raise Diagnostic("SIEM-LABEL", f"section start {label} not found", loc)
+
+
+def _proc_parameters(program: Program) -> tuple[tuple[bool, str, str], ...]:
+    """The parameters of a subprogram's ``PROC`` (its first block), () without one."""
+    index = 0
+    while program.has_line(index):
+        if program.line(index).split(";", 1)[0].strip():
+            block = program.block(index)
+            return block.args[1] if block.kind == "PROC" else ()
+        index += 1
+    return ()
+
+
+def _target_of(node: tuple | None) -> tuple | None:
+    """The variable or R parameter an argument names (for a VAR parameter), else None."""
+    if node is None:
+        return None
+    if node[0] == "var":
+        return ("V", node[1])
+    if node[0] == "num_r":
+        return ("R", ("num", float(node[1])))
+    if node[0] == "r":
+        return ("R", node[1])
+    return None
 
 
 def _first_code_line(program: Program, index: int) -> int:

@@ -157,7 +157,7 @@ class Program:
         while self.has_line(i + 1):
             i += 1
             head = self.head(i)
-            if head in CLOSERS and not (head == "IF" and _is_jump_if(self.line(i))):
+            if head in CLOSERS and not _is_statement(head, self.line(i)):
                 stack.append(head)
             elif head in CLOSERS.values():
                 if not stack:
@@ -181,9 +181,15 @@ class Program:
         raise Diagnostic("SIEM-STRUCTURE", f"{opener} without {closer}", loc)
 
 
-def _is_jump_if(line: str) -> bool:
+def _is_statement(head: str, line: str) -> bool:
+    """Whether an ``IF``/``REPEAT`` line opens no structure: ``IF c GOTOF L`` (a jump) or
+    ``REPEAT L P=2`` (a section repetition)."""
     code = line.split(";", 1)[0].upper()
-    return re.search(r"\bGOTO[FBC]?\b", code) is not None
+    if head == "IF":
+        return re.search(r"\bGOTO[FBC]?\b", code) is not None
+    if head == "REPEAT":
+        return re.search(r"\bREPEAT\s*\S", code) is not None
+    return False
 
 
 def find_subprogram(name: str, search_path: tuple[str, ...], current: str) -> str | None:
