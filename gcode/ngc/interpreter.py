@@ -203,6 +203,13 @@ class Interpreter(NgcContext):
 
     def execute(self, w: Words) -> bool:
         """NIST v3 Table 8 order of execution for one block; True at program end."""
+        ended = self._execute(w)
+        if self.s.resync_pending:
+            offsets.resync(self)
+        return ended
+
+    def _execute(self, w: Words) -> bool:
+        """The block's steps, in order (:meth:`execute`)."""
         s = self.s
         g = w.g
         v = w.values

@@ -293,14 +293,19 @@ def change_tool(ctx: NgcContext) -> None:
     s.spindle = canon.Direction.STOPPED
     ctx.emit(canon.StopSpindleTurning(source=loc))
     ctx.emit(canon.ChangeTool(_slot(ctx, n), source=loc))
-    resync(ctx)
+    s.resync_pending = True
     s.current_tool = n
     s.current_pocket = s.selected_pocket if s.selected_pocket >= 0 else 0
 
 
 def resync(ctx: NgcContext) -> None:
-    """After a tool change rs274 continues from its canon's idea of the position."""
+    """After a tool change rs274 continues from its canon's idea of the position.
+
+    It re-reads that position when it reads the next block, so this runs at the end of the
+    block holding the M6/M61: a G43/G43.1/G49 in that block is taken back as well.
+    """
     s = ctx.s
+    s.resync_pending = False
     if s.tlo_lag is not None:
         s.pos = [p + d for p, d in zip(s.pos, s.tlo_lag, strict=True)]
         s.tlo_lag = None
@@ -327,7 +332,7 @@ def set_tool_number(ctx: NgcContext, w: Words) -> None:
     if ctx.tools.get(n) is None:
         raise Diagnostic("NGC-TOOL-UNKNOWN", f"requested tool {n} not found in the tool table", loc)
     ctx.s.current_tool = n
-    resync(ctx)
+    ctx.s.resync_pending = True
     if ctx.compat:
         ctx.emit(lc.ChangeToolNumber(_slot(ctx, n), source=loc))
     if ctx.comp is not None and ctx.comp.holding:
