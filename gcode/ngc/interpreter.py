@@ -219,6 +219,8 @@ class Interpreter(NgcContext):
             motion.execute_motion(self, w, s.motion_mode)
             return False
         motion.check_block(self, w)
+        if w.m:
+            mcodes.check_user_m(self, w)
         if v:
             mode = g.get(1, s.motion_mode if w.has_axis() else None)
             check_letter_uses(w, mode, loc)
