@@ -24,6 +24,7 @@ from kernel.diagnostics import Diagnostic, Location
 #   ("u", fn, node)            unary function
 #   ("atan", node, node)       ATAN[a]/[b]
 #   ("exists", name)           EXISTS[#<name>]
+#   ("exists#", node)          EXISTS[#n] (n an expression)
 #   ("neg", node)              unary minus
 #   ("b", op, node, node)      binary operation
 Expr = object
@@ -205,11 +206,11 @@ class _Scanner:
                     raise self.error(
                         "NGC-EXISTS-ARG", "EXISTS needs a parameter #<name> or #n", start
                     )
-                self.parameter()  # numbered parameters always exist (LinuxCNC)
+                p = self.parameter()  # #n exists when n is in 1..5601 (rs274 2.9)
                 if self.peek() != "]":
                     raise self.error("NGC-UNCLOSED-EXPR", "expression not closed with ']'", start)
                 self.i += 1
-                return 1.0
+                return ("exists#", p[1])  # type: ignore[index]
             p = self.parameter()
             if self.peek() != "]":
                 raise self.error("NGC-UNCLOSED-EXPR", "expression not closed with ']'", start)
