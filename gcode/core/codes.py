@@ -93,7 +93,7 @@ class Words:
 
     def has_axis(self) -> bool:
         v = self.values
-        return any(a in v for a in AXIS_LETTERS)
+        return any(a in v for a in AXIS_LETTERS) or "@" in v or "^" in v
 
 
 def g_code(value: float, loc: Location) -> int:

@@ -345,7 +345,7 @@ def parse_line(raw: str, line: int, file: str | None = None) -> Block:
             value = sc.real_value()
             block.assignments.append((target, value, col))
             continue
-        if "a" <= c <= "z":
+        if "a" <= c <= "z" or c == "@" or c == "^":  # @ ^: polar radius and angle
             sc.i += 1
             block.words.append(Word(c, sc.real_value(), col))
             continue
@@ -354,7 +354,7 @@ def parse_line(raw: str, line: int, file: str | None = None) -> Block:
     return block
 
 
-_LETTERS = frozenset("abcdefghijklmpqrstuvwxyz")  # no 'n' or 'o' after the start
+_LETTERS = frozenset("abcdefghijklmpqrstuvwxyz@^")  # no 'n' or 'o' after the start
 
 
 def _check_letters(block: Block, file: str | None) -> None:

@@ -285,6 +285,8 @@ class Interpreter(NgcContext):
                 self.emit(canon.Comment(f"interpreter: retract mode set to {d}", source=loc))
         if 0 in g and g[0] not in (40, 530):
             offsets.modal_0(self, w)
+        if "@" in v or "^" in v:
+            w = motion.polar_words(self, w)
         if 1 in g:
             s_mode = g[1]
             if s_mode == G80:
