@@ -61,7 +61,7 @@ for _group, _codes in {
 
 M_GROUPS: dict[int, int] = {}
 for _group, _codes in {
-    4: (0, 1, 2, 30, 60),
+    4: (0, 1, 2, 30, 60, 98, 99),
     6: (6, 61),
     7: (3, 4, 5, 19),
     8: (7, 8, 9),

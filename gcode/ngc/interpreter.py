@@ -297,7 +297,10 @@ class Interpreter(NgcContext):
             else:
                 motion.execute_motion(self, w, s_mode)
         elif (
-            w.has_axis() and not (0 in g and g[0] in (100, 280, 300, 520, 920)) and g.get(8) != 431
+            w.has_axis()
+            and not (0 in g and g[0] in (100, 280, 300, 520, 920))
+            and g.get(8) != 431
+            and w.m.get(4) != 98  # rs274 2.9 ignores axis words beside M98
         ):
             if s.motion_mode is None or s.motion_mode == G80:
                 raise Diagnostic(
@@ -307,7 +310,13 @@ class Interpreter(NgcContext):
                 )
             motion.execute_motion(self, w, s.motion_mode)
         if 4 in w.m:
-            return mcodes.program_stop(self, w.m[4])
+            code = w.m[4]
+            if code == 98:
+                self.flow.m98(v.get("p", 0.0), v.get("l", 1.0), loc)
+                return False
+            if code == 99 and self.flow.m99():
+                return False
+            return mcodes.program_stop(self, 2 if code == 99 else code)
         return False
 
     def _at(self, w: Words, letter: str) -> Location:
