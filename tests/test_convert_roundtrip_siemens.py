@@ -6,11 +6,11 @@ with the 840D reader and compared with the equivalence rule of tests/canon_equiv
 (1e-4). A conversion the writer refused or changed (a report entry other than an R arc
 written with centres) is not expected to be equivalent.
 
-One known exception: 086_g10_l2_rotation. LinuxCNC's rotated work offset stays out of the
-coordinates in the IR (SET_XY_ROTATION), the writer states it as ``ROT Z``, and the
-840D reader, like the Fanuc reader's G68, applies a programmable rotation to the program
-coordinates; both IRs make the same physical motion (compared as such), their coordinates
-differ.
+Known exceptions: 086_g10_l2_rotation and 190_g10_l20_with_rotation. LinuxCNC's rotated
+work offset stays out of the coordinates in the IR (SET_XY_ROTATION), the writer states it
+as ``ROT Z``, and the 840D reader, like the Fanuc reader's G68, applies a programmable
+rotation to the program coordinates; both IRs make the same physical motion (compared as
+such), their coordinates differ.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from tests.convert_support import fine_text, options, programs, read_ir
 from tests.test_convert_roundtrip import programs_ir
 
 PROGRAMS = programs()
-ROTATED_OFFSET = {"086_g10_l2_rotation"}
+ROTATED_OFFSET = {"086_g10_l2_rotation", "190_g10_l20_with_rotation"}
 
 
 @functools.cache

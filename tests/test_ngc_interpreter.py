@@ -222,3 +222,11 @@ def test_mutated_programs_give_commands_or_a_diagnostic(
             pass
     except Diagnostic as diag:
         assert diag.code.startswith(("NGC-", "IO-"))
+
+
+def test_a_user_m_code_is_an_unknown_m_code_before_its_words_are_checked() -> None:
+    """rs274 2.9 says "Unknown m code used: M100" for a user M code without a program file,
+    even with P and Q words (which it would pass to that program)."""
+    diag = error("G20\nM100 P1 Q2\nM2\n")
+    assert diag.code == "NGC-USER-M" and diag.location.line == 2
+    assert "unknown M code used: M100" in diag.message

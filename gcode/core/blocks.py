@@ -129,14 +129,18 @@ def check_letter_uses(words: Words, motion: int | None, loc: Location) -> None:
     if "k" in v and motion not in (20, 30, 330, 331, 760, 870) and g0 != 100:
         raise bad("k", "G2, G3, G10, G33, G33.1, G76, or G87")
     if "l" in v and not (
-        g0 == 100 or cycle or motion in (52, 760) or g.get(7) in (410, 420, 411, 421) or 66 in m
+        g0 == 100
+        or cycle
+        or motion in (52, 760)
+        or g.get(7) in (410, 420, 411, 421)
+        or {66, 98} & m
     ):
         raise bad("l", "G10, cutter compensation, canned cycle, digital/analog input or NURBS code")
     if "p" in v and not (
         motion in (20, 30, 50, 52, 740, 760, 820, 840, 860, 880, 890)
         or g0 in (40, 100)
         or g.get(13) == 640
-        or {50, 51, 52, 53, 62, 63, 64, 65, 66, 19} & m
+        or {50, 51, 52, 53, 62, 63, 64, 65, 66, 19, 98} & m
     ):
         raise bad("p", "G2 G3 G4 G10 G64 G5 G5.2 G76 G82 G86 G88 G89 or M50-M53 M62-M66")
     if "q" in v and not (

@@ -61,7 +61,7 @@ for _group, _codes in {
 
 M_GROUPS: dict[int, int] = {}
 for _group, _codes in {
-    4: (0, 1, 2, 30, 60),
+    4: (0, 1, 2, 30, 60, 98, 99),
     6: (6, 61),
     7: (3, 4, 5, 19),
     8: (7, 8, 9),
@@ -93,7 +93,7 @@ class Words:
 
     def has_axis(self) -> bool:
         v = self.values
-        return any(a in v for a in AXIS_LETTERS)
+        return any(a in v for a in AXIS_LETTERS) or "@" in v or "^" in v
 
 
 def g_code(value: float, loc: Location) -> int:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from typing import Protocol
 
+from gcode.core.params import MAX_PARAMETER
 from kernel.diagnostics import Diagnostic, Location
 
 TOLERANCE_EQUAL = 0.0001
@@ -113,6 +114,15 @@ def _binary(op: str, a: float, b: float, loc: Location) -> float:
     raise _fail("NGC-BAD-OPERATOR", f"unknown operator {op}", loc)
 
 
+def _numbered_exists(index: float, loc: Location) -> float:
+    """``EXISTS[#n]``: 1 for n in 1..5601 (every numbered parameter rs274 2.9 has), else 0;
+    a non-integer n is an error, as rs274 says "Non integer value for integer"."""
+    n = round(index)
+    if abs(index - n) > 1e-4:
+        raise _fail("NGC-PARAM-NOT-INTEGER", f"parameter number {index:g} is not an integer", loc)
+    return 1.0 if 1 <= n < MAX_PARAMETER else 0.0
+
+
 def evaluate(node: object, params: ParameterSource, loc: Location) -> float:
     """Value of an expression node (see :mod:`gcode.core.lexer` for the node forms)."""
     if type(node) is float:
@@ -137,4 +147,6 @@ def evaluate(node: object, params: ParameterSource, loc: Location) -> float:
         return math.degrees(math.atan2(y, x))
     if kind == "exists":
         return 1.0 if params.exists(node[1]) else 0.0
+    if kind == "exists#":
+        return _numbered_exists(evaluate(node[1], params, loc), loc)
     raise _fail("NGC-BAD-EXPRESSION", f"cannot evaluate {node!r}", loc)

@@ -24,6 +24,7 @@ from kernel.diagnostics import Diagnostic, Location
 #   ("u", fn, node)            unary function
 #   ("atan", node, node)       ATAN[a]/[b]
 #   ("exists", name)           EXISTS[#<name>]
+#   ("exists#", node)          EXISTS[#n] (n an expression)
 #   ("neg", node)              unary minus
 #   ("b", op, node, node)      binary operation
 Expr = object
@@ -205,11 +206,11 @@ class _Scanner:
                     raise self.error(
                         "NGC-EXISTS-ARG", "EXISTS needs a parameter #<name> or #n", start
                     )
-                self.parameter()  # numbered parameters always exist (LinuxCNC)
+                p = self.parameter()  # #n exists when n is in 1..5601 (rs274 2.9)
                 if self.peek() != "]":
                     raise self.error("NGC-UNCLOSED-EXPR", "expression not closed with ']'", start)
                 self.i += 1
-                return 1.0
+                return ("exists#", p[1])  # type: ignore[index]
             p = self.parameter()
             if self.peek() != "]":
                 raise self.error("NGC-UNCLOSED-EXPR", "expression not closed with ']'", start)
@@ -344,7 +345,7 @@ def parse_line(raw: str, line: int, file: str | None = None) -> Block:
             value = sc.real_value()
             block.assignments.append((target, value, col))
             continue
-        if "a" <= c <= "z":
+        if "a" <= c <= "z" or c == "@" or c == "^":  # @ ^: polar radius and angle
             sc.i += 1
             block.words.append(Word(c, sc.real_value(), col))
             continue
@@ -353,7 +354,7 @@ def parse_line(raw: str, line: int, file: str | None = None) -> Block:
     return block
 
 
-_LETTERS = frozenset("abcdefghijklmpqrstuvwxyz")  # no 'n' or 'o' after the start
+_LETTERS = frozenset("abcdefghijklmpqrstuvwxyz@^")  # no 'n' or 'o' after the start
 
 
 def _check_letters(block: Block, file: str | None) -> None:

@@ -122,7 +122,12 @@ class Parameters:
 
     def leave(self) -> None:
         frame = self.frames.pop()
-        self.values[1 : LOCAL_ARGUMENTS + 1] = frame.saved_numbered
+        if frame.saved_numbered:
+            self.values[1 : LOCAL_ARGUMENTS + 1] = frame.saved_numbered
+
+    def enter_shared(self) -> None:
+        """Start an ``M98`` frame: new named locals, #1..#30 shared with the caller (rs274 2.9)."""
+        self.frames.append(_Frame())
 
     @property
     def depth(self) -> int:

@@ -149,6 +149,9 @@ class Setup:
     #: rs274's canon does not move its own position on a tool-length change: until the
     #: next motion, canon position = ours + tlo_lag; M6/M61 take the canon position back
     tlo_lag: list[float] | None = None
+    #: an M6/M61 ran in this block: rs274 re-reads its canon position when the next block is
+    #: read, so a tool-length change in the same block is taken back too
+    resync_pending: bool = False
     spline_i: float = 0.0  # G5 continuation (cycle_i / cycle_j of LinuxCNC)
     spline_j: float = 0.0
     nurbs_points: list[tuple[float, float, float]] = field(default_factory=list)

@@ -67,6 +67,21 @@ class _Cycle:
         self.ctx.s.pos = p
         self.ctx.s.tlo_lag = None
 
+    def tap_feed(self, a1: float, a2: float, d: float) -> None:
+        """A G84/G74 feed as rs274 2.9 prints it: in G18 it orders the coordinates as for
+        G19 and in G19 as for G18 (the hole's point lands on swapped axes); in G17 it is a
+        plain feed. Its own position still becomes the true point."""
+        plane = self.ctx.s.plane
+        if plane is canon.Plane.XY:
+            self.feed(a1, a2, d)
+            return
+        f1, f2, fn = PLANE_AXES[canon.Plane.YZ if plane is canon.Plane.XZ else canon.Plane.XZ]
+        printed = list(self.ctx.s.pos)
+        printed[f1], printed[f2], printed[fn] = a1, a2, d
+        self.ctx.emit(canon.StraightFeed(*printed, source=self.ctx.loc))
+        self.ctx.s.pos = self.point(a1, a2, d)
+        self.ctx.s.tlo_lag = None
+
 
 def canned_cycle(ctx: NgcContext, w: Words, code: int, previous: int | None) -> None:
     s = ctx.s
@@ -250,14 +265,14 @@ def _one_hole(
     elif code in (840, 740):
         ctx.emit(canon.DisableFeedOverride(source=loc))
         ctx.emit(canon.DisableSpeedOverride(source=loc))
-        cyc.feed(a1, a2, bottom)
+        cyc.tap_feed(a1, a2, bottom)
         ctx.emit(canon.StopSpindleTurning(source=loc))
         if code == 840:
             ctx.emit(canon.StartSpindleCounterclockwise(source=loc))
         else:
             ctx.emit(canon.StartSpindleClockwise(source=loc))
         ctx.emit(canon.Dwell(c.p, source=loc))
-        cyc.feed(a1, a2, clear)
+        cyc.tap_feed(a1, a2, clear)
         ctx.emit(canon.StopSpindleTurning(source=loc))
         if code == 840:
             ctx.emit(canon.StartSpindleClockwise(source=loc))

@@ -19,5 +19,6 @@ DIALECT = Dialect(
     footer=("%",),
     turns_word="P",
     nurbs="g5.2",
+    probe_in_place="G38.3",
     notes=("ELLIPSE_FEED: no G-code; approximated by lines",),
 )

@@ -210,6 +210,13 @@ class Interpreter(NgcContext):
 
     def execute(self, w: Words) -> bool:
         """NIST v3 Table 8 order of execution for one block; True at program end."""
+        ended = self._execute(w)
+        if self.s.resync_pending:
+            offsets.resync(self)
+        return ended
+
+    def _execute(self, w: Words) -> bool:
+        """The block's steps, in order (:meth:`execute`)."""
         s = self.s
         g = w.g
         v = w.values
@@ -219,6 +226,8 @@ class Interpreter(NgcContext):
             motion.execute_motion(self, w, s.motion_mode)
             return False
         motion.check_block(self, w)
+        if w.m:
+            mcodes.check_user_m(self, w)
         if v:
             mode = g.get(1, s.motion_mode if w.has_axis() else None)
             check_letter_uses(w, mode, loc)
@@ -283,6 +292,8 @@ class Interpreter(NgcContext):
                 self.emit(canon.Comment(f"interpreter: retract mode set to {d}", source=loc))
         if 0 in g and g[0] not in (40, 530):
             offsets.modal_0(self, w)
+        if "@" in v or "^" in v:
+            w = motion.polar_words(self, w)
         if 1 in g:
             s_mode = g[1]
             if s_mode == G80:
@@ -293,7 +304,10 @@ class Interpreter(NgcContext):
             else:
                 motion.execute_motion(self, w, s_mode)
         elif (
-            w.has_axis() and not (0 in g and g[0] in (100, 280, 300, 520, 920)) and g.get(8) != 431
+            w.has_axis()
+            and not (0 in g and g[0] in (100, 280, 300, 520, 920))
+            and g.get(8) != 431
+            and w.m.get(4) != 98  # rs274 2.9 ignores axis words beside M98
         ):
             if s.motion_mode is None or s.motion_mode == G80:
                 raise Diagnostic(
@@ -303,7 +317,13 @@ class Interpreter(NgcContext):
                 )
             motion.execute_motion(self, w, s.motion_mode)
         if 4 in w.m:
-            return mcodes.program_stop(self, w.m[4])
+            code = w.m[4]
+            if code == 98:
+                self.flow.m98(v.get("p", 0.0), v.get("l", 1.0), loc)
+                return False
+            if code == 99 and self.flow.m99():
+                return False
+            return mcodes.program_stop(self, 2 if code == 99 else code)
         return False
 
     def _at(self, w: Words, letter: str) -> Location:

@@ -10,7 +10,7 @@ from gcode.core.codes import Words
 from gcode.core.state import G1, CompCode, CycleWords, FeedCode, SavedModes
 from gcode.ngc import modes, offsets
 from gcode.ngc.context import NgcContext
-from kernel.diagnostics import Diagnostic
+from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.ir.canon import Direction, Plane
 
@@ -21,6 +21,20 @@ def _int_word(ctx: NgcContext, w: Words, letter: str, what: str) -> int:
             "NGC-M-WORD-MISSING", f"{letter.upper()} word missing with {what}", ctx.loc
         )
     return int(round(w.values[letter]))
+
+
+def check_user_m(ctx: NgcContext, w: Words) -> None:
+    """A user M code (M100-M199) is refused when the block is read, before its words are
+    checked: rs274 2.9 does so when the code has no program file ("Unknown m code used"),
+    and we run none."""
+    code = w.m.get(10)
+    if code is not None and code >= 100:
+        loc = ctx.loc
+        raise Diagnostic(
+            "NGC-USER-M",
+            f"unknown M code used: M{code} (a user M code needs its program, not available)",
+            Location(loc.file, loc.line, w.columns.get("m", loc.column)),
+        )
 
 
 def m_codes(ctx: NgcContext, w: Words) -> None:
@@ -110,10 +124,6 @@ def m_codes(ctx: NgcContext, w: Words) -> None:
                     loc,
                 )
             restore_state(ctx, saved)
-        elif code >= 100:
-            raise Diagnostic(
-                "NGC-USER-M", f"user-defined M{code} needs its program (not available)", loc
-            )
 
 
 def _overrides(ctx: NgcContext, code: int, v: dict[str, float]) -> None:

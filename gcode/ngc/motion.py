@@ -29,7 +29,7 @@ from gcode.ngc.comp.keep import CompRegister, KeptCompensation
 from gcode.ngc.context import NgcContext
 from gcode.ngc.cycles import canned_cycle
 from gcode.ngc.threading import threading_cycle
-from kernel.diagnostics import Diagnostic
+from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.ir.arcsweep import arc_sweep
 from kernel.ir.canon import Direction, Plane, Units
@@ -78,6 +78,51 @@ def find_ends(ctx: NgcContext, w: Words) -> list[float]:
     if s.absolute:
         return [v.get(a, pos[i]) for i, a in enumerate(AXES)]
     return [pos[i] + v.get(a, 0.0) for i, a in enumerate(AXES)]
+
+
+def polar_words(ctx: NgcContext, w: Words) -> Words:
+    """The block with its polar words ``@`` (radius) and ``^`` (angle, degrees) turned into
+    the X and Y words they stand for (LinuxCNC ``find_ends``, as rs274 2.9 computes them).
+
+    Polar coordinates are about the program origin in G17 only. In G90 a missing ``@`` or
+    ``^`` is the current point's; in G91 both are added to the current point's radius and
+    angle (so at the origin the move is undefined), and the result is given as the X/Y
+    increments G91 expects.
+    """
+    s = ctx.s
+    v = w.values
+    loc = ctx.loc
+    if s.plane is not Plane.XY:
+        raise Diagnostic("NGC-POLAR-PLANE", "cannot use polar coordinate except in G17 plane", loc)
+    for letter in "xy":
+        if letter in v:
+            raise Diagnostic(
+                "NGC-POLAR-XY",
+                f"cannot specify both polar coordinate and {letter.upper()} word",
+                Location(loc.file, loc.line, w.columns.get(letter, loc.column)),
+            )
+    x0, y0 = s.pos[0], s.pos[1]
+    radius0 = math.hypot(x0, y0)
+    angle0 = math.degrees(math.atan2(y0, x0))
+    if s.absolute:
+        radius = v.get("@", radius0)
+        angle = v.get("^", angle0)
+    else:
+        if radius0 == 0.0:
+            raise Diagnostic(
+                "NGC-POLAR-ORIGIN",
+                "incremental motion with polar coordinates is indeterminate when at the origin",
+                loc,
+            )
+        radius = radius0 + v.get("@", 0.0)
+        angle = angle0 + v.get("^", 0.0)
+    x = radius * math.cos(math.radians(angle))
+    y = radius * math.sin(math.radians(angle))
+    values = {k: val for k, val in v.items() if k not in "@^"}
+    values["x"], values["y"] = (x, y) if s.absolute else (x - x0, y - y0)
+    columns = dict(w.columns)
+    columns["x"] = columns["y"] = columns.get("@", columns.get("^", loc.column))
+    return Words(g=w.g, m=w.m, values=values, columns=columns)
 
 
 def traverse(ctx: NgcContext, end: list[float]) -> None:
@@ -293,7 +338,8 @@ def probe(ctx: NgcContext, w: Words, code: int) -> None:
         raise Diagnostic("NGC-PROBE-ZERO-FEED", "cannot probe with zero feed rate", loc)
     end = find_ends(ctx, w)
     distance = math.dist(end[:3], s.pos[:3])
-    if distance < 1e-12:
+    if distance < 1e-12 and code in (382, 384):
+        # only the probes that fail when not tripped; rs274 2.9 runs a zero-length G38.3/G38.5
         raise Diagnostic("NGC-PROBE-TOO-CLOSE", "start point too close to probe point", loc)
     ctx.emit(canon.TurnProbeOn(source=loc))
     ctx.emit(canon.StraightProbe(*end, source=loc))

@@ -11,6 +11,7 @@ table is in inches, as rs274's stand-alone canon reads it (``../shared/corpus/RE
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 from gcode.core import linuxcnc as lc
@@ -18,7 +19,7 @@ from gcode.core.codes import Words
 from gcode.core.state import AXES, INCH_MM, ToolLengthCode
 from gcode.ngc.context import NgcContext
 from gcode.ngc.motion import find_ends, traverse
-from kernel.diagnostics import Diagnostic
+from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.ir.canon import Units
 
@@ -231,20 +232,57 @@ def g10(ctx: NgcContext, w: Words) -> None:
         ctx.comp_off("active coordinate system")
     row = s.coords[idx]
     base = _coord_base(idx)
-    for i, a in enumerate(AXES):
-        if a not in v:
-            continue
-        if lword == 2:
-            row[i] = v[a]
-        else:
-            row[i] = s.pos[i] + s.g5x[i] - v[a]  # LinuxCNC leaves G92 out (rs274 output)
-        ctx.params.values[base + i] = _to_param(ctx, i, row[i])
+    if lword == 20 and "r" in v:
+        col = w.columns.get("r", loc.column)
+        raise Diagnostic(
+            "NGC-G10-L20-R", "R not allowed in G10 L20", Location(loc.file, loc.line, col)
+        )
+    values = row[:6]
+    if lword == 2:
+        for i, a in enumerate(AXES):
+            if a in v:
+                values[i] = v[a]
+    else:
+        values = _l20_offset(ctx, row, {i: v[a] for i, a in enumerate(AXES) if a in v})
+    for i in range(6):
+        if values[i] != row[i]:
+            row[i] = values[i]
+            ctx.params.values[base + i] = _to_param(ctx, i, row[i])
     if "r" in v:
         row[6] = v["r"]
         ctx.params.values[base + 9] = row[6]
     if idx == s.origin_index:
         _set_g5x(ctx, row[:6], row[6])
         _emit_offsets(ctx, g92=False)
+
+
+def _l20_offset(ctx: NgcContext, row: list[float], given: dict[int, float]) -> list[float]:
+    """G10 L20: the offset of system ``row`` (its XY rotation ``row[6]`` kept) that puts the
+    current point at the ``given`` coordinates (axis index -> value) of that system.
+
+    As rs274 2.9 computes it: the current point in machine coordinates (the active system,
+    G92 and rotation, without the tool length offset) is expressed in the target system; the
+    given axes take their values there and the other axes keep theirs, so with a rotation an
+    ``X`` word alone can move the Y offset too.
+    """
+    s = ctx.s
+    m = [p + g for p, g in zip(s.pos[:6], s.g92, strict=True)]
+    _rotate(m, s.rotation)
+    m = [a + b for a, b in zip(m, s.g5x, strict=True)]
+    local = [a - b for a, b in zip(m, row[:6], strict=True)]
+    _rotate(local, -row[6])
+    for i, value in given.items():
+        local[i] = value + s.g92[i]
+    _rotate(local, row[6])
+    return [a - b for a, b in zip(m, local, strict=True)]
+
+
+def _rotate(p: list[float], degrees: float) -> None:
+    """Turn the XY part of ``p`` by ``degrees`` about the origin (in place)."""
+    if degrees:
+        a = math.radians(degrees)
+        x, y = p[0], p[1]
+        p[0], p[1] = x * math.cos(a) - y * math.sin(a), x * math.sin(a) + y * math.cos(a)
 
 
 def go_home(ctx: NgcContext, w: Words, code: int) -> None:
@@ -293,14 +331,19 @@ def change_tool(ctx: NgcContext) -> None:
     s.spindle = canon.Direction.STOPPED
     ctx.emit(canon.StopSpindleTurning(source=loc))
     ctx.emit(canon.ChangeTool(_slot(ctx, n), source=loc))
-    resync(ctx)
+    s.resync_pending = True
     s.current_tool = n
     s.current_pocket = s.selected_pocket if s.selected_pocket >= 0 else 0
 
 
 def resync(ctx: NgcContext) -> None:
-    """After a tool change rs274 continues from its canon's idea of the position."""
+    """After a tool change rs274 continues from its canon's idea of the position.
+
+    It re-reads that position when it reads the next block, so this runs at the end of the
+    block holding the M6/M61: a G43/G43.1/G49 in that block is taken back as well.
+    """
     s = ctx.s
+    s.resync_pending = False
     if s.tlo_lag is not None:
         s.pos = [p + d for p, d in zip(s.pos, s.tlo_lag, strict=True)]
         s.tlo_lag = None
@@ -327,7 +370,7 @@ def set_tool_number(ctx: NgcContext, w: Words) -> None:
     if ctx.tools.get(n) is None:
         raise Diagnostic("NGC-TOOL-UNKNOWN", f"requested tool {n} not found in the tool table", loc)
     ctx.s.current_tool = n
-    resync(ctx)
+    ctx.s.resync_pending = True
     if ctx.compat:
         ctx.emit(lc.ChangeToolNumber(_slot(ctx, n), source=loc))
     if ctx.comp is not None and ctx.comp.holding:

@@ -1,5 +1,5 @@
 """O-word control flow (LinuxCNC): sub/endsub/call/return, if/elseif/else/endif,
-while/endwhile, do/while, repeat/endrepeat, break/continue.
+while/endwhile, do/while, repeat/endrepeat, break/continue; and M98/M99 programs.
 
 The program is read as a stream (:mod:`gcode.core.program`): a false branch or a skipped loop
 is passed over by reading forward to the matching O-word; a loop or a call jumps by byte
@@ -77,6 +77,8 @@ class Flow:
         self.files: dict[str, ProgramFile] = {}
         self.subs: dict[str, tuple[ProgramFile, Position]] = {}
         self.ahead: set[str] = set()  # subroutines found by reading ahead of a call
+        #: M98 programs (a bare "O<number>" line) found so far: number -> the line after it
+        self.programs: dict[str, tuple[ProgramFile, Position]] = {}
         #: where each label first opened a control structure (file, name) -> line
         self.labels: dict[tuple[str, str], Position] = {}
         self.controls: list[_Control] = []
@@ -280,6 +282,76 @@ class Flow:
         self._skip_to(name, ("endsub",), loc)
         self.file.seek(start)
         return self.subs[name]
+
+    # M98 / M99: programs "O<number>" ... "M99" (LinuxCNC 2.9 runs them stand-alone)
+    def m98(self, number: float, repeats: float, loc: Location) -> None:
+        """``M98 P<number> L<repeats>``: run program O<number> that many times (L0: none).
+
+        As rs274 2.9: the program is the line ``O<number>`` found by reading forward in the
+        current file (then remembered); it has its own named locals but shares #1-#30 with
+        the caller; its ``M99`` returns to the line after the M98.
+        """
+        for value, word in ((number, "P"), (repeats, "L")):
+            if abs(value - round(value)) > 1e-4:
+                raise Diagnostic("NGC-M98-NOT-INTEGER", f"M98 {word} value is not an integer", loc)
+        count = int(round(repeats))
+        if count <= 0:
+            return
+        if len(self.calls) >= MAX_CALL_DEPTH:
+            raise Diagnostic("NGC-OWORD-DEPTH", "too many nested subroutine calls", loc)
+        name = str(int(round(number)))
+        target = self.programs.get(name)
+        if target is None:
+            target = self._find_program(name, loc)
+        call = _Call(name, self.file, self.file.tell(), len(self.controls))
+        call.extra["m98"] = (target, count - 1)
+        self.calls.append(call)
+        self.host.params.enter_shared()
+        self.file = target[0]
+        self.file.seek(target[1])
+
+    def m99(self) -> bool:
+        """``M99``: the end of an M98 program (again from its start while repeats remain);
+        False outside any call (the caller then ends the program, as rs274 2.9 does)."""
+        if not self.calls:
+            return False
+        call = self.calls[-1]
+        repeat = call.extra.get("m98")
+        del self.controls[call.controls :]
+        if isinstance(repeat, tuple) and repeat[1] > 0:
+            target, left = repeat
+            call.extra["m98"] = (target, left - 1)
+            self.file = target[0]
+            self.file.seek(target[1])
+            return True
+        self.calls.pop()
+        self.host.params.leave()
+        if call.autorestore and call.saved_state is not None:
+            self.host.restore_modes(call.saved_state)
+        self.file = call.file
+        self.file.seek(call.back)
+        return True
+
+    def _find_program(self, name: str, loc: Location) -> tuple[ProgramFile, Position]:
+        """The line after ``O<name>`` (a bare program number), read forward from here."""
+        start = self.file.tell()
+        while True:
+            b = self.file.next_oword_block()
+            if b is None:
+                end = Location(self.file.path, max(self.file.last_nonblank, 1), 1)
+                self.file.seek(start)
+                raise Diagnostic(  # rs274 reports it at the end of the file
+                    "NGC-OWORD-UNDEFINED",
+                    f"end of file seeking program O{name} (M98 at line {loc.line} reads forward)",
+                    end,
+                )
+            ow = b.oword
+            assert ow is not None
+            if not ow.keyword and not isinstance(ow.name, str) and self._try_name(ow) == name:
+                break
+        self.programs[name] = (self.file, self.file.tell())
+        self.file.seek(start)
+        return self.programs[name]
 
     # if / elseif / else / endif
     def _check_unique(self, block: Block, name: str, loc: Location) -> None:

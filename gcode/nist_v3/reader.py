@@ -88,7 +88,7 @@ class NistV3(Vocabulary):
             kind = node[0]
             if kind == "<":
                 raise self.refuse(f"named parameters (#<{node[1]}>)", file, line, col)
-            if kind == "exists":
+            if kind in ("exists", "exists#"):
                 raise self.refuse("EXISTS", file, line, col)
             if kind == "b" and node[1] not in OPERATORS:
                 raise self.refuse(f"operator {node[1].upper()}", file, line, col)

@@ -366,10 +366,31 @@ def probe(w: WriterContext, c: canon.StraightProbe) -> None:
     if w.d.probe is None:
         w.lacking("CONV-UNSUPPORTED", "probing move")
         return
-    words = w.axis_words(w.target(c.x, c.y, c.z, c.a, c.b, c.c), force=True)
+    target = w.target(c.x, c.y, c.z, c.a, c.b, c.c)
+    code = w.d.probe
+    if _at_written_point(w, target):
+        # a G38.3/G38.5 of no length (LinuxCNC runs it; nothing moves): G38.2 would refuse it
+        if w.d.probe_in_place is None:
+            w.change("CONV-PROBE", "dropped", "a probe to the point it starts from (no motion)")
+            return
+        code = w.d.probe_in_place
+    words = w.axis_words(target, force=True)
     w.motion = None
-    w.block(w.d.probe, *words, w.feed_word())
-    w.invalidate()  # the probe stops where it trips
+    w.block(code, *words, w.feed_word())
+    if code == w.d.probe:
+        w.invalidate()  # the probe stops where it trips
+
+
+def _at_written_point(w: WriterContext, target: dict[str, float]) -> bool:
+    """True when every axis word of ``target`` is the word the text already stands at."""
+    for letter in "XYZABC":
+        if letter not in w.d.axes:
+            continue
+        value = target[letter]
+        word = letter + w.fmt.number(2 * value if letter in w.d.diameter else value)
+        if w.words[letter] != word:
+            return False
+    return True
 
 
 def arc(w: WriterContext, c: canon.ArcFeed) -> None:

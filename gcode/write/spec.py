@@ -66,6 +66,8 @@ class Dialect:
     naive_word: str | None = "Q"
     dwell: tuple[str, str, float] | None = ("G4", "P", 1.0)  # code, word, units per second
     probe: str | None = "G38.2"
+    #: a probe code that takes a move of no length (LinuxCNC G38.3); None: such a probe is dropped
+    probe_in_place: str | None = None
     thread: tuple[str, str] | None = ("G33", "K")  # spindle-synchronised feed, lead word
     # ---- spindle, tools, coolant
     spindle_cw: str = "M3"

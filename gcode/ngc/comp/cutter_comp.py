@@ -261,7 +261,7 @@ class CutterCompensator:
     ) -> list[canon.Command]:
         c = (cur[0], cur[1])
         p = (end[0], end[1])
-        if math.hypot(p[0] - c[0], p[1] - c[1]) <= self.radius:
+        if math.hypot(p[0] - c[0], p[1] - c[1]) < self.radius:  # rs274 2.9 takes == radius
             raise Diagnostic(
                 "NGC-COMP-ENTRY-TOO-SHORT",
                 "Length of cutter compensation entry move is not greater than the tool radius",
@@ -362,7 +362,7 @@ class CutterCompensator:
     ) -> list[canon.Command]:
         c = (cur[0], cur[1])
         e = (end[0], end[1])
-        if math.hypot(e[0] - c[0], e[1] - c[1]) <= self.radius:
+        if math.hypot(e[0] - c[0], e[1] - c[1]) < self.radius:  # rs274 2.9 takes == radius
             raise Diagnostic(
                 "NGC-COMP-ENTRY-TOO-SHORT",
                 "Radius of cutter compensation entry arc is not greater than the tool radius",
