@@ -210,12 +210,14 @@ class _Scanner:
                 if self.peek() != "]":
                     raise self.error("NGC-UNCLOSED-EXPR", "expression not closed with ']'", start)
                 self.i += 1
-                return ("exists#", p[1])  # type: ignore[index]
+                assert isinstance(p, tuple)  # parameter() gives (kind, operand)
+                return ("exists#", p[1])
             p = self.parameter()
             if self.peek() != "]":
                 raise self.error("NGC-UNCLOSED-EXPR", "expression not closed with ']'", start)
             self.i += 1
-            return ("exists", p[1])  # type: ignore[index]
+            assert isinstance(p, tuple)
+            return ("exists", p[1])
         arg = self.bracketed()
         if fn == "atan":
             if self.peek() != "/":
