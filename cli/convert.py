@@ -102,6 +102,7 @@ def read_program(
         search_path=(here,),
         cycle_marks=cycle_marks,
         keep_cutter_comp=keep_cutter_comp,
+        register_marks=True,  # G43 H n kept as a register (gcode.core.register_marks)
     )
     # RS274/NGC comes as commands and fast-lane runs of plain lines (gcode.ngc.lane.fastlane.Run),
     # which write_text takes in bulk; gcode.readers types that stream as objects
@@ -215,6 +216,13 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
     help="LinuxCNC .tbl or NIST tool file for the interpreter",
 )
 @click.option(
+    "--write-tool-table",
+    is_flag=True,
+    help="write the machine's tool table where the program sets it (G10 L1) or the target "
+    "takes a length only through it (G10 L10; lengths from --tool-table); without it such "
+    "a program is refused and G43 H n is kept as a register",
+)
+@click.option(
     "--report",
     "report_path",
     type=click.Path(dir_okay=False),
@@ -241,6 +249,7 @@ def command(
     cutter_comp: str,
     no_comments: bool,
     tool_table: str | None,
+    write_tool_table: bool,
     report_path: str | None,
 ) -> None:
     """Convert SOURCE from one control's language to another's through the canonical IR.
@@ -275,6 +284,8 @@ def command(
         tolerance=tolerance,
         comments=not no_comments,
         cycles=cycles,
+        write_tool_table=write_tool_table,
+        write_tool_lengths=write_tool_table and tool_table is not None,
     )
     src = source_language(source, src.lower())
     report = ConversionReport(source_dialect=src, target_dialect=target.name)

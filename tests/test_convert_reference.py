@@ -42,7 +42,9 @@ def test_rs274_reads_our_output_as_it_reads_the_original(
         pytest.skip("the interpreter rejects this program")
     report = ConversionReport()
     try:
-        text = "\n".join(write(ir, dialect, WriterOptions(decimals=6), report)) + "\n"
+        # the program's own tool table edits (G10 L1) are part of it: asked for here
+        opts = WriterOptions(decimals=6, write_tool_table=True)
+        text = "\n".join(write(ir, dialect, opts, report)) + "\n"
     except Diagnostic:
         assert dialect == "grbl"
         return
@@ -63,7 +65,7 @@ CANON_FILES = [pytest.param(p, id=p.stem) for p in canon_files()]
 def test_from_canon_text_through_rs274(canon_file: Path, arc_format: str, tmp_path: Path) -> None:
     text_in = canon_file.read_text()
     report = ConversionReport()
-    opts = WriterOptions(arc_format=arc_format)
+    opts = WriterOptions(arc_format=arc_format, write_tool_table=True)
     try:
         text = "\n".join(write(read_canon(str(canon_file), report), "rs274ngc", opts, report))
     except Diagnostic as exc:
@@ -103,7 +105,8 @@ def test_rs274_compensates_our_kept_g41_as_the_original(program: Path, tmp_path:
     if ir is None:
         pytest.skip("the interpreter rejects this program")
     try:
-        text = "\n".join(write(ir, "rs274ngc", WriterOptions(decimals=6))) + "\n"
+        opts = WriterOptions(decimals=6, write_tool_table=True)  # the program's G10 L1
+        text = "\n".join(write(ir, "rs274ngc", opts)) + "\n"
     except Diagnostic as exc:  # an offset change under kept compensation
         assert exc.code == "CONV-CUTTER-COMP" and exc.location.line > 0
         return

@@ -69,7 +69,8 @@ def test_round_trip_is_equivalent(program: Path, dialect: str, arc_format: str) 
     if ir is None:
         pytest.skip("the interpreter rejects this program")
     report = ConversionReport()
-    opts = WriterOptions(arc_format=arc_format, decimals=5)
+    # the program's own tool table edits (G10 L1) are part of it: asked for here
+    opts = WriterOptions(arc_format=arc_format, decimals=5, write_tool_table=True)
     try:
         text = "\n".join(write(ir, dialect, opts, report)) + "\n"
     except Diagnostic as exc:

@@ -291,7 +291,10 @@ def test_tool_length_by_value():
         c.StraightTraverse(0, 0, 5),
     ]
     assert "G43.1 Z12.5" in emit(cmds, "rs274ngc")
-    fanuc = emit(cmds, "fanuc")
+    with pytest.raises(Diagnostic) as err:  # G10 L10 writes the machine's tool table
+        emit(cmds, "fanuc")
+    assert err.value.code == "CONV-TOOL-TABLE"
+    fanuc = emit(cmds, "fanuc", write_tool_table=True)
     assert fanuc[fanuc.index("T4 M06") + 1 : fanuc.index("T4 M06") + 3] == [
         "G10 L10 P4 R12.5",
         "G43 H4",

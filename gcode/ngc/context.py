@@ -33,6 +33,8 @@ class InterpreterOptions:
     fast_lane: bool = True  # large files: plain CAM lines through gcode.ngc.lane (compiled)
     cycle_marks: bool = False  # bracket canned-cycle expansions (gcode.core.cycle_marks)
     keep_cutter_comp: bool = False  # G41/G42 as canonical commands (gcode.ngc.comp.keep)
+    # mark each tool length offset with its register (gcode.core.register_marks)
+    register_marks: bool = False
     # work offsets as SET_G5X_OFFSET / SET_G92_OFFSET / SET_XY_ROTATION (which offset is
     # selected, as rs274 says it) even without linuxcnc_compat, instead of NIST's one
     # SET_ORIGIN_OFFSETS total (a writer can then say G54 rather than set the table)

@@ -16,6 +16,7 @@ from dataclasses import replace
 
 from gcode.core import linuxcnc as lc
 from gcode.core.codes import Words
+from gcode.core.register_marks import ToolLengthRegister
 from gcode.core.state import AXES, INCH_MM, ToolLengthCode
 from gcode.ngc.context import NgcContext
 from gcode.ngc.motion import find_ends, traverse
@@ -407,22 +408,32 @@ def tool_length(ctx: NgcContext, w: Words) -> None:
     v = w.values
     ctx.comp_off("tool offset")
     s.tool_length_mode = code
+    marks = ctx.options.register_marks
     if code is ToolLengthCode.G49:
+        if marks:
+            ctx.emit(ToolLengthRegister("G49", None, source=ctx.loc))
         _apply_tool_offset(ctx, [0.0] * 9)
     elif code is ToolLengthCode.G43:
         h = v.get("h")
         n = s.current_tool if h is None else int(round(h))
-        _apply_tool_offset(ctx, _tool_offsets(ctx, n))
+        offsets = _tool_offsets(ctx, n)
+        if marks:
+            ctx.emit(ToolLengthRegister("G43", n, source=ctx.loc))
+        _apply_tool_offset(ctx, offsets)
     elif code is ToolLengthCode.G43_2:
         h = v.get("h")
         n = s.current_tool if h is None else int(round(h))
         add = _tool_offsets(ctx, n)
+        if marks:
+            ctx.emit(ToolLengthRegister("G43.2", n, source=ctx.loc))
         _apply_tool_offset(ctx, [a + b for a, b in zip(s.tool_offset, add, strict=True)])
     else:  # G43.1
         new = [0.0] * 9
         for i, a in enumerate(AXES):
             if a in v:
                 new[i] = v[a]
+        if marks:
+            ctx.emit(ToolLengthRegister("G43.1", None, source=ctx.loc))
         _apply_tool_offset(ctx, new)
 
 

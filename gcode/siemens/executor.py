@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from gcode.core import linuxcnc as lc
 from gcode.core.machine_functions import machine_function
+from gcode.core.register_marks import ToolLengthRegister
 from gcode.siemens import motion
 from gcode.siemens.blocks import Assign, Block, Word
 from gcode.siemens.cycles import run_cycle
@@ -306,6 +307,9 @@ class Executor(Machine):
             length = tool.z_offset if tool is not None else 0.0
         s.pos[2] += s.tool_length - length
         s.tool_length = length
+        if self.options.register_marks:  # the tool's edge: G43 H<tool> elsewhere
+            mark = ToolLengthRegister("G43", s.tool, source=self.loc) if n and s.tool else None
+            self.emit(mark or ToolLengthRegister("G49", None, source=self.loc))
         self.emit(canon.UseToolLengthOffset(length, source=self.loc))
 
     def _spindle(self, vals: Values) -> None:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from typing import NoReturn
 
+from gcode.core.register_marks import ToolLengthRegister
 from gcode.ngc.lane.fastlane import GcodeLayout
 from gcode.write.options import WriterOptions
 from gcode.write.report import Change, ConversionReport
@@ -64,6 +65,7 @@ class WriterContext:
         self.comp_on = False  # G41/G42 written and not yet G40
         self.file: str | None = None  # the source program (locations of bulk runs)
         self.comp_register: int | None = None  # the next G41/G42's D register (CompRegister)
+        self.tool_register: ToolLengthRegister | None = None  # the next tool length's mark
         self.motion: str | None = None
         # positions in output units: the IR's (exact) and what the text set (rounded)
         self.cur = dict.fromkeys("XYZABC", 0.0)

@@ -34,8 +34,10 @@ def work_offset(w: WriterContext, c: canon.SetG5xOffset) -> None:
     w.e_work = index
     if index > len(w.d.work_offsets):
         code = f"G{53 + index}" if index <= 6 else f"G59.{index - 6}"
-        w.lacking("CONV-ORIGIN", f"work offset {index} ({code})")
-        return
+        w.refuse(  # another offset's values would run the program somewhere else
+            "CONV-WORK-OFFSET",
+            f"{w.d.title} has no work offset {index} ({code}); work offsets keep their numbers",
+        )
     w.block(w.d.work_offsets[index - 1])
 
 
@@ -107,9 +109,11 @@ def xy_rotation(w: WriterContext, c: canon.SetXYRotation) -> None:
 def tool_offsets(w: WriterContext, c: lc.ToolLengthOffsets) -> None:
     """LinuxCNC's nine-value tool length offset: G43.1 with the non-zero axes."""
     off = tuple(c.offset)
-    if w.d.tool_length == "G43.1 Z{length}" and any(abs(v) > 1e-12 for v in off[:6]):
+    by_value = w.tool_register is None or w.tool_register.code == "G43.1"
+    if by_value and w.d.tool_length == "G43.1 Z{length}" and any(abs(v) > 1e-12 for v in off[:6]):
         w.flush()
         w.invalidate()
+        w.tool_register = None
         w.block("G43.1", _axis_list(w, off[:6]))
         return
     tool_length(w, canon.UseToolLengthOffset(off[2], source=c.source))
@@ -119,6 +123,12 @@ def tool_table(w: WriterContext, c: canon.SetToolTableEntry) -> None:
     """SET_TOOL_TABLE_ENTRY as G10 L1. Its values are in the tool table's units, inches
     (LinuxCNC's ``rs274`` and gcode.ngc.interpreter), whatever the program's units: they are
     written in the program's, after the units word."""
+    if not w.o.write_tool_table:
+        w.refuse(
+            "CONV-TOOL-TABLE",
+            f"the program sets tool {c.tool}'s entry of the tool table (G10 L1/L10/L11); "
+            "it is written only with --write-tool-table",
+        )
     if w.d.tool_table_set is None:
         w.lacking("CONV-TOOL-LENGTH", "tool table edit (G10 L1)", note=False)
         return

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
+from gcode.core.register_marks import ToolLengthRegister
 from gcode.ngc.comp.keep import CompRegister
 from gcode.write.context import WriterContext
 from gcode.write.state import PLANE_AXES
@@ -179,20 +180,65 @@ def change_tool(w: WriterContext, c: canon.ChangeTool) -> None:
     w.block(w.d.tool_word.format(tool=tool), w.d.tool_change)
 
 
+def tool_length_register(w: WriterContext, c: ToolLengthRegister) -> None:
+    w.tool_register = c
+
+
 def tool_length(w: WriterContext, c: canon.UseToolLengthOffset) -> None:
+    """A tool length offset: the register the reader marked (G43 H n, G49) in the target's
+    form, else the length by value; the machine's tool table is written only with
+    ``--write-tool-table`` (CONV-TOOL-TABLE otherwise)."""
     w.flush()
     w.invalidate()
+    mark, w.tool_register = w.tool_register, None
+    if mark is not None and mark.code == "G49":
+        w.block(w.d.tool_length_off)
+        return
+    if mark is not None and mark.register is not None:
+        _length_register(w, mark, c.length)
+        return
     if abs(c.length) < 1e-12:
         w.block(w.d.tool_length_off)
         return
     if w.d.tool_length is None:
         w.lacking("CONV-TOOL-LENGTH", "tool length value in a program")
         return
-    if "{length}" not in w.d.tool_length:
-        w.lacking("CONV-TOOL-LENGTH", "tool length value (the tool table's is used)", "substituted")
     value = w.fmt.length(c.length * w.fmt.scale)
+    if "{length}" not in w.d.tool_length:
+        if mark is not None:  # G43.1 by value: another length would run the program
+            w.refuse("CONV-TOOL-LENGTH", f"{w.d.title} has no tool length by value (G43.1)")
+        w.lacking("CONV-TOOL-LENGTH", "tool length value (the tool table's is used)", "substituted")
+    elif w.d.tool_length.startswith("G10") and not w.o.write_tool_table:
+        w.refuse(
+            "CONV-TOOL-TABLE",
+            f"tool length {value} by value: {w.d.title} takes it only through its tool "
+            "table (G10 L10), which is written only with --write-tool-table",
+        )
     for part in w.d.tool_length.split("|"):
         w.block(part.format(length=value, tool=w.tool))
+
+
+def _length_register(w: WriterContext, mark: ToolLengthRegister, length: float) -> None:
+    """``G43 H n`` (or G43.2) as the target says it; the machine keeps its own length."""
+    n = mark.register
+    add = mark.code == "G43.2"
+    form = w.d.tool_register_add if add else w.d.tool_register
+    if form is None:
+        w.refuse(
+            "CONV-TOOL-REGISTER",
+            f"{w.d.title} has no tool length register ({mark.code} H{n}): the length "
+            "offset cannot be kept",
+        )
+    if "{register}" not in form and n != w.tool:
+        w.refuse(
+            "CONV-TOOL-REGISTER",
+            f"{mark.code} H{n} takes tool {n}'s length with tool {w.tool} in the spindle; "
+            f"{w.d.title} takes only the active tool's own ({form})",
+        )
+    if w.o.write_tool_lengths and w.d.tool_table_length is not None and not add:
+        value = w.fmt.length(length * w.fmt.scale)
+        w.block(w.d.tool_table_length.format(register=n, length=value))
+    w.block(form.format(register=n))
 
 
 def origin(w: WriterContext, c: canon.SetOriginOffsets) -> None:

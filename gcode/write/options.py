@@ -23,4 +23,10 @@ class WriterOptions:
     on_missing: str = "approximate"  # approximate | refuse
     tolerance: float = 0.001  # approximation tolerance, output length units
     comments: bool = True
+    # write the machine's tool table (G10 L10 / G10 L1) where the program sets a length by
+    # value or edits the table; off: such a program is refused (CONV-TOOL-TABLE)
+    write_tool_table: bool = False
+    # with write_tool_table and a tool table given: a kept register's length (from that
+    # table) is written into the machine's table before G43 H
+    write_tool_lengths: bool = False
     cycles: str = "expand"  # keep: drilling cycles as cycle blocks where the target has them

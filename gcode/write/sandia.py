@@ -469,6 +469,7 @@ class SandiaWriter:
             "CANNED_CYCLE",
             "CANNED_CYCLE_END",
             "CUTTER_COMP_REGISTER",
+            "TOOL_LENGTH_REGISTER",
         ):
             return True
         key, value = {

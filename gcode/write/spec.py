@@ -79,6 +79,13 @@ class Dialect:
     tool_change: str | None = "M6"
     tool_length: str | None = "G43.1 Z{length}"  # or "G10 L10 P{tool} R{length}|G43 H{tool}"
     tool_length_off: str = "G49"
+    # a tool length kept as its register (gcode.core.register_marks): G43 H n; a form without
+    # {register} names the active tool's own edge (Siemens D1), so only H = the tool fits;
+    # None: the target has no register form (a located CONV-TOOL-REGISTER)
+    tool_register: str | None = "G43 H{register}"
+    tool_register_add: str | None = "G43.2 H{register}"  # added to the current offset
+    # the length written into the machine's tool table, only with --write-tool-table
+    tool_table_length: str | None = "G10 L1 P{register} Z{length}"
     # ---- canned cycles kept by ``--cycles keep`` (gcode.core.cycle_marks): the drilling cycles
     # whose motion is the same in this dialect as in RS274/NGC; (G98, G99) retract codes;
     # the dwell P of a cycle in milliseconds (Fanuc) instead of seconds

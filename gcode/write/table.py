@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from gcode.core.cycle_marks import CycleEnd, CycleStart
+from gcode.core.register_marks import ToolLengthRegister
 from gcode.ngc.comp.keep import CompRegister
 from gcode.write.curves import ellipse, nurbs
 from gcode.write.cycles import cycle_end, cycle_start
@@ -42,6 +43,7 @@ from gcode.write.handlers import (
     sync_start,
     sync_stop,
     tool_length,
+    tool_length_register,
     traverse,
     units,
 )
@@ -84,6 +86,7 @@ HANDLERS: dict[type, Callable] = {
     canon.SelectTool: select_tool,
     canon.ChangeTool: change_tool,
     canon.UseToolLengthOffset: tool_length,
+    ToolLengthRegister: tool_length_register,
     canon.SetOriginOffsets: origin,
     canon.EnableFeedOverride: overrides("feed", True),
     canon.DisableFeedOverride: overrides("feed", False),
