@@ -5,8 +5,11 @@ The input is read by its dialect's reader (:mod:`gcode.readers`), from canonical
 canonical text and JSON lines by content and a Siemens program by its suffix. The
 output streams to ``-o OUT`` (written to a temporary file and renamed, so a refused
 conversion leaves no partial file) or to standard output. An existing OUT is never
-replaced without ``--force``. Every approximation, expansion, substitution or omission is
-printed as a note and, with ``--report R.json``, written as JSON.
+replaced without ``--force``. A *loss* (the converted program would make the machine do
+something else: spindle, coolant, tools, offsets, feed mode, stops, motion beyond the
+tolerance; gcode.write.report) is an error: nothing is written and the exit code is 1,
+unless ``--allow-loss CODE`` accepts it. Every other difference is a note, printed once per
+kind with its first source line and count and, with ``--report R.json``, written as JSON.
 """
 
 from __future__ import annotations
@@ -31,7 +34,7 @@ from gcode.registry import (
     reader_name,
     suffix_summary,
 )
-from gcode.write.report import Change, ConversionReport
+from gcode.write.report import LOSS_CODES, Change, ConversionReport, Group, group
 from gcode.write.writer import ARC_FORMATS, CYCLE_MODES, WriterOptions, write_text
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
 from kernel.ir import canon
@@ -134,6 +137,38 @@ def source_language(path: str, dialect: str) -> str:
     return reader_name(program_dialect(path, dialect))
 
 
+def _allowed_losses(values: tuple[str, ...]) -> frozenset[str]:
+    """``--allow-loss`` values (repeatable, comma-separated) as loss codes; ``CONV-`` may be
+    left off. A code that is not a loss is a usage error (CONV-OPTION)."""
+    codes: set[str] = set()
+    for value in values:
+        for part in value.split(","):
+            name = part.strip().upper()
+            if not name:
+                continue
+            code = name if name.startswith("CONV-") else "CONV-" + name
+            if code not in LOSS_CODES:
+                known = ", ".join(sorted(LOSS_CODES))
+                raise Diagnostic(
+                    "CONV-OPTION", f"--allow-loss {part.strip()}: not a loss code ({known})"
+                )
+            codes.add(code)
+    return frozenset(codes)
+
+
+def _echo_groups(groups: list[Group], severity: Severity, prefix: str, source: str) -> None:
+    """One line per kind of entry: its first source line, and how many there are."""
+    for g in groups:
+        more = f" ({g.count} times, first here)" if g.count > 1 else ""
+        rec = DiagnosticRecord(
+            g.first.code,
+            f"{prefix}{g.first.kind}: {g.first.message}{more}",
+            g.first.source or Location(source),
+            severity,
+        )
+        click.echo(rec.format(), err=True)
+
+
 def _refuse_existing(path: str | None, force: bool, what: str) -> None:
     if path and os.path.exists(path) and not force:
         raise Diagnostic(
@@ -184,7 +219,17 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
     type=click.Choice(["approximate", "refuse"]),
     default="approximate",
     show_default=True,
-    help="what to do with a construct the target lacks",
+    help="a construct the target lacks: approximate writes curves as arcs or lines within "
+    "--tolerance and reports the rest (losses are errors unless --allow-loss names them); "
+    "refuse stops at the first such construct, approximations included",
+)
+@click.option(
+    "--allow-loss",
+    "allow_loss",
+    multiple=True,
+    metavar="CODE[,CODE...]",
+    help="accept these losses (CONV-SPINDLE, CONV-COOLANT, CONV-TOOL-CHANGE, ...; repeatable "
+    "or comma-separated): the program is written and the report lists them",
 )
 @click.option(
     "--tolerance",
@@ -251,11 +296,17 @@ def command(
     tool_table: str | None,
     write_tool_table: bool,
     report_path: str | None,
+    allow_loss: tuple[str, ...],
 ) -> None:
     """Convert SOURCE from one control's language to another's through the canonical IR.
 
-    Every approximation or dropped construct is reported as a note with its source line
-    (and with --report as JSON); --on-missing refuse makes them errors instead.
+    A loss (what the target cannot say changes what the machine does: spindle, coolant,
+    tool change or length, offsets, units, feed mode, compensation, stops, outputs, motion
+    beyond --tolerance) is an error: exit 1 and nothing written, unless --allow-loss names
+    its code. Other differences (curves as arcs or lines within --tolerance, expanded
+    cycles, comments) are notes, once per kind with the first source line and a count
+    (all of them with --report as JSON). --on-missing refuse stops at the first construct
+    the target lacks, approximations within the tolerance included.
 
     \b
     Examples:
@@ -287,32 +338,41 @@ def command(
         write_tool_table=write_tool_table,
         write_tool_lengths=write_tool_table and tool_table is not None,
     )
+    allowed = _allowed_losses(allow_loss)
     src = source_language(source, src.lower())
-    report = ConversionReport(source_dialect=src, target_dialect=target.name)
+    report = ConversionReport(source_dialect=src, target_dialect=target.name, allowed=allowed)
     keep_comp = cutter_comp == "keep" and target.has_cutter_comp
     ir = read_program(source, src, tool_table, report, cycles == "keep", keep_comp)
     chunks = write_text(ir, target, opts, report, source=source)
-    if output:
-        folder = os.path.dirname(os.path.abspath(output))
-        fd, tmp = tempfile.mkstemp(prefix=".convert-", dir=folder)
-        try:
-            with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
-                fh.writelines(chunks)
+    # the text goes to a temporary file first: a refused conversion leaves no file, and
+    # nothing on standard output
+    folder = os.path.dirname(os.path.abspath(output)) if output else None
+    fd, tmp = tempfile.mkstemp(prefix=".convert-", dir=folder)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
+            fh.writelines(chunks)
+        refused = report.refused()
+        _echo_groups(group(refused), Severity.ERROR, "", source)
+        if report_path:
+            data = report.to_dict()
+            data["options"] = {k: v for k, v in vars(opts).items() if not k.startswith("_")}
+            Path(report_path).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
+        if refused:
+            codes = ",".join(sorted({str(c.loss_code) for c in refused}))
+            click.echo(
+                f"{source}: error[CONV-LOSS]: not converted: the {target.title} program would "
+                f"run differently; accept with --allow-loss {codes}",
+                err=True,
+            )
+            sys.exit(1)
+        if output:
             os.replace(tmp, output)
-        except BaseException:
+        else:
+            with open(tmp, encoding="utf-8") as fh:
+                for line in fh:
+                    sys.stdout.write(line)
+    finally:
+        if os.path.exists(tmp):
             os.unlink(tmp)
-            raise
-    else:
-        sys.stdout.writelines(chunks)
-    for change in report.changes:
-        rec = DiagnosticRecord(
-            change.code,
-            f"{change.kind}: {change.message}",
-            change.source or Location(source),
-            Severity.NOTE,
-        )
-        click.echo(rec.format(), err=True)
-    if report_path:
-        data = report.to_dict()
-        data["options"] = {k: v for k, v in vars(opts).items() if not k.startswith("_")}
-        Path(report_path).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
+    _echo_groups(group(report.accepted()), Severity.WARNING, "accepted loss, ", source)
+    _echo_groups(group(report.notes()), Severity.NOTE, "", source)

@@ -176,6 +176,8 @@ def test_cycles_and_compensation_are_kept_by_default_and_expanded_on_request(
     applied = run(str(src), "--to", "fanuc", "--cutter-comp", "apply")
     assert applied.exit_code == 0 and "G41" not in applied.output and "G40" not in applied.output
     grbl = run(str(src), "--to", "grbl")  # no cycles, no compensation: both applied here
+    assert grbl.exit_code == 1 and "error[CONV-TOOL-CHANGE]" in grbl.output  # M6: M0
+    grbl = run(str(src), "--to", "grbl", "--allow-loss", "CONV-TOOL-CHANGE")
     assert grbl.exit_code == 0, grbl.output
     assert "G41" not in grbl.output and "note[CONV-CYCLE]" in grbl.output
     bad = tmp_path / "short.ngc"  # entry move shorter than the radius: refused as rs274 does

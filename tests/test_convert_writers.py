@@ -386,7 +386,8 @@ def test_sandia_reports_spindle_it_cannot_state_and_refuses_feed_per_revolution(
     ]
     out = emit(cmds, "sandia", report)
     # three state changes have no generic command; the second stop changes nothing
-    assert [ch.code for ch in report.changes] == ["CONV-UNSUPPORTED"] * 3
+    assert [ch.code for ch in report.changes] == ["CONV-SPINDLE"] * 3
+    assert all(ch.loss for ch in report.changes)
     assert out[-1] == "# end of program"
     per_rev = [MM, c.SetFeedMode(c.FeedMode.UNITS_PER_REVOLUTION), c.SetFeedRate(0.2)]
     emit([*per_rev, c.StraightTraverse(1, 2, 3)], "sandia")  # no feed motion in it: fine

@@ -15,11 +15,18 @@ from typing import NoReturn
 from gcode.core.register_marks import ToolLengthRegister
 from gcode.ngc.lane.fastlane import GcodeLayout
 from gcode.write.options import WriterOptions
-from gcode.write.report import Change, ConversionReport
+from gcode.write.report import Change, ConversionReport, machinist
 from gcode.write.spec import Dialect
 from gcode.write.state import Formatter
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
+
+#: path control modes as the machinist writes them
+_PATH_MODES = {
+    canon.MotionMode.EXACT_STOP: "G61.1 (exact stop)",
+    canon.MotionMode.EXACT_PATH: "G61 (exact path)",
+    canon.MotionMode.CONTINUOUS: "G64 (continuous path)",
+}
 
 
 class WriterContext:
@@ -192,8 +199,20 @@ class WriterContext:
             canon.MotionMode.EXACT_PATH: self.d.exact_path,
             canon.MotionMode.CONTINUOUS: self.d.continuous,
         }[mode]
+        if code is None and mode == canon.MotionMode.EXACT_PATH and self.d.exact_stop:
+            # the stricter mode keeps the path; only the stops at block ends are added
+            code = self.d.exact_stop
+            self.change(
+                "CONV-PATH-MODE",
+                "substituted",
+                f"{_PATH_MODES[mode]} written as {code} (exact stop): the same path",
+            )
+        if code is None and mode == canon.MotionMode.CONTINUOUS:
+            # the target stays in an exact mode: the path is followed closer, not further
+            self.lacking("CONV-PATH-MODE", _PATH_MODES[mode])
+            return
         if code is None:
-            self.lacking("CONV-MOTION-MODE", f"{mode.name.lower()} mode")
+            self.lacking("CONV-MOTION-MODE", _PATH_MODES[mode])
             return
         words = [code]
         if mode == canon.MotionMode.CONTINUOUS and tol > 0:
@@ -214,7 +233,7 @@ class WriterContext:
             if want[kind] and not have[kind]:
                 code = getattr(self.d, kind)
                 if code is None:
-                    self.lacking("CONV-UNSUPPORTED", f"{kind} coolant code")
+                    self.lacking("CONV-COOLANT", machinist(kind.upper() + "_ON"))
                 else:
                     self.block(code)
                 have[kind] = True

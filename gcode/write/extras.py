@@ -168,7 +168,7 @@ def rigid_tap(w: WriterContext, c: canon.RigidTap) -> None:
 
 def output(w: WriterContext, c: lc.DigitalOutput | lc.AnalogOutput) -> None:
     if not w.d.io_codes:
-        w.lacking("CONV-UNSUPPORTED", "digital/analog output codes (M62-M68)")
+        w.lacking("CONV-OUTPUT", "M62-M68 (digital/analog outputs)")
         return
     if isinstance(c, lc.AnalogOutput):
         code = "M67" if c.synchronised else "M68"

@@ -16,6 +16,7 @@ from collections.abc import Callable
 from gcode.core.register_marks import ToolLengthRegister
 from gcode.ngc.comp.keep import CompRegister
 from gcode.write.context import WriterContext
+from gcode.write.report import machinist
 from gcode.write.state import PLANE_AXES
 from kernel.ir import canon
 from kernel.ir.arcsweep import first_turn, total_sweep
@@ -86,7 +87,7 @@ def ignore(w: WriterContext, c: canon.Command) -> None:
 
 def feed_reference(w: WriterContext, c: canon.SetFeedReference) -> None:
     if c.reference != canon.FeedReference.XYZ:
-        w.lacking("CONV-UNSUPPORTED", "workpiece feed reference", note=False)
+        w.lacking("CONV-FEED-MODE", "workpiece feed reference", note=False)
 
 
 def sync_start(w: WriterContext, c: canon.StartSpeedFeedSynch) -> None:
@@ -106,7 +107,7 @@ def comment(w: WriterContext, c: canon.Comment) -> None:
 def message(w: WriterContext, c: canon.Message) -> None:
     w.flush()
     if w.d.message is None:
-        w.lacking("CONV-UNSUPPORTED", "operator message", "substituted", note=False)
+        w.lacking("CONV-MESSAGE", "(MSG,...) operator message", "substituted", note=False)
         w.comment(c.text)
         return
     text = c.text
@@ -119,11 +120,16 @@ def event(attr: str) -> Callable[[WriterContext, canon.Command], None]:
     def handler(w: WriterContext, c: canon.Command) -> None:
         w.flush()
         code = getattr(w.d, attr)
-        if attr == "stop" and w.pallet and w.d.pallet:
-            code = w.d.pallet  # M60 = shuttle + stop
+        if attr == "stop" and w.pallet:
+            if w.d.pallet:
+                code = w.d.pallet  # M60 = shuttle + stop
+            else:
+                w.lacking("CONV-PALLET", machinist("PALLET_SHUTTLE"))
+        # M30 is PALLET_SHUTTLE then PROGRAM_END in LinuxCNC, whose PALLET_SHUTTLE does
+        # nothing on a machine without pallets: the target's own end is the same end
         w.pallet = False
         if code is None:
-            w.lacking("CONV-UNSUPPORTED", f"{c.NAME} code")
+            w.lacking("CONV-STOP", machinist(c.NAME))
             return
         w.block(code)
         if attr == "end":
@@ -156,9 +162,7 @@ def machine_function(w: WriterContext, c: canon.MachineFunction) -> None:
 
 
 def pallet(w: WriterContext, c: canon.PalletShuttle) -> None:
-    if w.d.pallet is None:
-        w.lacking("CONV-UNSUPPORTED", "pallet shuttle code")
-    w.pallet = True
+    w.pallet = True  # written (or reported) with the stop or end it comes with
 
 
 def select_tool(w: WriterContext, c: canon.SelectTool) -> None:
@@ -250,7 +254,7 @@ def origin(w: WriterContext, c: canon.SetOriginOffsets) -> None:
     if w.d.origin.startswith("G10") and "origin-table" not in w.noted:
         w.noted.add("origin-table")  # once per program: the shop must know
         w.change(
-            "CONV-ORIGIN",
+            "CONV-ORIGIN-TABLE",
             "substituted",
             "program origin (SET_ORIGIN_OFFSETS) written as G10 L2 P1: running the program "
             "sets work offset 1 (G54) of the machine",
@@ -269,7 +273,7 @@ def overrides(kind: str, on: bool) -> Callable[[WriterContext, canon.Command], N
     def handler(w: WriterContext, c: canon.Command) -> None:
         pair = getattr(w.d, f"{kind}_override")
         if pair is None:
-            w.lacking("CONV-UNSUPPORTED", f"{kind} override switch", note=False)
+            w.lacking("CONV-OVERRIDE", f"M48/M49 ({kind} override switch)", note=False)
             return
         w.block(pair[0] if on else pair[1])
 
@@ -279,7 +283,7 @@ def overrides(kind: str, on: bool) -> Callable[[WriterContext, canon.Command], N
 def orient(w: WriterContext, c: canon.OrientSpindle) -> None:
     w.flush()
     if w.d.orient is None:
-        w.lacking("CONV-UNSUPPORTED", "spindle orientation")
+        w.lacking("CONV-SPINDLE", machinist("ORIENT_SPINDLE"))
         return
     direction = c.direction
     mode = {canon.Direction.CLOCKWISE: 0, canon.Direction.COUNTERCLOCKWISE: 1}.get(
@@ -288,7 +292,7 @@ def orient(w: WriterContext, c: canon.OrientSpindle) -> None:
     )
     if "{angle}" not in w.d.orient and abs(c.orientation) > 1e-9:
         w.lacking(
-            "CONV-UNSUPPORTED",
+            "CONV-SPINDLE",
             "programmed orientation angle (machine's angle used)",
             "substituted",
             note=False,
@@ -299,7 +303,7 @@ def orient(w: WriterContext, c: canon.OrientSpindle) -> None:
 def dwell(w: WriterContext, c: canon.Dwell) -> None:
     w.flush()
     if w.d.dwell is None:
-        w.lacking("CONV-UNSUPPORTED", "dwell")
+        w.lacking("CONV-DWELL", machinist("DWELL"))
         return
     code, word, per_second = w.d.dwell
     if w.feed_mode != canon.FeedMode.INVERSE_TIME:
@@ -410,7 +414,7 @@ def feed(w: WriterContext, c: canon.StraightFeed) -> None:
 def probe(w: WriterContext, c: canon.StraightProbe) -> None:
     w.flush()
     if w.d.probe is None:
-        w.lacking("CONV-UNSUPPORTED", "probing move")
+        w.lacking("CONV-PROBE-MOVE", machinist("STRAIGHT_PROBE"))
         return
     target = w.target(c.x, c.y, c.z, c.a, c.b, c.c)
     code = w.d.probe

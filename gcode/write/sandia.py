@@ -27,7 +27,7 @@ from gcode.write import approximate
 from gcode.write.approximate import nurbs_problem
 from gcode.write.bulk import COMMANDS_BEFORE_BULK
 from gcode.write.options import WriterOptions
-from gcode.write.report import Change, ConversionReport
+from gcode.write.report import Change, ConversionReport, loss_code, machinist
 from gcode.write.sandia_chords import (
     batch_points,
     format_many,
@@ -77,6 +77,7 @@ class SandiaWriter:
         self.out_mm: float | None = None  # mm per output length unit, once set
         self.ended = False
         self.state: dict[str, object] = {}
+        self.pallet = False  # a PALLET_SHUTTLE waiting for its stop or end
         self.per_rev = False  # SET_FEED_MODE per revolution in force
         self.file: str | None = None  # the source program (locations of bulk runs)
         self.queue: list[canon.Command | np.ndarray] = []  # feeds and arcs not yet written
@@ -224,7 +225,7 @@ class SandiaWriter:
         for c, row in zip(queue, rows, strict=True):
             if type(c) is canon.ArcFeed:
                 n, dev = int(counts[row]), float(sag[row])
-                message = f"ARC_FEED as {n} MoveTo"
+                message = f"{machinist('ARC_FEED')} as MoveTo chords"
                 self.report.add(
                     Change("CONV-ARC-LINES", "approximated", message, c.source, n, dev * s, tol)
                 )
@@ -377,7 +378,7 @@ class SandiaWriter:
             Change(
                 "CONV-ARC-LINES",
                 "approximated",
-                f"{what} as {len(xyz)} MoveTo",
+                f"{machinist(what)} as MoveTo chords",
                 self.src,
                 len(xyz),
                 dev * self.fmt.scale,
@@ -428,7 +429,12 @@ class SandiaWriter:
             self.ensure_units()
             self.line(f"SetToolLength {self.fmt.length(length * s)}")
             self.known = False
+        elif isinstance(c, canon.PalletShuttle):
+            self.pallet = True  # reported with the stop it comes with (M60), not with M30
         elif isinstance(c, canon.Stop):
+            if self.pallet:
+                self.lacking("CONV-PALLET", f"generic command for {machinist('PALLET_SHUTTLE')}")
+            self.pallet = False
             self.line("StopMotion")
         elif isinstance(c, canon.Comment):
             if not c.text.startswith("interpreter:") and self.o.comments:
@@ -445,32 +451,41 @@ class SandiaWriter:
             self.line("Deactivate")  # the device goes inactive (Figure 3): nothing runs after
             self.line("# end of program")
             self.ended = True
+            self.pallet = False  # LinuxCNC's M30 shuttle does nothing without pallets
         elif isinstance(c, canon.MachineFunction):
             self.lacking("CONV-MACHINE-FUNCTION", f"machine function {c.word} (M code for the PLC)")
         elif self.no_op(c):
             return
         else:
-            self.lacking("CONV-UNSUPPORTED", f"generic command for {c.NAME}")
+            self.lacking(loss_code(c.NAME), f"generic command for {machinist(c.NAME)}")
 
     def no_op(self, c: canon.Command) -> bool:
         """Commands that leave the default state as it is, or only mirror LinuxCNC's state."""
-        if isinstance(
-            c,
-            canon.InitCanon
-            | canon.EndCanon
-            | canon.SetFeedReference
-            | canon.TurnProbeOn
-            | canon.TurnProbeOff
-            | canon.SetTraverseRate,
-        ) or c.NAME in (
-            "ON_RESET",
-            "START_CHANGE",
-            "FINISH",
-            "CANNED_CYCLE",
-            "CANNED_CYCLE_END",
-            "CUTTER_COMP_REGISTER",
-            "TOOL_LENGTH_REGISTER",
-        ):
+        if (
+            isinstance(
+                c,
+                canon.InitCanon
+                | canon.EndCanon
+                | canon.SetFeedReference
+                | canon.TurnProbeOn
+                | canon.TurnProbeOff
+                | canon.SetTraverseRate,
+            )
+            or c.NAME
+            in (
+                "ON_RESET",
+                "START_CHANGE",
+                "FINISH",
+                "CANNED_CYCLE",
+                "CANNED_CYCLE_END",
+                "CUTTER_COMP_REGISTER",
+                "TOOL_LENGTH_REGISTER",
+                # G64 Q: the tolerance of LinuxCNC's naive-CAM merging of collinear moves,
+                # used only with G64 P (reported with SET_MOTION_CONTROL_MODE); nothing moves
+                "SET_NAIVECAM_TOLERANCE",
+            )
+            or c.NAME.endswith("WAIT_ORIENT_COMPLETE")
+        ):  # M19's wait: the M19 is reported
             return True
         key, value = {
             "SET_SPINDLE_MODE": ("css", getattr(c, "css", False)),

@@ -24,7 +24,7 @@ from gcode.write import bulk as emit_bulk
 from gcode.write.bulk import can_take, run_of, write_run
 from gcode.write.context import WriterContext
 from gcode.write.options import ARC_FORMATS, CYCLE_MODES, WriterOptions
-from gcode.write.report import ConversionReport
+from gcode.write.report import ConversionReport, loss_code, machinist
 from gcode.write.sandia import SandiaWriter
 from gcode.write.spec import Dialect
 from gcode.write.table import BY_NAME as _BY_NAME
@@ -172,6 +172,6 @@ class BlockWriter(WriterContext):
             self.dirty = True  # it may set state that the next flush must write
         handler = _HANDLERS.get(type(cmd)) or _BY_NAME.get(cmd.NAME)
         if handler is None:
-            self.lacking("CONV-UNSUPPORTED", f"equivalent of {cmd.NAME}")
+            self.lacking(loss_code(cmd.NAME), f"equivalent of {machinist(cmd.NAME)}")
         else:
             handler(self, cmd)
