@@ -31,12 +31,20 @@ LOSSES = [
     ("tool change", "G21 G90\nT1 M6\nG0 X1\nM2\n", ".ngc", ["--to", "grbl"], "CONV-TOOL-CHANGE"),
     (
         "tool length",
+        "G21 G90\nG43.1 Z2\nG0 X1\nM2\n",
+        ".ngc",
+        ["--to", "siemens840d"],
+        "CONV-TOOL-LENGTH",
+    ),
+    (
+        "tool table",
         "G21 G90\nG10 L1 P1 Z2\nG0 X1\nM2\n",
         ".ngc",
         ["--to", "grbl"],
-        "CONV-TOOL-LENGTH",
+        "CONV-TOOL-TABLE",
     ),
-    ("offset", "G21 G90\nG59.1\nG0 X1\nM2\n", ".ngc", ["--to", "grbl"], "CONV-ORIGIN"),
+    ("offset", "G21 G90\nG92 X1\nG0 X1\nM2\n", ".ngc", ["--to", "sandia"], "CONV-ORIGIN"),
+    ("work offset", "G21 G90\nG59.1\nG0 X1\nM2\n", ".ngc", ["--to", "grbl"], "CONV-WORK-OFFSET"),
     ("units", UNITS_CANON, ".canon", ["--to", "fanuc", "--units", "inch"], "CONV-OPTION"),
     (
         "feed mode",
