@@ -22,6 +22,7 @@ from typing import cast
 import click
 
 from cli.errors import guarded
+from cli.verify import Recorder, Verification, reader_options, verified_output
 from gcode.registry import (
     ALIASES,
     DEFAULT_INPUT,
@@ -215,6 +216,11 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
     help="LinuxCNC .tbl or NIST tool file for the interpreter",
 )
 @click.option(
+    "--no-verify",
+    is_flag=True,
+    help="do not read the output back and compare it with the source (kernel.ir.equivalence)",
+)
+@click.option(
     "--report",
     "report_path",
     type=click.Path(dir_okay=False),
@@ -241,6 +247,7 @@ def command(
     cutter_comp: str,
     no_comments: bool,
     tool_table: str | None,
+    no_verify: bool,
     report_path: str | None,
 ) -> None:
     """Convert SOURCE from one control's language to another's through the canonical IR.
@@ -280,7 +287,12 @@ def command(
     report = ConversionReport(source_dialect=src, target_dialect=target.name)
     keep_comp = cutter_comp == "keep" and target.has_cutter_comp
     ir = read_program(source, src, tool_table, report, cycles == "keep", keep_comp)
-    chunks = write_text(ir, target, opts, report, source=source)
+    check = None if no_verify else Verification()
+    recorder = Recorder(ir, source)
+    chunks = write_text(recorder if check else ir, target, opts, report, source=source)
+    if check:  # the output is read back and compared with the source before it is written
+        back = reader_options(source, tool_table, cycles == "keep", keep_comp)
+        chunks = verified_output(chunks, recorder, target, back, opts, report, check)
     if output:
         folder = os.path.dirname(os.path.abspath(output))
         fd, tmp = tempfile.mkstemp(prefix=".convert-", dir=folder)
@@ -301,7 +313,10 @@ def command(
             Severity.NOTE,
         )
         click.echo(rec.format(), err=True)
+    if check and output:  # a program on standard output is followed by nothing
+        click.echo(check.summary(source), err=True)
     if report_path:
         data = report.to_dict()
+        data["verified"] = bool(check and check.verified)
         data["options"] = {k: v for k, v in vars(opts).items() if not k.startswith("_")}
         Path(report_path).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
