@@ -144,28 +144,30 @@ def _check(
 ) -> None:
     losses = [c for c in report.changes if c.kind in LOSSES and c.code not in SAME_MOTION]
     source = recorder.commands
-    first = next((c.source for c in source if c.source is not None), None)
-    try:
-        back = _commands(read_chunks(spool, target.name, options), spool)
-        rounding = _resolution(target, writer.decimals)
-        diff = first_difference(source, back, writer.tolerance, rounding)
-    except Diagnostic as exc:
-        if losses:
-            result.difference = f"the output does not read back: {exc.message}"
-            return
-        raise Diagnostic(
-            "CONV-VERIFY",
-            f"the output does not read back as {target.name}: {exc.code}: {exc.message}",
-            first or Location(recorder.file),
-        ) from None
+    refused: list[Diagnostic] = []
+    back = _commands(_until_refused(read_chunks(spool, target.name, options), refused), spool)
+    rounding = _resolution(target, writer.decimals)
+    diff = first_difference(source, back, writer.tolerance, rounding)
     result.compared = len(source)
-    if diff is None:
+    if diff is None and not refused:
         result.verified = True
         return
-    result.difference = diff.message
+    if refused and (diff is None or diff.message.startswith("the output ends")):
+        # the reader stopped: the output is the source up to the command it could not read
+        exc = refused[0]
+        message = f"the output does not read back as {target.name} from here: {exc.message}"
+    else:
+        assert diff is not None
+        message = f"the {target.name} output reads back differently here: {diff.message}"
+    result.difference = message
     if not losses:
-        raise Diagnostic(
-            "CONV-VERIFY",
-            f"the {target.name} output reads back differently here: {diff.message}",
-            diff.source or Location(recorder.file),
-        )
+        where = diff.source if diff is not None else None
+        raise Diagnostic("CONV-VERIFY", message, where or Location(recorder.file))
+
+
+def _until_refused(stream: Iterable[object], refused: list[Diagnostic]) -> Iterator[object]:
+    """The reader's stream up to its first error, which is kept in ``refused``."""
+    try:
+        yield from stream
+    except Diagnostic as exc:
+        refused.append(exc)
