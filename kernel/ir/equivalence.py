@@ -173,6 +173,16 @@ def _motion_difference(src: Item, out: Item, tol_mm: float) -> str | None:
     scale = (_mm(src.units), _mm(out.units), tol_mm)
     straight = canon.StraightFeed | canon.StraightTraverse | canon.StraightProbe
     if isinstance(s, straight) and isinstance(o, straight):
+        k_src, k_out, tol = scale
+        if (
+            abs(s.x * k_src - o.x * k_out) <= tol
+            and abs(s.y * k_src - o.y * k_out) <= tol
+            and abs(s.z * k_src - o.z * k_out) <= tol
+            and abs(s.a - o.a) <= EXACT
+            and abs(s.b - o.b) <= EXACT
+            and abs(s.c - o.c) <= EXACT
+        ):
+            return None  # the common case, without building the argument lists
         a = (s.x, s.y, s.z, s.a, s.b, s.c)
         b = (o.x, o.y, o.z, o.a, o.b, o.c)
         return _values_differ(s.NAME, a, b, 3, scale)
@@ -229,6 +239,13 @@ def _unit_name(units: canon.Units | None) -> str:
 
 
 def _state_difference(src: Item, out: Item, tol_mm: float, piece: bool = False) -> str | None:
+    """What differs in the state two motions see (:func:`_seen_difference`), or None."""
+    if src.seen == out.seen:
+        return None  # the common case: the very same state
+    return _seen_difference(src, out, tol_mm, piece)
+
+
+def _seen_difference(src: Item, out: Item, tol_mm: float, piece: bool) -> str | None:
     """What differs in the state two motions see. The plane is compared where it gives the
     motion its meaning (a curve on either side): a straight move is the same in any plane,
     and a language without planes (Sandia) writes every move in XY. A ``piece`` of a
