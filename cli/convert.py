@@ -25,6 +25,7 @@ from typing import cast
 import click
 
 from cli.errors import guarded
+from cli.verify import Recorder, Verification, reader_options, verified_output
 from gcode.registry import (
     ALIASES,
     DEFAULT_INPUT,
@@ -268,6 +269,11 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
     "a program is refused and G43 H n is kept as a register",
 )
 @click.option(
+    "--no-verify",
+    is_flag=True,
+    help="do not read the output back and compare it with the source (kernel.ir.equivalence)",
+)
+@click.option(
     "--report",
     "report_path",
     type=click.Path(dir_okay=False),
@@ -295,6 +301,7 @@ def command(
     no_comments: bool,
     tool_table: str | None,
     write_tool_table: bool,
+    no_verify: bool,
     report_path: str | None,
     allow_loss: tuple[str, ...],
 ) -> None:
@@ -343,7 +350,12 @@ def command(
     report = ConversionReport(source_dialect=src, target_dialect=target.name, allowed=allowed)
     keep_comp = cutter_comp == "keep" and target.has_cutter_comp
     ir = read_program(source, src, tool_table, report, cycles == "keep", keep_comp)
-    chunks = write_text(ir, target, opts, report, source=source)
+    check = None if no_verify else Verification()
+    recorder = Recorder(ir, source)
+    chunks = write_text(recorder if check else ir, target, opts, report, source=source)
+    if check:  # the output is read back and compared with the source before it is written
+        back = reader_options(source, tool_table, cycles == "keep", keep_comp)
+        chunks = verified_output(chunks, recorder, target, back, opts, report, check)
     # the text goes to a temporary file first: a refused conversion leaves no file, and
     # nothing on standard output
     folder = os.path.dirname(os.path.abspath(output)) if output else None
@@ -355,6 +367,7 @@ def command(
         _echo_groups(group(refused), Severity.ERROR, "", source)
         if report_path:
             data = report.to_dict()
+            data["verified"] = bool(check and check.verified)
             data["options"] = {k: v for k, v in vars(opts).items() if not k.startswith("_")}
             Path(report_path).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
         if refused:
@@ -376,3 +389,5 @@ def command(
             os.unlink(tmp)
     _echo_groups(group(report.accepted()), Severity.WARNING, "accepted loss, ", source)
     _echo_groups(group(report.notes()), Severity.NOTE, "", source)
+    if check and output:  # a program on standard output is followed by nothing
+        click.echo(check.summary(source), err=True)

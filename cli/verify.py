@@ -1,0 +1,173 @@
+"""``cnc convert``'s check of its own output: read it back with the target's reader and
+compare it with the source at motion level (kernel.ir.equivalence, issue 15).
+
+:class:`Recorder` keeps the source's commands as the writer consumes them;
+:func:`verified_output` spools the written text to a temporary file, reads that file with
+the target dialect's reader, and compares. A difference the conversion report does not
+explain (it lists no loss) is the located error ``CONV-VERIFY`` at the first differing
+source line, and nothing is written; otherwise the text is handed back to be written.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import cast
+
+from cli.programs import load_tool_table
+from gcode.ngc.interpreter import InterpreterOptions
+from gcode.ngc.lane.fastlane import Run
+from gcode.readers import read_chunks
+from gcode.write.options import WriterOptions
+from gcode.write.report import ConversionReport
+from gcode.write.spec import Dialect
+from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
+from kernel.ir.equivalence import first_difference
+
+#: report entries that change what the program does (the rest keep it equivalent)
+LOSSES = frozenset({"dropped", "substituted"})
+#: substitutions that state the same motion another way
+SAME_MOTION = frozenset({"CONV-ARC-FORMAT"})
+
+
+class Recorder:
+    """The source stream, passed through unchanged while its commands are kept (a fast
+    lane's run of plain lines kept as its commands, located in ``file``)."""
+
+    def __init__(self, stream: Iterable[object], file: str) -> None:
+        self.stream = stream
+        self.file = file
+        self.commands: list[canon.Command] = []
+
+    def __iter__(self) -> Iterator[object]:
+        keep = self.commands.append
+        for item in self.stream:
+            if isinstance(item, Run):
+                self.commands.extend(item.commands(self.file))
+            else:
+                keep(cast(canon.Command, item))
+            yield item
+
+
+@dataclass
+class Verification:
+    """What the read-back found: ``verified`` when the output is equivalent to the source;
+    ``difference`` says what differs when it is not (and the report lists losses)."""
+
+    verified: bool = False
+    difference: str = ""
+    compared: int = field(default=0)
+
+    def summary(self, source: str) -> str:
+        """The report's line: verified, or why not."""
+        if self.verified:
+            return f"{source}: verified: the output reads back as the source"
+        return f"{source}: not verified (the report lists losses): {self.difference}"
+
+
+def _commands(stream: Iterable[object], file: str) -> Iterator[canon.Command]:
+    for item in stream:
+        if isinstance(item, Run):
+            yield from item.commands(file)
+        else:
+            yield cast(canon.Command, item)
+
+
+def _resolution(target: Dialect, decimals: int | None) -> dict[canon.Units | None, float]:
+    """Half the last decimal the output writes, per length unit (how far rounding moves a
+    written number)."""
+    mm = target.decimals(False) if decimals is None else decimals
+    inch = target.decimals(True) if decimals is None else decimals
+    half = {canon.Units.MM: 0.5 * 10.0**-mm, canon.Units.INCHES: 0.5 * 10.0**-inch}
+    return {**half, None: max(half.values())}
+
+
+def reader_options(
+    source: str, tool_table: str | None, cycle_marks: bool, keep_cutter_comp: bool
+) -> InterpreterOptions:
+    """The reader options the source was read with, for reading the output back."""
+    table = load_tool_table(tool_table) if tool_table else None
+    here = str(Path(source).resolve().parent)
+    return InterpreterOptions(
+        tool_table=table,
+        search_path=(here,),
+        cycle_marks=cycle_marks,
+        keep_cutter_comp=keep_cutter_comp,
+    )
+
+
+def verified_output(
+    chunks: Iterable[str],
+    recorder: Recorder,
+    target: Dialect,
+    options: InterpreterOptions,
+    writer: WriterOptions,
+    report: ConversionReport,
+    result: Verification,
+) -> Iterator[str]:
+    """The written text, once it reads back as the source (else ``CONV-VERIFY``).
+
+    The text goes to a temporary file first (the readers read files); ``result`` is filled
+    in before the first chunk is handed back."""
+    fd, spool = tempfile.mkstemp(prefix=".cnc-verify-", suffix=".txt")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
+            fh.writelines(chunks)
+        _check(spool, recorder, target, options, writer, report, result)
+    except BaseException:
+        os.unlink(spool)
+        raise
+    return _replay(spool)
+
+
+def _replay(spool: str) -> Iterator[str]:
+    try:
+        with open(spool, encoding="utf-8", newline="") as fh:
+            while block := fh.read(1 << 16):
+                yield block
+    finally:
+        os.unlink(spool)
+
+
+def _check(
+    spool: str,
+    recorder: Recorder,
+    target: Dialect,
+    options: InterpreterOptions,
+    writer: WriterOptions,
+    report: ConversionReport,
+    result: Verification,
+) -> None:
+    losses = [c for c in report.changes if c.kind in LOSSES and c.code not in SAME_MOTION]
+    source = recorder.commands
+    refused: list[Diagnostic] = []
+    back = _commands(_until_refused(read_chunks(spool, target.name, options), refused), spool)
+    rounding = _resolution(target, writer.decimals)
+    diff = first_difference(source, back, writer.tolerance, rounding)
+    result.compared = len(source)
+    if diff is None and not refused:
+        result.verified = True
+        return
+    if refused and (diff is None or diff.message.startswith("the output ends")):
+        # the reader stopped: the output is the source up to the command it could not read
+        exc = refused[0]
+        message = f"the output does not read back as {target.name} from here: {exc.message}"
+    else:
+        assert diff is not None
+        message = f"the {target.name} output reads back differently here: {diff.message}"
+    result.difference = message
+    if not losses:
+        where = diff.source if diff is not None else None
+        raise Diagnostic("CONV-VERIFY", message, where or Location(recorder.file))
+
+
+def _until_refused(stream: Iterable[object], refused: list[Diagnostic]) -> Iterator[object]:
+    """The reader's stream up to its first error, which is kept in ``refused``."""
+    try:
+        yield from stream
+    except Diagnostic as exc:
+        refused.append(exc)

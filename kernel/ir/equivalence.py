@@ -1,0 +1,511 @@
+"""Motion-level equivalence of two canonical-command streams (the rule of tests/data/README.md).
+
+``cnc convert`` reads its own output back and compares it with the source with
+:func:`first_difference`. After dropping everything else, both streams must give the same
+ordered motions (STRAIGHT_TRAVERSE, STRAIGHT_FEED, ARC_FEED, NURBS_FEED, ELLIPSE_FEED,
+STRAIGHT_PROBE, DWELL) with the same end points and curve data within :data:`EXACT` program
+units, each motion seeing the same feed rate, spindle speed and direction, tool, coolant,
+length units and plane; tool changes, stops, messages and program end in the same order.
+
+Where the output replaces a source curve by other motions (an arc as chords, a NURBS or an
+ellipse as arcs or chords), the replacement is accepted when every piece ends within the
+conversion's tolerance of the curve, the pieces advance along it in order, and the last one
+ends on the curve's end point. Lengths are compared in millimetres so an output written in
+other length units compares with its source; the units a motion sees must then map one to
+one (every inch motion of the source is, say, a millimetre motion of the output).
+
+The comparison streams: each side is read once, item by item, and nothing is kept behind.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Iterator, Mapping
+from dataclasses import dataclass
+
+from kernel.diagnostics import Location
+from kernel.ir import canon
+from kernel.ir.arcsweep import TWO_PI, arc_sweep
+
+#: equality of lengths and numbers, in the source's program units (1e-4; 1e-9 absorbs float
+#: noise of printed values)
+EXACT = 1e-4 + 1e-9
+#: samples per curve span when a NURBS or ellipse is replaced by other motions
+SAMPLES = 64
+
+_EVENTS = (
+    canon.ChangeTool,
+    canon.ProgramStop,
+    canon.OptionalProgramStop,
+    canon.ProgramEnd,
+    canon.Message,
+)
+_CURVES = (canon.ArcFeed, canon.NurbsFeed, canon.EllipseFeed)
+#: plane -> indexes of (first, second, normal) axes in (x, y, z)
+_AXES = {canon.Plane.XY: (0, 1, 2), canon.Plane.YZ: (1, 2, 0), canon.Plane.XZ: (2, 0, 1)}
+
+
+@dataclass(frozen=True, slots=True)
+class Difference:
+    """The first place two streams differ: the source command's location and what differs."""
+
+    source: Location | None
+    message: str
+
+
+@dataclass(frozen=True, slots=True)
+class Seen:
+    """What a motion sees; ``feed`` in mm (or inverse-time) per minute."""
+
+    feed: float
+    speed: float
+    direction: canon.Direction
+    tool: int | str
+    mist: bool
+    flood: bool
+    plane: canon.Plane
+
+
+@dataclass(frozen=True, slots=True)
+class Item:
+    """A motion (with ``seen``, its start, its end in mm) or an event (``seen`` None)."""
+
+    command: canon.Command
+    seen: Seen | None
+    units: canon.Units | None
+    start: tuple[float, float, float]
+    end: tuple[float, float, float]
+
+
+def _mm(units: canon.Units | None) -> float:
+    return 1.0 if units is None else units.mm_per_unit
+
+
+def items(commands: Iterable[canon.Command]) -> Iterator[Item]:
+    """The motions and ordered events of a stream, with the state each motion sees."""
+    feed = speed = 0.0
+    direction = canon.Direction.STOPPED
+    tool: int | str = 0
+    mist = flood = False
+    plane = canon.Plane.XY
+    units: canon.Units | None = None
+    pos = (0.0, 0.0, 0.0)
+    seen: Seen | None = None
+    for c in commands:
+        if isinstance(c, canon.StraightFeed | canon.StraightTraverse | canon.StraightProbe):
+            k = _mm(units)
+            end = (c.x * k, c.y * k, c.z * k)
+        elif isinstance(c, canon.ArcFeed | canon.EllipseFeed):
+            k = _mm(units)
+            i, j, n = _AXES[plane]
+            point = [0.0, 0.0, 0.0]
+            point[i], point[j], point[n] = c.first_end * k, c.second_end * k, c.axis_end_point * k
+            end = (point[0], point[1], point[2])
+        elif isinstance(c, canon.NurbsFeed):
+            end = pos
+            if c.points and not c.elided:
+                k = _mm(units)
+                i, j, _ = _AXES[plane]
+                point = list(pos)
+                point[i], point[j] = c.points[-1][0] * k, c.points[-1][1] * k
+                end = (point[0], point[1], point[2])
+        elif isinstance(c, canon.Dwell):
+            end = pos
+        else:
+            seen = None
+            if isinstance(c, canon.SetFeedRate):
+                feed = c.rate
+            elif isinstance(c, canon.SetSpindleSpeed):
+                speed = c.speed
+            elif isinstance(c, canon.StartSpindleClockwise):
+                direction = canon.Direction.CLOCKWISE
+            elif isinstance(c, canon.StartSpindleCounterclockwise):
+                direction = canon.Direction.COUNTERCLOCKWISE
+            elif isinstance(c, canon.StopSpindleTurning):
+                direction = canon.Direction.STOPPED
+            elif isinstance(c, canon.MistOn | canon.MistOff):
+                mist = isinstance(c, canon.MistOn)
+            elif isinstance(c, canon.FloodOn | canon.FloodOff):
+                flood = isinstance(c, canon.FloodOn)
+            elif isinstance(c, canon.UseLengthUnits):
+                units = c.units
+            elif isinstance(c, canon.SelectPlane):
+                plane = c.plane
+            elif isinstance(c, _EVENTS):
+                if isinstance(c, canon.ChangeTool):
+                    tool = c.name or c.slot
+                yield Item(c, None, units, pos, pos)
+            continue
+        if seen is None:
+            seen = Seen(feed * _mm(units), speed, direction, tool, mist, flood, plane)
+        yield Item(c, seen, units, pos, end)
+        pos = end
+
+
+def _close(a: float, b: float, tol: float) -> bool:
+    return abs(a - b) <= tol
+
+
+def _values_differ(
+    name: str,
+    a: Iterable[float],
+    b: Iterable[float],
+    lengths: int,
+    scale: tuple[float, float, float],
+) -> str | None:
+    """The first of two argument lists that differs; the first ``lengths`` are lengths,
+    ``scale`` the mm per unit of each side and the tolerance of lengths in mm."""
+    k_src, k_out, tol_mm = scale
+    for index, (x, y) in enumerate(zip(a, b, strict=True)):
+        if index < lengths:
+            x, y = x * k_src, y * k_out
+            tol = tol_mm
+        else:
+            tol = EXACT
+        if not _close(float(x), float(y), tol):
+            return f"{name} argument {index + 1}: {y:g} where the source has {x:g}"
+    return None
+
+
+def _motion_difference(src: Item, out: Item, tol_mm: float) -> str | None:
+    """What differs between two motions of the same kind (their state aside)."""
+    s, o = src.command, out.command
+    scale = (_mm(src.units), _mm(out.units), tol_mm)
+    straight = canon.StraightFeed | canon.StraightTraverse | canon.StraightProbe
+    if isinstance(s, straight) and isinstance(o, straight):
+        k_src, k_out, tol = scale
+        if (
+            abs(s.x * k_src - o.x * k_out) <= tol
+            and abs(s.y * k_src - o.y * k_out) <= tol
+            and abs(s.z * k_src - o.z * k_out) <= tol
+            and abs(s.a - o.a) <= EXACT
+            and abs(s.b - o.b) <= EXACT
+            and abs(s.c - o.c) <= EXACT
+        ):
+            return None  # the common case, without building the argument lists
+        a = (s.x, s.y, s.z, s.a, s.b, s.c)
+        b = (o.x, o.y, o.z, o.a, o.b, o.c)
+        return _values_differ(s.NAME, a, b, 3, scale)
+    if isinstance(s, canon.ArcFeed) and isinstance(o, canon.ArcFeed):
+        if s.rotation != o.rotation:
+            return f"ARC_FEED turns {o.rotation} where the source has {s.rotation}"
+        a = (s.first_end, s.second_end, s.first_axis, s.second_axis, s.axis_end_point)
+        b = (o.first_end, o.second_end, o.first_axis, o.second_axis, o.axis_end_point)
+        return _values_differ(s.NAME, a + (s.a, s.b, s.c), b + (o.a, o.b, o.c), 5, scale)
+    if isinstance(s, canon.EllipseFeed) and isinstance(o, canon.EllipseFeed):
+        if s.rotation != o.rotation:
+            return f"ELLIPSE_FEED turns {o.rotation} where the source has {s.rotation}"
+        a = (s.major, s.minor, s.first_end, s.second_end, s.first_axis, s.second_axis)
+        b = (o.major, o.minor, o.first_end, o.second_end, o.first_axis, o.second_axis)
+        return _values_differ(
+            s.NAME,
+            a + (s.axis_end_point, s.angle_to_first),
+            b + (o.axis_end_point, o.angle_to_first),
+            7,
+            scale,
+        )
+    if isinstance(s, canon.NurbsFeed) and isinstance(o, canon.NurbsFeed):
+        if len(s.points) != len(o.points):
+            return f"NURBS_FEED with {len(o.points)} control points, the source {len(s.points)}"
+        if s.elided or o.elided:
+            return None
+        if s.order != o.order or len(s.knots) != len(o.knots):
+            return f"NURBS_FEED of order {o.order} where the source has order {s.order}"
+        for p, q in zip(s.points, o.points, strict=True):
+            diff = _values_differ(s.NAME, p, q, 2, scale)
+            if diff is not None:
+                return diff
+        return _values_differ(s.NAME, s.knots, o.knots, 0, scale)
+    if isinstance(s, canon.Dwell) and isinstance(o, canon.Dwell):
+        return _values_differ(s.NAME, (s.seconds,), (o.seconds,), 0, scale)
+    return None
+
+
+class _Units:
+    """The one-to-one map of source length units to output length units."""
+
+    def __init__(self) -> None:
+        self.pairs: dict[canon.Units | None, canon.Units | None] = {}
+
+    def differs(self, src: canon.Units | None, out: canon.Units | None) -> str | None:
+        known = self.pairs.setdefault(src, out)
+        if known != out or list(self.pairs.values()).count(out) > 1:
+            return f"length units {_unit_name(out)} where the source has {_unit_name(src)}"
+        return None
+
+
+def _unit_name(units: canon.Units | None) -> str:
+    return "unset" if units is None else units.value
+
+
+def _state_difference(src: Item, out: Item, tol_mm: float, piece: bool = False) -> str | None:
+    """What differs in the state two motions see (:func:`_seen_difference`), or None."""
+    if src.seen == out.seen:
+        return None  # the common case: the very same state
+    return _seen_difference(src, out, tol_mm, piece)
+
+
+def _seen_difference(src: Item, out: Item, tol_mm: float, piece: bool) -> str | None:
+    """What differs in the state two motions see. The plane is compared where it gives the
+    motion its meaning (a curve on either side): a straight move is the same in any plane,
+    and a language without planes (Sandia) writes every move in XY. A ``piece`` of a
+    replaced curve is checked against the curve in space, whatever plane it is in."""
+    a, b = src.seen, out.seen
+    assert a is not None and b is not None
+    if abs(a.feed - b.feed) > max(tol_mm, 1e-4 * abs(a.feed)):
+        k = _mm(src.units)
+        return f"feed rate {b.feed / k:g} where the source has {a.feed / k:g}"
+    for name in ("speed", "direction", "tool", "mist", "flood", "plane"):
+        x, y = getattr(a, name), getattr(b, name)
+        if name == "speed" and abs(x - y) <= EXACT:
+            continue
+        curve = isinstance(src.command, _CURVES) or isinstance(out.command, _CURVES)
+        if name == "plane" and (piece or not curve):
+            continue
+        if x != y:
+            show = [v.value if hasattr(v, "value") else v for v in (x, y)]
+            word = {"speed": "spindle speed", "direction": "spindle direction"}.get(name, name)
+            return f"{word} {show[1]} where the source has {show[0]}"
+    return None
+
+
+def _event_difference(src: canon.Command, out: canon.Command) -> str | None:
+    if isinstance(src, canon.Message) and isinstance(out, canon.Message):
+        same = src.text.strip() == out.text.strip()
+    else:
+        same = src.to_text() == out.to_text()
+    return None if same else f"{out.to_text()} where the source has {src.to_text()}"
+
+
+class _Curve:
+    """A source curve that the output replaced by pieces: where a piece end lies on it."""
+
+    def __init__(self, item: Item) -> None:
+        self.item = item
+        self.progress = 0.0  # along the curve, 0..1
+        cmd = item.command
+        seen = item.seen
+        assert seen is not None
+        self.axes = _AXES[seen.plane]
+        i, j, n = self.axes
+        k = _mm(item.units)
+        self.start = item.start
+        self.end = item.end
+        self.polyline: list[tuple[float, float, float]] | None = None
+        if isinstance(cmd, canon.ArcFeed):
+            ci, cj = cmd.first_axis * k, cmd.second_axis * k
+            self.centre = (ci, cj)
+            t0 = math.atan2(self.start[j] - cj, self.start[i] - ci)
+            t1 = math.atan2(self.end[j] - cj, self.end[i] - ci)
+            self.theta0 = t0
+            self.sweep = arc_sweep(t0, t1, cmd.rotation)
+            self.r0 = math.hypot(self.start[i] - ci, self.start[j] - cj)
+            self.r1 = math.hypot(self.end[i] - ci, self.end[j] - cj)
+        else:
+            self.polyline = _sample(cmd, item, self.axes)
+
+    def locate(self, point: tuple[float, float, float], tol: float) -> float | None:
+        """Progress (0..1) of ``point`` along the curve past the last one, or None when it
+        is farther than ``tol`` from the curve."""
+        if self.polyline is None:
+            return self._locate_arc(point, tol)
+        best: tuple[float, float] | None = None
+        line = self.polyline
+        last = len(line) - 1
+        first = int(self.progress * last)
+        for index in range(max(first - 1, 0), last):
+            dist, frac = _segment_distance(point, line[index], line[index + 1])
+            if dist <= tol:
+                at = (index + frac) / last
+                if at >= self.progress - 1e-9 and (best is None or at < best[0]):
+                    best = (at, dist)
+        return None if best is None else best[0]
+
+    def _locate_arc(self, point: tuple[float, float, float], tol: float) -> float | None:
+        i, j, n = self.axes
+        ci, cj = self.centre
+        sweep = abs(self.sweep)
+        if sweep == 0.0:
+            return None
+        sign = 1.0 if self.sweep > 0 else -1.0
+        radius = math.hypot(point[i] - ci, point[j] - cj)
+        base = (sign * (math.atan2(point[j] - cj, point[i] - ci) - self.theta0)) % TWO_PI
+        slack = tol / max(min(self.r0, self.r1), tol) + 1e-9
+        # the angle is known modulo a turn: take the first turn that fits past the last piece
+        for turn in range(-1, int(sweep / TWO_PI) + 2):
+            angle = base + turn * TWO_PI
+            if angle < self.progress * sweep - slack or angle > sweep + slack:
+                continue
+            frac = min(max(angle / sweep, 0.0), 1.0)
+            expect_r = self.r0 + (self.r1 - self.r0) * frac
+            expect_n = self.start[n] + (self.end[n] - self.start[n]) * frac
+            if math.hypot(radius - expect_r, point[n] - expect_n) <= tol:
+                return frac
+        return None
+
+
+def _segment_distance(
+    p: tuple[float, float, float], a: tuple[float, float, float], b: tuple[float, float, float]
+) -> tuple[float, float]:
+    """Distance of ``p`` from segment ``ab`` and the fraction of ``ab`` at its foot."""
+    d = (b[0] - a[0], b[1] - a[1], b[2] - a[2])
+    length2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+    t = 0.0
+    if length2 > 0.0:
+        t = ((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1] + (p[2] - a[2]) * d[2]) / length2
+        t = min(max(t, 0.0), 1.0)
+    q = (a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2])
+    return math.dist(p, q), t
+
+
+def _sample(
+    cmd: canon.Command, item: Item, axes: tuple[int, int, int]
+) -> list[tuple[float, float, float]]:
+    """A dense polyline of a NURBS or ellipse (in mm), start to end."""
+    i, j, n = axes
+    k = _mm(item.units)
+    flat: list[tuple[float, float, float]] = []
+    if isinstance(cmd, canon.NurbsFeed):
+        if cmd.elided or not cmd.points:
+            return [item.start, item.end]
+        spans = max(len(cmd.points) - cmd.order + 1, 1)
+        count = SAMPLES * spans
+        lo, hi = cmd.knots[cmd.order - 1], cmd.knots[len(cmd.points)]
+        for step in range(count + 1):
+            u, v = _nurbs_point(cmd, lo + (hi - lo) * step / count)
+            flat.append(_place(axes, u * k, v * k, item.start[n]))
+        return flat
+    assert isinstance(cmd, canon.EllipseFeed)
+    ci, cj = cmd.first_axis * k, cmd.second_axis * k
+    ca, sa = math.cos(cmd.angle_to_first), math.sin(cmd.angle_to_first)
+    ra, rb = cmd.major * k / 2.0, cmd.minor * k / 2.0
+
+    def param(p: tuple[float, float, float]) -> float:
+        du, dv = p[i] - ci, p[j] - cj
+        return math.atan2((-sa * du + ca * dv) / rb, (ca * du + sa * dv) / ra)
+
+    t0, t1 = param(item.start), param(item.end)
+    sweep = arc_sweep(t0, t1, cmd.rotation)
+    count = SAMPLES * max(4, int(abs(sweep) * 8))
+    for step in range(count + 1):
+        f = step / count
+        t = t0 + sweep * f
+        du, dv = ra * math.cos(t), rb * math.sin(t)
+        normal = item.start[n] + (item.end[n] - item.start[n]) * f
+        flat.append(_place(axes, ci + ca * du - sa * dv, cj + sa * du + ca * dv, normal))
+    return flat
+
+
+def _place(axes: tuple[int, int, int], u: float, v: float, w: float) -> tuple[float, float, float]:
+    point = [0.0, 0.0, 0.0]
+    point[axes[0]], point[axes[1]], point[axes[2]] = u, v, w
+    return (point[0], point[1], point[2])
+
+
+def _nurbs_point(cmd: canon.NurbsFeed, u: float) -> tuple[float, float]:
+    """The rational B-spline at parameter ``u`` (de Boor on homogeneous points)."""
+    p = cmd.order - 1
+    knots = cmd.knots
+    m = len(cmd.points)
+    span = p
+    while span < m - 1 and knots[span + 1] <= u:
+        span += 1
+    d = [(pt[0] * pt[2], pt[1] * pt[2], pt[2]) for pt in cmd.points[span - p : span + 1]]
+    for r in range(1, p + 1):
+        for jj in range(p, r - 1, -1):
+            left, right = knots[jj + span - p], knots[jj + 1 + span - r]
+            a = 0.0 if right == left else (u - left) / (right - left)
+            (x0, y0, w0), (x1, y1, w1) = d[jj - 1], d[jj]
+            d[jj] = ((1 - a) * x0 + a * x1, (1 - a) * y0 + a * y1, (1 - a) * w0 + a * w1)
+    x, y, w = d[p]
+    return x / w, y / w
+
+
+def first_difference(
+    source: Iterable[canon.Command],
+    output: Iterable[canon.Command],
+    tolerance: float,
+    resolution: Mapping[canon.Units | None, float] | None = None,
+) -> Difference | None:
+    """The first difference between a source stream and the re-reading of its conversion,
+    or None when they are equivalent. ``tolerance`` (output length units) bounds how far a
+    piece replacing a source curve may end from it; ``resolution`` (per output length unit:
+    half the last written decimal, in that unit) widens the 1e-4 rule where the output's
+    numbers are rounded more coarsely."""
+    rounding = resolution or {}
+    units = _Units()
+    out_items = items(output)
+    out = next(out_items, None)
+    for src in items(source):
+        where = src.command.source
+        if out is None:
+            return Difference(where, f"the output ends before this {src.command.NAME}")
+        s, o = src.command, out.command
+        if src.seen is None or out.seen is None:
+            if src.seen is not None or out.seen is not None or s.NAME != o.NAME:
+                return Difference(where, f"{o.NAME} where the source has {s.NAME}")
+            diff = _event_difference(s, o)
+            if diff is not None:
+                return Difference(where, diff)
+            out = next(out_items, None)
+            continue
+        written = rounding.get(out.units, 0.0) * _mm(out.units) * (1 + 1e-6)
+        exact_mm = max(EXACT * _mm(src.units), written + 1e-9)
+        split = (
+            isinstance(s, canon.ArcFeed)
+            and isinstance(o, canon.ArcFeed)
+            and s.rotation != o.rotation
+        )
+        if s.NAME == o.NAME and not split:
+            diff = units.differs(src.units, out.units) or _state_difference(src, out, exact_mm)
+            if diff is not None:
+                return Difference(where, f"{s.NAME} sees {diff}")
+            diff = _motion_difference(src, out, exact_mm)
+            if diff is not None:
+                return Difference(where, diff)
+            out = next(out_items, None)
+            continue
+        if not isinstance(s, _CURVES) or not isinstance(o, canon.StraightFeed | canon.ArcFeed):
+            return Difference(where, f"{o.NAME} where the source has {s.NAME}")
+        out, diff = _cover(
+            src, out, out_items, units, tolerance * _mm(out.units) + exact_mm, exact_mm
+        )
+        if diff is not None:
+            return Difference(where, diff)
+    if out is not None:
+        return Difference(out.command.source, f"the output has more: {out.command.NAME}")
+    return None
+
+
+def _cover(
+    src: Item,
+    out: Item | None,
+    rest: Iterator[Item],
+    units: _Units,
+    tol_mm: float,
+    exact_mm: float,
+) -> tuple[Item | None, str | None]:
+    """Consume the output pieces that replace the source curve ``src``: (the next output
+    item, None) when they cover it in order within ``tol_mm``, else (_, what differs)."""
+    curve = _Curve(src)
+    name = src.command.NAME
+    pieces = 0
+    while out is not None and isinstance(out.command, canon.StraightFeed | canon.ArcFeed):
+        diff = units.differs(src.units, out.units) or _state_difference(
+            src, out, exact_mm, piece=True
+        )
+        if diff is not None:
+            return out, f"a piece of this {name} sees {diff}"
+        at = curve.locate(out.end, tol_mm)
+        pieces += 1
+        if at is None:
+            k = _mm(src.units)
+            shown = ", ".join(f"{v / k:.4f}" for v in out.end)
+            return out, f"piece {pieces} of this {name} ends off the curve at ({shown})"
+        curve.progress = at
+        end = out.end
+        out = next(rest, None)
+        closed = math.dist(src.start, src.end) <= tol_mm
+        if math.dist(end, src.end) <= tol_mm and (at > 0.5 or not closed):
+            return out, None
+    return out, f"the output's pieces stop before the end of this {name}"
