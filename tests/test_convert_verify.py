@@ -186,10 +186,15 @@ def test_json_report_says_whether_the_output_was_verified(tmp_path: Path) -> Non
 
 
 def test_a_lossy_conversion_is_reported_not_verified(tmp_path: Path) -> None:
+    """A loss the user accepted by name is written, but never called verified."""
     src = tmp_path / "p.ngc"
     src.write_text("G21 G90\nT1 M6\nG0 X1 Y2\nG1 X3 F500\nM2\n")
     rep = tmp_path / "r.json"
-    result = run(str(src), "--to", "grbl", "-o", str(tmp_path / "p.gcode"), "--report", str(rep))
+    out = str(tmp_path / "p.gcode")
+    refused = run(str(src), "--to", "grbl", "-o", out)
+    assert refused.exit_code == 1 and not (tmp_path / "p.gcode").exists()
+    accept = ("--allow-loss", "CONV-TOOL-CHANGE")
+    result = run(str(src), "--to", "grbl", "-o", out, "--report", str(rep), *accept)
     assert result.exit_code == 0, result.output
     assert "p.ngc: not verified (the report lists losses)" in result.output
     assert json.loads(rep.read_text())["verified"] is False
