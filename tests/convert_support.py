@@ -8,6 +8,7 @@ motions, feeds and speeds with six decimals so the equivalence rule of
 
 from __future__ import annotations
 
+import functools
 import shutil
 import subprocess
 from collections.abc import Iterable
@@ -46,6 +47,13 @@ def read_ir(program: Path) -> list[canon.Command] | None:
         return list(interpret(program, options(program)))
     except Diagnostic:
         return None
+
+
+@functools.cache
+def ir_of(program: Path) -> tuple[canon.Command, ...] | None:
+    """:func:`read_ir` as a tuple, read once per program and test process."""
+    ir = read_ir(program)
+    return None if ir is None else tuple(ir)
 
 
 def reread(text: str, program: Path) -> list[canon.Command]:

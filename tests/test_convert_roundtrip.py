@@ -11,7 +11,6 @@ expected to be equivalent; then every refusal and change must point at a source 
 
 from __future__ import annotations
 
-import functools
 import math
 from pathlib import Path
 
@@ -25,7 +24,7 @@ from gcode.write.report import ConversionReport
 from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
-from tests.convert_support import fine_text, programs, read_ir, reread
+from tests.convert_support import fine_text, ir_of, programs, reread
 
 PROGRAMS = programs()
 CASES = [
@@ -54,12 +53,6 @@ FANUC_ONLY = (
     "G52",
     "M50",
 )
-
-
-@functools.cache
-def ir_of(program: Path) -> tuple[canon.Command, ...] | None:
-    ir = read_ir(program)
-    return None if ir is None else tuple(ir)
 
 
 @pytest.mark.parametrize(("dialect", "arc_format"), CASES)

@@ -9,7 +9,6 @@ equals ours, and both accept every lossless round trip of the golden and corpus 
 
 from __future__ import annotations
 
-import functools
 import json
 from collections.abc import Iterator
 from pathlib import Path
@@ -27,7 +26,7 @@ from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
 from kernel.ir.equivalence import first_difference
-from tests.convert_support import CORPUS, fine_text, options, programs, read_ir
+from tests.convert_support import CORPUS, fine_text, ir_of, options, programs
 
 PROGRAMS = programs()
 #: the dialects the round-trip tests write every program in (test_convert_roundtrip*.py)
@@ -48,12 +47,6 @@ TARGETS = [
 ROTATED_FRAMES = {"086_g10_l2_rotation", "190_g10_l20_with_rotation"}
 
 SQUARE = "G21 G90 G17\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\nG2 X20 Y0 R5\nM2\n"
-
-
-@functools.cache
-def ir_of(program: Path) -> tuple[canon.Command, ...] | None:
-    ir = read_ir(program)
-    return None if ir is None else tuple(ir)
 
 
 @pytest.mark.parametrize(("dialect", "arc_format"), TARGETS)
