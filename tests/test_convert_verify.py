@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from click.testing import CliRunner
@@ -127,8 +128,8 @@ def corrupt(monkeypatch: pytest.MonkeyPatch, old: str, new: str) -> None:
     """Make the writer's text wrong: every line ``old`` becomes ``new`` (None: dropped)."""
     real = cli.convert.write_text
 
-    def broken(*args: object, **kwargs: object) -> Iterator[str]:
-        for chunk in real(*args, **kwargs):  # type: ignore[arg-type]
+    def broken(*args: Any, **kwargs: Any) -> Iterator[str]:
+        for chunk in real(*args, **kwargs):
             yield "".join(
                 (new + "\n" if new else "") if line == old else line + "\n"
                 for line in chunk.splitlines()
