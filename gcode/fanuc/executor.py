@@ -17,10 +17,10 @@ from collections.abc import Sequence
 from gcode.core.codes import G_GROUPS, Words
 from gcode.core.machine_functions import machine_function
 from gcode.fanuc import cycles, groups, moves, offsets
-from gcode.fanuc.comp import FanucCompensator
 from gcode.fanuc.lexer import WordValue
 from gcode.fanuc.state import Action, ExecutorState, ModalCall
 from gcode.fanuc.words import ARGUMENTS, CYCLES, MOTION, resolve
+from gcode.ngc.comp.cutter_comp import CutterCompensator
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.ir.canon import MotionMode, Plane, Units
@@ -357,7 +357,7 @@ class Executor(ExecutorState):
                 if letter in motion_words.values:
                     w.values[letter] = motion_words.values.pop(letter)
         ended = ip.execute(w) if (w.g or w.m or w.values) else False
-        if new_radius is not None and isinstance(ip.comp, FanucCompensator):
+        if new_radius is not None and isinstance(ip.comp, CutterCompensator):
             ip.comp.change_radius(new_radius, loc)  # Fanuc: from this block's end
         if tapping is not None:
             cycles.run(self, motion_words, tapping, sticky=previous == tapping)

@@ -14,8 +14,8 @@ from dataclasses import replace
 
 from gcode.core.codes import Words
 from gcode.core.state import INCH_MM, CompCode
-from gcode.fanuc.comp import FanucCompensator
 from gcode.fanuc.state import ExecutorState
+from gcode.ngc.comp.cutter_comp import CutterCompensator
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir.canon import Units
 from kernel.tooltable import Tool
@@ -103,7 +103,7 @@ def comp_reissued(ex: ExecutorState, w: Words, loc: Location) -> float | None:
 
     The same side with the same D (or no D) changes nothing: the code is dropped and the
     path goes on as compensated. A new D on the same side is returned (the compensator
-    applies it after the block, :meth:`gcode.fanuc.comp.FanucCompensator.change_radius`)
+    applies it after the block, :meth:`gcode.ngc.comp.cutter_comp.CutterCompensator.change_radius`)
     and dropped from the words too. A change of side is refused (``FANUC-COMP-CHANGE``).
     """
     code = w.g.get(7)
@@ -112,7 +112,7 @@ def comp_reissued(ex: ExecutorState, w: Words, loc: Location) -> float | None:
     if code is None:
         return None
     if ip.comp is None and not ip.options.keep_cutter_comp:
-        ip.comp = FanucCompensator(comments=ip.compat)
+        ip.comp = CutterCompensator(comments=ip.compat)
         ip.comp.set_units(s.units is Units.INCHES)
     if code == 400:
         ex.comp_d = None
@@ -132,7 +132,7 @@ def comp_reissued(ex: ExecutorState, w: Words, loc: Location) -> float | None:
             " (not read: cancel with G40 first)",
             loc,
         )
-    if not isinstance(ip.comp, FanucCompensator) or d is None:
+    if not isinstance(ip.comp, CutterCompensator) or d is None:
         raise Diagnostic(
             "FANUC-COMP-CHANGE",
             f"G{code // 10} D{d or 0:g} changes the offset while compensation is kept as"

@@ -160,6 +160,40 @@ class CutterCompensator:
         self.side, self.radius, self.orientation, self.plane = side, radius, orientation, plane
         return out
 
+    def change_radius(self, radius: float, source: Location | None) -> None:
+        """Fanuc's and Haas's new D in offset mode (0i-MF operator's manual, "Tool radius
+        compensation", change of the compensation value in offset mode; LinuxCNC refuses it):
+        after the block at ``source`` that gave it, that block's held end moves from the old
+        offset path to the new one (``radius``), so the tool slants from the old path to the
+        new one along the block, and the radius changes."""
+        if self.first_move or self.radius <= 0.0:
+            self.radius = radius  # no compensated move yet: the start-up uses the new value
+            return
+        items = self._queue.items
+        last = next((i for i in reversed(range(len(items))) if isinstance(items[i], HeldMove)), -1)
+        held = items[last] if last >= 0 else None
+        if (
+            not isinstance(held, HeldMove)
+            or held.is_arc
+            or held.direction == (0.0, 0.0)
+            or held.source is None
+            or source is None
+            or (held.source.file, held.source.line) != (source.file, source.line)
+        ):
+            raise Diagnostic(
+                "FANUC-COMP-CHANGE",
+                "a new D in offset mode is read on a straight move in the plane only",
+                source,
+            )
+        p1, p2, _ = self._programmed
+        k = radius / self.radius
+        end = (p1 + (held.end[0] - p1) * k, p2 + (held.end[1] - p2) * k)
+        items[last] = HeldMove(
+            held.kind, end, held.normal, held.abc, held.source, direction=held.direction
+        )
+        self._current = (end[0], end[1], self._current[2])
+        self.radius = radius
+
     def stop(self, *, source: Location | None) -> list[canon.Command]:
         """G40 (LinuxCNC ``convert_cutter_compensation_off``): release the held move."""
         out = self._comment("interpreter: cutter radius compensation off", source)
