@@ -1,4 +1,4 @@
-"""Large segment tables (kernel.path.build.segment_table, the table in its own 4 KiB-page mapping
+"""Large segment tables (kernel.path.columns.segment_table, the table in its own 4 KiB-page mapping
 from kernel.interp.bulk) are byte for byte the tables built in ``numpy.zeros``.
 
 Reference: the same conversion with the bulk threshold raised above the program's size,

@@ -31,7 +31,6 @@ import kernel.ir.canon as canon
 from kernel.machine import Machine
 from kernel.path.blend import blend_corners
 from kernel.path.builder import PathBuilder
-from kernel.path.columns import StraightRun, merged_columns, segment_table
 from kernel.path.segments import (
     FEED,
     LINE,
@@ -87,4 +86,4 @@ def lines_table(
     return Path(seg)
 
 
-__all__ = ["StraightRun", "build_path", "lines_table", "merged_columns", "segment_table"]
+__all__ = ["build_path", "lines_table"]
