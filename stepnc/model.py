@@ -203,6 +203,10 @@ def _check_instance(model: Model, inst, sink: _Sink, referenced: set[int]) -> No
         _check_attr(model, inst, a, v, sink, loc)
 
 
+_IDENTIFIER_LABELS = frozenset({"name", "its_id"})
+"""Mandatory labels that only name an instance: ``$`` there is a warning, not an error."""
+
+
 def _check_attr(
     model: Model,
     inst,
@@ -213,8 +217,18 @@ def _check_attr(
 ) -> None:
     where = f"#{inst.id}: {inst.name}.{a.name}"
     if v is None:
-        if not a.optional:
-            sink.add("STEPNC-ATTR-MISSING", f"{where} is mandatory but is $", loc)
+        if a.optional:
+            return
+        if a.kind == "label" and a.name in _IDENTIFIER_LABELS:
+            # A name carries no machining meaning; STEP readers accept an unset one.
+            sink.add(
+                "STEPNC-LENIENT",
+                f"{where} is mandatory but is $; read as an unnamed {inst.name}",
+                loc,
+                Severity.WARNING,
+            )
+            return
+        sink.add("STEPNC-ATTR-MISSING", f"{where} is mandatory but is $", loc)
         return
     values: tuple = (v,)
     if a.is_list:
@@ -317,7 +331,11 @@ def _check_workingstep(ws: Entity, sink: _Sink) -> None:
             )
         boundary = getattr(feature, "feature_boundary", None)
         if isinstance(boundary, Entity) and boundary.type == "RECTANGULAR_CLOSED_PROFILE":
-            width = measure(boundary.profile_width) or 0.0
+            # the narrow side, whichever of width and length it is (ISO 14649-10 does not
+            # order them)
+            width = min(
+                measure(boundary.profile_width) or 0.0, measure(boundary.profile_length) or 0.0
+            )
             if corner is not None and corner > width / 2 + 1e-9:
                 sink.add(
                     "STEPNC-POCKET",

@@ -338,3 +338,34 @@ def test_segment_technology_applies_to_its_segment_only():
         elif isinstance(c, canon.StraightFeed):
             seen.append(feed)
     assert seen == [600.0, 120.0, 600.0]  # 0.01 m/s, the segment's 0.002 m/s, back
+
+
+def test_pocket_wider_than_long_mills_like_the_turned_long_pocket(tmp_path):
+    """ISO 14649-10 does not order a RECTANGULAR_CLOSED_PROFILE's width and length: a 30
+    long, 70 wide pocket is the 70 x 30 pocket turned a quarter turn, so it is milled by
+    the same commands as the long pocket placed with its X axis along +Y."""
+    source = (HERE / "stepnc" / "pocket_zigzag.stp").read_text()
+    assert "#110=TOLERANCED_LENGTH_MEASURE(30.0,#109);" in source
+    wide = source.replace(
+        "#110=TOLERANCED_LENGTH_MEASURE(30.0,#109);", "#110=TOLERANCED_LENGTH_MEASURE(70.0,#109);"
+    ).replace(
+        "#112=TOLERANCED_LENGTH_MEASURE(70.0,#111);", "#112=TOLERANCED_LENGTH_MEASURE(30.0,#111);"
+    )
+    turned = source.replace(
+        "#107=DIRECTION('',(1.0,0.0,0.0));", "#107=DIRECTION('',(0.0,1.0,0.0));"
+    )
+    (tmp_path / "wide.stp").write_text(wide)
+    (tmp_path / "turned.stp").write_text(turned)
+    wide_cmds = [c.to_text() for c in canon_from_file(str(tmp_path / "wide.stp"), None)]
+    turned_cmds = [c.to_text() for c in canon_from_file(str(tmp_path / "turned.stp"), None)]
+    assert wide_cmds == turned_cmds
+    feeds = [
+        c
+        for c in canon_from_file(str(tmp_path / "wide.stp"), None)
+        if isinstance(c, canon.StraightFeed)
+    ]
+    xs = [c.x for c in feeds]
+    ys = [c.y for c in feeds]
+    # a 10 mm tool, 0.5 mm side allowance in a 30 (X) x 70 (Y) pocket centred at (50, 40)
+    assert max(xs) - min(xs) <= 30 - 10 - 2 * 0.5 + 1e-6
+    assert max(ys) - min(ys) > 30

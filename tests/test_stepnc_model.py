@@ -9,6 +9,7 @@ import pytest
 from kernel.diagnostics import Diagnostic, Severity
 from stepnc import part21
 from stepnc.model import Model, load, validate
+from stepnc.to_canon import canon_from_file
 from tests.data_paths import CORPUS_STEPNC
 
 HERE = Path(__file__).resolve().parent
@@ -234,3 +235,25 @@ def test_iso_example1_original_is_rejected_for_the_reasons_nist_found():
         ("STEPNC-FILLET-EDGE", 23, 14),
         ("STEPNC-TOOL-CORNER", 22, 13),  # 20 mm tool, corner 10, side allowance 1
     ]
+
+
+def test_unset_placement_name_is_a_lenient_warning_and_the_file_runs(tmp_path):
+    """A `$` in AXIS2_PLACEMENT_3D.name (mandatory in ISO 10303-42) names nothing the
+    machine uses: a located STEPNC-LENIENT warning, and the commands are unchanged."""
+    old, new = "#71= AXIS2_PLACEMENT_3D('SETUP1',", "#71= AXIS2_PLACEMENT_3D($,"
+    diags = _ex1_variant(old, new)
+    lenient = [d for d in diags if d.code == "STEPNC-LENIENT"]
+    assert [d.record.severity for d in lenient] == [Severity.WARNING]
+    assert lenient[0].location.entity == 71
+    assert not [d for d in diags if d.record.severity is Severity.ERROR]
+    variant = tmp_path / "ex1_unnamed.stp"
+    variant.write_text(EX1.read_text(encoding="latin-1").replace(old, new, 1))
+    ours = [c.to_text() for c in canon_from_file(str(variant), None)]
+    assert ours == [c.to_text() for c in canon_from_file(str(EX1), None)]
+
+
+def test_unset_mandatory_value_that_matters_is_still_an_error():
+    diags = _ex1_variant(
+        "#71= AXIS2_PLACEMENT_3D('SETUP1',#95,", "#71= AXIS2_PLACEMENT_3D('SETUP1',$,"
+    )
+    assert "STEPNC-ATTR-MISSING" in [d.code for d in diags]

@@ -48,12 +48,24 @@ def pocket_shape(ex, pocket: Entity) -> tuple[float, float, float, float, Frame]
                 pocket,
             )
         length, width, frame = rect
-    if not width or not length or length < width or depth <= 0:
+    if not width or width <= 0 or not length or length <= 0:
         raise ex.error(
             "STEPNC-POCKET",
-            "pocket needs positive width <= length and a depth plane below its top",
+            f"pocket profile needs a positive length and width (got length {length:g}, "
+            f"width {width:g})",
             pocket,
         )
+    if depth <= 0:
+        raise ex.error(
+            "STEPNC-POCKET",
+            f"pocket depth plane must lie below its top (depth {depth:g})",
+            pocket,
+        )
+    if width > length:
+        # ISO 14649-10 does not order profile_length and profile_width; the clearing
+        # strategies work along the long side, so turn the profile frame a quarter turn.
+        length, width = width, length
+        frame = Frame(frame.origin, frame.y, frame.z)
     if radius > width / 2.0 + TINY:
         raise ex.error(
             "STEPNC-POCKET",
