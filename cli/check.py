@@ -125,7 +125,7 @@ def check_file(path: str, setup: Setup | None = None) -> FileResult:
     t0 = time.perf_counter()
     ctx = setup.context
     try:
-        cmds = program_commands(path, ctx.tools, ctx.tool_mm_per_unit, setup.dialect)
+        cmds = program_commands(path, ctx.tools, ctx.tool_mm_per_unit, setup.dialect, ctx.machine)
         findings = check_stream(cmds, ctx, path)
     except OSError as exc:
         return FileResult(path, (), exc.strerror or str(exc), time.perf_counter() - t0)

@@ -180,7 +180,9 @@ def run_program(
     images: dict[str, bytes] = {}
 
     def recording() -> Iterator[canon.Command]:  # check the stream, keep it for the planner
-        for cmd in program_commands(program, ctx.tools, ctx.tool_mm_per_unit, opts.dialect):
+        for cmd in program_commands(
+            program, ctx.tools, ctx.tool_mm_per_unit, opts.dialect, ctx.machine
+        ):
             commands.append(cmd)
             yield cmd
 

@@ -114,11 +114,15 @@ def _gcode(
     yield from read(path, program_dialect(path, dialect), options)
 
 
-def _part21(path: str) -> Iterator[canon.Command]:
-    """ISO 14649 through :func:`stepnc.to_canon.canon_from_file` (standard start-up state)."""
+def _part21(path: str, machine: Machine | None) -> Iterator[canon.Command]:
+    """ISO 14649 through :func:`stepnc.to_canon.canon_from_file` (standard start-up state,
+    its retract height kept within ``machine``'s Z travel)."""
     from stepnc.to_canon import canon_from_file
 
-    yield from canon_from_file(path, mode="default")
+    z_max = None
+    if machine is not None and "z" in machine.axis_names:
+        z_max = machine.axis("z").max
+    yield from canon_from_file(path, mode="default", z_max=z_max)
 
 
 def program_commands(
@@ -126,17 +130,19 @@ def program_commands(
     tools: ToolTable | None = None,
     tool_mm_per_unit: float = 1.0,
     dialect: str | None = None,
+    machine: Machine | None = None,
 ) -> Iterator[canon.Command]:
     """Stream the canonical commands of the program at ``path`` (kind detected by content);
     ``tools`` (lengths in units of ``tool_mm_per_unit`` mm) go to the G-code reader of
-    ``dialect`` (:func:`program_dialect`)."""
+    ``dialect`` (:func:`program_dialect`); ``machine`` fits a STEP-NC start state to its
+    travel."""
     kind = detect_kind(read_head(path))
     if kind == "canon":
         yield from _canon_text(path)
     elif kind == "jsonl":
         yield from _jsonl(path)
     elif kind == "part21":
-        yield from _part21(path)
+        yield from _part21(path, machine)
     else:
         yield from _gcode(path, tools, tool_mm_per_unit, dialect)
 

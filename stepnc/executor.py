@@ -11,7 +11,7 @@ and rpm.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
@@ -47,16 +47,32 @@ NIST_START = Start((0.0, 0.0, 200.0), 250.0, 2400.0, 0.0, None, None, False)
 DEFAULT_START = Start((0.0, 0.0, 250.0), 250.0, 0.0, 0.0, canon.Direction.STOPPED, False, False)
 
 
+def start_within(start: Start, z_max: float) -> Start:
+    """``start`` with its retract height lowered to a machine's Z travel limit ``z_max``
+    (the NIST start state retracts to Z 250, above many machines' travel)."""
+    if start.retracted_z <= z_max:
+        return start
+    x, y, z = start.position
+    return replace(start, position=(x, y, min(z, z_max)), retracted_z=z_max)
+
+
 class Executor:
     """Canonical-command writer with the interpreter's world model."""
 
-    def __init__(self, file: str | None, tools: dict[str, ToolEntry] | None, mode: str) -> None:
+    def __init__(
+        self,
+        file: str | None,
+        tools: dict[str, ToolEntry] | None,
+        mode: str,
+        start: Start | None = None,
+    ) -> None:
         if mode not in ("nist", "default"):
             raise Diagnostic("STEPNC-MODE", f"unknown mode {mode!r} (nist or default)")
         self.file = file
         self.tools = tools
         self.mode = mode
-        start = NIST_START if mode == "nist" else DEFAULT_START
+        if start is None:
+            start = NIST_START if mode == "nist" else DEFAULT_START
         self.x, self.y, self.z = start.position
         self.retracted_z = start.retracted_z
         self.feedrate = start.feed

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
-from stepnc.executor import Executor
+from stepnc.executor import DEFAULT_START, NIST_START, Executor, start_within
 from stepnc.frames import Frame, coords, frame_of
 from stepnc.model import Entity, Model, load
 from stepnc.tooling import ToolEntry, load_tool_file
@@ -63,22 +63,37 @@ class Job:
 
 
 def canon_from_file(
-    path: str, tool_file: str | None = None, mode: str = "nist"
+    path: str, tool_file: str | None = None, mode: str = "nist", z_max: float | None = None
 ) -> Iterator[canon.Command]:
-    """Canonical commands of a Part 21 program (raises :class:`Diagnostic` on bad input)."""
+    """Canonical commands of a Part 21 program (raises :class:`Diagnostic` on bad input).
+
+    ``z_max``: the machine's Z travel limit; a start-up retract height above it is lowered
+    to it, with a comment saying so."""
     model = load(path)
     tools = load_tool_file(tool_file) if tool_file else None
-    yield from canon_from_model(model, tools, mode)
+    yield from canon_from_model(model, tools, mode, z_max)
 
 
 def canon_from_model(
-    model: Model, tools: dict[str, ToolEntry] | None = None, mode: str = "nist"
+    model: Model,
+    tools: dict[str, ToolEntry] | None = None,
+    mode: str = "nist",
+    z_max: float | None = None,
 ) -> Iterator[canon.Command]:
-    ex = Executor(model.file, tools, mode)
+    start = NIST_START if mode == "nist" else DEFAULT_START
+    fitted = start if z_max is None else start_within(start, z_max)
+    ex = Executor(model.file, tools, mode, fitted)
     project = model.project()
     ex.source = project.where()
     plan = project.main_workplan
     setup_z, wp_frame = _setup(model, project, plan)
+    if fitted is not start:
+        ex.emit(
+            canon.Comment(
+                f"retract height Z{start.retracted_z:g} of the STEP-NC start state lowered "
+                f"to the machine's Z travel limit {fitted.retracted_z:g}"
+            )
+        )
     ex.emit(canon.UseLengthUnits(canon.Units.MM))
     ex.emit(canon.SetOriginOffsets(0.0, 0.0, 0.0))
     ex.emit(canon.SetFeedReference(canon.FeedReference.XYZ))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 from click.testing import CliRunner
@@ -80,3 +81,36 @@ def test_gouge_reports_each_workingstep():
     r = run("gouge", EX1, "--tool-file", TOOLS, "--raw", "0,0,-45,100,120,5")
     assert r.exit_code == 0
     assert r.output.count(": ok") == 5
+
+
+def test_check_of_every_stepnc_program_has_no_false_travel_error_on_the_default_machine():
+    """The ISO 14649 start state retracts to Z 250, above the built-in mill's 200 mm Z
+    travel; the retract height is lowered to the travel, so no file gets CNC101."""
+    files = [
+        EX1,
+        *sorted(str(p) for p in (HERE / "stepnc").glob("*.stp") if p.name != Path(FIG).name),
+    ]
+    result = CliRunner().invoke(cli, ["check", "--format", "json", *files])
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.output)
+    assert [
+        f for entry in doc["files"] for f in entry["findings"] if f["severity"] == "error"
+    ] == []
+
+
+def test_stepnc_start_state_is_fitted_to_the_machine_travel_with_a_comment():
+    from cli.programs import program_commands
+    from kernel.machine import DEFAULT_MACHINE
+
+    cmds = list(program_commands(EX1, machine=DEFAULT_MACHINE))
+    assert isinstance(cmds[0], canon.Comment)
+    assert "lowered to the machine's Z travel limit 200" in cmds[0].text
+    offset, peak = 0.0, -1e9
+    for c in cmds:
+        if isinstance(c, canon.UseToolLengthOffset):
+            offset = c.length
+        elif isinstance(c, canon.StraightTraverse):
+            peak = max(peak, c.z + offset)
+    assert peak == 200.0  # the highest traverse is the travel limit itself
+    # without a machine (cnc canon), the standard start state is kept
+    assert not isinstance(next(iter(program_commands(EX1))), canon.Comment)
