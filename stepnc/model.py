@@ -388,5 +388,31 @@ def load(path: str, diagnostics: list[Diagnostic] | None = None) -> Model:
     from stepnc.part21 import read_file
 
     model = Model(read_file(path, diagnostics))
+    schemas = file_schemas(model)
+    if any(name in _AIM_SCHEMAS for name in schemas):
+        # One message instead of one unknown-entity error per AIM instance.
+        diag = Diagnostic(
+            "STEPNC-AP238",
+            f"FILE_SCHEMA {', '.join(schemas)} is the AP238 AIM (integrated CNC) form; this "
+            "reader takes the ISO 14649 ARM (MACHINING_SCHEMA) form only",
+            Location(path, 1, 1),
+        )
+        if diagnostics is None:
+            raise diag
+        diagnostics.append(diag)
+        return model
     validate(model, diagnostics)
     return model
+
+
+#: FILE_SCHEMA names of AP238's implementation form (ISO 10303-238 AIM)
+_AIM_SCHEMAS = frozenset({"INTEGRATED_CNC_SCHEMA", "AP238_INTEGRATED_CNC_SCHEMA"})
+
+
+def file_schemas(model: Model) -> tuple[str, ...]:
+    """The schema names of the file's FILE_SCHEMA header entry, upper case."""
+    for word, params in model.p21.header:
+        if word == "FILE_SCHEMA" and params:
+            names = params[0] if isinstance(params[0], tuple) else (params[0],)
+            return tuple(str(n).upper() for n in names if isinstance(n, str))
+    return ()

@@ -257,3 +257,32 @@ def test_unset_mandatory_value_that_matters_is_still_an_error():
         "#71= AXIS2_PLACEMENT_3D('SETUP1',#95,", "#71= AXIS2_PLACEMENT_3D('SETUP1',$,"
     )
     assert "STEPNC-ATTR-MISSING" in [d.code for d in diags]
+
+
+AP238_AIM = """ISO-10303-21;
+HEADER;
+FILE_DESCRIPTION(('AP238 AIM sample'),'2;1');
+FILE_NAME('part.stp','2026-01-01',(''),(''),'','','');
+FILE_SCHEMA(('INTEGRATED_CNC_SCHEMA'));
+ENDSEC;
+DATA;
+#1=PRODUCT('part','part','',(#2));
+#2=PRODUCT_CONTEXT('',#3,'');
+#3=APPLICATION_CONTEXT('integrated cnc');
+#4=MACHINING_WORKPLAN('main','','',$);
+#5=MACHINING_WORKINGSTEP('ws1','','',$);
+ENDSEC;
+END-ISO-10303-21;
+"""
+
+
+def test_ap238_aim_file_gets_one_message_naming_the_form(tmp_path):
+    path = tmp_path / "aim.stp"
+    path.write_text(AP238_AIM)
+    diags: list[Diagnostic] = []
+    load(str(path), diags)
+    assert [d.code for d in diags] == ["STEPNC-AP238"]
+    assert "INTEGRATED_CNC_SCHEMA" in diags[0].message
+    with pytest.raises(Diagnostic) as info:
+        load(str(path))
+    assert info.value.code == "STEPNC-AP238" and info.value.location.line == 1
