@@ -284,7 +284,12 @@ def test_pocket_floor_is_cleared(name, length, width, radius, allowance):
     """Every floor point of the pocket (less the side allowance) is within the tool radius
     (5 mm) of a cutting move at the deepest level: nothing is left standing."""
     model = load(str(HERE / "stepnc" / f"{name}.stp"))
-    cmds = list(canon_from_model(model, None, "default"))
+    _assert_floor_cleared(
+        list(canon_from_model(model, None, "default")), length, width, radius, allowance, name
+    )
+
+
+def _assert_floor_cleared(cmds, length, width, radius, allowance, name):
     bottom = min(_z(c) for c in _feeds(cmds))
     pos, pts = np.zeros(3), []
     for c in cmds:
@@ -369,3 +374,67 @@ def test_pocket_wider_than_long_mills_like_the_turned_long_pocket(tmp_path):
     # a 10 mm tool, 0.5 mm side allowance in a 30 (X) x 70 (Y) pocket centred at (50, 40)
     assert max(xs) - min(xs) <= 30 - 10 - 2 * 0.5 + 1e-6
     assert max(ys) - min(ys) > 30
+
+
+def _outside_in_variant(name: str, tmp_path: Path) -> Path:
+    """The program with its CONTOUR_PARALLEL cutmode flipped: same rotation, the material
+    now on the other side of the loops (CCW conventional / CW climb: outside in)."""
+    text = (HERE / "stepnc" / f"{name}.stp").read_text()
+    flipped = text.replace(".CCW.,.CLIMB.)", ".CCW.,.CONVENTIONAL.)").replace(
+        ".CW.,.CONVENTIONAL.)", ".CW.,.CLIMB.)"
+    )
+    assert flipped != text
+    out = tmp_path / f"{name}_outside_in.stp"
+    out.write_text(flipped)
+    return out
+
+
+def _loop_starts(cmds, centre_x, centre_y):
+    """The +X points of the centre line (y = centre) that feeds reach at the bottom Z, in
+    order, consecutive repeats merged: the end of the lead-in along the centre line (not
+    in a circular pocket), then where each loop starts."""
+    bottom = min(_z(c) for c in _feeds(cmds))
+    xs: list[float] = []
+    for c in cmds:
+        if not isinstance(c, canon.StraightFeed) or abs(c.z - bottom) > 1e-9:
+            continue
+        on_line = abs(c.y - centre_y) < 1e-9 and c.x > centre_x + 1e-9
+        if on_line and (not xs or abs(xs[-1] - c.x) > 1e-9):
+            xs.append(c.x)
+    return xs
+
+
+@pytest.mark.parametrize(
+    ("name", "length", "width", "radius"),
+    [
+        ("pocket_toolaxis_ccw_climb", 60, 50, 10),
+        ("pocket_semicircle_ends", 70, 30, 15),
+        ("pocket_circular", 40, 40, 20),
+        ("pocket_finish_helix", 60, 40, 8),
+    ],
+)
+def test_outside_in_contour_parallel_clears_the_same_floor_with_loops_reversed(
+    tmp_path, name, length, width, radius
+):
+    """ISO 14649-11 CONTOUR_PARALLEL: CCW conventional (and CW climb) keeps the uncut
+    material inside the loop, so the loops run from the outermost in. The floor is still
+    cleared everywhere, every arc turns in the given rotation, and the loops are those of
+    the inside-out program in the opposite order."""
+    inside_out = list(canon_from_file(str(HERE / "stepnc" / f"{name}.stp"), None, "default"))
+    outside_in = list(canon_from_file(str(_outside_in_variant(name, tmp_path)), None, "default"))
+    _assert_floor_cleared(outside_in, length, width, radius, 0.0, name)
+    turns_in = {c.rotation for c in inside_out if isinstance(c, canon.ArcFeed) and c.rotation}
+    turns_out = {c.rotation for c in outside_in if isinstance(c, canon.ArcFeed) and c.rotation}
+    assert turns_out == turns_in  # the rotation direction is the one the file gives
+    cuts_in = sorted(c.to_text() for c in inside_out if isinstance(c, canon.ArcFeed))
+    cuts_out = sorted(c.to_text() for c in outside_in if isinstance(c, canon.ArcFeed))
+    assert cuts_out == cuts_in  # the same loops ...
+    starts_in = _loop_starts(inside_out, 50.0, 40.0)
+    starts_out = _loop_starts(outside_in, 50.0, 40.0)
+    if starts_out[0] < starts_out[1]:  # the lead-in along the centre line comes first
+        lead_in = starts_out.pop(0)
+        assert starts_in[0] == lead_in
+        starts_in = starts_in[1:]
+    assert len(starts_in) >= 2
+    assert starts_in == sorted(starts_in)  # ... inside out: growing loops
+    assert starts_out == sorted(starts_in, reverse=True)  # outside in: the same, shrinking

@@ -134,6 +134,7 @@ class Strategies:
                 self.along_y = abs(d[1]) > abs(d[0])
             self.left = getattr(inside, "stepover_direction", None) == "LEFT"
         self.inside = inside
+        self.outside_in = _outside_in(self.rotation, self.cutmode)
         if op.radial_cutting_depth is not None:
             self.stepover = float(op.radial_cutting_depth)
         else:
@@ -201,16 +202,6 @@ def generate(ex, job) -> None:  # noqa: ANN001
         )
     if st.retract != "PLUNGE_TOOLAXIS":
         raise ex.error("STEPNC-STRATEGY", "pocket retract supports PLUNGE_TOOLAXIS only", op)
-    if st.inside_type == "CONTOUR_PARALLEL" and (st.rotation, st.cutmode) in (
-        ("CW", "CLIMB"),
-        ("CCW", "CONVENTIONAL"),
-    ):
-        raise ex.error(
-            "STEPNC-STRATEGY",
-            f"{st.rotation} with {st.cutmode} cutting would "
-            "clear the pocket from the outside in, which is not supported",
-            op,
-        )
     code = Code()
     try:
         mill_pocket(code, length, width, depth, radius, diameter, op, st, finish)
@@ -295,13 +286,30 @@ def _layer(
     stepover = st.stepover
     if st.inside_type in ZIGZAG:
         _zigzag(code, length, width, radius, z, st, diameter, spiral)
+        return
+    circular = width - 2 * radius < TINY and end1 < TINY
+    if circular:
+        loops = _circular(length, z, stepover, diameter, spiral)
     elif width - 2 * radius < TINY:
-        if end1 < TINY:
-            _circular(code, length, z, stepover, diameter, spiral)
-        else:
-            _semicircle_ends(code, length, width, z, stepover, diameter, spiral)
+        loops = _semicircle_ends(length, width, z, stepover, diameter, spiral)
     else:
-        _regular(code, length, width, radius, z, stepover, diameter, spiral)
+        loops = _regular(length, width, radius, z, stepover, diameter, spiral)
+    if not circular:
+        code.feed(end1, 0, z)  # along the centre line from the entry at its -X end
+    # Each loop starts and ends at its own start point on the +X centre line, so the
+    # loops can run inside out (material outside the loop) or outside in (inside it).
+    for loop in reversed(loops) if st.outside_in else loops:
+        code.extend(loop)
+
+
+def _outside_in(rotation: str, cutmode: str) -> bool:
+    """Whether contour-parallel loops run from the outside in (ISO 14649-11 §4.2.8.2).
+
+    With a clockwise spindle, climb milling keeps the material on the tool's right. Loops
+    turning counterclockwise have the loop's outside on their right, so CCW climb (and CW
+    conventional) clears inside out; CCW conventional and CW climb leave the uncut
+    material inside the loop, which is clearing from the outside in."""
+    return (rotation, cutmode) in (("CW", "CLIMB"), ("CCW", "CONVENTIONAL"))
 
 
 ZIGZAG = ("BIDIRECTIONAL_MILLING", "CONTOUR_BIDIRECTIONAL")
@@ -419,7 +427,6 @@ def _passes(total: float, stepover: float) -> tuple[int, float]:
 
 
 def _regular(
-    code: Code,
     length: float,
     width: float,
     radius: float,
@@ -427,48 +434,59 @@ def _regular(
     stepover: float,
     diameter: float,
     s: int,
-) -> None:
-    """Rectangular loops around the centre line, with corner arcs once they fit."""
+) -> list[Code]:
+    """Rectangular loops around the centre line, innermost first, with corner arcs once
+    they fit; each begins with the feed to its start point."""
     n, stepover = _passes((width - diameter) / 2.0, stepover)
     end1 = (length - width) / 2.0
     end2 = -end1
     c = width / 2.0 - radius
     r_now, off = -c, 0.0
-    code.feed(end1, 0, z)
+    loops = []
     for _ in range(n):
         r_now += stepover
         off += stepover
-        code.feed(end1 + off, 0, z)
-        _loop(code, end1, end2, c, off, r_now, s, z)
+        loop = Code()
+        loop.feed(end1 + off, 0, z)
+        _loop(loop, end1, end2, c, off, r_now, s, z)
+        loops.append(loop)
+    return loops
 
 
 def _semicircle_ends(
-    code: Code, length: float, width: float, z: float, stepover: float, diameter: float, s: int
-) -> None:
+    length: float, width: float, z: float, stepover: float, diameter: float, s: int
+) -> list[Code]:
+    """Loops of two straight sides and two half circles, innermost first."""
     n, stepover = _passes((width - diameter) / 2.0, stepover)
     end1 = (length - width) / 2.0
     end2 = -end1
     r = 0.0
-    code.feed(end1, 0, z)
+    loops = []
     for _ in range(n):
         r += stepover
-        code.feed(end1 + r, 0, z)
-        code.arc(end1, r * s, end1, 0, s, z)
-        code.feed(end2, r * s, z)
-        code.arc(end2, -r * s, end2, 0, s, z)
-        code.feed(end1, -r * s, z)
-        code.arc(end1 + r, 0, end1, 0, s, z)
+        loop = Code()
+        loop.feed(end1 + r, 0, z)
+        loop.arc(end1, r * s, end1, 0, s, z)
+        loop.feed(end2, r * s, z)
+        loop.arc(end2, -r * s, end2, 0, s, z)
+        loop.feed(end1, -r * s, z)
+        loop.arc(end1 + r, 0, end1, 0, s, z)
+        loops.append(loop)
+    return loops
 
 
-def _circular(
-    code: Code, length: float, z: float, stepover: float, diameter: float, s: int
-) -> None:
+def _circular(length: float, z: float, stepover: float, diameter: float, s: int) -> list[Code]:
+    """Full circles about the centre, innermost first."""
     n, stepover = _passes((length - diameter) / 2.0, stepover)
     r = 0.0
+    loops = []
     for _ in range(n):
         r += stepover
-        code.feed(r, 0, z)
-        code.arc(r, 0, 0, 0, s, z)
+        loop = Code()
+        loop.feed(r, 0, z)
+        loop.arc(r, 0, 0, 0, s, z)
+        loops.append(loop)
+    return loops
 
 
 def _cut_straight(
