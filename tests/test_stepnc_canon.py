@@ -438,3 +438,38 @@ def test_outside_in_contour_parallel_clears_the_same_floor_with_loops_reversed(
     assert len(starts_in) >= 2
     assert starts_in == sorted(starts_in)  # ... inside out: growing loops
     assert starts_out == sorted(starts_in, reverse=True)  # outside in: the same, shrinking
+
+
+def test_milled_round_hole_is_cut_as_the_circular_pocket_of_its_diameter():
+    """BOTTOM_AND_SIDE milling of a flat-bottomed ROUND_HOLE (a milled hole) removes the
+    same cylinder as a CLOSED_POCKET with a CIRCULAR_CLOSED_PROFILE of that diameter, so
+    the commands are the same."""
+    hole = [
+        c.to_text()
+        for c in canon_from_file(str(HERE / "stepnc" / "round_hole_milled.stp"), None, "default")
+    ]
+    circle = [
+        c.to_text()
+        for c in canon_from_file(str(HERE / "stepnc" / "pocket_circular.stp"), None, "default")
+    ]
+    assert hole == circle
+    _assert_floor_cleared(
+        list(canon_from_file(str(HERE / "stepnc" / "round_hole_milled.stp"), None, "default")),
+        40,
+        40,
+        20,
+        0.0,
+        "round_hole_milled",
+    )
+
+
+def test_milled_round_hole_with_a_conical_bottom_is_refused_naming_it(tmp_path):
+    text = (HERE / "stepnc" / "round_hole_milled.stp").read_text()
+    assert "FLAT_HOLE_BOTTOM()" in text
+    path = tmp_path / "cone.stp"
+    path.write_text(text.replace("FLAT_HOLE_BOTTOM()", "CONICAL_HOLE_BOTTOM(118.0,$)"))
+    with pytest.raises(Diagnostic) as info:
+        list(canon_from_file(str(path), None, "default"))
+    assert info.value.code == "STEPNC-UNSUPPORTED"
+    assert "CONICAL_HOLE_BOTTOM" in info.value.message
+    assert info.value.location.entity is not None

@@ -26,8 +26,10 @@ def pocket_shape(ex, pocket: Entity) -> tuple[float, float, float, float, Frame]
     is a rectangle (RECTANGULAR_CLOSED_PROFILE, or a GENERAL_CLOSED_PROFILE polyline with
     four right-angled corners, as in ISO 14649-11 Example 1) or a circle. The profile frame
     puts the rectangle's centre at its origin with its long side along X."""
-    boundary = pocket.feature_boundary
     depth = -float(pocket.depth.position.location.coordinates[2])
+    if pocket.type == "ROUND_HOLE":
+        return _round_hole_shape(ex, pocket, depth)
+    boundary = pocket.feature_boundary
     frame = Frame()
     radius = measure(pocket.orthogonal_radius) if pocket.orthogonal_radius else 0.0
     if boundary.type == "RECTANGULAR_CLOSED_PROFILE":
@@ -73,6 +75,36 @@ def pocket_shape(ex, pocket: Entity) -> tuple[float, float, float, float, Frame]
             pocket,
         )
     return float(length), float(width), depth, float(radius or 0.0), frame
+
+
+def _round_hole_shape(ex, hole: Entity, depth: float) -> tuple[float, float, float, float, Frame]:  # noqa: ANN001
+    """A ROUND_HOLE milled with an end mill is a circular pocket of the hole's diameter
+    (ISO 14649-10 round hole; bottom and side milling of ISO 14649-11). Only a flat
+    bottom can be cut flat by the pocket strategies."""
+    bottom = hole.bottom_condition
+    kind = bottom.type if isinstance(bottom, Entity) else "no bottom condition"
+    if kind not in ("FLAT_HOLE_BOTTOM", "THROUGH_BOTTOM_CONDITION"):
+        raise ex.error(
+            "STEPNC-UNSUPPORTED",
+            f"milling round hole {hole.its_id!r} supports flat and through bottoms, not {kind}",
+            hole,
+        )
+    if getattr(hole, "change_in_diameter", None) is not None:
+        raise ex.error(
+            "STEPNC-UNSUPPORTED",
+            f"milling round hole {hole.its_id!r}: a tapered hole (change_in_diameter) "
+            "cannot be milled as a pocket",
+            hole,
+        )
+    diameter = measure(hole.diameter) or 0.0
+    if diameter <= 0 or depth <= 0:
+        raise ex.error(
+            "STEPNC-POCKET",
+            f"round hole {hole.its_id!r} needs a positive diameter and a depth plane below "
+            f"its top (diameter {diameter:g}, depth {depth:g})",
+            hole,
+        )
+    return diameter, diameter, depth, diameter / 2.0, Frame()
 
 
 def _polyline_rectangle(boundary: Entity) -> tuple[float, float, Frame] | None:
@@ -176,10 +208,10 @@ class Strategies:
 
 def generate(ex, job) -> None:  # noqa: ANN001
     op, pocket = job.op, job.feature
-    if pocket.type != "CLOSED_POCKET":
+    if pocket.type not in ("CLOSED_POCKET", "ROUND_HOLE"):
         raise ex.error(
             "STEPNC-OP-FEATURE",
-            f"{op.type} is implemented for CLOSED_POCKET, not {pocket.type}",
+            f"{op.type} is implemented for CLOSED_POCKET and ROUND_HOLE, not {pocket.type}",
             op,
         )
     finish = op.type.endswith("FINISH_MILLING")

@@ -503,6 +503,23 @@ def pocket_circular() -> Program:
     return p
 
 
+def round_hole_milled() -> Program:
+    """pocket_circular's 40 mm, 6 mm deep circle as a flat-bottomed ROUND_HOLE."""
+    p = Program("ROUND HOLE MILLED")
+    p.workingstep(
+        "WS FINISH",
+        p.hole(50, 40, 40, 6),
+        _pocket_op(
+            p,
+            "BOTTOM_AND_SIDE_FINISH_MILLING",
+            "CONTOUR_PARALLEL($,$,.CW.,.CONVENTIONAL.)",
+            axial="3.0",
+            radial="5.0",
+        ),
+    )
+    return p
+
+
 def pocket_groove_zigzag() -> Program:
     p = Program("POCKET AS WIDE AS THE TOOL")
     p.workingstep(
@@ -902,6 +919,7 @@ PROGRAMS: dict[str, Callable[[], Program]] = {
         pocket_contour_bidirectional_y,
         pocket_semicircle_ends,
         pocket_circular,
+        round_hole_milled,
         pocket_groove_zigzag,
         pocket_rotated,
         drill_plain,
