@@ -473,3 +473,71 @@ def test_milled_round_hole_with_a_conical_bottom_is_refused_naming_it(tmp_path):
     assert info.value.code == "STEPNC-UNSUPPORTED"
     assert "CONICAL_HOLE_BOTTOM" in info.value.message
     assert info.value.location.entity is not None
+
+
+def _bottom_path(cmds):
+    """Sample points (XY) of the cutting moves at the deepest Z."""
+    bottom = min(_z(c) for c in _feeds(cmds))
+    pos, pts = np.zeros(3), []
+    for c in cmds:
+        if isinstance(c, (canon.StraightFeed, canon.ArcFeed)):
+            s = gouge._samples(pos, c, 0.2)
+            pts.append(s[np.abs(s[:, 2] - bottom) < 1e-9])
+        if isinstance(c, (canon.StraightFeed, canon.StraightTraverse)):
+            pos = np.array([c.x, c.y, c.z])
+        elif isinstance(c, canon.ArcFeed):
+            pos = np.array([c.first_end, c.second_end, c.axis_end_point])
+    return np.concatenate(pts)[:, :2]
+
+
+@pytest.mark.parametrize(
+    ("name", "start", "end", "half_width"),
+    [
+        # closed 45 degree slot: course from (25, 20), 40 long; width 16 less 0.5 allowance
+        ("slot_contour_parallel", (25.0, 20.0), (25 + 40 / 2**0.5, 20 + 40 / 2**0.5), 7.5),
+        # open through slot along X at Y 40, width 16, finish: the floor inside the block
+        ("slot_open_contour_parallel_outside_in", (0.0, 40.0), (100.0, 40.0), 8.0),
+    ],
+)
+def test_contour_parallel_slot_clears_its_floor(name, start, end, half_width):
+    """Every floor point of the slot (a stadium around its course, less the side
+    allowance; an open slot within the block) is within the 5 mm tool radius of a cut at
+    the deepest level."""
+    path = _bottom_path(
+        list(canon_from_file(str(HERE / "stepnc" / f"{name}.stp"), None, "default"))
+    )
+    a, b = np.array(start), np.array(end)
+    u = (b - a) / np.linalg.norm(b - a)
+    v = np.array([-u[1], u[0]])
+    length = float(np.linalg.norm(b - a))
+    s, t = np.meshgrid(
+        np.linspace(-half_width, length + half_width, 121), np.linspace(-half_width, half_width, 41)
+    )
+    q = a + s.ravel()[:, None] * u + t.ravel()[:, None] * v
+    along = np.clip(s.ravel(), 0.0, length)
+    inside = np.hypot(s.ravel() - along, t.ravel()) <= half_width - 0.25
+    if "open" in name:
+        inside = (s.ravel() >= 0) & (s.ravel() <= length) & (np.abs(t.ravel()) <= half_width - 0.25)
+    q = q[inside]
+    d = np.min(np.linalg.norm(q[:, None, :] - path[None, :, :], axis=2), axis=1)
+    assert d.max() <= 5.0 + 0.1
+
+
+def test_contour_parallel_slot_loops_turn_as_the_strategy_says():
+    """CW conventional: the loops run clockwise (arcs CW), the innermost (the centre line)
+    first; CCW conventional on the open slot: the outermost loop first, counterclockwise."""
+    closed = list(
+        canon_from_file(str(HERE / "stepnc" / "slot_contour_parallel.stp"), None, "default")
+    )
+    assert {c.rotation for c in closed if isinstance(c, canon.ArcFeed)} == {-1}
+    open_ = [
+        c
+        for c in canon_from_file(
+            str(HERE / "stepnc" / "slot_open_contour_parallel_outside_in.stp"), None, "default"
+        )
+        if isinstance(c, canon.StraightFeed)
+    ]
+    bottom_first = [c for c in open_ if abs(c.z - open_[0].z) < 1e-9 and c.z < 0][:5]
+    xs = [(round(c.x, 4), round(c.y, 4)) for c in bottom_first]
+    # the first loop is the outermost (|y - 40| = 3: 8 - 5 tool radius), turning CCW
+    assert xs[:4] == [(-6.0, 37.0), (106.0, 37.0), (106.0, 43.0), (-6.0, 43.0)]

@@ -162,11 +162,11 @@ def test_tool_wider_than_the_slot_is_a_located_error(tmp_path):
 
 
 def test_unsupported_slot_strategy_is_a_located_error(tmp_path):
-    p = Program("SLOT CONTOUR PARALLEL")
+    p = Program("SLOT CONTOUR SPIRAL")
     ws = p.workingstep(
         "WS SLOT",
         p.slot(30, 40, 40, 16, 5),
-        _pocket_op(p, "BOTTOM_AND_SIDE_FINISH_MILLING", "CONTOUR_PARALLEL($,$,.CW.,$)"),
+        _pocket_op(p, "BOTTOM_AND_SIDE_FINISH_MILLING", "CONTOUR_SPIRAL($,$,.CW.,$)"),
     )
     with pytest.raises(Diagnostic) as exc:
         list(canon_from_file(_write(tmp_path, p)))

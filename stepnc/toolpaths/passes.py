@@ -56,3 +56,13 @@ def passes_of(op: Entity, depth: float) -> Passes:
     levels = tuple(-mill_depth * k / n for k in range(1, n + 1))
     retract = _opt(op, "retract_plane")
     return Passes(diameter, side, levels, stepover, UP if retract is None else retract)
+
+
+def outside_in(rotation: str, cutmode: str) -> bool:
+    """Whether contour-parallel loops run from the outside in (ISO 14649-11 §4.2.8.2).
+
+    With a clockwise spindle, climb milling keeps the material on the tool's right. Loops
+    turning counterclockwise have the loop's outside on their right, so CCW climb (and CW
+    conventional) clears inside out; CCW conventional and CW climb leave the uncut
+    material inside the loop, which is clearing from the outside in."""
+    return (rotation, cutmode) in (("CW", "CLIMB"), ("CCW", "CONVENTIONAL"))

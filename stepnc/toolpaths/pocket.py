@@ -18,6 +18,7 @@ from stepnc.executor import ALLOW, TINY, UP
 from stepnc.frames import Frame, coords, direction, frame_of
 from stepnc.model import Entity, measure, tool_dimension
 from stepnc.toolpaths.code import Code, place
+from stepnc.toolpaths.passes import outside_in
 from stepnc.toolpaths.pocket_entry import enter, plunge_start
 
 
@@ -166,7 +167,7 @@ class Strategies:
                 self.along_y = abs(d[1]) > abs(d[0])
             self.left = getattr(inside, "stepover_direction", None) == "LEFT"
         self.inside = inside
-        self.outside_in = _outside_in(self.rotation, self.cutmode)
+        self.outside_in = outside_in(self.rotation, self.cutmode)
         if op.radial_cutting_depth is not None:
             self.stepover = float(op.radial_cutting_depth)
         else:
@@ -332,16 +333,6 @@ def _layer(
     # loops can run inside out (material outside the loop) or outside in (inside it).
     for loop in reversed(loops) if st.outside_in else loops:
         code.extend(loop)
-
-
-def _outside_in(rotation: str, cutmode: str) -> bool:
-    """Whether contour-parallel loops run from the outside in (ISO 14649-11 §4.2.8.2).
-
-    With a clockwise spindle, climb milling keeps the material on the tool's right. Loops
-    turning counterclockwise have the loop's outside on their right, so CCW climb (and CW
-    conventional) clears inside out; CCW conventional and CW climb leave the uncut
-    material inside the loop, which is clearing from the outside in."""
-    return (rotation, cutmode) in (("CW", "CLIMB"), ("CCW", "CONVENTIONAL"))
 
 
 ZIGZAG = ("BIDIRECTIONAL_MILLING", "CONTOUR_BIDIRECTIONAL")

@@ -30,7 +30,7 @@ from stepnc.executor import TINY
 from stepnc.frames import Frame, direction, frame_of
 from stepnc.model import Entity, measure
 from stepnc.toolpaths.code import Code, place
-from stepnc.toolpaths.passes import Passes, passes_of
+from stepnc.toolpaths.passes import Passes, outside_in, passes_of
 
 OVERRUN = 1.0  # clearance beyond the tool radius past an open end (mm)
 END_TYPES = ("RADIUSED_SLOT_END_TYPE", "OPEN_SLOT_END_TYPE")
@@ -118,7 +118,14 @@ def generate(ex, job) -> None:  # noqa: ANN001
             f"minus side allowances {ps.side:g}",
             op,
         )
-    contour, ccw = stroke_strategy(ex, op, "slot")
+    strat = op.its_machining_strategy
+    parallel = strat is not None and strat.type == "CONTOUR_PARALLEL"
+    if parallel:
+        rotation = strat.rotation_direction or "CW"
+        cutmode = strat.cutmode or ("CLIMB" if rotation == "CCW" else "CONVENTIONAL")
+        contour, ccw = True, rotation == "CCW"
+    else:
+        contour, ccw = stroke_strategy(ex, op, "slot")
     approach = op.approach
     if approach is not None and approach.type not in ("PLUNGE_TOOLAXIS", "PLUNGE_RAMP"):
         raise ex.error(
@@ -128,7 +135,10 @@ def generate(ex, job) -> None:  # noqa: ANN001
     region = slot_region(shape, max(half, 0.0), ps)
     code = Code()
     try:
-        mill(code, region, ps, contour, ccw, ramp)
+        if parallel:
+            mill_loops(code, region, ps, ccw, outside_in(rotation, cutmode), ramp)
+        else:
+            mill(code, region, ps, contour, ccw, ramp)
     except ValueError as exc:
         raise ex.error("STEPNC-ENTRY", str(exc), op) from None
     ex.start_and_run(place(code, job.frame.compose(shape.frame)))
@@ -140,11 +150,11 @@ def stroke_strategy(ex, op: Entity, what: str) -> tuple[bool, bool]:  # noqa: AN
     strat = op.its_machining_strategy
     kind = "CONTOUR_BIDIRECTIONAL" if strat is None else strat.type
     if kind not in ("BIDIRECTIONAL_MILLING", "CONTOUR_BIDIRECTIONAL"):
+        allowed = "bidirectional and contour-bidirectional"
+        if what == "slot":
+            allowed = "contour-parallel, " + allowed
         raise ex.error(
-            "STEPNC-STRATEGY",
-            f"{what} milling supports bidirectional and contour-bidirectional strategies, "
-            f"not {kind}",
-            op,
+            "STEPNC-STRATEGY", f"{what} milling supports {allowed} strategies, not {kind}", op
         )
     ccw = strat is not None and (
         getattr(strat, "rotation_direction", None) == "CCW"
@@ -241,6 +251,55 @@ def mill(code: Code, g: Region, ps: Passes, contour: bool, ccw: bool, ramp: floa
                 g.along_end(code, at_hi, vs[-1], g.h, z)
                 corner = g.h
             _contour(code, g, (at_hi, corner), z, ccw)
+    x, y, _ = code.end()
+    code.feed(x, y, ps.retract)
+
+
+def inset(g: Region, d: float) -> Region:
+    """The tool-centre region shrunk by ``d`` (<= its half width): walls and radiused ends
+    move in by ``d``; an open end stays where it is, outside the workpiece."""
+    ends = []
+    for e, sign in zip(g.ends, (1.0, -1.0), strict=True):
+        if e.open:
+            ends.append(e)
+        else:
+            ends.append(End(e.tip + sign * d, max(e.corner - d, 0.0)))
+    return Region(g.h - d, ends[0], ends[1])
+
+
+def mill_loops(
+    code: Code, g: Region, ps: Passes, ccw: bool, from_outside: bool, ramp: float
+) -> None:
+    """CONTOUR_PARALLEL (ISO 14649-11 §4.2.8.2): per layer, closed loops around the
+    tool-centre region at equal insets no wider apart than the stepover, from the centre
+    line out (or, with the material inside the loops, from the outermost in). Each loop
+    starts and ends at its -u, -v corner; neighbouring loops are joined by a straight feed
+    between those corners, inside the larger loop."""
+    n = max(1, math.ceil((g.h - TINY) / ps.stepover)) if g.h > TINY else 0
+    loops = [inset(g, g.h * (n - k) / n) if n else g for k in range(n + 1)]  # inner first
+    if from_outside:
+        loops.reverse()
+    first = loops[0]
+    start = (first.lo(-first.h), -first.h)
+    code.feed(start[0], start[1], ps.retract)
+    for level, z in enumerate(ps.levels):
+        top = ps.levels[level - 1] if level else 0.0
+        if level:
+            lift = ps.levels[level - 2] if level > 1 else 0.0
+            x, y, _ = code.end()
+            code.feed(x, y, lift)
+            code.traverse(start[0], start[1], lift)
+        _enter(code, first, start, top, z, ramp)
+        for loop in loops:
+            corner = (loop.lo(-loop.h), -loop.h)
+            x, y, _ = code.end()
+            if abs(x - corner[0]) > TINY or abs(y - corner[1]) > TINY:
+                code.feed(corner[0], corner[1], z)
+            if loop.h > TINY:
+                _contour(code, loop, (False, -loop.h), z, ccw)
+            else:  # the innermost loop of a slot as wide as its stepover: the centre line
+                code.feed(loop.hi(0.0), 0.0, z)
+                code.feed(corner[0], corner[1], z)
     x, y, _ = code.end()
     code.feed(x, y, ps.retract)
 

@@ -821,6 +821,45 @@ def slot_open_finish() -> Program:
     return p
 
 
+def slot_contour_parallel() -> Program:
+    """slot_radiused_ramp's closed 45 degree slot cleared by contour-parallel loops (CW,
+    conventional: from the centre line out), plunging along the tool axis."""
+    p = Program("SLOT CONTOUR PARALLEL")
+    p.workingstep(
+        "WS SLOT",
+        p.slot(25, 20, 40, 16, 9, course=(1, 1, 0)),
+        _pocket_op(
+            p,
+            "BOTTOM_AND_SIDE_ROUGH_MILLING",
+            "CONTOUR_PARALLEL($,$,.CW.,.CONVENTIONAL.)",
+            "PLUNGE_TOOLAXIS($)",
+            axial="3.0",
+            radial="2.0",
+            side="0.5",
+            bottom="0.5",
+        ),
+    )
+    return p
+
+
+def slot_open_contour_parallel_outside_in() -> Program:
+    """An open through slot cleared by contour-parallel loops CCW with conventional
+    cutting: the material inside the loops, so from the outermost loop in."""
+    p = Program("SLOT OPEN CONTOUR PARALLEL OUTSIDE IN")
+    p.workingstep(
+        "WS SLOT",
+        p.slot(0, 40, 100, 16, 6, ends=("OPEN_SLOT_END_TYPE", "OPEN_SLOT_END_TYPE")),
+        _pocket_op(
+            p,
+            "BOTTOM_AND_SIDE_FINISH_MILLING",
+            "CONTOUR_PARALLEL($,$,.CCW.,.CONVENTIONAL.)",
+            axial="3.0",
+            radial="4.0",
+        ),
+    )
+    return p
+
+
 def slot_side_full_width() -> Program:
     """Side milling of a slot as wide as the tool (one stroke, one layer), one open end."""
     p = Program("SLOT SIDE FULL WIDTH")
@@ -935,6 +974,8 @@ PROGRAMS: dict[str, Callable[[], Program]] = {
         two_tools_face_and_pocket,
         slot_radiused_ramp,
         slot_open_finish,
+        slot_contour_parallel,
+        slot_open_contour_parallel_outside_in,
         slot_side_full_width,
         step_bidirectional,
         step_side_unidirectional,
