@@ -17,6 +17,7 @@ import os
 import sys
 import time
 import tomllib
+from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from importlib import metadata
@@ -28,10 +29,17 @@ import click
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
-from cli.programs import dialect_option, jobs_option, load_tool_table, program_commands
+from cli.programs import (
+    dialect_option,
+    jobs_option,
+    language_commands,
+    load_tool_table,
+    program_language,
+)
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
 from kernel.diagnostics import Diagnostic, Location, Severity
+from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
 
 PROGRAM_SUFFIXES = (
@@ -54,6 +62,7 @@ class Setup:
 
     context: CheckContext
     dialect: str | None = None  # --dialect of G-code input
+    verbosity: int = 0  # -v/-q balance: whether a guessed dialect is told on stderr
 
 
 def _read_toml(path: str) -> dict[str, Any]:
@@ -118,6 +127,12 @@ def _init_worker(setup: Setup) -> None:
     _SETUP = setup
 
 
+def _failing(diag: Diagnostic) -> Iterator[canon.Command]:
+    """A stream that stops at once with ``diag`` (check_stream makes it a finding)."""
+    raise diag
+    yield  # a generator
+
+
 def check_file(path: str, setup: Setup | None = None) -> FileResult:
     """Check one file; program problems become findings, I/O problems ``io_error``."""
     setup = setup or _SETUP
@@ -125,7 +140,12 @@ def check_file(path: str, setup: Setup | None = None) -> FileResult:
     t0 = time.perf_counter()
     ctx = setup.context
     try:
-        cmds = program_commands(path, ctx.tools, ctx.tool_mm_per_unit, setup.dialect)
+        cmds: Iterator[canon.Command]
+        try:
+            language = program_language(path, setup.dialect, setup.verbosity)
+            cmds = language_commands(path, language, ctx.tools, ctx.tool_mm_per_unit)
+        except Diagnostic as diag:  # not a text file: a finding, as the program's own errors
+            cmds = _failing(diag)
         findings = check_stream(cmds, ctx, path)
     except OSError as exc:
         return FileResult(path, (), exc.strerror or str(exc), time.perf_counter() - t0)
@@ -272,7 +292,7 @@ def command(
     if jobs == 0:
         jobs = os.cpu_count() or 1
     t0 = time.perf_counter()
-    results = run_checks(paths, Setup(ctx, dialect), jobs)
+    results = run_checks(paths, Setup(ctx, dialect, verbosity()), jobs)
     rules = tuple(
         (r, ctx.config.severity(r.id, r.severity, r.default_enabled)) for r in RULES.values()
     )

@@ -34,6 +34,7 @@ class RunOptions:
     force: bool = True
     html: bool = False
     dialect: str | None = None  # --dialect of G-code input
+    verbosity: int = 0  # -v/-q balance: whether a guessed dialect is told on stderr
 
 
 @dataclass(slots=True)
@@ -180,7 +181,9 @@ def run_program(
     images: dict[str, bytes] = {}
 
     def recording() -> Iterator[canon.Command]:  # check the stream, keep it for the planner
-        for cmd in program_commands(program, ctx.tools, ctx.tool_mm_per_unit, opts.dialect):
+        for cmd in program_commands(
+            program, ctx.tools, ctx.tool_mm_per_unit, opts.dialect, opts.verbosity
+        ):
             commands.append(cmd)
             yield cmd
 
