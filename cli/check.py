@@ -80,7 +80,7 @@ def load_context(
     machine: Machine = DEFAULT_MACHINE
     table: dict[str, Any] = {}
     tools_file, tool_units = None, 1.0
-    extra: dict[str, Any] = {}
+    extra: dict[str, Any] = DEFAULT_MACHINE.extra  # its [spindle] range
     if machine_path:
         with open(machine_path, encoding="utf-8") as fh:
             machine = parse_machine(fh.read(), machine_path)
@@ -116,6 +116,7 @@ def load_context(
         tools=tools,
         tool_mm_per_unit=tool_units,
         spindle_range=spindle_range(extra, machine_path),
+        default_machine=not machine_path,
     )
 
 

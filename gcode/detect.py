@@ -301,7 +301,7 @@ SIEMENS: tuple[Hint, ...] = (
 #: Grbl 1.1
 GRBL: tuple[Hint, ...] = (
     Hint(r"^[ \t]*\$(?:\$|#|[A-Z]+\b|\d+[ \t]*=)", 3, "Grbl $ lines"),
-    Hint(r"(?:\(|;)[^\n]*\bGRBL\b", 2, "a comment names Grbl", raw=True),
+    Hint(r"(?:\(|;)[^\n]*\bGRBL\b", 3, "a comment names Grbl", raw=True),
     Hint(r"\bo[ \t]*(?:\d+|<)|#\d|#<", -2, "parameters or O-words (not in Grbl)"),
     Hint(r"\bM0?6\b|\bG(?:4[12]|8[1-9]|73)\b|\bG43[ \t]*H", -1, "codes Grbl lacks"),
 )
