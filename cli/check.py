@@ -30,12 +30,14 @@ from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
 from cli.programs import (
+    KINDS,
     dialect_option,
     jobs_option,
     language_commands,
     load_tool_table,
     program_language,
 )
+from gcode.readers import text_findings
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
 from kernel.diagnostics import Diagnostic, Location, Severity
@@ -142,12 +144,14 @@ def check_file(path: str, setup: Setup | None = None) -> FileResult:
     ctx = setup.context
     try:
         cmds: Iterator[canon.Command]
+        text: list[tuple[str, str, Location]] = []
         try:
             language = program_language(path, setup.dialect, setup.verbosity)
             cmds = language_commands(path, language, ctx.tools, ctx.tool_mm_per_unit)
+            text = text_findings(path, language) if language not in KINDS else []
         except Diagnostic as diag:  # not a text file: a finding, as the program's own errors
             cmds = _failing(diag)
-        findings = check_stream(cmds, ctx, path)
+        findings = check_stream(cmds, ctx, path, text)
     except OSError as exc:
         return FileResult(path, (), exc.strerror or str(exc), time.perf_counter() - t0)
     except Exception as exc:  # noqa: BLE001 - a bug must not take the rest of the batch down

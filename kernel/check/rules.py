@@ -120,6 +120,19 @@ RULES["CNC001"] = Rule(
 )
 
 
+# Judged on the program's text by its front end, not on the canonical stream: the front end
+# hands check_stream the findings (``text_findings``); the trigger program is G-code.
+RULES["CNC050"] = Rule(
+    "CNC050",
+    "number-without-decimal-point",
+    Severity.WARNING,
+    "A Fanuc/Haas length or angle without a decimal point counts increments (X100 = 0.1 mm).",
+)
+#: rules whose findings come from a front end's reading of the text (their trigger programs
+#: in tests/check are G-code, not canonical text)
+TEXT_RULES: frozenset[str] = frozenset({"CNC050"})
+
+
 # --------------------------------------------------------------------------- helpers
 def fmt_num(v: float) -> str:
     return f"{v:.4f}".rstrip("0").rstrip(".") if math.isfinite(v) else str(v)
