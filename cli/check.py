@@ -17,7 +17,6 @@ import os
 import sys
 import time
 import tomllib
-from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from importlib import metadata
@@ -29,19 +28,10 @@ import click
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
-from cli.programs import (
-    KINDS,
-    dialect_option,
-    jobs_option,
-    language_commands,
-    load_tool_table,
-    program_language,
-)
-from gcode.readers import text_findings
+from cli.programs import check_input, dialect_option, jobs_option, load_tool_table
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
 from kernel.diagnostics import Diagnostic, Location, Severity
-from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
 
 PROGRAM_SUFFIXES = (
@@ -130,12 +120,6 @@ def _init_worker(setup: Setup) -> None:
     _SETUP = setup
 
 
-def _failing(diag: Diagnostic) -> Iterator[canon.Command]:
-    """A stream that stops at once with ``diag`` (check_stream makes it a finding)."""
-    raise diag
-    yield  # a generator
-
-
 def check_file(path: str, setup: Setup | None = None) -> FileResult:
     """Check one file; program problems become findings, I/O problems ``io_error``."""
     setup = setup or _SETUP
@@ -143,14 +127,9 @@ def check_file(path: str, setup: Setup | None = None) -> FileResult:
     t0 = time.perf_counter()
     ctx = setup.context
     try:
-        cmds: Iterator[canon.Command]
-        text: list[tuple[str, str, Location]] = []
-        try:
-            language = program_language(path, setup.dialect, setup.verbosity)
-            cmds = language_commands(path, language, ctx.tools, ctx.tool_mm_per_unit)
-            text = text_findings(path, language) if language not in KINDS else []
-        except Diagnostic as diag:  # not a text file: a finding, as the program's own errors
-            cmds = _failing(diag)
+        cmds, text = check_input(
+            path, setup.dialect, setup.verbosity, ctx.tools, ctx.tool_mm_per_unit
+        )
         findings = check_stream(cmds, ctx, path, text)
     except OSError as exc:
         return FileResult(path, (), exc.strerror or str(exc), time.perf_counter() - t0)

@@ -20,6 +20,7 @@ import click
 
 from cli.main import verbosity as current_verbosity
 from gcode.detect import Guess
+from gcode.readers import text_findings
 from gcode.registry import ALIASES, DEFAULT_INPUT, INPUTS, guess_dialect, suffix_summary
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
 from kernel.ir import canon
@@ -173,6 +174,35 @@ def program_commands(
     yield from language_commands(
         path, program_language(path, dialect, verbosity), tools, tool_mm_per_unit
     )
+
+
+#: a finding a front end made from a program's text: (rule, message, location)
+TextFinding = tuple[str, str, Location]
+
+
+def check_input(
+    path: str,
+    dialect: str | None,
+    verbosity: int | None,
+    tools: ToolTable | None = None,
+    tool_mm_per_unit: float = 1.0,
+) -> tuple[Iterator[canon.Command], list[TextFinding]]:
+    """What ``cnc check`` and ``cnc run`` judge of ``path``: its canonical commands and the
+    findings of the rules judged on its text (CNC050, gcode.readers.text_findings). A file
+    that cannot be read as a program gives a stream that stops at once with its diagnostic,
+    so it becomes a finding like the program's own errors."""
+    try:
+        language = program_language(path, dialect, verbosity)
+    except Diagnostic as diag:
+        return _failing(diag), []
+    cmds = language_commands(path, language, tools, tool_mm_per_unit)
+    return cmds, (text_findings(path, language) if language not in KINDS else [])
+
+
+def _failing(diag: Diagnostic) -> Iterator[canon.Command]:
+    """A stream that stops at once with ``diag`` (check_stream makes it a finding)."""
+    raise diag
+    yield  # a generator
 
 
 def language_commands(
