@@ -34,6 +34,8 @@ THRESHOLD = 3
 MARGIN = 3
 #: how much of a program the sniffer reads
 HEAD_BYTES = 16384
+#: how much of each line it looks at
+LINE_CHARS = 256
 
 _COMMENTS = re.compile(r"\([^)\n]*\)?|;[^\n]*")
 
@@ -100,8 +102,18 @@ class Guess:
     candidates: tuple[Candidate, ...] = field(default=(), compare=False, repr=False)
 
 
+def _bounded(head: str) -> str:
+    """``head`` with every line cut to :data:`LINE_CHARS` (G-code lines are short), so no
+    pattern can spend more than linear time on a hostile file."""
+    lines = head.splitlines()
+    if all(len(line) <= LINE_CHARS for line in lines):
+        return head
+    return "\n".join(line[:LINE_CHARS] for line in lines)
+
+
 def score(head: str, hints: Iterable[Hint]) -> tuple[int, tuple[Hint, ...]]:
     """The score of ``head`` for one dialect's hints and the hints that matched."""
+    head = _bounded(head)
     code = _COMMENTS.sub(lambda m: " " * len(m.group()), head)
     matched = tuple(h for h in hints if _compiled(h.pattern).search(head if h.raw else code))
     return sum(h.weight for h in matched), matched
@@ -254,7 +266,10 @@ HAAS: tuple[Hint, ...] = (
 #: what only a Haas mill takes
 HAAS_MILL: tuple[Hint, ...] = (Hint(r"\bG1[23](?![.\d])", 2, "Haas G12/G13 circular pocket"),)
 #: what only a Haas lathe takes
-HAAS_LATHE: tuple[Hint, ...] = (Hint(r"\bG14\b|\bG186\b", 2, "Haas lathe spindle codes"),)
+HAAS_LATHE: tuple[Hint, ...] = (
+    Hint(r"\bG14\b|\bG186\b", 2, "Haas lathe spindle codes"),
+    Hint(r"\bG0?7[12]\b[^\n]*\bP[^\n]*\bQ[^\n]*\bD[ \t]*[.\d]", 3, "Haas one-block G71 … D"),
+)
 #: a comment naming a Fanuc control
 FANUC_NAME: tuple[Hint, ...] = (
     Hint(r"\(\s*[^)\n]*\bFANUC\b", 2, "a comment names Fanuc", raw=True),

@@ -11,6 +11,7 @@ corpus is RS274/NGC, tests/dialects/siemens840d is Siemens.
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 import pytest
@@ -161,3 +162,18 @@ def test_check_warns_on_stderr_when_two_dialects_fit(tmp_path: Path) -> None:
     (line,) = res.stderr.splitlines()
     assert "warning[DIALECT-AMBIGUOUS]" in line and "--dialect" in line
     assert res.stdout.lstrip().startswith("{")  # the report itself is untouched
+
+
+def test_a_hostile_head_is_sniffed_in_linear_time() -> None:
+    start = time.perf_counter()
+    for text in ("WHILE [" * 3000, "\n".join(["WHILE [ [ [ [ DO"] * 1100), "(" * 16000):
+        assert guess_dialect(text[: detect.HEAD_BYTES], ".nc").dialect == "rs274ngc"
+    assert time.perf_counter() - start < 5.0
+
+
+def test_a_one_block_g71_with_d_is_a_haas_lathe() -> None:
+    text = (
+        "%\nO0002\nG28 U0 W0\nT101\nG50 S3000\nG96 S1100 M03\nG00 X2.5 Z.15\n"
+        "G71 P100 Q200 U.01 W.005 D.025 F.012\nN100 G00 X1.2\nN200 G01 X2.5 Z-1.\nM30\n%\n"
+    )
+    assert guess_dialect(text, ".nc").dialect == "haas_lathe"

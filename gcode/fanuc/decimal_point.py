@@ -70,7 +70,7 @@ def bare_numbers(lines: Iterable[str], lathe: bool = False) -> Iterator[BareNumb
             continue
         if blk.kind != "words" or not blk.words:
             continue
-        gset = {round(v * 10) for k, v, _ in blk.words if k == "G" and type(v) in (int, float)}
+        gset = {round(v * 10) for k, v, _ in blk.words if k == "G" and isinstance(v, int | float)}
         if 200 in gset:
             inch = True
         elif 210 in gset:
