@@ -127,8 +127,9 @@ def check_file(path: str, setup: Setup | None = None) -> FileResult:
     t0 = time.perf_counter()
     ctx = setup.context
     try:
+        lathe = ctx.machine.kind == "lathe"
         cmds, text = check_input(
-            path, setup.dialect, setup.verbosity, ctx.tools, ctx.tool_mm_per_unit
+            path, setup.dialect, setup.verbosity, ctx.tools, ctx.tool_mm_per_unit, lathe
         )
         findings = check_stream(cmds, ctx, path, text)
     except OSError as exc:

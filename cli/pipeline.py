@@ -186,8 +186,9 @@ def run_program(
             yield cmd
 
     try:
+        lathe = ctx.machine.kind == "lathe"
         stream, text = check_input(
-            program, opts.dialect, opts.verbosity, ctx.tools, ctx.tool_mm_per_unit
+            program, opts.dialect, opts.verbosity, ctx.tools, ctx.tool_mm_per_unit, lathe
         )
         findings: list[Finding] = check_stream(recording(stream), ctx, program, text)
     except OSError as exc:

@@ -112,7 +112,11 @@ def guess_message(path: str, guess: Guess) -> DiagnosticRecord:
 
 
 def program_dialect(
-    path: str, dialect: str | None, verbosity: int | None = None, head: str | None = None
+    path: str,
+    dialect: str | None,
+    verbosity: int | None = None,
+    head: str | None = None,
+    lathe: bool = False,
 ) -> str:
     """The dialect a G-code file is read in: ``dialect`` when given (not ``auto``), else
     the one its content and suffix point to (gcode.detect; ``.mpf`` is Siemens, ``.ngc``
@@ -120,12 +124,13 @@ def program_dialect(
 
     The guess is said on stderr, one line (quiet under ``-q``; a plain RS274/NGC program
     only under ``-v``). ``verbosity`` is the ``-v``/``-q`` balance (default: the current
-    command's), ``head`` the program's first bytes when already read."""
+    command's), ``head`` the program's first bytes when already read, ``lathe`` whether the
+    machine profile is a lathe (a lathe's dialect then wins a close call)."""
     if dialect and dialect != "auto":
         return dialect
     if head is None:
         head = read_head(path)
-    guess = guess_dialect(head, Path(path).suffix)
+    guess = guess_dialect(head, Path(path).suffix, lathe)
     level = current_verbosity() if verbosity is None else verbosity
     doubt = bool(guess.conflict or guess.plausible)
     if level > 0 or (level == 0 and (doubt or guess.dialect != DEFAULT_INPUT)):
@@ -153,12 +158,14 @@ def _part21(path: str) -> Iterator[canon.Command]:
     yield from canon_from_file(path, mode="default")
 
 
-def program_language(path: str, dialect: str | None, verbosity: int | None = None) -> str:
+def program_language(
+    path: str, dialect: str | None, verbosity: int | None = None, lathe: bool = False
+) -> str:
     """What the program at ``path`` is: ``canon``, ``jsonl`` or ``part21`` by content, else
     the G-code dialect it is read in (:func:`program_dialect`)."""
     head = read_head(path)
     kind = detect_kind(head)
-    return kind if kind != "gcode" else program_dialect(path, dialect, verbosity, head)
+    return kind if kind != "gcode" else program_dialect(path, dialect, verbosity, head, lathe)
 
 
 def program_commands(
@@ -167,12 +174,14 @@ def program_commands(
     tool_mm_per_unit: float = 1.0,
     dialect: str | None = None,
     verbosity: int | None = None,
+    lathe: bool = False,
 ) -> Iterator[canon.Command]:
     """Stream the canonical commands of the program at ``path`` (kind detected by content);
     ``tools`` (lengths in units of ``tool_mm_per_unit`` mm) go to the G-code reader of
-    ``dialect`` (:func:`program_dialect`; ``verbosity`` says whether a guess is told)."""
+    ``dialect`` (:func:`program_dialect`; ``verbosity`` says whether a guess is told,
+    ``lathe`` whether the machine is one)."""
     yield from language_commands(
-        path, program_language(path, dialect, verbosity), tools, tool_mm_per_unit
+        path, program_language(path, dialect, verbosity, lathe), tools, tool_mm_per_unit
     )
 
 
@@ -186,13 +195,14 @@ def check_input(
     verbosity: int | None,
     tools: ToolTable | None = None,
     tool_mm_per_unit: float = 1.0,
+    lathe: bool = False,
 ) -> tuple[Iterator[canon.Command], list[TextFinding]]:
     """What ``cnc check`` and ``cnc run`` judge of ``path``: its canonical commands and the
     findings of the rules judged on its text (CNC050, gcode.readers.text_findings). A file
     that cannot be read as a program gives a stream that stops at once with its diagnostic,
     so it becomes a finding like the program's own errors."""
     try:
-        language = program_language(path, dialect, verbosity)
+        language = program_language(path, dialect, verbosity, lathe)
     except Diagnostic as diag:
         return _failing(diag), []
     cmds = language_commands(path, language, tools, tool_mm_per_unit)

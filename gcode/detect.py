@@ -270,6 +270,10 @@ HAAS_LATHE: tuple[Hint, ...] = (
     Hint(r"\bG14\b|\bG186\b", 2, "Haas lathe spindle codes"),
     Hint(r"\bG0?7[12]\b[^\n]*\bP[^\n]*\bQ[^\n]*\bD[ \t]*[.\d]", 3, "Haas one-block G71 … D"),
 )
+#: not in the text: the machine profile says the machine is a lathe (``kind = "lathe"``);
+#: added to the lathe dialects' hints by the registry, it tips a Fanuc-family program with
+#: no turning codes to the lathe reader (X is then a diameter)
+LATHE_PROFILE = Hint(r"", 3, "the machine profile is a lathe", aux=True)
 #: a comment naming a Fanuc control
 FANUC_NAME: tuple[Hint, ...] = (
     Hint(r"\(\s*[^)\n]*\bFANUC\b", 2, "a comment names Fanuc", raw=True),

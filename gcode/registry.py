@@ -35,6 +35,8 @@ class DialectEntry:
     suffixes: tuple[str, ...] = ()
     #: what in a program's text points to this dialect for ``--dialect auto`` (gcode.detect)
     hints: tuple[Hint, ...] = ()
+    #: a lathe's dialect: preferred by ``--dialect auto`` when the machine profile is a lathe
+    lathe: bool = False
 
 
 #: Every language, writers' order (the order of ``--to`` and of error messages).
@@ -59,6 +61,7 @@ REGISTRY: tuple[DialectEntry, ...] = (
         "gcode.fanuc_lathe.dialect",
         "gcode.fanuc_lathe.reader",
         hints=detect.FANUC_FAMILY + detect.FANUC_NAME + detect.LATHE,
+        lathe=True,
     ),
     DialectEntry("grbl", "gcode.grbl.dialect", "gcode.grbl.reader", hints=detect.GRBL),
     DialectEntry(
@@ -72,6 +75,7 @@ REGISTRY: tuple[DialectEntry, ...] = (
         "gcode.haas_lathe.dialect",
         "gcode.haas_lathe.reader",
         hints=detect.FANUC_FAMILY + detect.LATHE + detect.HAAS + detect.HAAS_LATHE,
+        lathe=True,
     ),
     DialectEntry(
         "siemens840d",
@@ -103,6 +107,12 @@ DEFAULT_INPUT = "rs274ngc"
 HINTS: tuple[tuple[str, tuple[Hint, ...]], ...] = tuple(
     (e.name, e.hints) for e in REGISTRY if e.reader is not None
 )
+#: the same when the machine profile is a lathe: a lathe's dialect gets the profile's word
+LATHE_HINTS: tuple[tuple[str, tuple[Hint, ...]], ...] = tuple(
+    (e.name, e.hints + ((detect.LATHE_PROFILE,) if e.lathe else ()))
+    for e in REGISTRY
+    if e.reader is not None
+)
 
 
 def canonical_name(name: str) -> str:
@@ -132,10 +142,11 @@ def dialect_for_suffix(suffix: str) -> str:
     return SUFFIXES.get(suffix.lower(), DEFAULT_INPUT)
 
 
-def guess_dialect(head: str, suffix: str) -> detect.Guess:
+def guess_dialect(head: str, suffix: str, lathe: bool = False) -> detect.Guess:
     """The dialect ``--dialect auto`` reads a program in, from its first kilobytes
-    (``head``) and its file suffix, with the reasons (:func:`gcode.detect.guess`)."""
-    return detect.guess(head, suffix, HINTS, SUFFIXES, DEFAULT_INPUT)
+    (``head``) and its file suffix, with the reasons (:func:`gcode.detect.guess`); on a
+    ``lathe`` (the machine profile's kind) a lathe's dialect wins a close call."""
+    return detect.guess(head, suffix, LATHE_HINTS if lathe else HINTS, SUFFIXES, DEFAULT_INPUT)
 
 
 def reader_name(dialect: str) -> str:

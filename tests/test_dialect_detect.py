@@ -177,3 +177,18 @@ def test_a_one_block_g71_with_d_is_a_haas_lathe() -> None:
         "G71 P100 Q200 U.01 W.005 D.025 F.012\nN100 G00 X1.2\nN200 G01 X2.5 Z-1.\nM30\n%\n"
     )
     assert guess_dialect(text, ".nc").dialect == "haas_lathe"
+
+
+def test_a_lathe_profile_tips_a_close_fanuc_call_to_the_lathe_reader(tmp_path: Path) -> None:
+    text = "%\nO1000\nG21\nG00 X50. Y0 Z2.\nS500 M03\nG01 Z-20. F100.\nM05\nM30\n%\n"
+    assert guess_dialect(text, ".nc").dialect == "fanuc"
+    guess = guess_dialect(text, ".nc", lathe=True)
+    assert guess.dialect == "fanuc_lathe" and "machine profile is a lathe" in guess.reason
+    src = tmp_path / "O1000.nc"
+    src.write_text(text)
+    profile = tmp_path / "lathe.toml"
+    assert cnc("machine", "init", "--kind", "lathe", "-o", str(profile)).exit_code == 0
+    res = cnc("canon", str(src))  # canon knows no machine: the mill reading
+    assert "read as fanuc (" in res.stderr
+    res = cnc("check", "-m", str(profile), str(src))
+    assert "read as fanuc_lathe (" in res.stderr
