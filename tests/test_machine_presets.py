@@ -88,6 +88,15 @@ def test_a_correct_program_is_clean_with_its_preset(
     assert on_the_mill in {f["rule"] for f in findings(mill)}
 
 
+def test_a_mill_program_is_clean_on_the_mill_preset_and_the_default(profiles) -> None:
+    path = str(PROGRAMS / "mill_fusion.ngc")
+    for extra in (("-m", str(profiles["mill"])), ()):
+        res = cnc("-q", "check", "-f", "json", *extra, path)
+        assert res.exit_code == 0 and findings(res) == [], res.output
+    laser = cnc("-q", "check", "-f", "json", "-m", str(profiles["laser"]), path)
+    assert [f["rule"] for f in findings(laser)] == ["CNC501"]  # S9000 is no laser power
+
+
 def test_the_beam_and_turret_kinds_still_catch_what_is_wrong(profiles, tmp_path: Path) -> None:
     laser = tmp_path / "hot.nc"
     laser.write_text("G21 G90\nG0 X10 Y10\nM3 S1200\nG1 X20 F1000\nM5\nM2\n")
