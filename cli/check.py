@@ -28,7 +28,7 @@ import click
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
-from cli.programs import dialect_option, jobs_option, load_tool_table, program_commands
+from cli.programs import check_input, dialect_option, jobs_option, load_tool_table
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
 from kernel.diagnostics import Diagnostic, Location, Severity
@@ -54,6 +54,7 @@ class Setup:
 
     context: CheckContext
     dialect: str | None = None  # --dialect of G-code input
+    verbosity: int = 0  # -v/-q balance: whether a guessed dialect is told on stderr
 
 
 def _read_toml(path: str) -> dict[str, Any]:
@@ -71,7 +72,7 @@ def load_context(
     machine: Machine = DEFAULT_MACHINE
     table: dict[str, Any] = {}
     tools_file, tool_units = None, 1.0
-    extra: dict[str, Any] = {}
+    extra: dict[str, Any] = DEFAULT_MACHINE.extra  # its [spindle] range
     if machine_path:
         with open(machine_path, encoding="utf-8") as fh:
             machine = parse_machine(fh.read(), machine_path)
@@ -107,6 +108,7 @@ def load_context(
         tools=tools,
         tool_mm_per_unit=tool_units,
         spindle_range=spindle_range(extra, machine_path),
+        default_machine=not machine_path,
     )
 
 
@@ -125,8 +127,10 @@ def check_file(path: str, setup: Setup | None = None) -> FileResult:
     t0 = time.perf_counter()
     ctx = setup.context
     try:
-        cmds = program_commands(path, ctx.tools, ctx.tool_mm_per_unit, setup.dialect, ctx.machine)
-        findings = check_stream(cmds, ctx, path)
+        cmds, text = check_input(
+            path, setup.dialect, setup.verbosity, ctx.tools, ctx.tool_mm_per_unit, ctx.machine
+        )
+        findings = check_stream(cmds, ctx, path, text)
     except OSError as exc:
         return FileResult(path, (), exc.strerror or str(exc), time.perf_counter() - t0)
     except Exception as exc:  # noqa: BLE001 - a bug must not take the rest of the batch down
@@ -272,7 +276,7 @@ def command(
     if jobs == 0:
         jobs = os.cpu_count() or 1
     t0 = time.perf_counter()
-    results = run_checks(paths, Setup(ctx, dialect), jobs)
+    results = run_checks(paths, Setup(ctx, dialect, verbosity()), jobs)
     rules = tuple(
         (r, ctx.config.severity(r.id, r.severity, r.default_enabled)) for r in RULES.values()
     )

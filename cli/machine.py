@@ -26,35 +26,22 @@ import click
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.programs import load_machine
 from kernel.diagnostics import Diagnostic, Location
-from kernel.machine import DEFAULT_MACHINE, AxisLimits, Controller, Machine
+from kernel.machine import DEFAULT_MACHINE, KINDS, AxisLimits, Controller, Machine
+from kernel.machine_presets import PRESETS
 
-STARTER = """\
+_HEAD = """\
 # cnc machine profile (TOML). Units: mm, degrees, seconds. Reference: docs/machine-profile.md
-name = "my 3-axis mill"
+# {about}
+name = "{name}"
+# What the machine is: mill, router, laser, plasma or lathe. `cnc check` judges programs as
+# this kind of machine runs them (docs/machine-profile.md, "Presets").
+kind = "{kind}"
 
 # One table per axis (x y z a b c): travel limits in machine coordinates, velocity (per s),
 # acceleration (per s^2) and jerk (per s^3).
-[axes.x]
-min = -400.0
-max = 400.0
-velocity = 250.0
-acceleration = 2000.0
-jerk = 50000.0
+"""
 
-[axes.y]
-min = -250.0
-max = 250.0
-velocity = 250.0
-acceleration = 2000.0
-jerk = 50000.0
-
-[axes.z]
-min = -300.0
-max = 200.0
-velocity = 200.0
-acceleration = 1500.0
-jerk = 40000.0
-
+_MIDDLE = """
 # Controller: interpolation period (s), look-ahead depth (blocks), acc/dec profile
 # ("trapezoid" or "scurve"), blending tolerance for G64 without P (mm).
 [controller]
@@ -62,12 +49,14 @@ interpolation_period = 0.001
 lookahead = 200
 accdec = "trapezoid"
 blend_tolerance = 0.0
+"""
 
-# Spindle speed range (rpm), judged by `cnc check` (CNC501, CNC502).
-[spindle]
-min_speed = 0.0
-max_speed = 12000.0
+_SPINDLE = {
+    "laser": "# Laser power: the range of S (Grbl's $30), judged by `cnc check` (CNC501).\n",
+    "plasma": "# The torch has no speed: S is not judged. A spindle range would be\n",
+}
 
+_TAIL = """
 # Tool table: a LinuxCNC .tbl or NIST tool file relative to this profile, and the unit of
 # its lengths ("mm" or "inch").
 # [tools]
@@ -90,9 +79,33 @@ max_speed = 12000.0
 # unsupported = ["G5.2"]                              # codes your controller rejects
 # disable = []                                        # rule ids switched off
 # enable = ["CNC601"]                                 # opt-in rules switched on
-max_dwell = 60.0
-arc_tolerance = "linuxcnc"
 """
+
+
+def starter(kind: str = "mill") -> str:
+    """The commented starter profile of a kind of machine (kernel.machine_presets)."""
+    p = PRESETS[kind]
+    out = [_HEAD.format(about=p.about, name=p.name, kind=p.kind)]
+    for a in p.axes:
+        out.append(
+            f"[axes.{a.name}]\nmin = {a.min!r}\nmax = {a.max!r}\nvelocity = {a.velocity!r}\n"
+            f"acceleration = {a.acceleration!r}\njerk = {a.jerk!r}\n\n"
+        )
+    out[-1] = out[-1][:-1]
+    out.append(_MIDDLE)
+    out.append(
+        "\n"
+        + _SPINDLE.get(
+            kind, "# Spindle speed range (rpm), judged by `cnc check` (CNC501, CNC502).\n"
+        )
+    )
+    if p.spindle is None:
+        out.append("# [spindle]\n# max_speed = 1.0\n")
+    else:
+        out.append(f"[spindle]\nmin_speed = {p.spindle[0]!r}\nmax_speed = {p.spindle[1]!r}\n")
+    out.append(_TAIL)
+    out.extend(f"{k} = {_value(v)}\n" for k, v in p.check.items())
+    return "".join(out)
 
 
 # --------------------------------------------------------------------------- TOML writing
@@ -132,7 +145,7 @@ def machine_dict(m: Machine) -> dict[str, Any]:
             del d["servo"]
         axes[a.name] = d
     ctrl = {f.name: getattr(m.controller, f.name) for f in fields(Controller)}
-    out: dict[str, Any] = {"name": m.name, "axes": axes, "controller": ctrl}
+    out: dict[str, Any] = {"name": m.name, "kind": m.kind, "axes": axes, "controller": ctrl}
     if m.m_codes:
         out["m_codes"] = {
             str(code): {"name": spec.name, "time": spec.time, "forbid": spec.forbid}
@@ -143,7 +156,7 @@ def machine_dict(m: Machine) -> dict[str, Any]:
 
 def machine_toml(m: Machine) -> str:
     d = machine_dict(m)
-    out = [f"name = {_value(d['name'])}"]
+    out = [f"name = {_value(d['name'])}", f"kind = {_value(d['kind'])}"]
     for name, axis in d["axes"].items():
         _table(f"axes.{name}", axis, out)
     _table("controller", d["controller"], out)
@@ -151,7 +164,7 @@ def machine_toml(m: Machine) -> str:
         out.append("\n[m_codes]")
         out.extend(f"{code} = {_value(spec)}" for code, spec in d["m_codes"].items())
     for k, v in d.items():
-        if k in ("name", "axes", "controller", "m_codes"):
+        if k in ("name", "kind", "axes", "controller", "m_codes"):
             continue
         if isinstance(v, dict):
             _table(k, v, out)
@@ -245,19 +258,29 @@ def validate(profiles: tuple[str, ...]) -> None:
     help="File to write (default: standard output).",
 )
 @click.option("--force", is_flag=True, help="Overwrite an existing file.")
+@click.option(
+    "--kind",
+    "-k",
+    type=click.Choice(list(KINDS)),
+    default="mill",
+    show_default=True,
+    help="Kind of machine: its typical limits, and `cnc check` judges programs as it runs them.",
+)
 @guarded
-def init(output: str | None, force: bool) -> None:
-    """Write a commented starter profile.
+def init(output: str | None, force: bool, kind: str) -> None:
+    """Write a commented starter profile for a kind of machine.
 
     \b
-    Example:
+    Examples:
       cnc machine init -o mill.toml && cnc machine validate mill.toml
+      cnc machine init --kind laser -o laser.toml
     """
+    text = starter(kind)
     if output is None:
-        click.echo(STARTER, nl=False)
+        click.echo(text, nl=False)
         return
     if Path(output).exists() and not force:
         raise Diagnostic("IO-EXISTS", "file exists; use --force to overwrite", Location(output))
     with open(output, "w", encoding="utf-8") as fh:
-        fh.write(STARTER)
+        fh.write(text)
     click.echo(f"wrote {output}", err=True)

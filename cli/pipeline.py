@@ -15,7 +15,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from cli.programs import program_commands
+from cli.programs import check_input
 from kernel.check import CheckContext, Finding, check_stream
 from kernel.diagnostics import Diagnostic, Location, Severity
 from kernel.ir import canon
@@ -34,6 +34,7 @@ class RunOptions:
     force: bool = True
     html: bool = False
     dialect: str | None = None  # --dialect of G-code input
+    verbosity: int = 0  # -v/-q balance: whether a guessed dialect is told on stderr
 
 
 @dataclass(slots=True)
@@ -179,15 +180,16 @@ def run_program(
     commands: list[canon.Command] = []
     images: dict[str, bytes] = {}
 
-    def recording() -> Iterator[canon.Command]:  # check the stream, keep it for the planner
-        for cmd in program_commands(
-            program, ctx.tools, ctx.tool_mm_per_unit, opts.dialect, ctx.machine
-        ):
+    def recording(stream: Iterator[canon.Command]) -> Iterator[canon.Command]:
+        for cmd in stream:  # check the stream, keep it for the planner
             commands.append(cmd)
             yield cmd
 
     try:
-        findings: list[Finding] = check_stream(recording(), ctx, program)
+        stream, text = check_input(
+            program, opts.dialect, opts.verbosity, ctx.tools, ctx.tool_mm_per_unit, ctx.machine
+        )
+        findings: list[Finding] = check_stream(recording(stream), ctx, program, text)
     except OSError as exc:
         res.status, res.message = "io-error", f"{program}: {exc.strerror or exc}"
         res.seconds = time.perf_counter() - t0

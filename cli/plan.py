@@ -21,9 +21,8 @@ from kernel.simulation import simulate
 
 def run(program: str, machine: Machine, dialect: str | None = None) -> Report:
     """Plan, sample and measure ``program`` (the command's work, without printing)."""
-    return simulate(
-        program_commands(program, dialect=dialect, machine=machine), machine, program
-    ).measure()
+    commands = program_commands(program, dialect=dialect, machine=machine)
+    return simulate(commands, machine, program).measure()
 
 
 def _text(report: Report, program: str, console: Console) -> None:

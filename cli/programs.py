@@ -18,8 +18,11 @@ from pathlib import Path
 
 import click
 
-from gcode.registry import ALIASES, DEFAULT_INPUT, INPUTS, dialect_for_suffix, suffix_summary
-from kernel.diagnostics import Diagnostic, Location
+from cli.main import verbosity as current_verbosity
+from gcode.detect import Guess
+from gcode.readers import text_findings
+from gcode.registry import ALIASES, DEFAULT_INPUT, INPUTS, guess_dialect, suffix_summary
+from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
 from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
 from kernel.tooltable import ToolTable, read_tool_table
@@ -93,16 +96,50 @@ def inch_tool_table(tools: ToolTable, mm_per_unit: float) -> ToolTable:
     return out
 
 
-def program_dialect(path: str, dialect: str | None) -> str:
+def guess_message(path: str, guess: Guess) -> DiagnosticRecord:
+    """The one line telling which dialect ``--dialect auto`` chose for ``path`` and why:
+    a note, or a warning when suffix and content disagree or another dialect fits too."""
+    text = f"read as {guess.dialect} ({guess.reason})"
+    code, severity = "DIALECT-GUESS", Severity.NOTE
+    if guess.conflict:
+        text, code, severity = guess.conflict, "DIALECT-CONFLICT", Severity.WARNING
+    if guess.plausible:
+        text += f"; also plausible: {'; '.join(guess.plausible)}"
+        code, severity = "DIALECT-AMBIGUOUS", Severity.WARNING
+    if severity is Severity.WARNING:
+        text += "; give --dialect to choose"
+    return DiagnosticRecord(code, text, Location(path), severity)
+
+
+def program_dialect(
+    path: str,
+    dialect: str | None,
+    verbosity: int | None = None,
+    head: str | None = None,
+    lathe: bool = False,
+) -> str:
     """The dialect a G-code file is read in: ``dialect`` when given (not ``auto``), else
-    the one its suffix names (Siemens ``.mpf``/``.spf``), else RS274/NGC."""
+    the one its content and suffix point to (gcode.detect; ``.mpf`` is Siemens, ``.ngc``
+    RS274/NGC, content wins over a generic suffix), else RS274/NGC.
+
+    The guess is said on stderr, one line (quiet under ``-q``; a plain RS274/NGC program
+    only under ``-v``). ``verbosity`` is the ``-v``/``-q`` balance (default: the current
+    command's), ``head`` the program's first bytes when already read, ``lathe`` whether the
+    machine profile is a lathe (a lathe's dialect then wins a close call)."""
     if dialect and dialect != "auto":
         return dialect
-    return dialect_for_suffix(Path(path).suffix)
+    if head is None:
+        head = read_head(path)
+    guess = guess_dialect(head, Path(path).suffix, lathe)
+    level = current_verbosity() if verbosity is None else verbosity
+    doubt = bool(guess.conflict or guess.plausible)
+    if level > 0 or (level == 0 and (doubt or guess.dialect != DEFAULT_INPUT)):
+        click.echo(guess_message(path, guess).format(), err=True)
+    return guess.dialect
 
 
 def _gcode(
-    path: str, tools: ToolTable | None, mm_per_unit: float, dialect: str | None = None
+    path: str, tools: ToolTable | None, mm_per_unit: float, dialect: str
 ) -> Iterator[canon.Command]:
     if tools is not None:
         tools = inch_tool_table(tools, mm_per_unit)
@@ -111,7 +148,7 @@ def _gcode(
 
     search = (str(Path(path).resolve().parent),)
     options = InterpreterOptions(tool_table=tools, search_path=search)
-    yield from read(path, program_dialect(path, dialect), options)
+    yield from read(path, dialect, options)
 
 
 def _part21(path: str, machine: Machine | None) -> Iterator[canon.Command]:
@@ -125,26 +162,82 @@ def _part21(path: str, machine: Machine | None) -> Iterator[canon.Command]:
     yield from canon_from_file(path, mode="default", z_max=z_max)
 
 
+def program_language(
+    path: str, dialect: str | None, verbosity: int | None = None, lathe: bool = False
+) -> str:
+    """What the program at ``path`` is: ``canon``, ``jsonl`` or ``part21`` by content, else
+    the G-code dialect it is read in (:func:`program_dialect`)."""
+    head = read_head(path)
+    kind = detect_kind(head)
+    return kind if kind != "gcode" else program_dialect(path, dialect, verbosity, head, lathe)
+
+
 def program_commands(
     path: str,
     tools: ToolTable | None = None,
     tool_mm_per_unit: float = 1.0,
     dialect: str | None = None,
+    verbosity: int | None = None,
     machine: Machine | None = None,
 ) -> Iterator[canon.Command]:
     """Stream the canonical commands of the program at ``path`` (kind detected by content);
     ``tools`` (lengths in units of ``tool_mm_per_unit`` mm) go to the G-code reader of
-    ``dialect`` (:func:`program_dialect`); ``machine`` fits a STEP-NC start state to its
-    travel."""
-    kind = detect_kind(read_head(path))
-    if kind == "canon":
+    ``dialect`` (:func:`program_dialect`; ``verbosity`` says whether a guess is told).
+    ``machine``: a lathe tips a close dialect call to the lathe readers, and a STEP-NC
+    start state is fitted to its travel."""
+    lathe = machine is not None and machine.kind == "lathe"
+    yield from language_commands(
+        path, program_language(path, dialect, verbosity, lathe), tools, tool_mm_per_unit, machine
+    )
+
+
+#: a finding a front end made from a program's text: (rule, message, location)
+TextFinding = tuple[str, str, Location]
+
+
+def check_input(
+    path: str,
+    dialect: str | None,
+    verbosity: int | None,
+    tools: ToolTable | None = None,
+    tool_mm_per_unit: float = 1.0,
+    machine: Machine | None = None,
+) -> tuple[Iterator[canon.Command], list[TextFinding]]:
+    """What ``cnc check`` and ``cnc run`` judge of ``path``: its canonical commands and the
+    findings of the rules judged on its text (CNC050, gcode.readers.text_findings). A file
+    that cannot be read as a program gives a stream that stops at once with its diagnostic,
+    so it becomes a finding like the program's own errors."""
+    lathe = machine is not None and machine.kind == "lathe"
+    try:
+        language = program_language(path, dialect, verbosity, lathe)
+    except Diagnostic as diag:
+        return _failing(diag), []
+    cmds = language_commands(path, language, tools, tool_mm_per_unit, machine)
+    return cmds, (text_findings(path, language) if language not in KINDS else [])
+
+
+def _failing(diag: Diagnostic) -> Iterator[canon.Command]:
+    """A stream that stops at once with ``diag`` (check_stream makes it a finding)."""
+    raise diag
+    yield  # a generator
+
+
+def language_commands(
+    path: str,
+    language: str,
+    tools: ToolTable | None = None,
+    tool_mm_per_unit: float = 1.0,
+    machine: Machine | None = None,
+) -> Iterator[canon.Command]:
+    """The canonical commands of ``path`` read as ``language`` (:func:`program_language`)."""
+    if language == "canon":
         yield from _canon_text(path)
-    elif kind == "jsonl":
+    elif language == "jsonl":
         yield from _jsonl(path)
-    elif kind == "part21":
+    elif language == "part21":
         yield from _part21(path, machine)
     else:
-        yield from _gcode(path, tools, tool_mm_per_unit, dialect)
+        yield from _gcode(path, tools, tool_mm_per_unit, language)
 
 
 #: ``--dialect`` of the commands that read programs (canon, check, run, plan, trace)
@@ -154,9 +247,9 @@ dialect_option = click.option(
     default="auto",
     show_default=True,
     type=click.Choice(["auto", *INPUTS, *ALIASES], case_sensitive=False),
-    help=f"Language of G-code input: {', '.join(INPUTS)}; auto: by suffix ({suffix_summary()}), "
-    f"else {DEFAULT_INPUT}. Canonical text, JSON lines and Part 21 are recognised by content "
-    "whatever this says.",
+    help=f"Language of G-code input: {', '.join(INPUTS)}; auto: by content and suffix "
+    f"({suffix_summary()}), else {DEFAULT_INPUT}; the guess is said on stderr. Canonical "
+    "text, JSON lines and Part 21 are recognised by content whatever this says.",
 )
 
 #: ``--jobs/-j`` of the batch commands (check, run)

@@ -136,7 +136,9 @@ def command(
     ctx = load_context(machine_path, None, None)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise Diagnostic("IO-NOT-DIR", "output path is not a directory", Location(out_dir))
-    opts = RunOptions(out_dir, traces, html=html, force=force, dialect=dialect)
+    opts = RunOptions(
+        out_dir, traces, html=html, force=force, dialect=dialect, verbosity=verbosity()
+    )
     paths = list(dict.fromkeys(expand(files)))  # each program once
     names = report_names(paths)
     if not force:  # refuse before any work, so nothing of an earlier run is lost

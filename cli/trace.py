@@ -100,7 +100,8 @@ def command(
                 "Parquet output needs pyarrow, which is not installed; use --format csv or npz",
                 Location(trace_path),
             )
-    result = simulate(program_commands(program, dialect=dialect, machine=machine), machine, program)
+    commands = program_commands(program, dialect=dialect, machine=machine)
+    result = simulate(commands, machine, program)
     samples = result.samples
     trace = result.servo(chunk)
     os.makedirs(out_dir, exist_ok=True)

@@ -54,6 +54,35 @@ def read_text(
     return module.interpret_text(text, name, options or _default_options())
 
 
+#: dialects whose controls count a length without a decimal point in least input increments
+#: (parameter No. 3401#0 = 0), and whether the program is a lathe's
+_INCREMENTS: dict[str, bool] = {
+    "fanuc": False,
+    "haas": False,
+    "fanuc_lathe": True,
+    "haas_lathe": True,
+}
+
+
+def text_findings(path: str | os.PathLike[str], dialect: str) -> list[tuple[str, str, Location]]:
+    """What ``cnc check``'s text rules find in the program at ``path`` read as ``dialect``:
+    (rule, message, location) for kernel.check.check_stream. CNC050: the first length or
+    angle without a decimal point of a Fanuc-family program, with the count of the others."""
+    lathe = _INCREMENTS.get(reader_name(dialect))
+    if lathe is None:
+        return []
+    from gcode.fanuc.decimal_point import bare_numbers
+
+    name = os.fspath(path)
+    with open(name, encoding="utf-8", errors="replace") as fh:
+        found = bare_numbers(fh, lathe)
+        first = next(found, None)
+        if first is None:
+            return []
+        more = sum(1 for _ in found)
+    return [("CNC050", first.message(more), Location(name, first.line, first.column))]
+
+
 def _default_options() -> InterpreterOptions:
     from gcode.ngc.interpreter import InterpreterOptions
 

@@ -15,6 +15,8 @@ import importlib
 from dataclasses import dataclass
 from types import ModuleType
 
+from gcode import detect
+from gcode.detect import Hint
 from gcode.write.spec import Dialect
 from kernel.diagnostics import Diagnostic
 
@@ -31,25 +33,61 @@ class DialectEntry:
     aliases: tuple[str, ...] = ()
     #: program suffixes (lower case) that name this dialect for ``--dialect auto``
     suffixes: tuple[str, ...] = ()
+    #: what in a program's text points to this dialect for ``--dialect auto`` (gcode.detect)
+    hints: tuple[Hint, ...] = ()
+    #: a lathe's dialect: preferred by ``--dialect auto`` when the machine profile is a lathe
+    lathe: bool = False
 
 
 #: Every language, writers' order (the order of ``--to`` and of error messages).
 REGISTRY: tuple[DialectEntry, ...] = (
-    DialectEntry("rs274ngc", "gcode.ngc.dialect", "gcode.ngc.interpreter", ("ngc", "linuxcnc")),
+    DialectEntry(
+        "rs274ngc",
+        "gcode.ngc.dialect",
+        "gcode.ngc.interpreter",
+        ("ngc", "linuxcnc"),
+        (".ngc",),
+        detect.RS274NGC,
+    ),
     DialectEntry("nist_v3", "gcode.nist_v3.dialect", "gcode.nist_v3.reader", ("nist",)),
-    DialectEntry("fanuc", "gcode.fanuc.dialect", "gcode.fanuc.reader"),
-    DialectEntry("fanuc_lathe", "gcode.fanuc_lathe.dialect", "gcode.fanuc_lathe.reader"),
-    DialectEntry("grbl", "gcode.grbl.dialect", "gcode.grbl.reader"),
-    DialectEntry("haas", "gcode.haas.dialect", "gcode.haas.reader"),
-    DialectEntry("haas_lathe", "gcode.haas_lathe.dialect", "gcode.haas_lathe.reader"),
+    DialectEntry(
+        "fanuc",
+        "gcode.fanuc.dialect",
+        "gcode.fanuc.reader",
+        hints=detect.FANUC_FAMILY + detect.FANUC_NAME + detect.MILL,
+    ),
+    DialectEntry(
+        "fanuc_lathe",
+        "gcode.fanuc_lathe.dialect",
+        "gcode.fanuc_lathe.reader",
+        hints=detect.FANUC_FAMILY + detect.FANUC_NAME + detect.LATHE,
+        lathe=True,
+    ),
+    DialectEntry("grbl", "gcode.grbl.dialect", "gcode.grbl.reader", hints=detect.GRBL),
+    DialectEntry(
+        "haas",
+        "gcode.haas.dialect",
+        "gcode.haas.reader",
+        hints=detect.FANUC_FAMILY + detect.MILL + detect.HAAS + detect.HAAS_MILL,
+    ),
+    DialectEntry(
+        "haas_lathe",
+        "gcode.haas_lathe.dialect",
+        "gcode.haas_lathe.reader",
+        hints=detect.FANUC_FAMILY + detect.LATHE + detect.HAAS + detect.HAAS_LATHE,
+        lathe=True,
+    ),
     DialectEntry(
         "siemens840d",
         "gcode.siemens.dialect",
         "gcode.siemens.reader",
         ("siemens", "840d"),
         (".mpf", ".spf"),
+        detect.SIEMENS,
     ),
-    DialectEntry("sandia", "gcode.sandia.dialect", "gcode.sandia.reader", ("generic",)),
+    DialectEntry(
+        "sandia", "gcode.sandia.dialect", "gcode.sandia.reader", ("generic",), hints=detect.SANDIA
+    ),
 )
 _BY_NAME = {entry.name: entry for entry in REGISTRY}
 
@@ -65,6 +103,16 @@ INPUTS: tuple[str, ...] = tuple(READER_MODULES)
 SUFFIXES: dict[str, str] = {suffix: e.name for e in REGISTRY for suffix in e.suffixes}
 #: what ``--dialect auto`` reads a program of no known suffix as
 DEFAULT_INPUT = "rs274ngc"
+#: (dialect, content hints) of every readable dialect in registry order (``--dialect auto``)
+HINTS: tuple[tuple[str, tuple[Hint, ...]], ...] = tuple(
+    (e.name, e.hints) for e in REGISTRY if e.reader is not None
+)
+#: the same when the machine profile is a lathe: a lathe's dialect gets the profile's word
+LATHE_HINTS: tuple[tuple[str, tuple[Hint, ...]], ...] = tuple(
+    (e.name, e.hints + ((detect.LATHE_PROFILE,) if e.lathe else ()))
+    for e in REGISTRY
+    if e.reader is not None
+)
 
 
 def canonical_name(name: str) -> str:
@@ -92,6 +140,13 @@ def suffix_summary() -> str:
 def dialect_for_suffix(suffix: str) -> str:
     """The input dialect a program suffix names, else :data:`DEFAULT_INPUT`."""
     return SUFFIXES.get(suffix.lower(), DEFAULT_INPUT)
+
+
+def guess_dialect(head: str, suffix: str, lathe: bool = False) -> detect.Guess:
+    """The dialect ``--dialect auto`` reads a program in, from its first kilobytes
+    (``head``) and its file suffix, with the reasons (:func:`gcode.detect.guess`); on a
+    ``lathe`` (the machine profile's kind) a lathe's dialect wins a close call."""
+    return detect.guess(head, suffix, LATHE_HINTS if lathe else HINTS, SUFFIXES, DEFAULT_INPUT)
 
 
 def reader_name(dialect: str) -> str:

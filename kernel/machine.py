@@ -4,6 +4,10 @@ A profile is a TOML file (DESIGN.md, *The machine profile*); :data:`DEFAULT_MACH
 built-in 3-axis mill used when none is given. Units are the kernel's: mm (deg for rotary
 axes), seconds, and their powers. Every field is documented in ``docs/machine-profile.md``.
 
+``kind`` says what the machine is (:data:`KINDS`: mill, router, laser, plasma, lathe), so
+``cnc check`` judges a program as that machine runs it (:class:`KindTraits`); the
+``cnc machine init --kind`` presets are in :mod:`kernel.machine_presets`.
+
 ``[m_codes]`` names the M codes the machine's PLC takes (MACHINE_FUNCTION events), with the
 time each holds the program and whether it is forbidden. Tables other than ``[axes.*]``,
 ``[controller]`` and ``[m_codes]`` (``[spindle]``, ``[servo]``, ``[tools]``, ...) belong to
@@ -108,15 +112,48 @@ class MCode:
 
 
 @dataclass(frozen=True, slots=True)
+class KindTraits:
+    """How a kind of machine runs a program, as far as ``cnc check`` must know.
+
+    ``beam``: the spindle words switch a laser beam or a plasma torch (M3/M4 and M5, or
+    M7/M8, or M62-M65 outputs): a feed move with it off is a travel move, not a cut with the
+    spindle stopped, S is a power, and there is no tool length to offset.
+    ``manual_speed``: the spindle's speed is set by hand (a router's dial), so M3 without S
+    is normal. ``turret_offsets``: the T word applies the tool's offsets (a lathe's
+    ``T0101``); there is no G43 tool length compensation to forget.
+    """
+
+    beam: bool = False
+    manual_speed: bool = False
+    turret_offsets: bool = False
+
+
+#: the kinds of machine a profile may name (``kind = "laser"``), with their traits
+KINDS: dict[str, KindTraits] = {
+    "mill": KindTraits(),
+    "router": KindTraits(manual_speed=True),
+    "laser": KindTraits(beam=True),
+    "plasma": KindTraits(beam=True),
+    "lathe": KindTraits(turret_offsets=True),
+}
+
+
+@dataclass(frozen=True, slots=True)
 class Machine:
     """A machine profile: named axes in order, controller settings, the PLC's M codes,
-    other tables verbatim."""
+    other tables verbatim, and the kind of machine (:data:`KINDS`)."""
 
     name: str
     axes: tuple[AxisLimits, ...]
     controller: Controller = field(default_factory=Controller)
     extra: dict[str, Any] = field(default_factory=dict, compare=False)
     m_codes: dict[int, MCode] = field(default_factory=dict, hash=False)
+    kind: str = "mill"
+
+    @property
+    def traits(self) -> KindTraits:
+        """What the machine's kind means for checking a program."""
+        return KINDS[self.kind]
 
     @property
     def axis_names(self) -> tuple[str, ...]:
@@ -161,8 +198,12 @@ DEFAULT_MACHINE = Machine(
         AxisLimits("z", -300.0, 200.0, velocity=200.0, acceleration=1500.0, jerk=40000.0),
     ),
     # a P position loop of K_v 30/s with balanced speed feedforward, as current controls
-    # ship (book §5.4.3.4): following error = feed x the speed loop's delay, not feed/K_v
-    extra={"servo": {"kp": 30.0, "feedforward": "speed"}},
+    # ship (book §5.4.3.4): following error = feed x the speed loop's delay, not feed/K_v;
+    # the spindle of the `cnc machine init` starter profile
+    extra={
+        "servo": {"kp": 30.0, "feedforward": "speed"},
+        "spindle": {"min_speed": 0.0, "max_speed": 12000.0},
+    },
 )
 
 _AXIS_KEYS = {f.name for f in fields(AxisLimits)} - {"name"}
@@ -297,8 +338,12 @@ def machine_from_dict(data: dict[str, Any], file: str | None = None) -> Machine:
     if not isinstance(name, str):
         raise Diagnostic("MACH-TYPE", "name must be a string", loc)
     m_codes = _m_codes(data.get("m_codes", {}), loc)
-    extra = {k: v for k, v in data.items() if k not in ("axes", "controller", "name", "m_codes")}
-    return Machine(name, axes, controller, extra, m_codes)
+    kind = data.get("kind", "mill")
+    if kind not in KINDS:
+        raise Diagnostic("MACH-KIND", f"kind must be one of {', '.join(KINDS)}, not {kind!r}", loc)
+    top = ("axes", "controller", "name", "m_codes", "kind")
+    extra = {k: v for k, v in data.items() if k not in top}
+    return Machine(name, axes, controller, extra, m_codes, kind)
 
 
 def parse_machine(text: str, file: str | None = None) -> Machine:
@@ -320,4 +365,5 @@ def with_controller(machine: Machine, **changes: Any) -> Machine:
         _controller(current, Location()),
         machine.extra,
         machine.m_codes,
+        machine.kind,
     )

@@ -91,7 +91,7 @@ def test_parallel_batch_gives_the_same_report_as_serial() -> None:
 
 
 def test_directory_arguments_expand_to_programs() -> None:
-    doc = json.loads(cnc("-m", SHOP, "-f", "json", str(PROGS)).output)
+    doc = json.loads(cnc("-m", SHOP, "-f", "json", str(PROGS)).stdout)
     names = {Path(f["file"]).name for f in doc["files"]}
     assert "clean.ngc" in names and "clean.canon" in names and "shop.toml" not in names
 

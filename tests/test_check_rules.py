@@ -12,9 +12,10 @@ import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from cli.check import load_context
+from cli.check import Setup, check_file, load_context
 from kernel.check import RULES, CheckContext, check_stream, config_from_dict
 from kernel.check.geometry import arc_extremes, arc_of, segment_hits_box
+from kernel.check.rules import TEXT_RULES
 from kernel.check.state import CheckState, advance
 from kernel.diagnostics import Diagnostic, Location, Severity
 from kernel.ir import canon
@@ -27,6 +28,8 @@ DOCS = Path(__file__).resolve().parents[1] / "docs" / "check-rules.md"
 SHOP = load_context(str(HERE / "shop.toml"), str(HERE / "shop.toml"), None)
 SIM = load_context(str(HERE / "sim.toml"), str(HERE / "sim.toml"), None)
 TRIGGERS = sorted(p.stem for p in HERE.glob("CNC*.canon"))
+#: rules judged on a program's text (kernel.check.rules.TEXT_RULES): their triggers are G-code
+TEXT_TRIGGERS = sorted(p.stem for p in HERE.glob("CNC*.nc"))
 
 
 def rules_fired(path: Path, ctx: CheckContext = SHOP) -> set[str]:
@@ -54,7 +57,8 @@ def test_clean_program_fires_no_rule() -> None:
 def test_every_rule_has_a_trigger_program_and_a_doc_section() -> None:
     doc = DOCS.read_text()
     headings = set(re.findall(r"^## (CNC\d{3}) ", doc, re.M))
-    assert set(RULES) == set(TRIGGERS) == headings
+    assert set(RULES) == set(TRIGGERS) | set(TEXT_TRIGGERS) == headings
+    assert set(TEXT_TRIGGERS) == TEXT_RULES and not set(TRIGGERS) & TEXT_RULES
     assert len(RULES) >= 25
 
 
@@ -71,6 +75,12 @@ def test_gcode_trigger_programs_match_their_canonical_twins() -> None:
         }
         want = set() if ngc.stem == "clean" else {ngc.stem}
         assert fired == want, ngc.name
+
+
+@pytest.mark.parametrize("rule", TEXT_TRIGGERS)
+def test_text_trigger_program_fires_exactly_its_rule(rule: str) -> None:
+    result = check_file(str(HERE / f"{rule}.nc"), Setup(SHOP, verbosity=-1))
+    assert {f.rule for f in result.findings} == {rule}
 
 
 # --------------------------------------------------------------------------- corpus

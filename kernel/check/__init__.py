@@ -46,9 +46,16 @@ def _active(ctx: CheckContext) -> list[tuple[Rule, Severity]]:
 
 
 def check_stream(
-    commands: Iterable[canon.Command], ctx: CheckContext, file: str | None = None
+    commands: Iterable[canon.Command],
+    ctx: CheckContext,
+    file: str | None = None,
+    text_findings: Iterable[tuple[str, str, Location]] = (),
 ) -> list[Finding]:
     """Run every enabled rule over ``commands``; findings in stream order, then end rules.
+
+    ``text_findings`` (rule, message, location) are what a front end found in the program's
+    text for a rule of :data:`~kernel.check.rules.TEXT_RULES` (CNC050); they come first, at
+    the severity the configuration gives their rule, and not at all when it is off.
 
     A run of consecutive offending commands of a rule's kinds is one finding whose message
     ends with the count of further commands, so one missing M3 does not give 10,000 lines;
@@ -57,7 +64,12 @@ def check_stream(
     active = _active(ctx)
     per_cmd = [(r, r.check, s) for r, s in active if r.check is not None]
     st = CheckState()
-    findings: list[Finding] = []
+    severities = {r.id: s for r, s in active}
+    findings: list[Finding] = [
+        Finding(rid, severities[rid], msg, loc)
+        for rid, msg, loc in text_findings
+        if rid in severities
+    ]
     runs: dict[str, tuple[int, int]] = {}  # rule -> (finding index, repeats)
     repeats: dict[tuple[str, str], int] = {}  # (rule, message) -> further commands
     first: dict[tuple[str, str], int] = {}  # (rule, message) -> finding index

@@ -39,7 +39,9 @@ class CheckContext:
     """What the rules judge against: the machine profile, its tools, the check settings.
 
     ``spindle_range`` is (min, max) rpm from the profile's ``[spindle]`` table;
-    ``tool_mm_per_unit`` the length unit of the tool table (sim.tbl is in inches: 25.4).
+    ``tool_mm_per_unit`` the length unit of the tool table (sim.tbl is in inches: 25.4);
+    ``default_machine`` says the machine is the built-in default, not the user's profile,
+    so a limit finding says where its limit came from.
     """
 
     machine: Machine
@@ -47,6 +49,14 @@ class CheckContext:
     tools: ToolTable | None = None
     tool_mm_per_unit: float = 1.0
     spindle_range: tuple[float, float] = (0.0, math.inf)
+    default_machine: bool = False
+
+    def of_machine(self) -> str:
+        """What a limit finding appends: nothing for the user's profile; for the built-in
+        default, that the limit is its own and how to give the real machine."""
+        if self.default_machine:
+            return " of the built-in default machine; give -m PROFILE"
+        return ""
 
 
 RuleFn = Callable[[canon.Command, CheckState, CheckContext], "str | None"]
@@ -108,6 +118,19 @@ RULES["CNC001"] = Rule(
     Severity.ERROR,
     "The program cannot be interpreted: a syntax or semantic error stops it here.",
 )
+
+
+# Judged on the program's text by its front end, not on the canonical stream: the front end
+# hands check_stream the findings (``text_findings``); the trigger program is G-code.
+RULES["CNC050"] = Rule(
+    "CNC050",
+    "number-without-decimal-point",
+    Severity.WARNING,
+    "A Fanuc/Haas length or angle without a decimal point counts increments (X100 = 0.1 mm).",
+)
+#: rules whose findings come from a front end's reading of the text (their trigger programs
+#: in tests/check are G-code, not canonical text)
+TEXT_RULES: frozenset[str] = frozenset({"CNC050"})
 
 
 # --------------------------------------------------------------------------- helpers
@@ -210,12 +233,12 @@ def soft_limit(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> str | N
         if hi > axis.max + EPS:
             return (
                 f"{axis.name.upper()} reaches {fmt_num(hi)} {unit} in machine coordinates, "
-                f"beyond the travel limit {fmt_num(axis.max)} {unit}"
+                f"beyond the travel limit {fmt_num(axis.max)} {unit}{ctx.of_machine()}"
             )
         if lo < axis.min - EPS:
             return (
                 f"{axis.name.upper()} reaches {fmt_num(lo)} {unit} in machine coordinates, "
-                f"beyond the travel limit {fmt_num(axis.min)} {unit}"
+                f"beyond the travel limit {fmt_num(axis.min)} {unit}{ctx.of_machine()}"
             )
     return None
 
@@ -230,6 +253,11 @@ def axis_missing(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> str |
     have = set(ctx.machine.axis_names)
     for i, name in enumerate(AXIS_NAMES):
         if name not in have and abs(end[i] - st.position[i]) > EPS:
+            if ctx.default_machine:
+                return (
+                    f"moves the {name.upper()} axis, which the built-in default machine "
+                    "does not have; give -m PROFILE"
+                )
             return f"moves the {name.upper()} axis, which this machine does not have"
     return None
 
@@ -269,7 +297,7 @@ def feed_too_fast(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> str 
         caps.append((ctx.machine.controller.max_feed * 60.0, "controller.max_feed"))
     axis_cap = _path_speed_cap(cmd, st, ctx)
     if axis_cap is not None:
-        caps.append((axis_cap * 60.0, "the axis velocity limits"))
+        caps.append((axis_cap * 60.0, "the axis velocity limits" + ctx.of_machine()))
     for cap, why in caps:
         if f > cap * (1 + 1e-9):
             return f"feed {fmt_num(f)} mm/min exceeds {fmt_num(cap)} mm/min allowed by {why}"

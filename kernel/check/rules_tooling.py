@@ -27,6 +27,13 @@ STOPPED = canon.Direction.STOPPED
 
 
 # --------------------------------------------------------------------------- CNC2xx tools
+def _tool_length_applies(ctx: CheckContext) -> bool:
+    """G43 is the program's job: not with ``tool_length = "machine"``, not on a laser or
+    plasma (no tool length), not on a lathe (T0101 applies the offsets)."""
+    traits = ctx.machine.traits
+    return ctx.config.tool_length_by_program and not (traits.beam or traits.turret_offsets)
+
+
 @rule(
     "CNC201",
     "tool-not-in-table",
@@ -65,7 +72,7 @@ def no_tool_loaded(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> str
     kinds=FEEDS,
 )
 def tlo_missing(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> str | None:
-    if not ctx.config.tool_length_by_program or st.tool == 0 or not is_cutting(cmd, st, ctx):
+    if not _tool_length_applies(ctx) or st.tool == 0 or not is_cutting(cmd, st, ctx):
         return None
     length = tool_length_mm(ctx, st.tool)
     if length is not None:
@@ -88,7 +95,7 @@ def tlo_missing(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> str | 
     kinds=FEEDS,
 )
 def tlo_mismatch(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> str | None:
-    if not ctx.config.tool_length_by_program or abs(st.tlo_mm) <= EPS:
+    if not _tool_length_applies(ctx) or abs(st.tlo_mm) <= EPS:
         return None
     length = tool_length_mm(ctx, st.tool)
     if length is None or abs(length - st.tlo_mm) <= 1e-3 or not is_cutting(cmd, st, ctx):
@@ -215,12 +222,17 @@ def rapid_below_safe(cmd: canon.StraightTraverse, st: CheckState, ctx: CheckCont
 )
 def spindle_too_fast(cmd: canon.SetSpindleSpeed, st: CheckState, ctx: CheckContext) -> str | None:
     hi = ctx.spindle_range[1]
+    where = ctx.of_machine()
     if st.css:  # G96: S is a surface speed; the rpm is capped by D (css_max)
         if st.css_max > hi + EPS:
-            return f"G96 D{fmt_num(st.css_max)} allows more than the maximum {fmt_num(hi)} rpm"
+            return (
+                f"G96 D{fmt_num(st.css_max)} allows more than the maximum {fmt_num(hi)} rpm" + where
+            )
         return None
     if cmd.speed > hi + EPS:
-        return f"spindle speed S{fmt_num(cmd.speed)} exceeds the maximum {fmt_num(hi)} rpm"
+        if ctx.machine.traits.beam:
+            return f"power S{fmt_num(cmd.speed)} exceeds the maximum S{fmt_num(hi)}{where}"
+        return f"spindle speed S{fmt_num(cmd.speed)} exceeds the maximum {fmt_num(hi)} rpm{where}"
     return None
 
 
@@ -233,7 +245,7 @@ def spindle_too_fast(cmd: canon.SetSpindleSpeed, st: CheckState, ctx: CheckConte
 )
 def spindle_too_slow(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> str | None:
     lo = ctx.spindle_range[0]
-    if st.css:  # G96: the rpm follows the diameter; S is not an rpm
+    if st.css or ctx.machine.traits.beam:  # G96: the rpm follows the diameter; a beam: power
         return None
     if st.spindle != STOPPED and 0 < st.spindle_speed < lo - EPS:
         return f"spindle speed S{fmt_num(st.spindle_speed)} is below the minimum {fmt_num(lo)} rpm"
@@ -253,7 +265,7 @@ def spindle_reversal(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> s
         if isinstance(cmd, canon.StartSpindleClockwise)
         else canon.Direction.COUNTERCLOCKWISE
     )
-    if st.spindle not in (STOPPED, new):
+    if st.spindle not in (STOPPED, new) and not ctx.machine.traits.beam:  # M3/M4: laser modes
         return "spindle reverses direction without M5 in between"
     return None
 
@@ -266,6 +278,8 @@ def spindle_reversal(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> s
     kinds=FEEDS,
 )
 def spindle_off_cutting(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> str | None:
+    if ctx.machine.traits.beam:  # a feed move with the beam or torch off is a travel move
+        return None
     if st.spindle == STOPPED and not st.probe_on and is_cutting(cmd, st, ctx):
         return "cutting with the spindle stopped (M3/M4 missing)"
     return None
@@ -279,6 +293,9 @@ def spindle_off_cutting(cmd: canon.Command, st: CheckState, ctx: CheckContext) -
     kinds=FEEDS,
 )
 def spindle_zero_speed(cmd: canon.Command, st: CheckState, ctx: CheckContext) -> str | None:
+    traits = ctx.machine.traits
+    if traits.beam or traits.manual_speed:  # S0: beam off (travel); a router's dial sets rpm
+        return None
     if st.spindle != STOPPED and st.spindle_speed <= 0 and is_cutting(cmd, st, ctx):
         return "cutting with the spindle on at speed 0 (S word missing)"
     return None

@@ -1,0 +1,17 @@
+(Inkscape laser plugin: beam on with M3 S, off with M5 between shapes)
+G21
+G90
+G0 X20 Y20
+M3 S1000
+G1 X80 Y20 F900
+G1 X80 Y70
+G1 X20 Y70
+G1 X20 Y20
+M5
+G1 X100 Y20 F3000
+M3 S1000
+G2 X140 Y20 I20 J0 F900
+G2 X100 Y20 I-20 J0
+M5
+G0 X0 Y0
+M2
