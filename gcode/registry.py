@@ -49,6 +49,7 @@ REGISTRY: tuple[DialectEntry, ...] = (
         ("siemens", "840d"),
         (".mpf", ".spf"),
     ),
+    DialectEntry("mach3", "gcode.mach3.dialect", "gcode.mach3.reader", (), (".tap",)),
     DialectEntry("sandia", "gcode.sandia.dialect", "gcode.sandia.reader", ("generic",)),
 )
 _BY_NAME = {entry.name: entry for entry in REGISTRY}

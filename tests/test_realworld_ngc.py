@@ -9,6 +9,10 @@ must be rejected by us with an ``NGC-*`` diagnostic at the line rs274 stops at, 
 error inside a subroutine (where the prefix method finds the line of the call), at an
 earlier line holding the very block rs274 printed. Programs with large outputs run under
 ``-m slow``; every fifth of them stays in the default run.
+
+The programs of Mach3 posts (:data:`MACH3_POSTS`: CamBam's default post, Vectric's, pcb2gcode's
+and SketchUcam's Mach3 output) are read again with ``--dialect mach3``: they use the subset
+Mach3 shares with RS274/NGC, so that reading must be equivalent to rs274's golden too.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ from pathlib import Path
 
 import pytest
 
+from gcode.mach3 import reader as mach3
 from gcode.ngc.interpreter import InterpreterOptions, interpret
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
@@ -39,6 +44,19 @@ KNOWN: dict[str, str] = {
     "lcnc__lathe_g7x_face_boring.ngc": "needs g7x",
     "lcnc__lathe_g7x_quadrants.ngc": "needs g7x",
 }
+
+#: programs of posts for Mach3 (CamBam's default post is Mach3's; Vectric's "G-code"
+#: and pcb2gcode's mach3 outputs; SketchUcam's); all are accepted by rs274
+MACH3_POSTS = (
+    "camotics__bear.nc",
+    "camotics__scorpion.nc",
+    "pcb2gcode__example_board_al_mach3__outline.ngc",
+    "ugs__arc_rword_test.gcode",
+    "ugs__communicator.nc",
+    "ugs__electric_turtle.nc",
+    "ugs__enclosure.nc",
+    "ugs__ordbot_handle.nc",
+)
 
 
 def golden(program: Path) -> Path:
@@ -80,12 +98,13 @@ def tools() -> ToolTable:
     return read_tool_table(table.read_text().splitlines(), str(table))
 
 
-def run(program: Path) -> tuple[list[str], Diagnostic | None]:
+def run(program: Path, dialect: str = "rs274ngc") -> tuple[list[str], Diagnostic | None]:
     """Our canonical text for ``program`` and the diagnostic that stopped it (if any)."""
     commands: list[canon.Command] = []
     error = None
+    read = mach3.interpret if dialect == "mach3" else interpret
     try:
-        for cmd in interpret(program, InterpreterOptions(tool_table=tools())):
+        for cmd in read(program, InterpreterOptions(tool_table=tools())):
             commands.append(cmd)
     except Diagnostic as exc:
         error = exc
@@ -123,9 +142,26 @@ def test_real_program_matches_rs274(program: Path) -> None:
         check_accepted(program, ours, error)
 
 
+@pytest.mark.parametrize(
+    "program",
+    [
+        pytest.param(
+            SUITE / n,
+            id=n,
+            marks=[pytest.mark.slow] if _golden_size(SUITE / n) > LARGE_BYTES else [],
+        )
+        for n in MACH3_POSTS
+    ],
+)
+def test_mach3_post_read_as_mach3_matches_rs274(program: Path) -> None:
+    ours, error = run(program, "mach3")
+    check_accepted(program, ours, error)
+
+
 def test_suite_is_there() -> None:
     assert len(PROGRAMS) >= 80
     missing = [p.name for p in PROGRAMS if not (golden(p).exists() or expected_error(p).exists())]
     assert missing == []
+    assert all((SUITE / n).exists() and golden(SUITE / n).exists() for n in MACH3_POSTS)
     listed = (SUITE.parent / "SOURCES.md").read_text()
     assert [p.name for p in PROGRAMS if f"`{p.name}`" not in listed] == []

@@ -280,7 +280,9 @@ def arc(ctx: NgcContext, w: Words, clockwise: bool) -> None:
             centre = (v[ci], v[cj])
         else:
             centre = (st[0] + v.get(ci, 0.0), st[1] + v.get(cj, 0.0))
-        arcs.centre_format(st, en, centre, (AXES[f1], AXES[f2]), inches, loc)
+        names = (AXES[f1], AXES[f2])
+        lenient = ctx.options.arc_radius_relative
+        arcs.centre_format(st, en, centre, names, inches, loc, lenient)
     if s.feed_mode == INVERSE_TIME:
         _inverse_time_rate(ctx, w, _arc_length(st, en, centre, turn, end[fn] - start[fn]))
     if comp is not None and comp.engaged:
