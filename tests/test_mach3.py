@@ -18,8 +18,10 @@ import math
 from pathlib import Path
 
 import pytest
+from click.testing import CliRunner
 
 import tests.canon_equiv as canon_equiv
+from cli.main import cli
 from gcode import registry
 from gcode.mach3 import reader as mach3
 from gcode.ngc.interpreter import interpret_text as ngc_text
@@ -170,3 +172,12 @@ def test_corpus_written_for_mach3_reads_back_equivalent(program: Path) -> None:
         return
     back = list(mach3.interpret_text(text + "\n", program.name, options(program)))
     assert canon_equiv.compare(fine_text(back), fine_text(ir)) == []
+
+
+def test_cnc_canon_reads_a_tap_file_as_mach3_by_its_suffix() -> None:
+    program = FEATURES[[p.stem for p in FEATURES].index("004_macro_m_codes")]
+    result = CliRunner().invoke(cli, ["canon", str(program)], catch_exceptions=False)
+    assert result.exit_code == 0, result.output
+    assert "MACHINE_FUNCTION(10)" in result.output
+    refused = CliRunner().invoke(cli, ["canon", "--dialect", "rs274ngc", str(program)])
+    assert refused.exit_code != 0 and "NGC-UNKNOWN-M" in refused.output

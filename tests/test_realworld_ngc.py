@@ -36,7 +36,7 @@ SUITE = Path(__file__).parent / "realworld" / "ngc"
 SUFFIXES = (".ngc", ".nc", ".gcode", ".tap", ".cnc")
 PROGRAMS = sorted(p for p in SUITE.iterdir() if p.suffix.lower() in SUFFIXES)
 #: a golden whose text is larger than this marks a large program (run under -m slow)
-LARGE_BYTES = 150_000
+LARGE_BYTES = 80_000
 
 #: programs rs274 accepts that we knowingly do not run yet -> reason
 KNOWN: dict[str, str] = {
