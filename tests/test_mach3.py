@@ -181,3 +181,10 @@ def test_cnc_canon_reads_a_tap_file_as_mach3_by_its_suffix() -> None:
     assert "MACHINE_FUNCTION(10)" in result.output
     refused = CliRunner().invoke(cli, ["canon", "--dialect", "rs274ngc", str(program)])
     assert refused.exit_code != 0 and "NGC-UNKNOWN-M" in refused.output
+
+
+def test_rs274ngc_errors_keep_their_codes_and_columns() -> None:
+    err = _refused("G21\nG1 X1 F-5\n")
+    assert (err.code, err.location.line, err.location.column) == ("NGC-NEGATIVE-F", 2, 7)
+    err = _refused("G21 F100\nG51 X2 Y2\nG1 X1 F-5\n")
+    assert (err.code, err.location.line, err.location.column) == ("NGC-NEGATIVE-F", 3, 7)

@@ -90,12 +90,12 @@ class Mach3Interpreter(Interpreter):
         return ended
 
     # ------------------------------------------------------------------ one block
-    def _at(self, block: Block, column: int) -> Location:
+    def _where(self, block: Block, column: int) -> Location:
         return Location(self.flow.file.path, block.line, column)
 
     def _value(self, word: Word, block: Block) -> float:
         v = word.value
-        return v if type(v) is float else evaluate(v, self.params, self._at(block, word.column))
+        return v if type(v) is float else evaluate(v, self.params, self._where(block, word.column))
 
     def _rewrite(self, block: Block) -> tuple[Block, list[canon.Command]]:
         """The block as RS274/NGC, and the machine functions its M codes make."""
@@ -121,7 +121,7 @@ class Mach3Interpreter(Interpreter):
                     raise Diagnostic(
                         "MACH3-M47",
                         "M47 repeats the program from its first line without end",
-                        self._at(block, w.column),
+                        self._where(block, w.column),
                     )
             kept.append(w)
         if scale_reset:
@@ -152,7 +152,7 @@ class Mach3Interpreter(Interpreter):
             values = {w.letter: self._value(w, block) for w in kept if w.letter in "pq"}
         return [
             machine_function(
-                code, values.get("p"), values.get("q"), self._at(block, col), "MACH3-M-CODE"
+                code, values.get("p"), values.get("q"), self._where(block, col), "MACH3-M-CODE"
             )
             for code, col in macros
         ]
@@ -165,7 +165,7 @@ class Mach3Interpreter(Interpreter):
                 factor = self._value(w, block)
                 if factor == 0.0:
                     raise Diagnostic(
-                        "MACH3-SCALE-ZERO", "G51 scale factor of 0", self._at(block, w.column)
+                        "MACH3-SCALE-ZERO", "G51 scale factor of 0", self._where(block, w.column)
                     )
                 self.scale[FACTOR[w.letter]] = factor
             else:
@@ -183,7 +183,7 @@ class Mach3Interpreter(Interpreter):
                 "MACH3-SCALE-ARC",
                 f"scale factors {f1:g} and {f2:g} of the arc's plane {what}: Mach3 makes no "
                 "elliptical or mirrored arc",
-                self._at(block, words[0].column if words else block.col0),
+                self._where(block, words[0].column if words else block.col0),
             )
         out = []
         for w in words:
