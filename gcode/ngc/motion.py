@@ -120,7 +120,7 @@ def polar_words(ctx: NgcContext, w: Words) -> Words:
     y = radius * math.sin(math.radians(angle))
     # G91 keeps its polar increments: a canned cycle's L repeats apply them again from
     # each hole (rs274 2.9 drills a bolt circle with ``G91 G81 ^60 L6``)
-    values = {k: val for k, val in v.items() if s.absolute is False or k not in "@^"}
+    values = {k: val for k, val in v.items() if not s.absolute or k not in "@^"}
     values["x"], values["y"] = (x, y) if s.absolute else (x - x0, y - y0)
     columns = dict(w.columns)
     columns["x"] = columns["y"] = columns.get("@", columns.get("^", loc.column))
