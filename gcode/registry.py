@@ -85,6 +85,7 @@ REGISTRY: tuple[DialectEntry, ...] = (
         (".mpf", ".spf"),
         detect.SIEMENS,
     ),
+    DialectEntry("mach3", "gcode.mach3.dialect", "gcode.mach3.reader", (), (".tap",)),
     DialectEntry(
         "sandia", "gcode.sandia.dialect", "gcode.sandia.reader", ("generic",), hints=detect.SANDIA
     ),

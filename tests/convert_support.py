@@ -19,6 +19,7 @@ from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
 from kernel.tooltable import read_tool_table
 from tests.data_paths import CORPUS_NGC
+from tests.rs274_home import rs274_env
 
 HERE = Path(__file__).resolve().parent
 GOLDEN = HERE / "golden" / "ngc"
@@ -93,6 +94,7 @@ def rs274(text: str, tool_table: Path, workdir: Path) -> list[str]:
             capture_output=True,
             text=True,
             timeout=60,
+            env=rs274_env(workdir),
         )
         if proc.returncode == 0:
             return (workdir / "conv.canon").read_text().splitlines()

@@ -28,6 +28,7 @@ from kernel.ir import canon
 from kernel.tooltable import read_linuxcnc_tbl
 from tests import canon_equiv
 from tests.ngc_comp_driver import run
+from tests.rs274_home import rs274_env
 
 GOLDEN = Path(__file__).parent / "golden" / "ngc"
 TOOLS = read_linuxcnc_tbl((GOLDEN / "sim.tbl").read_text().splitlines())
@@ -509,6 +510,7 @@ def _rs274(program: Path) -> tuple[str | None, str]:
         capture_output=True,
         text=True,
         timeout=30,
+        env=rs274_env(program.parent),
     )
     lines = [x for x in (proc.stdout + proc.stderr).splitlines() if x.strip() != "executing"]
     return (out.read_text() if out.exists() else None), "\n".join(lines)

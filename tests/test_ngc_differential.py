@@ -17,6 +17,7 @@ import pytest
 
 import tests.canon_equiv as canon_equiv
 from tests.ngc_reference import ENDINGS, run_program
+from tests.rs274_home import rs274_env
 
 pytestmark = [
     pytest.mark.reference,
@@ -94,6 +95,7 @@ def _rs274(program: Path) -> list[str] | None:
             stdin=subprocess.DEVNULL,
             capture_output=True,
             timeout=30,
+            env=rs274_env(program.parent),
         )
         if out.exists() and out.stat().st_size:
             return out.read_text().splitlines()

@@ -2,7 +2,8 @@
 
 Only the last comment of a line is kept (LinuxCNC's block holds one comment). ``MSG``
 becomes ``MESSAGE`` with the text after the comma; ``DEBUG`` too, with ``#n`` and
-``#<name>`` replaced by their values (``%f``, or ``######`` when undefined); ``PRINT`` and
+``#<name>`` replaced by their values (``%f``, a value within 1e-6 of zero as ``0.000000`` as
+LinuxCNC's ``convert_param_comment`` prints it, or ``######`` when undefined); ``PRINT`` and
 ``LOG*`` go to the operator's terminal or a log file and give no canonical command; any
 other comment is a ``COMMENT``.
 """
@@ -19,13 +20,21 @@ _PARAM_RE = re.compile(r"#(?:<([^>]*)>|(\d+))")
 _SILENT = ("print,", "logopen,", "logappend,", "logclose", "log,", "probeopen", "probeclose")
 
 
+#: LinuxCNC's ``TOLERANCE_EQUAL``: a value this close to zero is printed as zero (no ``-0``)
+_ZERO = 1e-6
+
+
+def _shown(value: float) -> str:
+    return f"{0.0 if abs(value) < _ZERO else value:f}"
+
+
 def _substitute(text: str, params: Parameters, loc: Location) -> str:
     def repl(m: re.Match[str]) -> str:
         try:
             if m.group(1) is not None:
                 name = "".join(m.group(1).split()).lower()
-                return f"{params.named(name, loc):f}"
-            return f"{params.numbered(float(m.group(2)), loc):f}"
+                return _shown(params.named(name, loc))
+            return _shown(params.numbered(float(m.group(2)), loc))
         except Diagnostic:
             return "######"
 

@@ -133,6 +133,9 @@ class Setup:
     tool_offset: list[float] = field(default_factory=lambda: [0.0] * 9)
     tool_length_mode: ToolLengthCode = ToolLengthCode.G49
     current_tool: int = 0
+    #: the tool M6 last loaded: rs274's spindle slot, whose table entry #5400-#5413 show
+    #: (M61 changes the current tool number but not that entry)
+    loaded_tool: int = 0
     current_pocket: int = 0
     selected_tool: int = -1
     selected_pocket: int = -1

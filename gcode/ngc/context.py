@@ -43,6 +43,10 @@ class InterpreterOptions:
     # LOOP-LIMIT, blocks with no canonical command emitted before LOOP-NO-PROGRESS
     max_blocks: int = MAX_BLOCKS
     max_idle_blocks: int = MAX_IDLE_BLOCKS
+    # a centre-format arc whose end radius differs from its start radius by at most this
+    # fraction of the start radius is accepted even past LinuxCNC's tolerance (a control
+    # that does not refuse such arcs: Mach3); None: LinuxCNC's rule alone
+    arc_radius_relative: float | None = None
 
 
 class AnyTool(ToolTable):

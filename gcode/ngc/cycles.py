@@ -17,6 +17,8 @@ Per plane the hole axis is Z (G17), X (G19) or Y (G18); "depth" below means that
 
 from __future__ import annotations
 
+import math
+
 from gcode.core.codes import Words
 from gcode.core.cycle_marks import CycleEnd, CycleStart
 from gcode.core.state import AXES, INVERSE_TIME, PLANE_AXES, ControlCode
@@ -197,7 +199,10 @@ def canned_cycle(ctx: NgcContext, w: Words, code: int, previous: int | None) -> 
         ctx.emit(canon.SetMotionControlMode(MotionMode.EXACT_PATH, source=loc))
     if not first:
         height = clear
+    polar = not s.absolute and ("@" in v or "^" in v)
     for _ in range(repeats):
+        if polar:  # each repeat turns about the origin again (G17 only: motion.polar_words)
+            inc1, inc2 = polar_step(v, a1, a2)
         a1 += inc1
         a2 += inc2
         # the first move of a series is at the current height, the later ones at the
@@ -212,6 +217,13 @@ def canned_cycle(ctx: NgcContext, w: Words, code: int, previous: int | None) -> 
         modes.control_mode(ctx, s.control_mode, words, check=False)
     if marks:
         ctx.emit(CycleEnd(tuple(s.pos), source=loc))
+
+
+def polar_step(v: dict[str, float], x0: float, y0: float) -> tuple[float, float]:
+    """The X/Y increments of a G91 polar block (``@``/``^`` kept in ``v``) from (x0, y0)."""
+    radius = math.hypot(x0, y0) + v.get("@", 0.0)
+    angle = math.radians(math.degrees(math.atan2(y0, x0)) + v.get("^", 0.0))
+    return radius * math.cos(angle) - x0, radius * math.sin(angle) - y0
 
 
 PLANE_CENTRE_LETTERS = {

@@ -87,7 +87,7 @@ def polar_words(ctx: NgcContext, w: Words) -> Words:
     Polar coordinates are about the program origin in G17 only. In G90 a missing ``@`` or
     ``^`` is the current point's; in G91 both are added to the current point's radius and
     angle (so at the origin the move is undefined), and the result is given as the X/Y
-    increments G91 expects.
+    increments G91 expects, with the polar increments kept for :func:`gcode.ngc.cycles.polar_step`.
     """
     s = ctx.s
     v = w.values
@@ -118,7 +118,9 @@ def polar_words(ctx: NgcContext, w: Words) -> Words:
         angle = angle0 + v.get("^", 0.0)
     x = radius * math.cos(math.radians(angle))
     y = radius * math.sin(math.radians(angle))
-    values = {k: val for k, val in v.items() if k not in "@^"}
+    # G91 keeps its polar increments: a canned cycle's L repeats apply them again from
+    # each hole (rs274 2.9 drills a bolt circle with ``G91 G81 ^60 L6``)
+    values = {k: val for k, val in v.items() if not s.absolute or k not in "@^"}
     values["x"], values["y"] = (x, y) if s.absolute else (x - x0, y - y0)
     columns = dict(w.columns)
     columns["x"] = columns["y"] = columns.get("@", columns.get("^", loc.column))
@@ -278,7 +280,9 @@ def arc(ctx: NgcContext, w: Words, clockwise: bool) -> None:
             centre = (v[ci], v[cj])
         else:
             centre = (st[0] + v.get(ci, 0.0), st[1] + v.get(cj, 0.0))
-        arcs.centre_format(st, en, centre, (AXES[f1], AXES[f2]), inches, loc)
+        names = (AXES[f1], AXES[f2])
+        lenient = ctx.options.arc_radius_relative
+        arcs.centre_format(st, en, centre, names, inches, loc, lenient)
     if s.feed_mode == INVERSE_TIME:
         _inverse_time_rate(ctx, w, _arc_length(st, en, centre, turn, end[fn] - start[fn]))
     if comp is not None and comp.engaged:
@@ -504,6 +508,10 @@ def cutter_comp_mode(ctx: NgcContext, w: Words) -> None:
         comp.set_units(s.units is Units.INCHES)
     side = CompCode(code)
     if side is CompCode.G40:
+        off = comp.stop_offset()
+        if off is not None:  # the tool's point, taken up by a following tool change
+            lag = s.tlo_lag or [0.0] * 6
+            s.tlo_lag = [lag[0] + off[0], lag[1] + off[1], lag[2] + off[2], *lag[3:]]
         ctx.out.extend(comp.stop(source=loc))
         s.comp_side = side
         return

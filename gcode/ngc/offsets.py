@@ -334,6 +334,7 @@ def change_tool(ctx: NgcContext) -> None:
     ctx.emit(canon.ChangeTool(_slot(ctx, n), source=loc))
     s.resync_pending = True
     s.current_tool = n
+    s.loaded_tool = n
     s.current_pocket = s.selected_pocket if s.selected_pocket >= 0 else 0
 
 

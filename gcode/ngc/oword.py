@@ -247,6 +247,7 @@ class Flow:
         if target is None:
             target = self._find(name, loc)
         self.calls.append(_Call(name, caller, back, len(self.controls)))
+        self.return_value = 0.0  # a bare return leaves #<_value> 0 (rs274)
         self.value_returned = False
         self.host.params.enter(args)
         self.file = target[0]

@@ -62,8 +62,9 @@ def named_parameter(ctx: NgcContext, name: str) -> float | None:
         "call_level": lambda: float(ctx.flow.call_level),
         "remap_level": lambda: 0.0,
         "task": lambda: 0.0,
-        "vmajor": lambda: 2.0,
-        "vminor": lambda: 9.0,
+        # PACKAGE_VERSION read as "%lf%lf": "2.9.0" gives 2.9 and .0 (rs274 2.9.0)
+        "vmajor": lambda: 2.9,
+        "vminor": lambda: 0.0,
         "value": lambda: ctx.flow.return_value,
         "value_returned": lambda: 1.0 if ctx.flow.value_returned else 0.0,
     }
@@ -82,14 +83,17 @@ def numbered_parameter(ctx: NgcContext, index: int) -> float | None:
         return s.pos[index - 5420]
     if 5426 <= index <= 5428:
         return 0.0
-    if index == 5400:
-        return float(s.current_tool)
-    if 5401 <= index <= 5409:
-        return s.tool_offset[index - 5401]
-    if index == 5410 or index == 5411 or index == 5412 or index == 5413:
-        tool = ctx.tools.get(s.current_tool)
+    if 5400 <= index <= 5413:
+        # the tool table entry of the tool M6 loaded, in the table's units (rs274 2.9:
+        # neither G43 nor M61 changes them; G10 L1 on that tool does)
+        n = s.loaded_tool
+        tool = ctx.tools.get(n)
+        if index == 5400:
+            return float(n)
         if tool is None:
             return 0.0
+        if index <= 5409:
+            return tool.offset[index - 5401]
         return (tool.diameter, tool.front_angle, tool.back_angle, float(tool.orientation))[
             index - 5410
         ]

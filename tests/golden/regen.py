@@ -8,6 +8,7 @@ rejected, an error program is accepted, or an error line cannot be established.
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 import tempfile
@@ -32,7 +33,9 @@ def run_rs274(program: Path, out: Path, cwd: Path, ini: bool = False) -> tuple[i
     if ini:
         cmd += ["-i", SUB_INI]
     cmd += ["-t", str(TOOL_TABLE), "-g", program.name, str(out)]
-    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=30)
+    with tempfile.TemporaryDirectory() as home:  # rs274 shares $HOME/.tool.mmap between runs
+        env = {**os.environ, "HOME": home}
+        proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=30, env=env)
     return proc.returncode, proc.stderr
 
 

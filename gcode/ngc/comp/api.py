@@ -57,6 +57,10 @@ class CutterComp(Protocol):
         """G41 / G42 / G41.1 / G42.1."""
         ...
 
+    def stop_offset(self) -> tuple[float, float, float] | None:
+        """Before G40: the tool's point less the programmed one in X Y Z, or None."""
+        ...
+
     def stop(self, *, source: Location | None) -> list[canon.Command]:
         """G40."""
         ...

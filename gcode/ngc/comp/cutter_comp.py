@@ -194,6 +194,18 @@ class CutterCompensator:
         self._current = (end[0], end[1], self._current[2])
         self.radius = radius
 
+    def stop_offset(self) -> tuple[float, float, float] | None:
+        """Before G40: where the tool is less where the program is, in X Y Z (None when no
+        compensated move was made). rs274 re-reads its position from the tool's after a
+        tool change, so a tool change right after G40 starts from the tool's point."""
+        if not (self.side and self.radius > 0.0 and not self.first_move):
+            return None
+        d1 = self._current[0] - self._programmed[0]
+        d2 = self._current[1] - self._programmed[1]
+        if self.plane == canon.Plane.XZ:
+            return (d2, 0.0, d1)
+        return (d1, d2, 0.0)
+
     def stop(self, *, source: Location | None) -> list[canon.Command]:
         """G40 (LinuxCNC ``convert_cutter_compensation_off``): release the held move."""
         out = self._comment("interpreter: cutter radius compensation off", source)

@@ -83,6 +83,10 @@ class KeptCompensation(CutterCompensator):
             canon.StartCutterRadiusCompensation(which, source=source),
         ]
 
+    def stop_offset(self) -> tuple[float, float, float] | None:
+        """Compensation kept as commands leaves the tool on the programmed path."""
+        return super().stop_offset() if self.applying else None
+
     def stop(self, *, source: Location | None) -> list[canon.Command]:
         if self.applying:
             self.applying = False

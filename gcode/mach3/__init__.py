@@ -1,0 +1,1 @@
+"""Mach3 (ArtSoft) programs: RS274/NGC with Mach3's own codes."""
