@@ -28,6 +28,7 @@ from gcode.ngc.comp.cutter_comp import CutterCompensator
 from gcode.ngc.comp.keep import CompRegister, KeptCompensation
 from gcode.ngc.context import NgcContext
 from gcode.ngc.cycles import canned_cycle
+from gcode.ngc.lathe_cycles import LATHE_CYCLES, lathe_cycle
 from gcode.ngc.threading import threading_cycle
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
@@ -223,6 +224,8 @@ def execute_motion(ctx: NgcContext, w: Words, code: int | None) -> None:
         spline(ctx, w, code)
     elif code in (52, 53):
         nurbs(ctx, w, code)
+    elif code in LATHE_CYCLES:
+        lathe_cycle(ctx, w, code, execute_motion)
     else:
         raise Diagnostic("NGC-UNSUPPORTED-MOTION", f"{_g(code)} is not supported", loc)
 
