@@ -105,9 +105,17 @@ def lathe_cycle(ctx: NgcContext, w: Words, code: int, run: RunMotion) -> None:
         q = v["q"]
         if abs(q - round(q)) > 1e-4:  # rs274 calls "O<q> CALL" and reads an integer
             raise Diagnostic("NGC-G7X-Q", "non integer value for integer (the Q word)", loc)
-        segments = _read_profile(
-            ctx, str(int(round(q))), complex(z, x), (incremental, ijk_incremental, diameter), loc
-        )
+        name = str(int(round(q)))
+        try:
+            segments = _read_profile(
+                ctx, name, complex(z, x), (incremental, ijk_incremental, diameter), loc
+            )
+        except Diagnostic as exc:
+            # rs274 reads the profile while it executes the cycle block: that block fails
+            if exc.location.line == loc.line and exc.location.file == loc.file:
+                raise
+            where = exc.location
+            raise Diagnostic(exc.code, f"{exc.message} (profile o{name}, {where})", loc) from None
         ctx.loc = loc
         if len(segments) <= 1:
             return
