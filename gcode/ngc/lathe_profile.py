@@ -25,7 +25,7 @@ TOL = 1e-6
 #: steps of one profile offset before it is declared stuck (LinuxCNC has no bound)
 MAX_OFFSET_STEPS = 10_000
 #: layers of one roughing cycle before it is declared stuck (LinuxCNC has no bound)
-MAX_LAYERS = 1_000_000
+MAX_LAYERS = 100_000
 
 
 class ProfileError(Exception):
@@ -507,8 +507,10 @@ class Profile:
         steps = 0
         while done != distance:
             steps += 1
-            if steps > MAX_OFFSET_STEPS or not segs:
-                raise ProfileError("Offset of the profile does not converge")
+            if not segs:
+                raise ProfileError("nothing of the profile is left at this offset")
+            if steps > MAX_OFFSET_STEPS:
+                raise ProfileError(f"the profile offset takes more than {MAX_OFFSET_STEPS} steps")
             step = min(min(s.size() / 2 for s in segs), abs(distance - done))
             if distance < 0:
                 step = -step
@@ -644,7 +646,7 @@ class Profile:
         while k < len(segs):
             layers[0] += 1
             if layers[0] > MAX_LAYERS:
-                raise ProfileError("Roughing does not converge")
+                raise ProfileError(f"more than {MAX_LAYERS} roughing layers")
             while x - TOL > at.imag:
                 x -= self.step
             before = at
