@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from gcode.core.blocks import check_letter_uses, evaluate_block
+from gcode.core.blocks import Assignment, check_letter_uses, evaluate_block
 from gcode.core.codes import Words
 from gcode.core.state import CompCode
 from gcode.ngc.context import NgcContext
@@ -170,7 +170,7 @@ def _read_profile(
         file = flow.file.path
         cached = block.cached_words
         if cached is not None:  # a plain axis line, evaluated by the lexer
-            words, assigns = cached, []
+            words, assigns = cached, list[Assignment]()
             here = Location(file, block.line, block.col0)
         elif block.words or block.assignments:
             here = Location(file, block.line, block.words[0].column if block.words else 1)

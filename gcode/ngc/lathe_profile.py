@@ -17,6 +17,7 @@ re-expressed here; ``docs/readers/rs274ngc.md`` says where each rule comes from.
 from __future__ import annotations
 
 import math
+from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -57,7 +58,7 @@ def _cross(a: complex, b: complex) -> float:
     return (a.conjugate() * b).imag
 
 
-class Segment:
+class Segment(ABC):
     """One straight or circular piece of a profile."""
 
     finish: float = 0.0
@@ -67,52 +68,63 @@ class Segment:
         self.end = end
         self.finish = 0.0
 
+    @abstractmethod
     def copy(self) -> Segment:
-        raise NotImplementedError
+        """An independent copy."""
 
+    @abstractmethod
     def crossings(self, x: float) -> list[float]:
         """The Z values where the segment meets the line X = ``x``."""
-        raise NotImplementedError
 
+    @abstractmethod
     def offset(self, distance: float) -> None:
         """Move the segment sideways by ``distance`` (positive to the left of its travel)."""
-        raise NotImplementedError
 
+    @abstractmethod
     def size(self) -> float:
         """A length scale; segments below 1e-3 are dropped."""
-        raise NotImplementedError
 
     def monotonic(self) -> bool:
         """Z does not increase along the segment (beyond 1e-3)."""
         return (self.end - self.start).real <= 1e-3
 
+    @abstractmethod
     def draw(self, out: Moves) -> None:
-        raise NotImplementedError
+        """The whole segment as one move (G70)."""
 
+    @abstractmethod
     def climb(self, at: complex, out: Moves) -> tuple[bool, complex]:
-        raise NotImplementedError
+        """Follow the segment up from ``at``; (True: a pocket starts here, where it stopped)."""
 
+    @abstractmethod
     def climb_only(self, at: complex, out: Moves) -> complex:
-        raise NotImplementedError
+        """Follow the rising part of the segment above ``at``'s X, skipping pockets."""
 
+    @abstractmethod
     def dive(self, at: complex, x: float, out: Moves, fast: bool) -> tuple[bool, complex]:
-        raise NotImplementedError
+        """Follow the segment down from ``at`` to layer ``x`` (a rapid when ``fast``);
+        (True: the segment does not descend here, where it stopped)."""
 
     def mirror_x(self) -> None:
+        """Negate X."""
         self.start, self.end = self.start.conjugate(), self.end.conjugate()
 
     def mirror_z(self) -> None:
+        """Negate Z."""
         self.start, self.end = -self.start.conjugate(), -self.end.conjugate()
 
     def turn(self) -> None:
+        """A quarter turn: (z, x) becomes (x, -z)."""
         self.start, self.end = -self.start * 1j, -self.end * 1j
 
     def shift(self, d: complex) -> None:
+        """Move by ``d``."""
         self.start += d
         self.end += d
 
     def finish_corner(self, prev: Segment, nxt: Segment) -> None:
-        """Fillets and chamfers fit themselves between their neighbours."""
+        """Fillets and chamfers fit themselves between their neighbours; others stay."""
+        return None
 
     def _corner(self, prev: Segment, nxt: Segment) -> complex:
         """Fit a corner of size ``finish`` between ``prev`` and ``nxt``; its centre."""
