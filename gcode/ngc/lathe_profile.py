@@ -642,12 +642,13 @@ class Profile:
         if segs[-1].end.imag < start.imag:
             segs.append(Line(segs[-1].end, complex(segs[-1].end.real, start.imag)))
         self.pocket_starts.append(start)
-        self._pocket(subcycle, start, 0, turned, [0])
+        self._pocket(subcycle, start, 0, turned)
 
-    def _pocket(self, cycle: int, at: complex, k: int, out: Moves, layers: list[int]) -> None:
-        """Cut layers from segment ``k`` on; recurses into each pocket met on the way."""
+    def _pocket(self, cycle: int, at: complex, k: int, out: Moves) -> None:
+        """Cut layers from segment ``k`` on, then each pocket met on the way (LinuxCNC
+        recurses into a pocket as its last step; here that is a loop, so a profile of many
+        pockets cannot exhaust the stack)."""
         segs = self.segments
-        x = self.pocket_starts[-1].imag
         if cycle == 2:
             while k < len(segs):
                 stop, at = segs[k].dive(at, -1e9, out, k == 0)
@@ -655,6 +656,17 @@ class Profile:
                     break
                 k += 1
             cycle = 3
+        layers = [0]
+        pocket: tuple[complex, int] | None = (at, k)
+        while pocket is not None:
+            pocket = self._layers(cycle, pocket[0], pocket[1], out, layers)
+
+    def _layers(
+        self, cycle: int, at: complex, k: int, out: Moves, layers: list[int]
+    ) -> tuple[complex, int] | None:
+        """The layers of one pocket from segment ``k``: where the next pocket starts."""
+        segs = self.segments
+        x = self.pocket_starts[-1].imag
         while k < len(segs):
             layers[0] += 1
             if layers[0] > MAX_LAYERS:
@@ -668,22 +680,19 @@ class Profile:
                     while k < len(segs):
                         at = segs[k].climb_only(at, out)
                         k += 1
-                    return
+                    return None
                 while k < len(segs):
                     up, at = segs[k].climb(at, out)
                     if up:
+                        starts = self.pocket_starts
                         if cycle == 3:
-                            if (
-                                at.imag > self.pocket_starts[-1].imag
-                                and len(self.pocket_starts) > 1
-                            ):
-                                self.pocket_starts.pop()
-                            if len(self.pocket_starts) == 1:
-                                self.pocket_starts.append(at)
-                        self._pocket(cycle, at, k, out, layers)
-                        return
+                            if at.imag > starts[-1].imag and len(starts) > 1:
+                                starts.pop()
+                            if len(starts) == 1:
+                                starts.append(at)
+                        return at, k
                     k += 1
-                return
+                return None
             if abs(at.imag - x) > TOL:
                 k += 1
                 continue
@@ -696,6 +705,7 @@ class Profile:
                 elif at == before:
                     raise NoProgress("the roughing cut makes no progress")
             k, x = nk, nx
+        return None
 
     def _layer(self, k: int, x: float, at: complex, out: Moves) -> tuple[int, float]:
         """One layer at height ``at.imag`` from segment ``k``: the next (k, x)."""
