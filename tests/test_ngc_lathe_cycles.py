@@ -1,4 +1,4 @@
-"""LinuxCNC's lathe cycles G70-G72.2 beyond the rs274 goldens (tests/golden/ngc 199-223).
+"""LinuxCNC's lathe cycles G70-G72.2 beyond the rs274 goldens (tests/golden/ngc 199-224).
 
 The goldens pin what rs274 2.9.0 prints. Here: the programs on which rs274 2.9.0 loops for
 ever, checked against LinuxCNC 2.9.10's own expected output (tests/data/lathe_cycles), and
