@@ -132,8 +132,7 @@ class Flow:
             if block.oword is not None:
                 if not block.oword.keyword:  # a bare program number "O123": ignored
                     continue
-                if block.comments:
-                    self.host.execute_line(Block(block.line, block.text, comments=block.comments))
+                # rs274 2.9 runs no comment of an O-word line: (MSG,...) there prints nothing
                 self.oword(block)
                 if self.call_level < floor:
                     return None
