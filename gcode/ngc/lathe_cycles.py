@@ -18,6 +18,8 @@ retract (default 0.5); X/Z the start point. Where each rule comes from is in
 
 from __future__ import annotations
 
+import cmath
+import math
 from collections.abc import Callable
 
 from gcode.core.blocks import Assignment, check_letter_uses, evaluate_block
@@ -57,6 +59,8 @@ class _Machine:
         self.run = run
 
     def _words(self, code: int, end: complex, more: dict[str, float]) -> Words:
+        if not (cmath.isfinite(end) and all(math.isfinite(m) for m in more.values())):
+            raise ProfileError("the profile's geometry is degenerate (a point is not finite)")
         return Words(g={1: code}, values={**more, "x": end.imag, "z": end.real})
 
     def feed(self, end: complex) -> None:
