@@ -16,6 +16,7 @@ from gcode.ngc.interpreter import InterpreterOptions, interpret
 from gcode.ngc.lathe_profile import Arc, Line, Profile, _Turned, join
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
+from kernel.tooltable import read_tool_table
 from tests.canon_equiv import compare
 
 DATA = Path(__file__).parent / "data" / "lathe_cycles"
@@ -99,3 +100,16 @@ def test_finishing_a_step_follows_the_profile_at_the_allowance() -> None:
     assert points[2] == pytest.approx(complex(-9.5, 6.5))
     assert points[3] == pytest.approx(complex(-9.5, 20))
     assert all(math.isfinite(p.real) and math.isfinite(p.imag) for p in points)
+
+
+def test_linuxcnc_lathe_demo_runs_its_g71_1_as_rs274_and_stops_at_t10() -> None:
+    golden = Path(__file__).parent / "golden" / "ngc" / "sim.tbl"
+    tools = read_tool_table(golden.read_text().splitlines(), str(golden))
+    program = DATA / "lathe_g70_71_demo.ngc"
+    ours: list[canon.Command] = []
+    with pytest.raises(Diagnostic) as info:
+        for cmd in interpret(program, InterpreterOptions(tool_table=tools)):
+            ours.append(cmd)
+    assert info.value.location.line == 29  # G40 T10M6G43: tool 10 is not in the table
+    reference = program.with_suffix(".canon").read_text().splitlines()
+    assert compare(list(canon.write_text(ours)), reference) == []
