@@ -84,6 +84,7 @@ def evaluate_block(
 
 _AXES = frozenset("xyzabc")
 _CYCLES = frozenset({730, 740, 810, 820, 830, 840, 850, 860, 870, 880, 890})
+_LATHE_CYCLES = frozenset({700, 710, 711, 712, 720, 721, 722})  # G70-G72.2
 
 
 def is_constant(block: Block) -> bool:
@@ -117,14 +118,20 @@ def check_letter_uses(words: Words, motion: int | None, loc: Location) -> None:
                 Location(loc.file, loc.line, words.columns.get(letter, loc.column)),
             )
     cycle = motion in _CYCLES
-    if "d" in v and g.get(7) not in (410, 420, 411, 421) and g.get(14) != 960:
-        raise bad("d", "G41, G41.1, G42, G42.1 or G96")
-    if "e" in v and not ({66, 67, 68} & m) and motion != 760:
-        raise bad("e", "G76, M66, M67 or M68")
+    lathe = motion in _LATHE_CYCLES
+    if "d" in v and g.get(7) not in (410, 420, 411, 421) and g.get(14) != 960 and not lathe:
+        raise bad("d", "G41, G41.1, G42, G42.1, G70-G72 or G96")
+    if "e" in v and not ({66, 67, 68} & m) and motion not in (700, 760):
+        raise bad("e", "G70, G76, M66, M67 or M68")
     if "h" in v and g.get(8) not in (430, 432) and motion != 760:
         raise bad("h", "G43 or G76")
     for letter in "ij":
-        if letter in v and motion not in (20, 30, 50, 51, 331, 760, 870) and g0 != 100:
+        if (
+            letter in v
+            and motion not in (20, 30, 50, 51, 331, 760, 870)
+            and g0 != 100
+            and not (letter == "i" and lathe and motion != 700)
+        ):
             raise bad(letter, "G2, G3, G5, G5.1, G10, G33.1, G76, or G87")
     if "k" in v and motion not in (20, 30, 330, 331, 760, 870) and g0 != 100:
         raise bad("k", "G2, G3, G10, G33, G33.1, G76, or G87")
@@ -137,17 +144,23 @@ def check_letter_uses(words: Words, motion: int | None, loc: Location) -> None:
     ):
         raise bad("l", "G10, cutter compensation, canned cycle, digital/analog input or NURBS code")
     if "p" in v and not (
-        motion in (20, 30, 50, 52, 740, 760, 820, 840, 860, 880, 890)
+        motion in (20, 30, 50, 52, 700, 740, 760, 820, 840, 860, 880, 890)
         or g0 in (40, 100)
         or g.get(13) == 640
         or {50, 51, 52, 53, 62, 63, 64, 65, 66, 19, 98} & m
     ):
         raise bad("p", "G2 G3 G4 G10 G64 G5 G5.2 G76 G82 G86 G88 G89 or M50-M53 M62-M66")
     if "q" in v and not (
-        motion in (50, 730, 760, 830) or g0 == 100 or g.get(13) == 640 or {19, 61, 66, 67, 68} & m
+        motion in (50, 730, 760, 830)
+        or lathe
+        or g0 == 100
+        or g.get(13) == 640
+        or {19, 61, 66, 67, 68} & m
     ):
         raise bad("q", "G5, G10, G64, G73, G76, G83, M19, M61, M66, M67 or M68")
-    if "r" in v and not (motion in (20, 30, 760) or cycle or g0 == 100 or 19 in m):
+    if "r" in v and not (
+        motion in (20, 30, 760) or cycle or (lathe and motion != 700) or g0 == 100 or 19 in m
+    ):
         raise Diagnostic(
             "NGC-R-UNUSED",
             "R word with no G code that uses it",

@@ -29,6 +29,13 @@ for _group, _codes in {
         383,
         384,
         385,
+        700,  # the lathe cycles G70-G72.2 (gcode.ngc.lathe_cycles)
+        710,
+        711,
+        712,
+        720,
+        721,
+        722,
         730,
         740,
         760,

@@ -3,7 +3,9 @@
 Only the last comment of a line is kept (LinuxCNC's block holds one comment). ``MSG``
 becomes ``MESSAGE`` with the text after the comma; ``DEBUG`` too, with ``#n`` and
 ``#<name>`` replaced by their values (``%f``, a value within 1e-6 of zero as ``0.000000`` as
-LinuxCNC's ``convert_param_comment`` prints it, or ``######`` when undefined); ``PRINT`` and
+LinuxCNC's ``convert_param_comment`` prints it, or ``######`` when undefined), while parameter
+5599 is positive (LinuxCNC's DEBUG flag, ``DEBUG_LEVEL_FLAG``; the RS274/NGC interpreter
+starts it at 1); ``PRINT`` and
 ``LOG*`` go to the operator's terminal or a log file and give no canonical command; any
 other comment is a ``COMMENT``.
 """
@@ -17,6 +19,7 @@ from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 
 _PARAM_RE = re.compile(r"#(?:<([^>]*)>|(\d+))")
+DEBUG_FLAG = 5599  # (DEBUG,) comments print only while this parameter is positive
 _SILENT = ("print,", "logopen,", "logappend,", "logclose", "log,", "probeopen", "probeclose")
 
 
@@ -47,6 +50,8 @@ def comment_commands(text: str, params: Parameters, loc: Location) -> list[canon
     if head.startswith("msg,"):
         return [canon.Message(text.lstrip()[4:], source=loc)]
     if head.startswith("debug,"):
+        if params.values[DEBUG_FLAG] <= 0.0:
+            return []
         return [canon.Message(_substitute(text.lstrip()[6:], params, loc), source=loc)]
     if head.startswith(_SILENT):
         return []

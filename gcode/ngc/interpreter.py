@@ -23,7 +23,7 @@ from gcode.core.blocks import Assignment, check_letter_uses, evaluate_block, is_
 from gcode.core.codes import Words
 from gcode.core.lexer import Block
 from gcode.core.loopguard import LoopGuard
-from gcode.core.messages import comment_commands
+from gcode.core.messages import DEBUG_FLAG, comment_commands
 from gcode.core.program import ProgramFile
 from gcode.core.state import G80, INVERSE_TIME, ControlCode, FeedCode, SavedModes
 from gcode.ngc import mcodes, modes, motion, offsets
@@ -98,6 +98,7 @@ class Interpreter(NgcContext):
         self.params.predefined = self._named
         self.params.dynamic = self._numbered
         offsets.init_offsets(self)
+        self.params.values[DEBUG_FLAG] = 1.0  # volatile: rs274 sets it after the .var file
 
     def _named(self, name: str) -> float | None:
         return named_parameter(self, name)

@@ -1,6 +1,7 @@
 """Motion blocks: G0 G1 G2 G3 (centre and radius format, helices, P turns, three planes),
 G4, G5/G5.1 splines and G5.2/G5.3 NURBS as rs274 emits them, G33 and G33.1, G38.2-G38.5
-probing, and the dispatch to canned cycles (:mod:`gcode.ngc.cycles`) and cutter compensation
+probing, and the dispatch to canned cycles (:mod:`gcode.ngc.cycles`), LinuxCNC's lathe cycles
+G70-G72 (:mod:`gcode.ngc.lathe_cycles`) and cutter compensation
 (:mod:`gcode.ngc.comp.cutter_comp`). Checks and messages follow LinuxCNC ``convert_motion`` and
 ``convert_arc``; arcs map to ``ARC_FEED`` as NISTIR 5970 §3.6.1 defines it (XZ plane:
 first axis Z, second X).
@@ -28,6 +29,7 @@ from gcode.ngc.comp.cutter_comp import CutterCompensator
 from gcode.ngc.comp.keep import CompRegister, KeptCompensation
 from gcode.ngc.context import NgcContext
 from gcode.ngc.cycles import canned_cycle
+from gcode.ngc.lathe_cycles import LATHE_CYCLES, lathe_cycle
 from gcode.ngc.threading import threading_cycle
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
@@ -225,6 +227,8 @@ def execute_motion(ctx: NgcContext, w: Words, code: int | None) -> None:
         spline(ctx, w, code)
     elif code in (52, 53):
         nurbs(ctx, w, code)
+    elif code in LATHE_CYCLES:
+        lathe_cycle(ctx, w, code, execute_motion)
     else:
         raise Diagnostic("NGC-UNSUPPORTED-MOTION", f"{_g(code)} is not supported", loc)
 

@@ -102,8 +102,10 @@ class Flow:
             f.close()
 
     # ------------------------------------------------------------------ reading
-    def next_block(self) -> Block | None:
-        """The next line to execute (O-word lines are handled here), None at the end."""
+    def next_block(self, floor: int = 0) -> Block | None:
+        """The next line to execute (O-word lines are handled here), None at the end, or
+        once an O-word returns below call level ``floor`` (a lathe cycle reading its
+        profile subroutine stops there)."""
         while True:
             f = self.file
             f.caching = bool(self.controls or self.calls)
@@ -130,9 +132,10 @@ class Flow:
             if block.oword is not None:
                 if not block.oword.keyword:  # a bare program number "O123": ignored
                     continue
-                if block.comments:
-                    self.host.execute_line(Block(block.line, block.text, comments=block.comments))
+                # rs274 2.9 runs no comment of an O-word line: (MSG,...) there prints nothing
                 self.oword(block)
+                if self.call_level < floor:
+                    return None
                 continue
             return block
 
@@ -238,7 +241,10 @@ class Flow:
         self._leave(block, ow, loc)
 
     def _kw_call(self, block: Block, ow: OWord, name: str, loc: Location) -> None:
-        args = [evaluate(a, self.host.params, loc) for a in ow.args]
+        self.call(name, [evaluate(a, self.host.params, loc) for a in ow.args], loc)
+
+    def call(self, name: str, args: list[float], loc: Location) -> None:
+        """Enter subroutine ``name`` with ``args`` (``o<name> call``); its lines come next."""
         if len(self.calls) >= MAX_CALL_DEPTH:
             raise Diagnostic("NGC-OWORD-DEPTH", "too many nested subroutine calls", loc)
         back = self.file.tell()
