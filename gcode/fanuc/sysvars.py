@@ -1,10 +1,16 @@
 """System variables of custom macro B that a shop program uses (Fanuc 0i-MF manual,
-"System variables"): ``#3000`` alarm, ``#3006`` stop with message, ``#3001``/``#3002``
-clocks, ``#4001``-``#4022`` modal G codes, ``#4107``-``#4120`` modal D F H M N O S T,
-``#5001``-``#5006`` block end position, ``#5021``-``#5026`` machine position,
-``#5041``-``#5046`` current position, ``#5201``-``#5326`` work offsets (``#5221`` + 20 (n - 1)
-for G54 + n - 1), ``#2001``-``#2400`` and ``#10001``-``#13400`` tool offsets (memory C:
-length wear, length geometry, radius wear, radius geometry).
+"System variables"): ``#1000``-``#1035`` interface input signals (the PLC's: read as
+0, no signal), ``#1100``-``#1135`` output signals (kept, no effect), ``#3000`` alarm,
+``#3006`` stop with message, ``#3001``/``#3002`` clocks, ``#3011``/``#3012`` date and time
+(0), ``#4001``-``#4030`` modal G codes, ``#4102``-``#4130`` modal B D E F H M N O S T P
+(``#4201``-``#4330`` the same for the block being run), ``#5001``-``#5006`` block end
+position, ``#5021``-``#5026`` machine position, ``#5041``-``#5046`` current position,
+``#5061``-``#5066`` skip (G31) position, ``#5081``-``#5086`` tool length offset,
+``#5101``-``#5106`` servo deviation (0), ``#5201``-``#5326`` work offsets (``#5221`` + 20
+(n - 1) for G54 + n - 1), ``#2001``-``#2400`` and ``#10001``-``#13400`` tool offsets (memory
+C: length wear, length geometry, radius wear, radius geometry). Haas (mill and lathe
+operator's manuals, "Macros"): ``#3026`` tool in the spindle, ``#5401``-``#6000`` tool
+timers, tool life and load monitor values (0: new tools, no load).
 """
 
 from __future__ import annotations
@@ -45,24 +51,32 @@ class SystemVariables:
 
     def __init__(self, reader: RunView) -> None:
         self.r = reader
+        self.outputs: dict[int, float | None] = {}  # #1100-#1135 interface output signals
 
     def read(self, i: int, loc: Location) -> float | None:
         ex = self.r.ex
         s = ex.ip.s
         if i in (3001, 3002, 3011, 3012, 3901, 3902):
             return 0.0
-        if 4001 <= i <= 4022 or 4201 <= i <= 4222:
+        if 1000 <= i <= 1035:
+            return 0.0
+        if 1100 <= i <= 1135:
+            return self.outputs.get(i, 0.0)
+        if 4001 <= i <= 4030 or 4201 <= i <= 4230:
             return self._modal(i % 200 if i > 4200 else i - 4000)
-        if i in (4109, 4309):
-            return s.feed_rate
-        if i in (4119, 4319):
-            return s.speed
-        if i in (4120, 4320):
-            return float(s.current_tool)
-        if i in (4114, 4314):
-            return float(self.r.current_seq or 0)
-        if i in (4115, 4315):
-            return float(self.r.current_program)
+        if 4101 <= i <= 4130 or 4301 <= i <= 4330:
+            return self._modal_word(i % 100)
+        if 5061 <= i <= 5066:
+            return ex.ip.params.values.get(i, 0.0)
+        if 5081 <= i <= 5086:
+            return s.tool_offset[i - 5081]
+        if 5101 <= i <= 5106:
+            return 0.0
+        if self.r.ex.fl.haas_g_codes:
+            if i == 3026:
+                return float(s.current_tool)
+            if 5401 <= i <= 6000:
+                return 0.0
         if 5001 <= i <= 5006:
             pos = ex.tf.inverse(s.pos[:3]) + list(s.pos[3:])
             return pos[i - 5001]
@@ -97,6 +111,9 @@ class SystemVariables:
             ip.emit(canon.ProgramStop(source=loc))
             return
         if i in (3001, 3002, 3003, 3004, 3901, 3902, 3011, 3012):
+            return
+        if 1100 <= i <= 1135:
+            self.outputs[i] = value
             return
         if 5221 <= i <= 5326:
             n, k = divmod(i - 5221, 20)
@@ -151,6 +168,28 @@ class SystemVariables:
         if group == 17:
             return 16.0 if ex.tf.polar else 15.0
         return 0.0
+
+    def _modal_word(self, k: int) -> float | None:
+        """#4102-#4130: the modal B D E F H M N O S T values and the G54.1 P number."""
+        ex = self.r.ex
+        s = ex.ip.s
+        if k == 7:
+            return ex.comp_d
+        if k == 9:
+            return s.feed_rate
+        if k == 11:
+            return ex.modal_h
+        if k == 14:
+            return float(self.r.current_seq or 0)
+        if k == 15:
+            return float(self.r.current_program)
+        if k == 19:
+            return s.speed
+        if k == 20:
+            return float(s.current_tool)
+        if k == 30:
+            return float(ex.extended_selected or 0)
+        return None
 
     def _which(self, i: int) -> tuple[dict[int, list[float]], int, int]:
         ex = self.r.ex
