@@ -18,6 +18,7 @@ from gcode.fanuc import haas_lathe_m, offsets
 from gcode.fanuc.executor import _M_PASS, Executor, machine_events, ngc_m_code
 from gcode.fanuc.state import Action
 from gcode.fanuc.turning.cycles import ProfileStep, cycle_moves
+from gcode.fanuc.turning.types import DEFAULT_SETTINGS
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.ir.canon import Plane, Units
@@ -217,6 +218,9 @@ class Lathe:
         name = _MULTI[code]
         inch = self.ex.ip.s.units is Units.INCHES
         inc = 0.0001 if inch else 0.001
+        if self.ex.fl.haas_lathe and code == 760 and ("K" in raw or "D" in raw):
+            params = self._haas_thread(v, raw, loc)
+            return name, params, [], None
         params = dict(v)
         for letter in "PQ":
             if letter in raw and type(raw[letter]) is int:
@@ -267,6 +271,36 @@ class Lathe:
         if "D" in raw:
             first["1W" if code == 720 else "1U"] = _length(raw["D"], self.ex.ip.s.units)
         return first
+
+    def _haas_thread(
+        self, v: dict[str, float], raw: dict[str, int | float], loc: Location
+    ) -> dict[str, float]:
+        """Haas's one-block ``G76 X(U) Z(W) K D F [I A P Q]`` (lathe operator's manual,
+        "G76 Threading Cycle, Multiple Pass") as the 0i-TF two-block words: K the thread
+        height (P), D the first pass depth (Q), I the taper (R), all radius values; A the
+        tool nose angle in the first-block P (0 when omitted: radial infeed), with the
+        finishing passes and chamfer of ``CycleSettings``; P1 (single edge, constant
+        cutting amount, the 0i-TF's way) is the only cutting method read; Q, the thread
+        start angle, is a spindle phase the IR does not carry."""
+        units = self.ex.ip.s.units
+        method = raw.get("P", 1)
+        if float(method) != 1.0:
+            raise Diagnostic(
+                "HAAS-CYCLE-WORD",
+                f"G76 P{method:g}: only cutting method P1 (single edge, constant amount) is read",
+                loc,
+            )
+        if "K" not in raw or "D" not in raw:
+            raise Diagnostic("HAAS-CYCLE-WORD", "G76 needs both K (height) and D (first cut)", loc)
+        params = {k: val for k, val in v.items() if k not in "KDIAPQ"}
+        params["P"] = _length(raw["K"], units)
+        params["Q"] = _length(raw["D"], units)
+        if "I" in raw:
+            params["R"] = _length(raw["I"], units)
+        angle = float(raw.get("A", 0))
+        cfg = DEFAULT_SETTINGS
+        params["1P"] = float(cfg.thread_finish_passes * 10000 + cfg.thread_chamfer * 100 + angle)
+        return {k: val for k, val in params.items() if k not in "ST"}
 
     @staticmethod
     def _first(code: int, v: dict[str, float]) -> bool:

@@ -40,26 +40,10 @@ KEYWORDS = (
 UNSUPPORTED = frozenset(
     [
         "SUPA",
-        "DIAMON",
-        "DIAMOF",
-        "DIAM90",
         "TRAORI",
-        "TRAFOOF",
         "TRANSMIT",
         "TRACYL",
         "TRAANG",
-        "CFC",
-        "CFTCP",
-        "CFIN",
-        "SOFT",
-        "BRISK",
-        "DRIVE",
-        "FFWON",
-        "FFWOF",
-        "COMPON",
-        "COMPCURV",
-        "COMPCAD",
-        "COMPOF",
         "CT",
         "ASPLINE",
         "BSPLINE",
@@ -67,7 +51,6 @@ UNSUPPORTED = frozenset(
         "POLY",
         "OFFN",
         "WORKPIECE",
-        "STOPRE",
         "SETMS",
         "SPCON",
         "SPCOF",
@@ -75,12 +58,6 @@ UNSUPPORTED = frozenset(
         "CALL",
         "PCALL",
         "EXTCALL",
-        "ORIWKS",
-        "ORIMKS",
-        "BRISKA",
-        "SOFTA",
-        "CPRECON",
-        "CPRECOF",
         "G153",
         "CHF",
         "CHR",
@@ -93,7 +70,6 @@ UNSUPPORTED = frozenset(
         "PRINT",
         "WRITE",
         "READ",
-        "SETAL",
         "DELETE",
         "EXECSTRING",
         "EXECTAB",
@@ -107,6 +83,20 @@ UNSUPPORTED = frozenset(
         "GOTOS",
     ]
 )
+#: 840D instructions that change how the path is run (jerk and acceleration profiles,
+#: feedforward, compressor, look-ahead stop, feed correction under radius compensation,
+#: orientation interpolation without a transformation, switching a transformation off while
+#: none is on) and not where it goes: read and ignored, the IR has no such setting
+#: (fundamentals and job planning: SOFT/BRISK/DRIVE, FFWON, COMPCAD, STOPRE, CFC, FNORM,
+#: UPATH/SPATH, DYNNORM..., ORIWKS, TRAFOOF)
+NEUTRAL = frozenset(
+    {"SOFT", "BRISK", "DRIVE", "SOFTA", "BRISKA", "FFWON", "FFWOF", "COMPON", "COMPCURV"}
+    | {"COMPCAD", "COMPOF", "STOPRE", "CFC", "CFTCP", "CFIN", "FNORM", "UPATH", "SPATH"}
+    | {"DYNNORM", "DYNPOS", "DYNROUGH", "DYNSEMIFIN", "DYNFINISH", "ORIWKS", "ORIMKS"}
+    | {"ORIAXES", "ORIVECT", "TRAFOOF", "CPRECON", "CPRECOF"}
+)
+#: diameter programming of the transverse axis X (fundamentals, "Dimensions for turning")
+DIAMETER = frozenset({"DIAMON", "DIAMOF", "DIAM90"})
 #: axis addresses of 840D machines with more axes (W: a second Z, e.g. a quill) that the
 #: machine profile (kernel.machine: X Y Z A B C) and the IR do not have
 ABSENT_AXES = frozenset({"U", "V", "W"})
@@ -271,9 +261,15 @@ class _Statement:
                 b.kind, b.args = "CYCLE", (head, self._arguments(head))
                 self.end()
                 return
+            if head == "SETAL" and self.i + 1 < len(self.t) and _op(self.t[self.i + 1], "("):
+                self.i += 1
+                b.kind, b.args = "ALARM", self._arguments(head)
+                self.end()
+                return
             if head in UNSUPPORTED or head.startswith("$"):
                 raise self.error("SIEM-UNSUPPORTED", f"{head} is not supported by this reader")
-            if head not in EXTENDED and head not in LETTERS and head not in KEYWORDS | {"CIP"}:
+            known = EXTENDED | NEUTRAL | DIAMETER | LETTERS | KEYWORDS | {"CIP"}
+            if head not in known:
                 self.i += 1
                 self._call(head)
                 return
@@ -580,6 +576,13 @@ class _Statement:
                 items.append(Word("CIP", ("num", 1.0), tok.col))
                 self.i += 1
                 continue
+            if not self._assignment_ahead() and name in NEUTRAL:
+                self.i += 1
+                continue
+            if not self._assignment_ahead() and name in DIAMETER:
+                items.append(Word(name, ("num", 1.0), tok.col))
+                self.i += 1
+                continue
             if not self._assignment_ahead():
                 if name in UNSUPPORTED:
                     raise self.error("SIEM-UNSUPPORTED", f"{name} is not supported by this reader")
@@ -601,10 +604,11 @@ class _Statement:
     def _value(self, address: str, col: int) -> Word:
         mode = None
         if not self.done() and self.t[self.i].kind == STR:
-            raise self.error(
-                "SIEM-UNSUPPORTED",
-                f'{address}="...": names (tool management) are not supported; use numbers',
-            )
+            if address != "T":
+                raise self.error("SIEM-WORD", f'{address}="...": a name where a number is needed')
+            name = self.t[self.i].text  # T="NAME": a tool of the tool management, by name
+            self.i += 1
+            return Word(address, ("tool", name), col)
         tok = self.t[self.i] if not self.done() else None
         nxt = self.t[self.i + 1] if self.i + 1 < len(self.t) else None
         if tok is not None and tok.text in AXIS_MODES and nxt is not None and _op(nxt, "("):

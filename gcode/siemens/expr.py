@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from gcode.siemens.lexer import NAME, NUM, OP, WORD, Token
+from gcode.siemens.lexer import NAME, NUM, OP, STR, WORD, Token
 from kernel.diagnostics import Diagnostic, Location
 
 #: deepest nesting of brackets and unary operators in one expression
@@ -72,12 +72,22 @@ FUNCTIONS: dict[str, tuple[int, Callable[..., float]]] = {
 Node = tuple
 
 
+#: reads system variable ``$NAME`` (``$NAME[index]``, index an axis name or a number)
+SystemReader = Callable[[str, "str | None", Location], float]
+
+
 class Variables:
     """R parameters (global to the run) and the DEF variables of one program level."""
 
-    def __init__(self, r: dict[int, float]) -> None:
+    def __init__(self, r: dict[int, float], system: SystemReader | None = None) -> None:
         self.r = r
         self.local: dict[str, tuple[str, float]] = {}  # name -> (type, value)
+        self.system = system  # reads ``$`` system variables (the run's machine)
+
+    def system_get(self, name: str, index: str | None, loc: Location) -> float:
+        if self.system is None:
+            raise Diagnostic("SIEM-UNSUPPORTED", f"system variable {name} is not supported", loc)
+        return self.system(name, index, loc)
 
     def get(self, name: str, loc: Location) -> float:
         found = self.local.get(name)
@@ -199,9 +209,7 @@ class Parser:
                 self.expect("]")
                 return ("r", index, loc)
             if name.startswith("$"):
-                raise Diagnostic(
-                    "SIEM-UNSUPPORTED", f"system variable {name} is not supported", loc
-                )
+                return self.system_variable(name, loc)
             if name in ("TRUE", "FALSE"):
                 return ("num", 1.0 if name == "TRUE" else 0.0)
             if name in FUNCTIONS:
@@ -209,8 +217,23 @@ class Parser:
             if name[0] == "R" and name[1:].isdigit():
                 return ("num_r", r_index(float(name[1:]), loc), loc)
             return ("var", name, loc)
+        if tok.kind == STR:  # a string argument of a cycle (its tool, its mode)
+            return ("str", tok.text, loc)
         text = tok.text if tok is not None else "end of block"
         raise Diagnostic("SIEM-SYNTAX", f"unexpected {text!r} in expression", loc)
+
+    def system_variable(self, name: str, loc: Location) -> Node:
+        """``$NAME`` or ``$NAME[AXIS]`` / ``$NAME[n]`` (the index: an axis name or a number)."""
+        index: str | None = None
+        if self._is("["):
+            self.pos += 1
+            tok = self.peek()
+            if tok is None or tok.kind not in (NAME, WORD, NUM):
+                raise Diagnostic("SIEM-SYNTAX", f"index expected after {name}[", loc)
+            index = tok.text
+            self.pos += 1
+            self.expect("]")
+        return ("sys", name, index, loc)
 
     def call(self, name: str, loc: Location) -> Node:
         arity, _ = FUNCTIONS[name]
@@ -246,6 +269,10 @@ def evaluate(node: Node, v: Variables) -> float:
         return v.get(node[1], node[2])
     if kind == "r":
         return v.r_get(evaluate(node[1], v), node[2])
+    if kind == "sys":
+        return v.system_get(node[1], node[2], node[3])
+    if kind == "str":
+        raise Diagnostic("SIEM-SYNTAX", f'string "{node[1]}" where a number is needed', node[2])
     name, args, loc = node[1], node[2], node[3]
     values = [evaluate(a, v) for a in args]
     try:

@@ -83,7 +83,7 @@ class Level:
 class Runner:
     def __init__(self, ex: Executor, main: Program) -> None:
         self.ex = ex
-        self.levels = [Level(main, Variables(ex.r))]
+        self.levels = [Level(main, Variables(ex.r, ex.system_variable))]
         self.programs: dict[str, Program] = {main.name: main}
         self.loops = 0
         opts = ex.options
@@ -200,7 +200,7 @@ class Runner:
         self.levels.append(callee)
 
     def _bind(self, bound: tuple[tuple[str, str, float], ...]) -> Variables:
-        scope = Variables(self.ex.r)
+        scope = Variables(self.ex.r, self.ex.system_variable)
         for kind, pname, value in bound:
             scope.define(kind, pname, value, self.ex.loc)
         return scope
@@ -274,6 +274,11 @@ class Runner:
                 ex.emit(canon.Message(block.args[0], source=ex.loc))
         elif kind == "FRAME":
             self.frame(level, block)
+        elif kind == "ALARM":
+            number = evaluate(block.args[0], scope) if block.args and block.args[0] else 0.0
+            raise Diagnostic(
+                "SIEM-ALARM", f"the program sets alarm {number:g} (SETAL) and stops", ex.loc
+            )
         elif kind == "CYCLE":
             run_cycle(ex, block.args[0], block.args[1], scope)
         elif kind == "MCALL":

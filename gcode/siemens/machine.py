@@ -40,6 +40,7 @@ class Machine:
         self.out: list[canon.Command] = []
         self.loc = Location()
         self.r: dict[int, float] = {}
+        self.tool_names: dict[str, int] = {}  # T="NAME" -> the IR's tool number
 
     def emit(self, cmd: canon.Command) -> None:
         """Append one IR command to the block's output."""
