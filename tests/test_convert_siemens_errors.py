@@ -70,7 +70,7 @@ def _error(text: str, options: InterpreterOptions | None = None) -> Diagnostic:
         ("G1 F10\nCIP X10 Y0 I1=5 J1=5 K1=3\n", "SIEM-ARC-CIP", 2, 1),
         ("G1 X1 I1=5 F10\n", "SIEM-ARC-WORDS", 1, 1),
         ('F="FAST" G1 X5\n', "SIEM-WORD", 1, 3),
-        ('G1 X5 F10\nG0 X=$MC_DIAMETER_AX_DEF\n', "SIEM-UNSUPPORTED", 2, 6),
+        ("G1 X5 F10\nG0 X=$MC_DIAMETER_AX_DEF\n", "SIEM-UNSUPPORTED", 2, 6),
         ("DEF REAL TABLE[5]\n", "SIEM-UNSUPPORTED", 1, 15),
         ("R1=" + "(" * 500 + "1" + ")" * 500 + "\n", "SIEM-SYNTAX", 1, 104),
         ("R1=" + "+".join(["1"] * 600) + "\n", "SIEM-SYNTAX", 1, 1005),
