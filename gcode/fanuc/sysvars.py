@@ -67,7 +67,7 @@ class SystemVariables:
         if 4101 <= i <= 4130 or 4301 <= i <= 4330:
             return self._modal_word(i % 100)
         if 5061 <= i <= 5066:
-            return ex.ip.params.values.get(i, 0.0)
+            return ex.ip.params.values[i]
         if 5081 <= i <= 5086:
             return s.tool_offset[i - 5081]
         if 5101 <= i <= 5106:

@@ -66,7 +66,7 @@ def setting_cycle(ex: Machine, name: str, args: tuple, scope: Variables) -> bool
         mode = canon.MotionMode.CONTINUOUS if tol > 0 else canon.MotionMode.EXACT_STOP
         ex.emit(canon.SetMotionControlMode(mode, tol, source=ex.loc))
         return True
-    if name == "CYCLE800" and args and len(args) < 13:
+    if name == "CYCLE800" and any(a is not None for a in args) and len(args) < 13:
         return False  # neither "swivel off" nor a swivel stating its offsets and angles
     if name == "CYCLE800":
         swivel = [_number(node, scope) for node in args[4:13]]

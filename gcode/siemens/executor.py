@@ -151,8 +151,10 @@ class Executor(Machine):
         if name == "$P_UIFRNUM":
             return float(s.work)
         if name in ("$AA_IW", "$P_EP", "$AA_IM", "$AA_IB") and axis >= 0:
-            work = motion.program_position(self)[axis] if axis < 3 else s.pos[axis]
-            return work + s.g5x[axis] if name == "$AA_IM" else work
+            if name != "$AA_IM":  # the work (program) position
+                return motion.program_position(self)[axis] if axis < 3 else s.pos[axis]
+            shift = s.frame.t[axis] if axis < 3 else 0.0  # the frame's translation
+            return s.pos[axis] + shift + s.g5x[axis]  # the machine position
         what = f"{name}[{index}]" if index is not None else name
         raise Diagnostic("SIEM-UNSUPPORTED", f"system variable {what} is not supported", loc)
 

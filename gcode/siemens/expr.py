@@ -26,6 +26,11 @@ _BINARY = {
     "OR": 1,
     "XOR": 2,
     "AND": 3,
+    # bit operators on whole numbers (job planning, "Comparison and logical operations"):
+    # above the relations, below + and -, B_AND binding tighter than B_XOR than B_OR
+    "B_OR": 5.25,
+    "B_XOR": 5.5,
+    "B_AND": 5.75,
     "==": 5,
     "<>": 5,
     "<": 5,
@@ -149,7 +154,7 @@ class Parser:
             raise Diagnostic("SIEM-SYNTAX", f"expected {text!r}", self.loc())
         self.pos += 1
 
-    def expression(self, level: int = 0) -> Node:
+    def expression(self, level: float = 0) -> Node:
         left = self.unary()
         while True:
             tok = self.peek()
@@ -186,6 +191,10 @@ class Parser:
         if tok.kind == NAME and tok.text == "NOT":
             self.pos += 1
             return ("not", self.unary())
+        if tok.kind == NAME and tok.text == "B_NOT":
+            loc = self.loc()
+            self.pos += 1
+            return ("bin", "B_XOR", ("num", -1.0), self.unary(), loc)  # ~x = x XOR all ones
         return self.primary(tok)
 
     def primary(self, tok: Token) -> Node:
@@ -307,6 +316,11 @@ def _binary(op: str, a: float, b: float, loc: Location) -> float:
         r = float(a <= b)
     elif op == ">=":
         r = float(a >= b)
+    elif op in ("B_AND", "B_OR", "B_XOR"):
+        if a != int(a) or b != int(b):
+            raise Diagnostic("SIEM-MATH", f"{op} takes whole numbers ({a:g}, {b:g})", loc)
+        x, y = int(a), int(b)
+        r = float(x & y if op == "B_AND" else x | y if op == "B_OR" else x ^ y)
     elif op == "AND":
         r = float(bool(a) and bool(b))
     elif op == "OR":
