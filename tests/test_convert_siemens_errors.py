@@ -63,7 +63,7 @@ def _error(text: str, options: InterpreterOptions | None = None) -> Diagnostic:
         ("MEAS=1 G0 X5\n", "SIEM-PROBE", 1, 1),
         ("IF R1==0 X5\n", "SIEM-SYNTAX", 1, 10),
         ("G1 X5 F10 GOTOF END\n", "SIEM-BLOCK", 1, 11),
-        ("SUPA X5\n", "SIEM-UNSUPPORTED", 1, 1),
+        ("ROT RPL=30\nSUPA X5\n", "SIEM-UNSUPPORTED", 2, 1),
         ("G1 X1 F10 RND=2\n", "SIEM-UNSUPPORTED", 1, 11),
         ("G1 X1 P3 F10\n", "SIEM-WORD", 1, 7),
         ("G1 F10\nCIP X10 Y0 I1=5 J1=0\n", "SIEM-ARC-CIP", 2, 1),

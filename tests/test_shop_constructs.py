@@ -172,3 +172,17 @@ def test_siemens_setal_stops_the_program_where_it_runs() -> None:
     text = "R1=0\nIF R1==0 GOTOF SKIP\nSETAL(65000)\nSKIP:\nG0 X1\nSETAL(61000)\nM30\n"
     err = _error(text, "siemens840d")
     assert (err.code, err.location.line) == ("SIEM-ALARM", 6) and "61000" in err.message
+
+
+def test_siemens_supa_and_g53_positions_are_machine_positions() -> None:
+    # G54 holds nothing here; TRANS Z100: machine Z0 is program Z-100; G53 X-5 is X-5;
+    # an incremental SUPA move stays an increment
+    text = "G0 X10 Y10 Z5\nTRANS Z100\nG0 SUPA Z0 D0\nG53 X-5\nG153 Y=IC(2)\nX1\nM30\n"
+    assert _ends(text, "siemens840d")[1:] == [
+        (10.0, 10.0, -100.0),
+        (-5.0, 10.0, -100.0),
+        (-5.0, 12.0, -100.0),
+        (1.0, 12.0, -100.0),
+    ]
+    err = _error("ROT RPL=30\nG0 SUPA Z0\n", "siemens840d")
+    assert (err.code, err.location.line) == ("SIEM-UNSUPPORTED", 2) and "SUPA" in err.message

@@ -39,7 +39,6 @@ KEYWORDS = (
 #: subprogram names): transformations, path and dynamic modes, splines, calls
 UNSUPPORTED = frozenset(
     [
-        "SUPA",
         "TRAORI",
         "TRANSMIT",
         "TRACYL",
@@ -58,7 +57,6 @@ UNSUPPORTED = frozenset(
         "CALL",
         "PCALL",
         "EXTCALL",
-        "G153",
         "CHF",
         "CHR",
         "RND",
@@ -97,6 +95,8 @@ NEUTRAL = frozenset(
 )
 #: diameter programming of the transverse axis X (fundamentals, "Dimensions for turning")
 DIAMETER = frozenset({"DIAMON", "DIAMOF", "DIAM90"})
+#: the block's positions are machine coordinates (all frames suppressed, non-modal)
+SUPPRESS = frozenset({"SUPA"})
 #: axis addresses of 840D machines with more axes (W: a second Z, e.g. a quill) that the
 #: machine profile (kernel.machine: X Y Z A B C) and the IR do not have
 ABSENT_AXES = frozenset({"U", "V", "W"})
@@ -268,7 +268,7 @@ class _Statement:
                 return
             if head in UNSUPPORTED or head.startswith("$"):
                 raise self.error("SIEM-UNSUPPORTED", f"{head} is not supported by this reader")
-            known = EXTENDED | NEUTRAL | DIAMETER | LETTERS | KEYWORDS | {"CIP"}
+            known = EXTENDED | NEUTRAL | DIAMETER | SUPPRESS | LETTERS | KEYWORDS | {"CIP"}
             if head not in known:
                 self.i += 1
                 self._call(head)
@@ -579,7 +579,7 @@ class _Statement:
             if not self._assignment_ahead() and name in NEUTRAL:
                 self.i += 1
                 continue
-            if not self._assignment_ahead() and name in DIAMETER:
+            if not self._assignment_ahead() and name in DIAMETER | SUPPRESS:
                 items.append(Word(name, ("num", 1.0), tok.col))
                 self.i += 1
                 continue

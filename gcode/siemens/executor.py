@@ -13,7 +13,7 @@ from gcode.core import linuxcnc as lc
 from gcode.core.machine_functions import machine_function
 from gcode.core.register_marks import ToolLengthRegister
 from gcode.siemens import motion
-from gcode.siemens.blocks import DIAMETER, Assign, Block, Word
+from gcode.siemens.blocks import DIAMETER, SUPPRESS, Assign, Block, Word
 from gcode.siemens.cycles import run_cycle
 from gcode.siemens.expr import Variables, evaluate
 from gcode.siemens.machine import Machine, Values
@@ -35,6 +35,7 @@ G_GROUPS: dict[int, int] = {
     450: 18, 451: 18,
     70: 13, 71: 13, 700: 13, 710: 13,
     90: 14, 91: 14,
+    53: 9, 153: 9,
     93: 15, 94: 15, 95: 15,
     96: 29, 97: 29,
 }  # fmt: skip
@@ -45,6 +46,7 @@ ADDRESSES = frozenset(
     {"X", "Y", "Z", "A", "B", "C", "I", "J", "K", "F", "S", "T", "D"}
     | {"CR", "AR", "TURN", "SPOS", "LIMS", "ADIS", "MEAS", "I1", "J1", "K1"}
     | DIAMETER
+    | SUPPRESS
 )
 #: system variables a part program reads (job planning and the system variables list):
 #: the active tool and edge, feed and speed, positions per axis, the active settable frame;
@@ -189,6 +191,9 @@ class Executor(Machine):
             vals.m.append(code)
             vals.cols[f"M{code}"] = col  # an M code outside M_CODES: a machine function
             return
+        if a in SUPPRESS:
+            vals.g[9] = 53
+            return
         if a in DIAMETER:
             vals.g[16] = {"DIAMOF": 0, "DIAMON": 1, "DIAM90": 90}[a]
             return
@@ -268,6 +273,8 @@ class Executor(Machine):
             s.diameter = g[16]
         if s.diameter:
             self._diameters(vals)
+        if 9 in g:
+            self._machine_positions(vals)
         if 1 in g:
             s.motion = g[1]
         moved = motion.execute(self, vals, g.get(11) == 9)
@@ -443,6 +450,26 @@ class Executor(Machine):
                 absolute = mode == "AC" or (mode is None and s.absolute)
                 if s.diameter == 1 or absolute:
                     vals.v[letter] /= 2.0
+
+    def _machine_positions(self, vals: Values) -> None:
+        """G53, G153, SUPA (non-modal): the block's absolute X Y Z are machine positions of
+        the tool's controlled point, all frames suppressed (fundamentals, "Frame
+        suppression"); the tool offset stays. They become program positions by taking off
+        the work offset and the frame's translation; under a rotated, scaled or mirrored
+        frame the block is refused."""
+        s = self.s
+        if s.frame.linear:
+            raise Diagnostic(
+                "SIEM-UNSUPPORTED",
+                "G53/G153/SUPA under a rotated, scaled or mirrored frame is not read",
+                self.loc,
+            )
+        for k, letter in enumerate("XYZ"):
+            if letter in vals.v:
+                mode = vals.modes.get(letter)
+                if mode == "AC" or (mode is None and s.absolute):
+                    vals.v[letter] -= s.g5x[k] + s.frame.t[k]
+                    vals.modes[letter] = "AC"
 
     def _control(self, code: int, vals: Values) -> None:
         s = self.s
