@@ -186,3 +186,25 @@ def test_siemens_supa_and_g53_positions_are_machine_positions() -> None:
     ]
     err = _error("ROT RPL=30\nG0 SUPA Z0\n", "siemens840d")
     assert (err.code, err.location.line) == ("SIEM-UNSUPPORTED", 2) and "SUPA" in err.message
+
+
+def test_siemens_def_arrays() -> None:
+    # FELD1[10,3]: element [1,0] is the 4th value (9); FELD[2,3,4] all 1 by REP; PT[3] 2.5
+    text = (
+        "DEF REAL FELD1[10,3]=SET(0,,,9,0,1,2,-10,-11,-12,-20)\n"
+        "DEF INT FELD[2,3,4] = REP(1,24), CNT\n"
+        "DEF REAL PT[3]=REP(2.5)\n"
+        "FELD[1,2,3]=FELD1[1,0]*2+FELD[0,0,0]\n"
+        "G0 X=FELD[1,2,3] Y=PT[2] Z=FELD1[3,1]\n"
+        "M30\n"
+    )
+    assert _ends(text, "siemens840d") == [(19.0, 2.5, -20.0)]
+    err = _error("DEF REAL PT[3]\nR1=PT[3]\n", "siemens840d")
+    assert (err.code, err.location.line) == ("SIEM-ARRAY", 2)
+
+
+def test_siemens_axis_dynamic_settings_and_procs_with_display_on() -> None:
+    text = "ACC[X]=50 JERKLIM[Z]=20 VELOLIM[Y]=80\n" + MOVES
+    assert _ends(text, "siemens840d") == _ends(MOVES, "siemens840d")
+    err = _error("ACC[E]=50\n" + MOVES, "siemens840d")
+    assert err.code == "SIEM-AXIS" and "ACC[E]" in err.message

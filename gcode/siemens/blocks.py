@@ -93,6 +93,9 @@ NEUTRAL = frozenset(
     | {"DYNNORM", "DYNPOS", "DYNROUGH", "DYNSEMIFIN", "DYNFINISH", "ORIWKS", "ORIMKS"}
     | {"ORIAXES", "ORIVECT", "TRAFOOF", "CPRECON", "CPRECOF"}
 )
+#: axis-indexed dynamic settings (``ACC[X]=50``: acceleration, jerk and velocity limits in
+#: percent): like the NEUTRAL instructions they change how the path is run, not where
+AXIS_SETTINGS = frozenset({"ACC", "JERKLIM", "VELOLIM", "ACCLIMA", "JERKLIMA", "VELOLIMA"})
 #: diameter programming of the transverse axis X (fundamentals, "Dimensions for turning")
 DIAMETER = frozenset({"DIAMON", "DIAMOF", "DIAM90"})
 #: the block's positions are machine coordinates (all frames suppressed, non-modal)
@@ -268,7 +271,8 @@ class _Statement:
                 return
             if head in UNSUPPORTED or head.startswith("$"):
                 raise self.error("SIEM-UNSUPPORTED", f"{head} is not supported by this reader")
-            known = EXTENDED | NEUTRAL | DIAMETER | SUPPRESS | LETTERS | KEYWORDS | {"CIP"}
+            known = EXTENDED | NEUTRAL | DIAMETER | SUPPRESS | AXIS_SETTINGS | LETTERS
+            known |= KEYWORDS | {"CIP"}
             if head not in known:
                 self.i += 1
                 self._call(head)
@@ -336,17 +340,46 @@ class _Statement:
         while True:
             name = self.name()
             if self.is_op("["):
-                raise self.error("SIEM-UNSUPPORTED", f"array variables ({name}[...])")
-            value: Node | None = None
-            if self.is_op("="):
-                self.i += 1
-                value = self.expr()
-            names.append((name, value))
+                names.append(self._array(name))
+            else:
+                value: Node | None = None
+                if self.is_op("="):
+                    self.i += 1
+                    value = self.expr()
+                names.append((name, value))
             if not self.is_op(","):
                 break
             self.i += 1
         self.end()
         self.b.kind, self.b.args = "DEF", (kind, tuple(names))
+
+    def _array(self, name: str) -> tuple:
+        """``NAME[n, m]`` with ``= SET(a, , c)``, ``= REP(v[, count])`` or ``= v``: (name,
+        dimension nodes, values: ("SET", nodes or None) or ("REP", value, count or None))."""
+        self.i += 1
+        dims = []
+        while True:
+            dims.append(self.expr())
+            if self.is_op("]"):
+                self.i += 1
+                break
+            self.take(",")
+        init: tuple = ("SET", ())
+        if self.is_op("="):
+            self.i += 1
+            head = self.t[self.i].text if not self.done() else ""
+            if head in ("SET", "REP") and self.i + 1 < len(self.t) and _op(self.t[self.i + 1], "("):
+                self.i += 1
+                args = self._arguments(head)
+                if head == "SET":
+                    init = ("SET", args)
+                else:
+                    if not args or args[0] is None or len(args) > 2:
+                        raise self.error("SIEM-SYNTAX", "REP(value[, count]) expected")
+                    init = ("REP", args[0], args[1] if len(args) == 2 else None)
+            else:
+                init = ("REP", self.expr(), None)
+        return (name, tuple(dims), init)
 
     def _proc(self) -> None:
         """``PROC NAME(REAL A, VAR INT B)``: args (name, ((by_reference, type, name), ...))."""
@@ -370,7 +403,7 @@ class _Statement:
                     self.take(",")
             self.i += 1
         while not self.done() and self.t[self.i].kind == NAME:
-            if self.t[self.i].text in ("DISPLOF", "SBLOF", "ACTBLOCNO"):
+            if self.t[self.i].text in ("DISPLOF", "DISPLON", "SBLOF", "SBLON", "ACTBLOCNO"):
                 self.i += 1  # display and single-block attributes: no IR meaning
             elif self.t[self.i].text == "SAVE":
                 raise self.error(
@@ -550,6 +583,15 @@ class _Statement:
             return ("R", index)
         if name[0] == "R" and name[1:].isdigit():
             return ("R", ("num", float(name[1:])))
+        if self.is_op("["):  # an element of a DEF array
+            self.i += 1
+            index = []
+            while True:
+                index.append(self.expr())
+                if self.is_op("]"):
+                    self.i += 1
+                    return ("A", (name, tuple(index)))
+                self.take(",")
         return ("V", name)
 
     # ------------------------------------------------------------------ NC words
@@ -576,6 +618,9 @@ class _Statement:
                 items.append(Word("CIP", ("num", 1.0), tok.col))
                 self.i += 1
                 continue
+            if name in AXIS_SETTINGS and self.i + 1 < len(t) and _op(t[self.i + 1], "["):
+                self._axis_setting(name)
+                continue
             if not self._assignment_ahead() and name in NEUTRAL:
                 self.i += 1
                 continue
@@ -600,6 +645,18 @@ class _Statement:
             target = self._target()
             self.take("=")
             items.append(Assign(target, self.expr(), tok.col))
+
+    def _axis_setting(self, name: str) -> None:
+        """``ACC[X]=50``: read (the value is checked as an expression) and dropped."""
+        self.i += 2
+        tok = self.t[self.i] if not self.done() else None
+        axis = tok.text if tok is not None else ""
+        if axis not in ("X", "Y", "Z", "A", "B", "C", "SPI"):
+            raise self.error("SIEM-AXIS", f"{name}[{axis}]: this machine has no such axis")
+        self.i += 1
+        self.take("]")
+        self.take("=")
+        self.expr()
 
     def _value(self, address: str, col: int) -> Word:
         mode = None

@@ -113,6 +113,9 @@ class Executor(Machine):
                 target = item.target[1]
                 if isinstance(target, str):  # ("V", name)
                     scope.set(target, value, loc)
+                elif item.target[0] == "A":  # ("A", (name, index nodes))
+                    name, index = target
+                    scope.array_set(name, [evaluate(i, scope) for i in index], value, loc)
                 else:  # ("R", index node)
                     scope.r_set(evaluate(target, scope), value, loc)
                 continue

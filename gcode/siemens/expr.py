@@ -20,6 +20,8 @@ MAX_NESTING = 100
 #: most binary operators in one expression (both bounds keep evaluation within Python's
 #: recursion limit)
 MAX_OPERATORS = 500
+#: most elements of one DEF array (the 840D's limit depends on its memory)
+MAX_ARRAY = 100_000
 #: highest R parameter number (the 840D default is R0..R99; machine data raise it)
 MAX_R = 999
 _BINARY = {
@@ -87,6 +89,8 @@ class Variables:
     def __init__(self, r: dict[int, float], system: SystemReader | None = None) -> None:
         self.r = r
         self.local: dict[str, tuple[str, float]] = {}  # name -> (type, value)
+        #: DEF arrays: name -> (type, dimensions, values in row-major order)
+        self.arrays: dict[str, tuple[str, tuple[int, ...], list[float]]] = {}
         self.system = system  # reads ``$`` system variables (the run's machine)
 
     def system_get(self, name: str, index: str | None, loc: Location) -> float:
@@ -108,6 +112,44 @@ class Variables:
 
     def define(self, kind: str, name: str, value: float, loc: Location) -> None:
         self.local[name] = (kind, store(kind, value, loc))
+
+    def define_array(
+        self, kind: str, name: str, dims: tuple[int, ...], values: list[float], loc: Location
+    ) -> None:
+        """``DEF REAL NAME[n, m] = SET(...)``: the array, 0 where no value is given."""
+        size = math.prod(dims)
+        if any(d < 1 for d in dims) or size > MAX_ARRAY:
+            raise Diagnostic(
+                "SIEM-ARRAY", f"{name}{list(dims)}: dimensions 1..{MAX_ARRAY} elements", loc
+            )
+        if len(values) > size:
+            raise Diagnostic("SIEM-ARRAY", f"{name}: more values than its {size} elements", loc)
+        data = [store(kind, v, loc) for v in values] + [0.0] * (size - len(values))
+        self.arrays[name] = (kind, dims, data)
+        self.local.pop(name, None)
+
+    def _element(self, name: str, index: list[float], loc: Location) -> int:
+        found = self.arrays.get(name)
+        if found is None:
+            raise Diagnostic("SIEM-VARIABLE", f"array {name} is not defined", loc)
+        dims = found[1]
+        if len(index) != len(dims):
+            raise Diagnostic("SIEM-ARRAY", f"{name} has {len(dims)} index(es)", loc)
+        flat = 0
+        for i, d in zip(index, dims, strict=True):
+            k = round(i)
+            if abs(i - k) > 1e-9 or not 0 <= k < d:
+                raise Diagnostic("SIEM-ARRAY", f"{name}: index {i:g} outside 0..{d - 1}", loc)
+            flat = flat * d + k
+        return flat
+
+    def array_get(self, name: str, index: list[float], loc: Location) -> float:
+        return self.arrays[name][2][self._element(name, index, loc)]
+
+    def array_set(self, name: str, index: list[float], value: float, loc: Location) -> None:
+        k = self._element(name, index, loc)
+        kind, _, data = self.arrays[name]
+        data[k] = store(kind, value, loc)
 
     def r_get(self, index: float, loc: Location) -> float:
         return self.r.get(r_index(index, loc), 0.0)
@@ -225,11 +267,23 @@ class Parser:
                 return self.call(name, loc)
             if name[0] == "R" and name[1:].isdigit():
                 return ("num_r", r_index(float(name[1:]), loc), loc)
+            if self._is("["):  # an element of a DEF array
+                self.pos += 1
+                return ("arr", name, tuple(self.indices()), loc)
             return ("var", name, loc)
         if tok.kind == STR:  # a string argument of a cycle (its tool, its mode)
             return ("str", tok.text, loc)
         text = tok.text if tok is not None else "end of block"
         raise Diagnostic("SIEM-SYNTAX", f"unexpected {text!r} in expression", loc)
+
+    def indices(self) -> list[Node]:
+        """The index expressions of ``NAME[i, j]`` after the ``[`` (the ``]`` taken)."""
+        out = [self.expression()]
+        while self._is(","):
+            self.pos += 1
+            out.append(self.expression())
+        self.expect("]")
+        return out
 
     def system_variable(self, name: str, loc: Location) -> Node:
         """``$NAME`` or ``$NAME[AXIS]`` / ``$NAME[n]`` (the index: an axis name or a number)."""
@@ -278,6 +332,8 @@ def evaluate(node: Node, v: Variables) -> float:
         return v.get(node[1], node[2])
     if kind == "r":
         return v.r_get(evaluate(node[1], v), node[2])
+    if kind == "arr":
+        return v.array_get(node[1], [evaluate(i, v) for i in node[2]], node[3])
     if kind == "sys":
         return v.system_get(node[1], node[2], node[3])
     if kind == "str":

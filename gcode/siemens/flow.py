@@ -240,6 +240,30 @@ class Runner:
         return tuple(bound), tuple(results)
 
     # ------------------------------------------------------------------ statements
+    def define_array(self, scope: Variables, kind: str, item: tuple) -> None:
+        """``DEF REAL NAME[n, m] = SET(...) / REP(v, count)``: elements in row-major order,
+        an omitted SET value 0, REP's value repeated count times (all elements without)."""
+        loc = self.ex.loc
+        name, dim_nodes, init = item
+        dims = []
+        for node in dim_nodes:
+            d = evaluate(node, scope)
+            if d != round(d):
+                raise Diagnostic("SIEM-ARRAY", f"{name}: dimension {d:g} is not whole", loc)
+            dims.append(int(round(d)))
+        if init[0] == "SET":
+            values = [0.0 if n is None else evaluate(n, scope) for n in init[1]]
+        else:
+            value = evaluate(init[1], scope)
+            size = 1
+            for d in dims:
+                size *= max(d, 0)
+            count = size if init[2] is None else evaluate(init[2], scope)
+            if count != round(count) or count < 0:
+                raise Diagnostic("SIEM-ARRAY", f"{name}: REP count {count:g}", loc)
+            values = [value] * min(int(count), size + 1)
+        scope.define_array(kind, name, tuple(dims), values, loc)
+
     def statement(self, level: Level, block: Block, index: int) -> None:
         ex = self.ex
         kind = block.kind
@@ -265,7 +289,11 @@ class Runner:
             self.structure(level, block, index)
         elif kind == "DEF":
             kind_name, names = block.args
-            for name, node in names:
+            for item in names:
+                if len(item) == 3:
+                    self.define_array(scope, kind_name, item)
+                    continue
+                name, node = item
                 scope.define(
                     kind_name, name, evaluate(node, scope) if node is not None else 0.0, ex.loc
                 )
