@@ -203,8 +203,19 @@ def test_siemens_def_arrays() -> None:
     assert (err.code, err.location.line) == ("SIEM-ARRAY", 2)
 
 
-def test_siemens_axis_dynamic_settings_and_procs_with_display_on() -> None:
+def test_siemens_axis_dynamic_settings_leave_the_path() -> None:
     text = "ACC[X]=50 JERKLIM[Z]=20 VELOLIM[Y]=80\n" + MOVES
     assert _ends(text, "siemens840d") == _ends(MOVES, "siemens840d")
     err = _error("ACC[E]=50\n" + MOVES, "siemens840d")
     assert err.code == "SIEM-AXIS" and "ACC[E]" in err.message
+
+
+def test_loops_waiting_for_a_machine_input_end_with_a_located_error() -> None:
+    # the control waits for the signal; a reading without the machine holds it at 0
+    fanuc = _error("G21\nWHILE[#1004EQ0]DO1\nG04 X0.2\nEND1\nM30\n", "fanuc")
+    assert (fanuc.code, fanuc.location.line) == ("FANUC-WAIT-INPUT", 4)
+    siemens = _error('WHILE($A_IN[9]==0)\nMSG("WAIT")\nG4 F0.2\nENDWHILE\nM30\n', "siemens840d")
+    assert (siemens.code, siemens.location.line) == ("SIEM-WAIT-INPUT", 4)
+    # a loop reading the signal a few times, then going on, is read
+    ok = "G21\n#1=0\nWHILE[#1 LT 5]DO1\n#2=#1004\n#1=#1+1\nEND1\nG0 X#1\nM30\n"
+    assert _ends(ok, "fanuc") == [(5.0, 0.0, 0.0)]  # a value from a variable: 5 mm

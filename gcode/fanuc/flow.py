@@ -30,6 +30,9 @@ from kernel.ir.canon import Units
 MAX_DEPTH = 32
 #: files up to this many lines keep every parsed block (larger ones: loop/subprogram lines)
 KEEP_ALL_LINES = 50_000
+#: jumps back in a row that read an interface input signal before a loop counts as waiting
+#: on the machine (the signal never changes in a stand-alone reading)
+MAX_INPUT_WAIT = 1000
 
 
 @dataclass
@@ -62,7 +65,10 @@ class Reader:
             lathe = Lathe(self.ex)
             lathe.contour_blocks = self._contour_blocks
             self.ex.lathe = lathe
-        self.vars = Variables(SystemVariables(self), options.parameters)
+        self.sysvars = SystemVariables(self)
+        self.vars = Variables(self.sysvars, options.parameters)
+        self._input_mark = 0  # input signal reads at the last jump back
+        self._waiting = 0  # jumps back in a row, each after reading an input signal
         self.main = src
         self.loaded: dict[int, tuple[Source, int]] = {}
         self.frames = [Frame(src, 0, src.main_program_line(), 0, "main")]
@@ -223,8 +229,10 @@ class Reader:
         raise Diagnostic("FANUC-LOOP", f"DO{label} without END{label}", loc)
 
     def _goto(self, fr: Frame, target: float | None, loc: Location) -> None:
-        if target is None or target != round(target) or target < 0:
-            raise Diagnostic("FANUC-GOTO", f"bad sequence number in GOTO: {target}", loc)
+        if target is None:
+            raise Diagnostic("FANUC-GOTO", "GOTO a vacant variable: no sequence number", loc)
+        if target != round(target) or target < 0:
+            raise Diagnostic("FANUC-GOTO", f"bad sequence number in GOTO: {target:g}", loc)
         line = fr.src.find_sequence(fr.start, int(target))
         if line is None:
             raise Diagnostic("FANUC-GOTO", f"sequence number N{int(target)} not found", loc)
@@ -241,6 +249,16 @@ class Reader:
         if self.jumps > self.fl.max_loops:
             raise Diagnostic(
                 "FANUC-LOOP-LIMIT", f"more than {self.fl.max_loops} jumps back: endless loop?", loc
+            )
+        reads = self.sysvars.input_reads
+        self._waiting = self._waiting + 1 if reads != self._input_mark else 0
+        self._input_mark = reads
+        if self._waiting > MAX_INPUT_WAIT:
+            raise Diagnostic(
+                "FANUC-WAIT-INPUT",
+                f"{construct}: the loop waits for an interface input signal (#1000-#1035), "
+                "which a reading without the machine holds at 0: it would wait for ever",
+                loc,
             )
         self.guard.back(construct, loc)
 

@@ -52,6 +52,7 @@ class SystemVariables:
     def __init__(self, reader: RunView) -> None:
         self.r = reader
         self.outputs: dict[int, float | None] = {}  # #1100-#1135 interface output signals
+        self.input_reads = 0  # reads of #1000-#1035 (a loop waiting on one never ends here)
 
     def read(self, i: int, loc: Location) -> float | None:
         ex = self.r.ex
@@ -59,6 +60,7 @@ class SystemVariables:
         if i in (3001, 3002, 3011, 3012, 3901, 3902):
             return 0.0
         if 1000 <= i <= 1035:
+            self.input_reads += 1
             return 0.0
         if 1100 <= i <= 1135:
             return self.outputs.get(i, 0.0)

@@ -144,7 +144,8 @@ class Variables:
         return flat
 
     def array_get(self, name: str, index: list[float], loc: Location) -> float:
-        return self.arrays[name][2][self._element(name, index, loc)]
+        k = self._element(name, index, loc)
+        return self.arrays[name][2][k]
 
     def array_set(self, name: str, index: list[float], value: float, loc: Location) -> None:
         k = self._element(name, index, loc)

@@ -42,6 +42,8 @@ from kernel.ir import canon
 MAX_LOOPS = 1_000_000
 END = Block(0)  # the block that ended a level (M2/M17/M30), when read by the fast path
 MAX_DEPTH = 16
+#: loop passes in a row that read a PLC input before a loop counts as waiting on the machine
+MAX_INPUT_WAIT = 1000
 
 
 @dataclass
@@ -86,6 +88,8 @@ class Runner:
         self.levels = [Level(main, Variables(ex.r, ex.system_variable))]
         self.programs: dict[str, Program] = {main.name: main}
         self.loops = 0
+        self.input_mark = 0  # PLC input reads at the last loop pass
+        self.waiting = 0  # loop passes in a row, each after reading a PLC input
         opts = ex.options
         self.guard = LoopGuard(opts.max_blocks, opts.max_idle_blocks)
 
@@ -416,8 +420,19 @@ class Runner:
         level.index = target
 
     def _count(self, construct: str) -> None:
-        """A loop pass or backward jump: the reader's pass limit, then the shared guard."""
+        """A loop pass or backward jump: the reader's pass limit, a loop waiting on a PLC
+        input, then the shared guard."""
         self.loops += 1
+        reads = self.ex.input_reads
+        self.waiting = self.waiting + 1 if reads != self.input_mark else 0
+        self.input_mark = reads
+        if self.waiting > MAX_INPUT_WAIT:
+            raise Diagnostic(
+                "SIEM-WAIT-INPUT",
+                f"{construct}: the loop waits for a PLC input ($A_IN, $A_INA), which a reading "
+                "without the machine holds at 0: it would wait for ever",
+                self.ex.loc,
+            )
         if self.loops > MAX_LOOPS:
             raise Diagnostic(
                 "SIEM-LOOP-LIMIT",
