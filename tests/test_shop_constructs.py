@@ -219,3 +219,25 @@ def test_loops_waiting_for_a_machine_input_end_with_a_located_error() -> None:
     # a loop reading the signal a few times, then going on, is read
     ok = "G21\n#1=0\nWHILE[#1 LT 5]DO1\n#2=#1004\n#1=#1+1\nEND1\nG0 X#1\nM30\n"
     assert _ends(ok, "fanuc") == [(5.0, 0.0, 0.0)]  # a value from a variable: 5 mm
+
+
+def test_haas_g71_contour_closed_by_a_retract_along_the_stock_roughs_without_it() -> None:
+    # N20 G00 G40 Z0.1 returns along the stock diameter X1.5 to the start: no material
+    # there, so the roughing passes are those of the contour ending at X1.5 Z-2.097
+    head = (
+        "G20 G99 G18\nT0101\nG97 S2000 M03\nG00 G54 X1.5 Z0.1\n"
+        "G71 P10 Q20 U0.01 W0.005 D0.05 F0.010\n"
+        "N10 G00 G42 X-0.062 Z0.1\nG01 Z0.0\nX0.42928932\nX0.5 Z-0.03535534\nZ-2.097\n"
+    )
+    closed = head + "X1.5\nN20 G00 G40 Z0.1\nM30\n"
+    open_ended = head + "N20 X1.5\nM30\n"
+    rough = _ends(closed, "haas_lathe")
+    assert len(rough) > 10 and rough == _ends(open_ended, "haas_lathe")
+    with pytest.raises(Diagnostic):  # the 0i-TF's type I contour must be monotonic
+        _ir(
+            closed.replace(
+                "G71 P10 Q20 U0.01 W0.005 D0.05 F0.010",
+                "G71 U0.05 R0.01\nG71 P10 Q20 U0.01 W0.005 F0.010",
+            ),
+            "fanuc_lathe",
+        )

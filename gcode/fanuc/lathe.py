@@ -241,6 +241,9 @@ class Lathe:
             if "P" not in params or "Q" not in params:
                 raise Diagnostic("FANUC-CYCLE-PQ", f"{name} needs P and Q (contour)", loc)
             contour = self._contour(int(params["P"]), int(params["Q"]), loc)
+            if self.ex.fl.haas_lathe and code in (710, 720):
+                s = self.ex.ip.s
+                contour = _without_retract(contour, (s.pos[0], s.pos[2]), code == 720)
         skip = int(params["Q"]) if code in (710, 720, 730) else None
         return name, {k: val for k, val in params.items() if k not in "ST"}, contour, skip
 
@@ -378,6 +381,32 @@ class Lathe:
             else:
                 raise Diagnostic("FANUC-CYCLE-MOVE", f"{name}: unknown move {m.kind}", loc)
             s.pos = [m.x, y, m.z, a, b, c]
+
+
+def _without_retract(
+    steps: list[ProfileStep], start: tuple[float, float], facing: bool
+) -> list[ProfileStep]:
+    """A Haas G71 contour without the retract many Haas programs end it with: trailing
+    blocks moving along Z only (G72: along X only), back towards the start point, outside
+    the rest of the finished shape (``N20 G00 G40 Z0.1`` after the last diameter). They run
+    along the stock, remove nothing, and stay in the G70 finishing path (the Haas lathe
+    manual's G71 examples close the contour on the stock; its roughing ignores such a
+    return, which the 0i-TF's monotonic type I check would refuse)."""
+    along, across = (0, 1) if facing else (1, 0)  # index into (x, z): the cut's direction
+    out = list(steps)
+    while len(out) > 1:
+        last, before = out[-1], out[-2]
+        last_p, before_p = (last.x, last.z), (before.x, before.z)
+        if last.kind not in ("rapid", "line") or abs(last_p[across] - before_p[across]) > 1e-9:
+            break
+        toward = abs(last_p[along] - start[along]) < abs(before_p[along] - start[along])
+        rest = [(st.x, st.z)[across] for st in out[:-1]]
+        outside = start[across] >= max(rest) - 1e-9 and last_p[across] >= max(rest) - 1e-9
+        inside = start[across] <= min(rest) + 1e-9 and last_p[across] <= min(rest) + 1e-9
+        if not toward or not (outside or inside):
+            break
+        out.pop()
+    return out
 
 
 def _length(value: int | float, units: Units) -> float:
