@@ -24,7 +24,7 @@ def _error(text: str, options: InterpreterOptions | None = None) -> Diagnostic:
 @pytest.mark.parametrize(
     ("text", "code", "line", "column"),
     [
-        ("G1 X1 F10\nG41 X2\n", "SIEM-G-CODE", 2, 1),
+        ("G1 X1 F10\nG112 X2\n", "SIEM-G-CODE", 2, 1),
         ("G1 X1 F10 M1.5\n", "SIEM-M-CODE", 1, 11),  # M98: a machine function (issue 14)
         ("G1 X1 F10 M123456789\n", "SIEM-M-CODE", 1, 11),
         ("G0 G1 X1\n", "SIEM-G-GROUP", 1, 4),

@@ -10,9 +10,11 @@ from __future__ import annotations
 
 import pytest
 
+from gcode.ngc.interpreter import InterpreterOptions
 from gcode.readers import read_text
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
+from kernel.tooltable import read_tool_table
 
 
 def _ir(text: str, dialect: str) -> list[canon.Command]:
@@ -241,3 +243,12 @@ def test_haas_g71_contour_closed_by_a_retract_along_the_stock_roughs_without_it(
             ),
             "fanuc_lathe",
         )
+
+
+def test_siemens_radius_compensation_of_a_zero_radius_keeps_the_path() -> None:
+    comp = "T1 M6 D1\nG0 X0 Y0\nG41 G1 X10 Y0 F100\nY10\nG40 X20\nM30\n"
+    assert _ends(comp, "siemens840d") == _ends(comp.replace("G41 ", ""), "siemens840d")
+    table = read_tool_table(["T1 P1 D0.5 Z0 ;"], "sim.tbl")
+    with pytest.raises(Diagnostic) as info:
+        list(read_text(comp, "siemens840d", "prog", InterpreterOptions(tool_table=table)))
+    assert (info.value.code, info.value.location.line) == ("SIEM-COMP", 3)

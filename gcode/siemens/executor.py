@@ -28,7 +28,7 @@ G_GROUPS: dict[int, int] = {
     0: 1, 1: 1, 2: 1, 3: 1, 33: 1,
     4: 2, 9: 11,
     17: 6, 18: 6, 19: 6,
-    40: 7,
+    40: 7, 41: 7, 42: 7,
     54: 8, 55: 8, 56: 8, 57: 8, 500: 8,
     60: 10, 64: 10, 641: 10, 642: 10, 643: 10, 644: 10, 645: 10,
     601: 12, 602: 12, 603: 12,
@@ -269,6 +269,8 @@ class Executor(Machine):
             if v["ADIS"] < 0:
                 raise Diagnostic("SIEM-NEGATIVE", "negative ADIS=", self.at(vals, "ADIS"))
             s.adis = v["ADIS"]
+        if g.get(7) in (41, 42):
+            self._radius_compensation(g[7])
         if 10 in g:
             self._control(g[10], vals)
         elif "ADIS" in v and s.control == 641:
@@ -444,6 +446,22 @@ class Executor(Machine):
         for i in range(3):
             s.pos[i] += old[i] - s.g5x[i]
         self.emit_offsets(g5x=True)
+
+    def _radius_compensation(self, code: int) -> None:
+        """G41/G42 with the active edge's radius from the tool table: a radius of 0 (no tool
+        table, D0, a tool without diameter) leaves the path as programmed, as the control's
+        compensation of a zero radius does; a radius above 0 is refused (the reader does not
+        offset 840D contours)."""
+        s = self.s
+        tool = self.tools.get(s.tool) if self.tools is not None and s.edge else None
+        radius = tool.diameter / 2.0 if tool is not None else 0.0
+        if radius > 1e-12:
+            raise Diagnostic(
+                "SIEM-COMP",
+                f"G{code} with tool {s.tool} of radius {radius:g}: tool radius compensation "
+                "of a non-zero radius is not computed by this reader",
+                self.loc,
+            )
 
     def _diameters(self, vals: Values) -> None:
         """DIAMON: X (and the X of CIP's intermediate point, I1) is a diameter, absolute and
