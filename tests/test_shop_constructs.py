@@ -252,3 +252,12 @@ def test_siemens_radius_compensation_of_a_zero_radius_keeps_the_path() -> None:
     with pytest.raises(Diagnostic) as info:
         list(read_text(comp, "siemens840d", "prog", InterpreterOptions(tool_table=table)))
     assert (info.value.code, info.value.location.line) == ("SIEM-COMP", 3)
+
+
+def test_older_work_offset_numbers_and_haas_diameter_offsets() -> None:
+    # Fanuc #2701 is G54's Z (#5223): the tool, still at machine Z0, is at program Z50;
+    # Haas #2401 is tool 1's diameter geometry (radius 5)
+    fanuc = "G21 G90\n#2701=-50.\nG0 X#5223 Y#2701\nM30\n"
+    assert _ends(fanuc, "fanuc") == [(-50.0, -50.0, 50.0)]
+    haas = "G21 G90\n#2401=10.\nG10 L12 P2 R3.\nG0 X#2401 Y#2402\nM30\n"
+    assert _ends(haas, "haas") == [(10.0, 6.0, 0.0)]

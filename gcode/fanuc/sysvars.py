@@ -7,10 +7,12 @@
 position, ``#5021``-``#5026`` machine position, ``#5041``-``#5046`` current position,
 ``#5061``-``#5066`` skip (G31) position, ``#5081``-``#5086`` tool length offset,
 ``#5101``-``#5106`` servo deviation (0), ``#5201``-``#5326`` work offsets (``#5221`` + 20
-(n - 1) for G54 + n - 1), ``#2001``-``#2400`` and ``#10001``-``#13400`` tool offsets (memory
-C: length wear, length geometry, radius wear, radius geometry). Haas (mill and lathe
-operator's manuals, "Macros"): ``#3026`` tool in the spindle, ``#5401``-``#6000`` tool
-timers, tool life and load monitor values (0: new tools, no load).
+(n - 1) for G54 + n - 1; the older series' ``#2500``-``#2806`` map onto them),
+``#2001``-``#2400`` and ``#10001``-``#13400`` tool offsets (memory C: length wear, length
+geometry, radius wear, radius geometry). Haas (mill and lathe operator's manuals,
+"Macros"): ``#2401``-``#2600`` / ``#2601``-``#2800`` tool diameter geometry / wear,
+``#3026`` tool in the spindle, ``#5401``-``#6000`` tool timers, tool life and load monitor
+values (0: new tools, no load).
 """
 
 from __future__ import annotations
@@ -99,6 +101,12 @@ class SystemVariables:
                 return offsets.extended_value(ex, n + 1, k)
         if 2001 <= i <= 2400 or 10001 <= i <= 13400:
             return self._offset(i)
+        if 2401 <= i <= 2800 and ex.fl.haas_g_codes:  # Haas: tool diameters
+            n, slot = (i - 2400, 0) if i <= 2600 else (i - 2600, 1)
+            return 2.0 * ex.radii.get(n, [0.0, 0.0])[slot]
+        old = _old_work_offset(i)
+        if old is not None and not ex.fl.haas_g_codes:
+            return self.read(old, loc)
         raise Diagnostic("FANUC-SYSTEM-VARIABLE", f"system variable #{i} is not available", loc)
 
     def write(self, i: int, value: float | None, loc: Location) -> None:
@@ -126,6 +134,15 @@ class SystemVariables:
                 return
         if 2001 <= i <= 2400 or 10001 <= i <= 13400:
             self._set_offset(i, value or 0.0, loc)
+            return
+        if 2401 <= i <= 2800 and r.ex.fl.haas_g_codes:  # Haas: tool diameters
+            n, lword = (i - 2400, 12.0) if i <= 2600 else (i - 2600, 13.0)
+            radius = (value or 0.0) / 2.0
+            offsets.g10(r.ex, {"L": lword, "P": float(n), "R": radius}, loc, True)
+            return
+        old = _old_work_offset(i)
+        if old is not None and not r.ex.fl.haas_g_codes:
+            self.write(old, value, loc)
             return
         if 7001 <= i <= 7946:
             n, k = divmod(i - 7001, 20)
@@ -211,3 +228,12 @@ class SystemVariables:
         table, n, slot = self._which(i)
         lword = (10 + slot) if table is self.r.ex.lengths else (12 + slot)
         offsets.g10(self.r.ex, {"L": float(lword), "P": float(n), "R": value}, loc, True)
+
+
+def _old_work_offset(i: int) -> int | None:
+    """The #5201-#5326 number of an older series' work offset variable: ``#2500``-``#2506``
+    X of the external offset and G54-G59, ``#2600`` Y, ``#2700`` Z, ``#2800`` the 4th axis."""
+    axis, n = divmod(i - 2500, 100)
+    if 2500 <= i <= 2806 and 0 <= axis <= 3 and n <= 6:
+        return 5201 + 20 * n + axis
+    return None
