@@ -261,3 +261,8 @@ def test_older_work_offset_numbers_and_haas_diameter_offsets() -> None:
     assert _ends(fanuc, "fanuc") == [(-50.0, -50.0, 50.0)]
     haas = "G21 G90\n#2401=10.\nG10 L12 P2 R3.\nG0 X#2401 Y#2402\nM30\n"
     assert _ends(haas, "haas") == [(10.0, 6.0, 0.0)]
+
+
+def test_siemens_shopmill_workpiece_header_moves_nothing() -> None:
+    text = 'WORKPIECE(,"",,"BOX",112,0,-50,-80,-60,-60,60,60)\n' + MOVES
+    assert _ends(text, "siemens840d") == _ends(MOVES, "siemens840d")

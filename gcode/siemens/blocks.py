@@ -49,7 +49,6 @@ UNSUPPORTED = frozenset(
         "CSPLINE",
         "POLY",
         "OFFN",
-        "WORKPIECE",
         "SETMS",
         "SPCON",
         "SPCOF",
@@ -262,6 +261,11 @@ class _Statement:
             ):
                 self.i += 1
                 b.kind, b.args = "CYCLE", (head, self._arguments(head))
+                self.end()
+                return
+            if head == "WORKPIECE" and self.i + 1 < len(self.t) and _op(self.t[self.i + 1], "("):
+                self.i += 1  # the blank for the control's simulation (ShopMill/ShopTurn)
+                self._arguments(head)
                 self.end()
                 return
             if head == "SETAL" and self.i + 1 < len(self.t) and _op(self.t[self.i + 1], "("):
