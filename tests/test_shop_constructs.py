@@ -10,8 +10,10 @@ from __future__ import annotations
 
 import pytest
 
+from gcode.fanuc import flow as fanuc_flow
 from gcode.ngc.interpreter import InterpreterOptions
 from gcode.readers import read_text
+from gcode.siemens import flow as siemens_flow
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
 from kernel.tooltable import read_tool_table
@@ -266,3 +268,19 @@ def test_older_work_offset_numbers_and_haas_diameter_offsets() -> None:
 def test_siemens_shopmill_workpiece_header_moves_nothing() -> None:
     text = 'WORKPIECE(,"",,"BOX",112,0,-50,-80,-60,-60,60,60)\n' + MOVES
     assert _ends(text, "siemens840d") == _ends(MOVES, "siemens840d")
+
+
+def test_a_main_program_repeating_itself_for_ever_stops_soon(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # N1 ... GOTO1 with nothing changing: the control runs it for ever; the reader stops
+    # after MAX_REPEATS passes through the same state, not at the (much larger) jump limit
+    monkeypatch.setattr(fanuc_flow, "MAX_REPEATS", 5)
+    monkeypatch.setattr(siemens_flow, "MAX_REPEATS", 5)
+    err = _error("G21\nN1 G90 G0 X1.\nX2.\nGOTO1\nM30\n", "fanuc")
+    assert (err.code, err.location.line) == ("FANUC-LOOP-LIMIT", 4) and "for ever" in err.message
+    err = _error("LOOP\nG90 G0 X1\nX2\nENDLOOP\nM30\n", "siemens840d")
+    assert (err.code, err.location.line) == ("SIEM-LOOP-LIMIT", 4) and "for ever" in err.message
+    # a loop whose state changes (a counter) runs to its exit
+    counted = "G21\n#1=0\nN1 #1=#1+1\nIF [#1 GT 9] GOTO 99\nG0 X#1\nGOTO 1\nN99 M30\n"
+    assert len(_ends(counted, "fanuc")) == 9

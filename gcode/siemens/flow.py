@@ -44,6 +44,10 @@ END = Block(0)  # the block that ended a level (M2/M17/M30), when read by the fa
 MAX_DEPTH = 16
 #: loop passes in a row that read a PLC input before a loop counts as waiting on the machine
 MAX_INPUT_WAIT = 1000
+#: states kept to tell a main program repeating itself for ever (memory bound)
+MAX_STATES = 10_000
+#: passes through the same state at an unconditional jump back before SIEM-LOOP-LIMIT
+MAX_REPEATS = 10_000
 
 
 @dataclass
@@ -90,6 +94,8 @@ class Runner:
         self.loops = 0
         self.input_mark = 0  # PLC input reads at the last loop pass
         self.waiting = 0  # loop passes in a row, each after reading a PLC input
+        self.seen_states: set[tuple[object, ...]] = set()  # at unconditional jumps back
+        self.repeats = 0  # arrivals at an unconditional jump back in a state seen before
         opts = ex.options
         self.guard = LoopGuard(opts.max_blocks, opts.max_idle_blocks)
 
@@ -274,6 +280,8 @@ class Runner:
         scope = level.scope
         if kind == "GOTO":
             self.jump(level, block.args[0], block.args[1], index)
+            if level.index <= index:
+                self._repeats_for_ever(level)
         elif kind == "IFGOTO":
             if evaluate(block.args[0], scope):
                 self.jump(level, block.args[1], block.args[2], index)
@@ -419,6 +427,35 @@ class Runner:
         level.structures = [o for o in level.structures if o.start < target <= o.end]
         level.index = target
 
+    def _repeats_for_ever(self, level: Level) -> None:
+        """An unconditional jump back (GOTOB, ENDLOOP) in the main program arriving with the
+        same variables, R parameters, position and modes as before: nothing can leave the
+        loop, the control runs it for ever. After :data:`MAX_REPEATS` such passes the reader
+        stops with SIEM-LOOP-LIMIT instead of running to the pass limit."""
+        if len(self.levels) != 1 or level.sections:
+            return
+        s = self.ex.s
+        state = (
+            level.index,
+            tuple(sorted(self.ex.r.items())),
+            tuple(sorted(level.scope.local.items())),
+            tuple((k, tuple(v[2])) for k, v in sorted(level.scope.arrays.items())),
+            tuple(round(p, 9) for p in s.pos),
+            (s.motion, s.absolute, s.feed, s.work, s.frame, s.tool),
+        )
+        if state not in self.seen_states:
+            if len(self.seen_states) < MAX_STATES:
+                self.seen_states.add(state)
+            return
+        self.repeats += 1
+        if self.repeats > MAX_REPEATS:
+            raise Diagnostic(
+                "SIEM-LOOP-LIMIT",
+                f"the program repeats itself for ever from here ({MAX_REPEATS} passes through "
+                "the same state): endless loop",
+                self.ex.loc,
+            )
+
     def _count(self, construct: str) -> None:
         """A loop pass or backward jump: the reader's pass limit, a loop waiting on a PLC
         input, then the shared guard."""
@@ -508,6 +545,7 @@ class Runner:
         else:  # ENDLOOP
             self._count(f"LOOP (line {top.start + 1})")
             level.index = top.start + 1
+            self._repeats_for_ever(level)
         program.caching = True
 
     def _assign(self, scope: Variables, target: tuple, value: float) -> None:
