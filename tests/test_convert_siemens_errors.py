@@ -24,7 +24,7 @@ def _error(text: str, options: InterpreterOptions | None = None) -> Diagnostic:
 @pytest.mark.parametrize(
     ("text", "code", "line", "column"),
     [
-        ("G1 X1 F10\nG41 X2\n", "SIEM-G-CODE", 2, 1),
+        ("G1 X1 F10\nG112 X2\n", "SIEM-G-CODE", 2, 1),
         ("G1 X1 F10 M1.5\n", "SIEM-M-CODE", 1, 11),  # M98: a machine function (issue 14)
         ("G1 X1 F10 M123456789\n", "SIEM-M-CODE", 1, 11),
         ("G0 G1 X1\n", "SIEM-G-GROUP", 1, 4),
@@ -63,14 +63,16 @@ def _error(text: str, options: InterpreterOptions | None = None) -> Diagnostic:
         ("MEAS=1 G0 X5\n", "SIEM-PROBE", 1, 1),
         ("IF R1==0 X5\n", "SIEM-SYNTAX", 1, 10),
         ("G1 X5 F10 GOTOF END\n", "SIEM-BLOCK", 1, 11),
-        ("SUPA X5\n", "SIEM-UNSUPPORTED", 1, 1),
+        ("ROT RPL=30\nSUPA X5\n", "SIEM-UNSUPPORTED", 2, 1),
         ("G1 X1 F10 RND=2\n", "SIEM-UNSUPPORTED", 1, 11),
         ("G1 X1 P3 F10\n", "SIEM-WORD", 1, 7),
         ("G1 F10\nCIP X10 Y0 I1=5 J1=0\n", "SIEM-ARC-CIP", 2, 1),
         ("G1 F10\nCIP X10 Y0 I1=5 J1=5 K1=3\n", "SIEM-ARC-CIP", 2, 1),
         ("G1 X1 I1=5 F10\n", "SIEM-ARC-WORDS", 1, 1),
-        ('T="CUTTER 20" M6\n', "SIEM-UNSUPPORTED", 1, 3),
-        ("DEF REAL TABLE[5]\n", "SIEM-UNSUPPORTED", 1, 15),
+        ('F="FAST" G1 X5\n', "SIEM-WORD", 1, 3),
+        ("G1 X5 F10\nG0 X=$MC_DIAMETER_AX_DEF\n", "SIEM-UNSUPPORTED", 2, 6),
+        ("DEF REAL TABLE[5]\nR1=TABLE[5]\n", "SIEM-ARRAY", 2, 4),
+        ("DEF STRING[8] NAMES[5]\n", "SIEM-UNSUPPORTED", 1, 11),
         ("R1=" + "(" * 500 + "1" + ")" * 500 + "\n", "SIEM-SYNTAX", 1, 104),
         ("R1=" + "+".join(["1"] * 600) + "\n", "SIEM-SYNTAX", 1, 1005),
     ],

@@ -142,7 +142,7 @@ def test_bad_calls_are_refused_naming_the_call(
     [
         ('PRINT("HELLO")\n', "SIEM-UNSUPPORTED", "PRINT", 1),
         ('WRITE(R1, "LOG", "X")\n', "SIEM-UNSUPPORTED", "WRITE", 1),
-        ("SETAL(61000)\n", "SIEM-UNSUPPORTED", "SETAL", 1),
+        ("SETAL(61000)\n", "SIEM-ALARM", "SETAL", 1),
         ("PROC MAIN(STRING[8] NAME)\n", "SIEM-UNSUPPORTED", "STRING", 11),
         ("PROC MAIN(REAL AA) SAVE\n", "SIEM-UNSUPPORTED", "SAVE", 20),
         ("PROC MAIN(REAL AA, REAL AA)\n", "SIEM-PROC", "AA twice", 25),

@@ -284,8 +284,13 @@ class Executor(ExecutorState):
         for code in (760, 870):
             if code in gset:
                 w.g[1] = code
-        if w.g.get(1) in CYCLES or (motion is None and self.motion in CYCLES and has_axis):
+        cycle = w.g.get(1) if w.g.get(1) in CYCLES else None
+        if cycle is None and motion is None and self.motion in CYCLES and has_axis:
+            cycle = self.motion
+        if cycle is not None:
             pass_letters += "PL"
+            if cycle in (730, 810, 850):  # no dwell in these cycles: a P is not read
+                v.pop("P", None)
             if "K" in v:
                 k = v.pop("K")
                 if k != round(k) or not 0 <= k <= 9999:
@@ -307,6 +312,10 @@ class Executor(ExecutorState):
             ip.emit(canon.SetMotionControlMode(MotionMode.EXACT_STOP, source=loc))
         if 530 in gset:
             w.g[1] = 0  # G53 positions at rapid traverse (one shot)
+            if not absolute and w.g.get(0) == 530:
+                # G91 G53: an increment in the machine coordinate system (30i), which is the
+                # same increment in the program system (no offset changes one)
+                del w.g[0]
         # ---- M codes
         machine: list[int] = []  # M codes the control hands to the machine (PLC)
         for m in ms:

@@ -30,6 +30,13 @@ from kernel.ir.canon import Units
 MAX_DEPTH = 32
 #: files up to this many lines keep every parsed block (larger ones: loop/subprogram lines)
 KEEP_ALL_LINES = 50_000
+#: jumps back in a row that read an interface input signal before a loop counts as waiting
+#: on the machine (the signal never changes in a stand-alone reading)
+MAX_INPUT_WAIT = 1000
+#: states kept to tell a main program repeating itself for ever (memory bound)
+MAX_STATES = 10_000
+#: passes through the same state at an unconditional GOTO back before FANUC-LOOP-LIMIT
+MAX_REPEATS = 10_000
 
 
 @dataclass
@@ -62,7 +69,12 @@ class Reader:
             lathe = Lathe(self.ex)
             lathe.contour_blocks = self._contour_blocks
             self.ex.lathe = lathe
-        self.vars = Variables(SystemVariables(self), options.parameters)
+        self.sysvars = SystemVariables(self)
+        self.vars = Variables(self.sysvars, options.parameters)
+        self._input_mark = 0  # input signal reads at the last jump back
+        self.seen_states: set[tuple[object, ...]] = set()  # at unconditional GOTOs back
+        self.repeats = 0  # arrivals at an unconditional GOTO back in a state seen before
+        self._waiting = 0  # jumps back in a row, each after reading an input signal
         self.main = src
         self.loaded: dict[int, tuple[Source, int]] = {}
         self.frames = [Frame(src, 0, src.main_program_line(), 0, "main")]
@@ -189,7 +201,10 @@ class Reader:
                 target = evaluate(blk.then[0], vars, loc)
                 vars.write(target or 0.0, evaluate(blk.then[1], vars, loc), loc)
         elif kind == "goto":
-            self._goto(fr, evaluate(blk.target, vars, loc), loc)
+            target = evaluate(blk.target, vars, loc)
+            self._goto(fr, target, loc)
+            if fr.pc <= idx and fr.kind == "main" and not fr.loops:
+                self._repeats_for_ever(fr, loc)
         elif kind == "while":
             self._check_loop_id(blk.label, loc)
             if truth(blk.expr, vars, loc):
@@ -223,8 +238,10 @@ class Reader:
         raise Diagnostic("FANUC-LOOP", f"DO{label} without END{label}", loc)
 
     def _goto(self, fr: Frame, target: float | None, loc: Location) -> None:
-        if target is None or target != round(target) or target < 0:
-            raise Diagnostic("FANUC-GOTO", f"bad sequence number in GOTO: {target}", loc)
+        if target is None:
+            raise Diagnostic("FANUC-GOTO", "GOTO a vacant variable: no sequence number", loc)
+        if target != round(target) or target < 0:
+            raise Diagnostic("FANUC-GOTO", f"bad sequence number in GOTO: {target:g}", loc)
         line = fr.src.find_sequence(fr.start, int(target))
         if line is None:
             raise Diagnostic("FANUC-GOTO", f"sequence number N{int(target)} not found", loc)
@@ -235,12 +252,50 @@ class Reader:
             if start >= line:  # jumping out of (or back before) a loop ends it
                 del fr.loops[m]
 
+    def _repeats_for_ever(self, fr: Frame, loc: Location) -> None:
+        """An unconditional GOTO back in the main program arriving with the same variables,
+        position and modes as before: nothing can leave the loop (a production loop
+        ``N1 ... GOTO1``), the control runs it for ever. After :data:`MAX_REPEATS` such
+        passes the reader stops with FANUC-LOOP-LIMIT instead of running to the jump limit."""
+        v = self.vars
+        s = self.ex.ip.s
+        state = (
+            fr.pc,
+            tuple(v.locals),
+            tuple(sorted(v.common.items())),
+            tuple(round(p, 9) for p in s.pos),
+            tuple(sorted(self.sysvars.outputs.items())),
+            (self.ex.motion, s.absolute, s.feed_rate, s.origin_index),
+        )
+        if state not in self.seen_states:
+            if len(self.seen_states) < MAX_STATES:
+                self.seen_states.add(state)
+            return
+        self.repeats += 1
+        if self.repeats > MAX_REPEATS:
+            raise Diagnostic(
+                "FANUC-LOOP-LIMIT",
+                f"the program repeats itself for ever from this GOTO ({MAX_REPEATS} passes "
+                "through the same state): endless loop",
+                loc,
+            )
+
     def _count_jump(self, loc: Location, construct: str) -> None:
         """A jump back: the flavour's jump limit, then the shared loop guard."""
         self.jumps += 1
         if self.jumps > self.fl.max_loops:
             raise Diagnostic(
                 "FANUC-LOOP-LIMIT", f"more than {self.fl.max_loops} jumps back: endless loop?", loc
+            )
+        reads = self.sysvars.input_reads
+        self._waiting = self._waiting + 1 if reads != self._input_mark else 0
+        self._input_mark = reads
+        if self._waiting > MAX_INPUT_WAIT:
+            raise Diagnostic(
+                "FANUC-WAIT-INPUT",
+                f"{construct}: the loop waits for an interface input signal (#1000-#1035), "
+                "which a reading without the machine holds at 0: it would wait for ever",
+                loc,
             )
         self.guard.back(construct, loc)
 

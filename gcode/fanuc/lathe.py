@@ -18,6 +18,7 @@ from gcode.fanuc import haas_lathe_m, offsets
 from gcode.fanuc.executor import _M_PASS, Executor, machine_events, ngc_m_code
 from gcode.fanuc.state import Action
 from gcode.fanuc.turning.cycles import ProfileStep, cycle_moves
+from gcode.fanuc.turning.types import DEFAULT_SETTINGS
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.ir.canon import Plane, Units
@@ -217,6 +218,9 @@ class Lathe:
         name = _MULTI[code]
         inch = self.ex.ip.s.units is Units.INCHES
         inc = 0.0001 if inch else 0.001
+        if self.ex.fl.haas_lathe and code == 760 and ("K" in raw or "D" in raw):
+            params = self._haas_thread(v, raw, loc)
+            return name, params, [], None
         params = dict(v)
         for letter in "PQ":
             if letter in raw and type(raw[letter]) is int:
@@ -237,6 +241,9 @@ class Lathe:
             if "P" not in params or "Q" not in params:
                 raise Diagnostic("FANUC-CYCLE-PQ", f"{name} needs P and Q (contour)", loc)
             contour = self._contour(int(params["P"]), int(params["Q"]), loc)
+            if self.ex.fl.haas_lathe and code in (710, 720):
+                s = self.ex.ip.s
+                contour = _without_retract(contour, (s.pos[0], s.pos[2]), code == 720)
         skip = int(params["Q"]) if code in (710, 720, 730) else None
         return name, {k: val for k, val in params.items() if k not in "ST"}, contour, skip
 
@@ -267,6 +274,36 @@ class Lathe:
         if "D" in raw:
             first["1W" if code == 720 else "1U"] = _length(raw["D"], self.ex.ip.s.units)
         return first
+
+    def _haas_thread(
+        self, v: dict[str, float], raw: dict[str, int | float], loc: Location
+    ) -> dict[str, float]:
+        """Haas's one-block ``G76 X(U) Z(W) K D F [I A P Q]`` (lathe operator's manual,
+        "G76 Threading Cycle, Multiple Pass") as the 0i-TF two-block words: K the thread
+        height (P), D the first pass depth (Q), I the taper (R), all radius values; A the
+        tool nose angle in the first-block P (0 when omitted: radial infeed), with the
+        finishing passes and chamfer of ``CycleSettings``; P1 (single edge, constant
+        cutting amount, the 0i-TF's way) is the only cutting method read; Q, the thread
+        start angle, is a spindle phase the IR does not carry."""
+        units = self.ex.ip.s.units
+        method = raw.get("P", 1)
+        if float(method) != 1.0:
+            raise Diagnostic(
+                "HAAS-CYCLE-WORD",
+                f"G76 P{method:g}: only cutting method P1 (single edge, constant amount) is read",
+                loc,
+            )
+        if "K" not in raw or "D" not in raw:
+            raise Diagnostic("HAAS-CYCLE-WORD", "G76 needs both K (height) and D (first cut)", loc)
+        params = {k: val for k, val in v.items() if k not in "KDIAPQ"}
+        params["P"] = _length(raw["K"], units)
+        params["Q"] = _length(raw["D"], units)
+        if "I" in raw:
+            params["R"] = _length(raw["I"], units)
+        angle = float(raw.get("A", 0))
+        cfg = DEFAULT_SETTINGS
+        params["1P"] = float(cfg.thread_finish_passes * 10000 + cfg.thread_chamfer * 100 + angle)
+        return {k: val for k, val in params.items() if k not in "ST"}
 
     @staticmethod
     def _first(code: int, v: dict[str, float]) -> bool:
@@ -344,6 +381,32 @@ class Lathe:
             else:
                 raise Diagnostic("FANUC-CYCLE-MOVE", f"{name}: unknown move {m.kind}", loc)
             s.pos = [m.x, y, m.z, a, b, c]
+
+
+def _without_retract(
+    steps: list[ProfileStep], start: tuple[float, float], facing: bool
+) -> list[ProfileStep]:
+    """A Haas G71 contour without the retract many Haas programs end it with: trailing
+    blocks moving along Z only (G72: along X only), back towards the start point, outside
+    the rest of the finished shape (``N20 G00 G40 Z0.1`` after the last diameter). They run
+    along the stock, remove nothing, and stay in the G70 finishing path (the Haas lathe
+    manual's G71 examples close the contour on the stock; its roughing ignores such a
+    return, which the 0i-TF's monotonic type I check would refuse)."""
+    along, across = (0, 1) if facing else (1, 0)  # index into (x, z): the cut's direction
+    out = list(steps)
+    while len(out) > 1:
+        last, before = out[-1], out[-2]
+        last_p, before_p = (last.x, last.z), (before.x, before.z)
+        if last.kind not in ("rapid", "line") or abs(last_p[across] - before_p[across]) > 1e-9:
+            break
+        toward = abs(last_p[along] - start[along]) < abs(before_p[along] - start[along])
+        rest = [(st.x, st.z)[across] for st in out[:-1]]
+        outside = start[across] >= max(rest) - 1e-9 and last_p[across] >= max(rest) - 1e-9
+        inside = start[across] <= min(rest) + 1e-9 and last_p[across] <= min(rest) + 1e-9
+        if not toward or not (outside or inside):
+            break
+        out.pop()
+    return out
 
 
 def _length(value: int | float, units: Units) -> float:

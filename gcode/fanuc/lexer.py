@@ -38,7 +38,7 @@ _OP_RE = re.compile(r"EQ|NE|GT|GE|LT|LE|OR|XOR|AND|MOD|[-+*/]")
 _NUM_RE = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)")
 _PLAIN_RE = re.compile(r"(?:[A-Z][-+]?(?:\d+\.?\d*|\.\d+))+")
 _WORD_RE = re.compile(r"([A-Z])([-+]?(?:\d+\.?\d*|\.\d+))")
-_PROGRAM_RE = re.compile(r"O(\d+)$")
+_PROGRAM_RE = re.compile(r"[O:](\d+)$")
 _SEQ_RE = re.compile(r"N(\d+)")
 
 #: an expression node (see above): a float constant or a tuple of a kind and its parts
@@ -94,7 +94,7 @@ def _strip(raw: str, file: str | None, line: int) -> tuple[str, list[int], str |
             continue
         if ch == ";":
             break
-        if ch not in " \t\r\n":
+        if ch not in " \t\r\n\ufeff":  # a byte order mark opening the file is no character
             out.append(ch.upper())
             cols.append(i + 1)
         i += 1
@@ -124,8 +124,8 @@ def parse_line(raw: str, line: int, file: str | None = None) -> FBlock:
         blk.deleted = True
         sc.i += 1
     m = _PROGRAM_RE.match(s, sc.i)
-    if m is not None or (sc.peek() == "O" and s[sc.i + 1 : sc.i + 2].isdigit()):
-        m = re.match(r"O(\d+)", s[sc.i :])
+    if m is not None or (sc.peek() in "O:" and s[sc.i + 1 : sc.i + 2].isdigit()):
+        m = re.match(r"[O:](\d+)", s[sc.i :])
         assert m is not None
         blk.kind = "program"
         blk.label = int(m.group(1))
@@ -150,6 +150,17 @@ class _Scanner:
     def error(self, code: str, msg: str, i: int | None = None) -> Diagnostic:
         col = self.blk.column(self.i if i is None else i)
         return Diagnostic(code, msg, Location(self.file, self.blk.line, col))
+
+    def keyword(self, word: str, short: str) -> bool:
+        """Step over ``word`` or its two-letter abbreviation (``WH`` for WHILE, ``GO`` for
+        GOTO, ``TH`` for THEN, ``EN`` for END: the custom macro manual's short forms)."""
+        if self.at(word):
+            self.i += len(word)
+            return True
+        if self.at(short):
+            self.i += len(short)
+            return True
+        return False
 
     def peek(self) -> str:
         return self.s[self.i] if self.i < len(self.s) else ""
@@ -179,22 +190,20 @@ class _Scanner:
             self.i += 2
             cond = self.bracketed()
             blk.expr = cond
-            if self.at("GOTO"):
-                self.i += 4
+            if self.keyword("GOTO", "GO"):
                 blk.kind = "if_goto"
                 blk.target = self.label_value()
-            elif self.at("THEN"):
-                self.i += 4
+            elif self.keyword("THEN", "TH"):
                 blk.kind = "if_then"
                 blk.then = self.assignment()
             else:
                 raise self.error("FANUC-SYNTAX", "GOTO or THEN expected after IF [...]")
-        elif self.at("GOTO"):
-            self.i += 4
+        elif self.at("GO") and not self.at("GO["):
+            self.keyword("GOTO", "GO")
             blk.kind = "goto"
             blk.target = self.label_value()
-        elif self.at("WHILE["):
-            self.i += 5
+        elif self.at("WHILE[") or self.at("WH["):
+            self.keyword("WHILE", "WH")
             blk.expr = self.bracketed()
             if not self.at("DO"):
                 raise self.error("FANUC-SYNTAX", "DO expected after WHILE [...]")
@@ -205,8 +214,10 @@ class _Scanner:
             self.i += 2
             blk.kind = "do"
             blk.label = self.integer()
-        elif self.at("END") and self.s[self.i + 3 : self.i + 4].isdigit():
-            self.i += 3
+        elif (self.at("END") and self.s[self.i + 3 : self.i + 4].isdigit()) or (
+            self.at("EN") and self.s[self.i + 2 : self.i + 3].isdigit()
+        ):
+            self.keyword("END", "EN")
             blk.kind = "end"
             blk.label = self.integer()
         else:

@@ -1,8 +1,11 @@
 """Custom macro B: variables and expression evaluation (Fanuc 0i-MF manual, "Custom macro").
 
 Variables: ``#0`` is always vacant (``None`` here), ``#1``-``#33`` are local to a macro
-call level (G65/G66), ``#100``-``#199`` and ``#500``-``#999`` common; system variables
-(``#1000`` on) are read and written through a :class:`SystemVariables` hook. Vacant rules:
+call level (G65/G66), ``#100``-``#199`` and ``#500``-``#999`` common, with the extended
+common ranges of the Series 30i (``#98000``-``#98499``, ``#100000``-``#499999``, and the
+``#900000``-``#999999`` variables shop macros of that series use as common storage) held
+the same way; system variables (``#1000``-``#99999`` otherwise) are read and written
+through a :class:`SystemVariables` hook. Vacant rules:
 a bare vacant reference stays vacant (``#1=#0`` makes ``#1`` vacant; a word whose value is
 vacant is ignored); in arithmetic and functions vacant counts as 0; ``EQ``/``NE`` tell
 vacant from 0, the other relations count it as 0. Angles are degrees.
@@ -34,7 +37,7 @@ class Variables:
         self.levels: list[list[Value]] = []
         self.common: dict[int, Value] = {}
         for k, v in (initial or {}).items():
-            if 100 <= k <= 999:
+            if is_common(k):
                 self.common[k] = v
 
     def enter(self, arguments: dict[int, float]) -> None:
@@ -57,7 +60,7 @@ class Variables:
             return None
         if i <= 33:
             return self.locals[i]
-        if 100 <= i <= 199 or 500 <= i <= 999:
+        if is_common(i):
             return self.common.get(i)
         if i >= 1000:
             return self.system.read(i, loc)
@@ -69,7 +72,7 @@ class Variables:
             raise Diagnostic("FANUC-VARIABLE", "#0 is read-only (always vacant)", loc)
         if i <= 33:
             self.locals[i] = value
-        elif 100 <= i <= 199 or 500 <= i <= 999:
+        elif is_common(i):
             self.common[i] = value
         elif i >= 1000:
             self.system.write(i, value, loc)
@@ -77,9 +80,20 @@ class Variables:
             raise Diagnostic("FANUC-VARIABLE", f"variable #{i} does not exist", loc)
 
 
+def is_common(i: int) -> bool:
+    """Whether ``#i`` is a common variable: 0i ranges and the 30i extended ones."""
+    return (
+        100 <= i <= 199
+        or 500 <= i <= 999
+        or 98000 <= i <= 98499
+        or 100000 <= i <= 499999
+        or 900000 <= i <= 999999
+    )
+
+
 def _index(index: float, loc: Location) -> int:
     i = round(index)
-    if abs(index - i) > 1e-6 or i < 0 or i > 99999:
+    if abs(index - i) > 1e-6 or i < 0 or i > 999999:
         raise Diagnostic("FANUC-VARIABLE", f"bad variable number #{index:g}", loc)
     return i
 

@@ -88,10 +88,12 @@ def tool_length(
     h = v.get("H")
     if h is not None and round(h) == 0:
         w.g[8] = 490
+        ex.modal_h = 0.0
         return
     w.g[8] = 430
     if h is not None:
         w.values["h"] = float(round(h))
+        ex.modal_h = float(round(h))
 
 
 def radius(ex: ExecutorState, w: Words, v: dict[str, float]) -> None:

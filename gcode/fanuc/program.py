@@ -20,8 +20,10 @@ from dataclasses import dataclass, field
 from gcode.fanuc.lexer import FBlock, parse_line
 from kernel.diagnostics import Diagnostic, Location
 
-_O_RE = re.compile(r"^[ \t]*/?[ \t]*[Oo][ \t]*(\d+)", re.MULTILINE)
-_O_BYTES_RE = re.compile(rb"^[ \t]*/?[ \t]*[Oo][ \t]*(\d+)", re.MULTILINE)
+#: an O line (``:`` is the ISO program number address, read as O); a byte order mark may
+#: open the file
+_O_RE = re.compile(r"^\ufeff?[ \t]*/?[ \t]*[Oo:][ \t]*(\d+)", re.MULTILINE)
+_O_BYTES_RE = re.compile(rb"^(?:\xef\xbb\xbf)?[ \t]*/?[ \t]*[Oo:][ \t]*(\d+)", re.MULTILINE)
 _N_RE = re.compile(r"[ \t]*/?[ \t]*[Nn][ \t]*(\d+)")
 
 

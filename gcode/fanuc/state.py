@@ -93,6 +93,7 @@ class ExecutorState:
         self.extended_selected: int | None = None
         self.control = 640  # G61 / G64 for G05.1 Q0 and G09
         self.comp_d: float | None = None  # D word of the G41/G42 in force
+        self.modal_h: float | None = None  # H word of the last G43 (#4111)
         self.lathe: LatheMode | None = None  # set by the flow when the flavour is a lathe
         self.depth = 0  # macro call depth (set by the flow)
         self.last_comment: str | None = None

@@ -77,6 +77,10 @@ def resolve(
             out["K"] = float(raw["K"])
         if "P" in raw:
             out["P"] = raw["P"] / 1000.0
+    if (650 in gset or 660 in gset) and type(raw.get("E")) is int:
+        # a macro argument E has no thread-lead unit on a mill: shop macros pass codes
+        # such as ``E41`` (G41) in it, taken as written
+        out["E"] = float(raw["E"])
     if nurbs:
         for letter in "KRP":
             if letter in raw:

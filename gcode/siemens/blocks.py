@@ -39,35 +39,16 @@ KEYWORDS = (
 #: subprogram names): transformations, path and dynamic modes, splines, calls
 UNSUPPORTED = frozenset(
     [
-        "SUPA",
-        "DIAMON",
-        "DIAMOF",
-        "DIAM90",
         "TRAORI",
-        "TRAFOOF",
         "TRANSMIT",
         "TRACYL",
         "TRAANG",
-        "CFC",
-        "CFTCP",
-        "CFIN",
-        "SOFT",
-        "BRISK",
-        "DRIVE",
-        "FFWON",
-        "FFWOF",
-        "COMPON",
-        "COMPCURV",
-        "COMPCAD",
-        "COMPOF",
         "CT",
         "ASPLINE",
         "BSPLINE",
         "CSPLINE",
         "POLY",
         "OFFN",
-        "WORKPIECE",
-        "STOPRE",
         "SETMS",
         "SPCON",
         "SPCOF",
@@ -75,13 +56,6 @@ UNSUPPORTED = frozenset(
         "CALL",
         "PCALL",
         "EXTCALL",
-        "ORIWKS",
-        "ORIMKS",
-        "BRISKA",
-        "SOFTA",
-        "CPRECON",
-        "CPRECOF",
-        "G153",
         "CHF",
         "CHR",
         "RND",
@@ -93,7 +67,6 @@ UNSUPPORTED = frozenset(
         "PRINT",
         "WRITE",
         "READ",
-        "SETAL",
         "DELETE",
         "EXECSTRING",
         "EXECTAB",
@@ -107,6 +80,25 @@ UNSUPPORTED = frozenset(
         "GOTOS",
     ]
 )
+#: 840D instructions that change how the path is run (jerk and acceleration profiles,
+#: feedforward, compressor, look-ahead stop, feed correction under radius compensation,
+#: orientation interpolation without a transformation, switching a transformation off while
+#: none is on) and not where it goes: read and ignored, the IR has no such setting
+#: (fundamentals and job planning: SOFT/BRISK/DRIVE, FFWON, COMPCAD, STOPRE, CFC, FNORM,
+#: UPATH/SPATH, DYNNORM..., ORIWKS, TRAFOOF)
+NEUTRAL = frozenset(
+    {"SOFT", "BRISK", "DRIVE", "SOFTA", "BRISKA", "FFWON", "FFWOF", "COMPON", "COMPCURV"}
+    | {"COMPCAD", "COMPOF", "STOPRE", "CFC", "CFTCP", "CFIN", "FNORM", "UPATH", "SPATH"}
+    | {"DYNNORM", "DYNPOS", "DYNROUGH", "DYNSEMIFIN", "DYNFINISH", "ORIWKS", "ORIMKS"}
+    | {"ORIAXES", "ORIVECT", "TRAFOOF", "CPRECON", "CPRECOF"}
+)
+#: axis-indexed dynamic settings (``ACC[X]=50``: acceleration, jerk and velocity limits in
+#: percent): like the NEUTRAL instructions they change how the path is run, not where
+AXIS_SETTINGS = frozenset({"ACC", "JERKLIM", "VELOLIM", "ACCLIMA", "JERKLIMA", "VELOLIMA"})
+#: diameter programming of the transverse axis X (fundamentals, "Dimensions for turning")
+DIAMETER = frozenset({"DIAMON", "DIAMOF", "DIAM90"})
+#: the block's positions are machine coordinates (all frames suppressed, non-modal)
+SUPPRESS = frozenset({"SUPA"})
 #: axis addresses of 840D machines with more axes (W: a second Z, e.g. a quill) that the
 #: machine profile (kernel.machine: X Y Z A B C) and the IR do not have
 ABSENT_AXES = frozenset({"U", "V", "W"})
@@ -271,9 +263,21 @@ class _Statement:
                 b.kind, b.args = "CYCLE", (head, self._arguments(head))
                 self.end()
                 return
+            if head == "WORKPIECE" and self.i + 1 < len(self.t) and _op(self.t[self.i + 1], "("):
+                self.i += 1  # the blank for the control's simulation (ShopMill/ShopTurn)
+                self._arguments(head)
+                self.end()
+                return
+            if head == "SETAL" and self.i + 1 < len(self.t) and _op(self.t[self.i + 1], "("):
+                self.i += 1
+                b.kind, b.args = "ALARM", self._arguments(head)
+                self.end()
+                return
             if head in UNSUPPORTED or head.startswith("$"):
                 raise self.error("SIEM-UNSUPPORTED", f"{head} is not supported by this reader")
-            if head not in EXTENDED and head not in LETTERS and head not in KEYWORDS | {"CIP"}:
+            known = EXTENDED | NEUTRAL | DIAMETER | SUPPRESS | AXIS_SETTINGS | LETTERS
+            known |= KEYWORDS | {"CIP"}
+            if head not in known:
                 self.i += 1
                 self._call(head)
                 return
@@ -340,17 +344,46 @@ class _Statement:
         while True:
             name = self.name()
             if self.is_op("["):
-                raise self.error("SIEM-UNSUPPORTED", f"array variables ({name}[...])")
-            value: Node | None = None
-            if self.is_op("="):
-                self.i += 1
-                value = self.expr()
-            names.append((name, value))
+                names.append(self._array(name))
+            else:
+                value: Node | None = None
+                if self.is_op("="):
+                    self.i += 1
+                    value = self.expr()
+                names.append((name, value))
             if not self.is_op(","):
                 break
             self.i += 1
         self.end()
         self.b.kind, self.b.args = "DEF", (kind, tuple(names))
+
+    def _array(self, name: str) -> tuple:
+        """``NAME[n, m]`` with ``= SET(a, , c)``, ``= REP(v[, count])`` or ``= v``: (name,
+        dimension nodes, values: ("SET", nodes or None) or ("REP", value, count or None))."""
+        self.i += 1
+        dims = []
+        while True:
+            dims.append(self.expr())
+            if self.is_op("]"):
+                self.i += 1
+                break
+            self.take(",")
+        init: tuple = ("SET", ())
+        if self.is_op("="):
+            self.i += 1
+            head = self.t[self.i].text if not self.done() else ""
+            if head in ("SET", "REP") and self.i + 1 < len(self.t) and _op(self.t[self.i + 1], "("):
+                self.i += 1
+                args = self._arguments(head)
+                if head == "SET":
+                    init = ("SET", args)
+                else:
+                    if not args or args[0] is None or len(args) > 2:
+                        raise self.error("SIEM-SYNTAX", "REP(value[, count]) expected")
+                    init = ("REP", args[0], args[1] if len(args) == 2 else None)
+            else:
+                init = ("REP", self.expr(), None)
+        return (name, tuple(dims), init)
 
     def _proc(self) -> None:
         """``PROC NAME(REAL A, VAR INT B)``: args (name, ((by_reference, type, name), ...))."""
@@ -374,7 +407,7 @@ class _Statement:
                     self.take(",")
             self.i += 1
         while not self.done() and self.t[self.i].kind == NAME:
-            if self.t[self.i].text in ("DISPLOF", "SBLOF", "ACTBLOCNO"):
+            if self.t[self.i].text in ("DISPLOF", "DISPLON", "SBLOF", "SBLON", "ACTBLOCNO"):
                 self.i += 1  # display and single-block attributes: no IR meaning
             elif self.t[self.i].text == "SAVE":
                 raise self.error(
@@ -554,6 +587,15 @@ class _Statement:
             return ("R", index)
         if name[0] == "R" and name[1:].isdigit():
             return ("R", ("num", float(name[1:])))
+        if self.is_op("["):  # an element of a DEF array
+            self.i += 1
+            index = []
+            while True:
+                index.append(self.expr())
+                if self.is_op("]"):
+                    self.i += 1
+                    return ("A", (name, tuple(index)))
+                self.take(",")
         return ("V", name)
 
     # ------------------------------------------------------------------ NC words
@@ -580,6 +622,16 @@ class _Statement:
                 items.append(Word("CIP", ("num", 1.0), tok.col))
                 self.i += 1
                 continue
+            if name in AXIS_SETTINGS and self.i + 1 < len(t) and _op(t[self.i + 1], "["):
+                self._axis_setting(name)
+                continue
+            if not self._assignment_ahead() and name in NEUTRAL:
+                self.i += 1
+                continue
+            if not self._assignment_ahead() and name in DIAMETER | SUPPRESS:
+                items.append(Word(name, ("num", 1.0), tok.col))
+                self.i += 1
+                continue
             if not self._assignment_ahead():
                 if name in UNSUPPORTED:
                     raise self.error("SIEM-UNSUPPORTED", f"{name} is not supported by this reader")
@@ -598,13 +650,26 @@ class _Statement:
             self.take("=")
             items.append(Assign(target, self.expr(), tok.col))
 
+    def _axis_setting(self, name: str) -> None:
+        """``ACC[X]=50``: read (the value is checked as an expression) and dropped."""
+        self.i += 2
+        tok = self.t[self.i] if not self.done() else None
+        axis = tok.text if tok is not None else ""
+        if axis not in ("X", "Y", "Z", "A", "B", "C", "SPI"):
+            raise self.error("SIEM-AXIS", f"{name}[{axis}]: this machine has no such axis")
+        self.i += 1
+        self.take("]")
+        self.take("=")
+        self.expr()
+
     def _value(self, address: str, col: int) -> Word:
         mode = None
         if not self.done() and self.t[self.i].kind == STR:
-            raise self.error(
-                "SIEM-UNSUPPORTED",
-                f'{address}="...": names (tool management) are not supported; use numbers',
-            )
+            if address != "T":
+                raise self.error("SIEM-WORD", f'{address}="...": a name where a number is needed')
+            name = self.t[self.i].text  # T="NAME": a tool of the tool management, by name
+            self.i += 1
+            return Word(address, ("tool", name), col)
         tok = self.t[self.i] if not self.done() else None
         nxt = self.t[self.i + 1] if self.i + 1 < len(self.t) else None
         if tok is not None and tok.text in AXIS_MODES and nxt is not None and _op(nxt, "("):

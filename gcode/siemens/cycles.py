@@ -11,7 +11,16 @@ the current position along the applicate (the axis normal to the active plane; Z
 4. G0 back to the retraction plane ``RTP``.
 
 Omitted parameters are 0. ``MCALL CYCLE81(...)`` repeats the cycle after every following
-block that moves, until ``MCALL`` alone. Other cycles are refused (SIEM-CYCLE-UNSUPPORTED).
+block that moves, until ``MCALL`` alone.
+
+Two setting cycles that CAM output for the 840D calls in nearly every program are read
+without moves (cycles manual, "High speed settings - CYCLE832" and "Swiveling - CYCLE800"):
+``CYCLE832(TOL, ...)`` sets continuous-path mode with blending within the path tolerance
+TOL (as G642 with that tolerance), and ``CYCLE832()`` (no tolerance: the deselection) the
+exact stop G60; ``CYCLE800()`` (no parameters: swivel off) and a ``CYCLE800`` that states
+its offsets and angles (parameters 5 to 13) all 0 leave the work plane as it is (the
+retraction it may order first moves to machine-data positions the IR cannot know, and is
+left out). Any other swivel, and every other cycle, is refused (SIEM-CYCLE-UNSUPPORTED).
 """
 
 from __future__ import annotations
@@ -43,8 +52,39 @@ def check_cycle(ex: Machine, name: str, args: tuple[Node | None, ...]) -> None:
         )
 
 
+def _number(node: Node | None, scope: Variables) -> float:
+    return 0.0 if node is None else evaluate(node, scope)
+
+
+def setting_cycle(ex: Machine, name: str, args: tuple, scope: Variables) -> bool:
+    """Run CYCLE832 or a CYCLE800 to the unswivelled plane (True), else False."""
+    if name == "CYCLE832":
+        tol = _number(args[0] if args else None, scope)
+        if tol < 0:
+            raise Diagnostic("SIEM-CYCLE-ARGS", "CYCLE832: negative tolerance", ex.loc)
+        ex.s.control = 642 if tol > 0 else 60
+        mode = canon.MotionMode.CONTINUOUS if tol > 0 else canon.MotionMode.EXACT_STOP
+        ex.emit(canon.SetMotionControlMode(mode, tol, source=ex.loc))
+        return True
+    if name == "CYCLE800" and any(a is not None for a in args) and len(args) < 13:
+        return False  # neither "swivel off" nor a swivel stating its offsets and angles
+    if name == "CYCLE800":
+        swivel = [_number(node, scope) for node in args[4:13]]
+        if any(abs(value) > 1e-12 for value in swivel):
+            raise Diagnostic(
+                "SIEM-CYCLE-UNSUPPORTED",
+                "CYCLE800 swivelling the work plane (offsets or angles not 0) is not read: "
+                "the IR has no swivelled plane",
+                ex.loc,
+            )
+        return True
+    return False
+
+
 def run_cycle(ex: Machine, name: str, args: tuple, scope: Variables) -> None:
     """Expand one drilling cycle at the current position."""
+    if setting_cycle(ex, name, args, scope):
+        return
     check_cycle(ex, name, args)
     p = dict.fromkeys(PARAMETERS[name], 0.0)
     for key, node in zip(PARAMETERS[name], args, strict=False):

@@ -13,7 +13,7 @@ from gcode.core import linuxcnc as lc
 from gcode.core.machine_functions import machine_function
 from gcode.core.register_marks import ToolLengthRegister
 from gcode.siemens import motion
-from gcode.siemens.blocks import Assign, Block, Word
+from gcode.siemens.blocks import DIAMETER, SUPPRESS, Assign, Block, Word
 from gcode.siemens.cycles import run_cycle
 from gcode.siemens.expr import Variables, evaluate
 from gcode.siemens.machine import Machine, Values
@@ -28,11 +28,14 @@ G_GROUPS: dict[int, int] = {
     0: 1, 1: 1, 2: 1, 3: 1, 33: 1,
     4: 2, 9: 11,
     17: 6, 18: 6, 19: 6,
-    40: 7,
+    40: 7, 41: 7, 42: 7,
     54: 8, 55: 8, 56: 8, 57: 8, 500: 8,
-    60: 10, 64: 10, 641: 10, 642: 10,
+    60: 10, 64: 10, 641: 10, 642: 10, 643: 10, 644: 10, 645: 10,
+    601: 12, 602: 12, 603: 12,
+    450: 18, 451: 18,
     70: 13, 71: 13, 700: 13, 710: 13,
     90: 14, 91: 14,
+    53: 9, 153: 9,
     93: 15, 94: 15, 95: 15,
     96: 29, 97: 29,
 }  # fmt: skip
@@ -42,7 +45,15 @@ M_CODES = frozenset({0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 19, 30})
 ADDRESSES = frozenset(
     {"X", "Y", "Z", "A", "B", "C", "I", "J", "K", "F", "S", "T", "D"}
     | {"CR", "AR", "TURN", "SPOS", "LIMS", "ADIS", "MEAS", "I1", "J1", "K1"}
+    | DIAMETER
+    | SUPPRESS
 )
+#: system variables a part program reads (job planning and the system variables list):
+#: the active tool and edge, feed and speed, positions per axis, the active settable frame;
+#: the PLC inputs, the run-time timer and the block search and test flags read 0 (no
+#: signal, at the program start, not in a search or test run)
+_SYSTEM_ZERO = frozenset({"$A_IN", "$A_INA", "$AC_TIME", "$AN_SETUP_TIME", "$P_SEARCH"})
+_SYSTEM_ZERO_ALSO = frozenset({"$P_ISTEST", "$AC_MARKER", "$AC_PARAM", "$P_DRYRUN"})
 _PLANE_OF = {17: "XY", 18: "ZX", 19: "YZ"}
 #: RS274/NGC's coordinate systems (G54-G59.3): the IR's SET_G5X_OFFSET indexes 1-9
 G5X_SLOTS = 9
@@ -102,6 +113,9 @@ class Executor(Machine):
                 target = item.target[1]
                 if isinstance(target, str):  # ("V", name)
                     scope.set(target, value, loc)
+                elif item.target[0] == "A":  # ("A", (name, index nodes))
+                    name, index = target
+                    scope.array_set(name, [evaluate(i, scope) for i in index], value, loc)
                 else:  # ("R", index node)
                     scope.r_set(evaluate(target, scope), value, loc)
                 continue
@@ -110,8 +124,47 @@ class Executor(Machine):
 
     def _word(self, vals: Values, w: Word, scope: Variables, line: int) -> None:
         node = w.value
-        value = node[1] if node[0] == "num" else evaluate(node, scope)
+        if node[0] == "tool":
+            value = float(self.tool_number(str(node[1])))
+        else:
+            value = node[1] if node[0] == "num" else evaluate(node, scope)
         self.word(vals, w.address, value, w.col, w.mode)
+
+    def tool_number(self, name: str) -> int:
+        """The IR's number for the tool management's tool ``name`` (``T="NAME"``): tools
+        get 1, 2, ... in the order their names are first met, each named in a comment."""
+        n = self.tool_names.get(name)
+        if n is None:
+            n = self.tool_names[name] = len(self.tool_names) + 1
+            self.emit(canon.Comment(f'T="{name}" is tool {n}', source=self.loc))
+        return n
+
+    def system_variable(self, name: str, index: str | None, loc: Location) -> float:
+        """The value of the system variable ``$name`` (``$name[index]``) a program reads."""
+        s = self.s
+        axis = "XYZABC".find(index) if index is not None and len(index) == 1 else -1
+        if name in ("$A_IN", "$A_INA"):
+            self.input_reads += 1  # a loop waiting on a PLC input never ends here
+            return 0.0
+        if name in _SYSTEM_ZERO or name in _SYSTEM_ZERO_ALSO:
+            return 0.0
+        if name == "$P_TOOLNO":
+            return float(s.tool)
+        if name == "$P_TOOL":
+            return float(s.edge)
+        if name == "$P_F":
+            return s.feed
+        if name in ("$P_S", "$AC_S"):
+            return s.speed
+        if name == "$P_UIFRNUM":
+            return float(s.work)
+        if name in ("$AA_IW", "$P_EP", "$AA_IM", "$AA_IB") and axis >= 0:
+            if name != "$AA_IM":  # the work (program) position
+                return motion.program_position(self)[axis] if axis < 3 else s.pos[axis]
+            shift = s.frame.t[axis] if axis < 3 else 0.0  # the frame's translation
+            return s.pos[axis] + shift + s.g5x[axis]  # the machine position
+        what = f"{name}[{index}]" if index is not None else name
+        raise Diagnostic("SIEM-UNSUPPORTED", f"system variable {what} is not supported", loc)
 
     def word(self, vals: Values, a: str, value: float, col: int, mode: str | None = None) -> None:
         """Add one evaluated word to the block's values (G and M codes checked here)."""
@@ -143,6 +196,12 @@ class Executor(Machine):
                 raise Diagnostic("SIEM-M-CODE", f"M{code} twice in one block", self._col(col))
             vals.m.append(code)
             vals.cols[f"M{code}"] = col  # an M code outside M_CODES: a machine function
+            return
+        if a in SUPPRESS:
+            vals.g[9] = 53
+            return
+        if a in DIAMETER:
+            vals.g[16] = {"DIAMOF": 0, "DIAMON": 1, "DIAM90": 90}[a]
             return
         if a in vals.v:
             raise Diagnostic("SIEM-WORD", f"{a} twice in one block", self._col(col))
@@ -210,12 +269,20 @@ class Executor(Machine):
             if v["ADIS"] < 0:
                 raise Diagnostic("SIEM-NEGATIVE", "negative ADIS=", self.at(vals, "ADIS"))
             s.adis = v["ADIS"]
+        if g.get(7) in (41, 42):
+            self._radius_compensation(g[7])
         if 10 in g:
             self._control(g[10], vals)
         elif "ADIS" in v and s.control == 641:
             self._control(641, vals)
         if 14 in g:
             s.absolute = g[14] == 90
+        if 16 in g:
+            s.diameter = g[16]
+        if s.diameter:
+            self._diameters(vals)
+        if 9 in g:
+            self._machine_positions(vals)
         if 1 in g:
             s.motion = g[1]
         moved = motion.execute(self, vals, g.get(11) == 9)
@@ -380,8 +447,58 @@ class Executor(Machine):
             s.pos[i] += old[i] - s.g5x[i]
         self.emit_offsets(g5x=True)
 
+    def _radius_compensation(self, code: int) -> None:
+        """G41/G42 with the active edge's radius from the tool table: a radius of 0 (no tool
+        table, D0, a tool without diameter) leaves the path as programmed, as the control's
+        compensation of a zero radius does; a radius above 0 is refused (the reader does not
+        offset 840D contours)."""
+        s = self.s
+        tool = self.tools.get(s.tool) if self.tools is not None and s.edge else None
+        radius = tool.diameter / 2.0 if tool is not None else 0.0
+        if radius > 1e-12:
+            raise Diagnostic(
+                "SIEM-COMP",
+                f"G{code} with tool {s.tool} of radius {radius:g}: tool radius compensation "
+                "of a non-zero radius is not computed by this reader",
+                self.loc,
+            )
+
+    def _diameters(self, vals: Values) -> None:
+        """DIAMON: X (and the X of CIP's intermediate point, I1) is a diameter, absolute and
+        incremental; DIAM90: a diameter under G90 or AC only. The IR carries radii; centre
+        words I stay radii (fundamentals, "Dimensions for turning")."""
+        s = self.s
+        for letter in ("X", "I1"):
+            if letter in vals.v:
+                mode = vals.modes.get(letter)
+                absolute = mode == "AC" or (mode is None and s.absolute)
+                if s.diameter == 1 or absolute:
+                    vals.v[letter] /= 2.0
+
+    def _machine_positions(self, vals: Values) -> None:
+        """G53, G153, SUPA (non-modal): the block's absolute X Y Z are machine positions of
+        the tool's controlled point, all frames suppressed (fundamentals, "Frame
+        suppression"); the tool offset stays. They become program positions by taking off
+        the work offset and the frame's translation; under a rotated, scaled or mirrored
+        frame the block is refused."""
+        s = self.s
+        if s.frame.linear:
+            raise Diagnostic(
+                "SIEM-UNSUPPORTED",
+                "G53/G153/SUPA under a rotated, scaled or mirrored frame is not read",
+                self.loc,
+            )
+        for k, letter in enumerate("XYZ"):
+            if letter in vals.v:
+                mode = vals.modes.get(letter)
+                if mode == "AC" or (mode is None and s.absolute):
+                    vals.v[letter] -= s.g5x[k] + s.frame.t[k]
+                    vals.modes[letter] = "AC"
+
     def _control(self, code: int, vals: Values) -> None:
         s = self.s
+        if code in (643, 644, 645):
+            code = 642  # blending with the machine's tolerances, as G642
         s.control = code
         if code == 60:
             self.emit(canon.SetMotionControlMode(canon.MotionMode.EXACT_STOP, source=self.loc))

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from gcode.siemens.lexer import NAME, NUM, OP, WORD, Token
+from gcode.siemens.lexer import NAME, NUM, OP, STR, WORD, Token
 from kernel.diagnostics import Diagnostic, Location
 
 #: deepest nesting of brackets and unary operators in one expression
@@ -20,12 +20,19 @@ MAX_NESTING = 100
 #: most binary operators in one expression (both bounds keep evaluation within Python's
 #: recursion limit)
 MAX_OPERATORS = 500
+#: most elements of one DEF array (the 840D's limit depends on its memory)
+MAX_ARRAY = 100_000
 #: highest R parameter number (the 840D default is R0..R99; machine data raise it)
 MAX_R = 999
 _BINARY = {
     "OR": 1,
     "XOR": 2,
     "AND": 3,
+    # bit operators on whole numbers (job planning, "Comparison and logical operations"):
+    # above the relations, below + and -, B_AND binding tighter than B_XOR than B_OR
+    "B_OR": 5.25,
+    "B_XOR": 5.5,
+    "B_AND": 5.75,
     "==": 5,
     "<>": 5,
     "<": 5,
@@ -72,12 +79,24 @@ FUNCTIONS: dict[str, tuple[int, Callable[..., float]]] = {
 Node = tuple
 
 
+#: reads system variable ``$NAME`` (``$NAME[index]``, index an axis name or a number)
+SystemReader = Callable[[str, "str | None", Location], float]
+
+
 class Variables:
     """R parameters (global to the run) and the DEF variables of one program level."""
 
-    def __init__(self, r: dict[int, float]) -> None:
+    def __init__(self, r: dict[int, float], system: SystemReader | None = None) -> None:
         self.r = r
         self.local: dict[str, tuple[str, float]] = {}  # name -> (type, value)
+        #: DEF arrays: name -> (type, dimensions, values in row-major order)
+        self.arrays: dict[str, tuple[str, tuple[int, ...], list[float]]] = {}
+        self.system = system  # reads ``$`` system variables (the run's machine)
+
+    def system_get(self, name: str, index: str | None, loc: Location) -> float:
+        if self.system is None:
+            raise Diagnostic("SIEM-UNSUPPORTED", f"system variable {name} is not supported", loc)
+        return self.system(name, index, loc)
 
     def get(self, name: str, loc: Location) -> float:
         found = self.local.get(name)
@@ -93,6 +112,45 @@ class Variables:
 
     def define(self, kind: str, name: str, value: float, loc: Location) -> None:
         self.local[name] = (kind, store(kind, value, loc))
+
+    def define_array(
+        self, kind: str, name: str, dims: tuple[int, ...], values: list[float], loc: Location
+    ) -> None:
+        """``DEF REAL NAME[n, m] = SET(...)``: the array, 0 where no value is given."""
+        size = math.prod(dims)
+        if any(d < 1 for d in dims) or size > MAX_ARRAY:
+            raise Diagnostic(
+                "SIEM-ARRAY", f"{name}{list(dims)}: dimensions 1..{MAX_ARRAY} elements", loc
+            )
+        if len(values) > size:
+            raise Diagnostic("SIEM-ARRAY", f"{name}: more values than its {size} elements", loc)
+        data = [store(kind, v, loc) for v in values] + [0.0] * (size - len(values))
+        self.arrays[name] = (kind, dims, data)
+        self.local.pop(name, None)
+
+    def _element(self, name: str, index: list[float], loc: Location) -> int:
+        found = self.arrays.get(name)
+        if found is None:
+            raise Diagnostic("SIEM-VARIABLE", f"array {name} is not defined", loc)
+        dims = found[1]
+        if len(index) != len(dims):
+            raise Diagnostic("SIEM-ARRAY", f"{name} has {len(dims)} index(es)", loc)
+        flat = 0
+        for i, d in zip(index, dims, strict=True):
+            k = round(i)
+            if abs(i - k) > 1e-9 or not 0 <= k < d:
+                raise Diagnostic("SIEM-ARRAY", f"{name}: index {i:g} outside 0..{d - 1}", loc)
+            flat = flat * d + k
+        return flat
+
+    def array_get(self, name: str, index: list[float], loc: Location) -> float:
+        k = self._element(name, index, loc)
+        return self.arrays[name][2][k]
+
+    def array_set(self, name: str, index: list[float], value: float, loc: Location) -> None:
+        k = self._element(name, index, loc)
+        kind, _, data = self.arrays[name]
+        data[k] = store(kind, value, loc)
 
     def r_get(self, index: float, loc: Location) -> float:
         return self.r.get(r_index(index, loc), 0.0)
@@ -139,7 +197,7 @@ class Parser:
             raise Diagnostic("SIEM-SYNTAX", f"expected {text!r}", self.loc())
         self.pos += 1
 
-    def expression(self, level: int = 0) -> Node:
+    def expression(self, level: float = 0) -> Node:
         left = self.unary()
         while True:
             tok = self.peek()
@@ -176,6 +234,10 @@ class Parser:
         if tok.kind == NAME and tok.text == "NOT":
             self.pos += 1
             return ("not", self.unary())
+        if tok.kind == NAME and tok.text == "B_NOT":
+            loc = self.loc()
+            self.pos += 1
+            return ("bin", "B_XOR", ("num", -1.0), self.unary(), loc)  # ~x = x XOR all ones
         return self.primary(tok)
 
     def primary(self, tok: Token) -> Node:
@@ -199,18 +261,43 @@ class Parser:
                 self.expect("]")
                 return ("r", index, loc)
             if name.startswith("$"):
-                raise Diagnostic(
-                    "SIEM-UNSUPPORTED", f"system variable {name} is not supported", loc
-                )
+                return self.system_variable(name, loc)
             if name in ("TRUE", "FALSE"):
                 return ("num", 1.0 if name == "TRUE" else 0.0)
             if name in FUNCTIONS:
                 return self.call(name, loc)
             if name[0] == "R" and name[1:].isdigit():
                 return ("num_r", r_index(float(name[1:]), loc), loc)
+            if self._is("["):  # an element of a DEF array
+                self.pos += 1
+                return ("arr", name, tuple(self.indices()), loc)
             return ("var", name, loc)
+        if tok.kind == STR:  # a string argument of a cycle (its tool, its mode)
+            return ("str", tok.text, loc)
         text = tok.text if tok is not None else "end of block"
         raise Diagnostic("SIEM-SYNTAX", f"unexpected {text!r} in expression", loc)
+
+    def indices(self) -> list[Node]:
+        """The index expressions of ``NAME[i, j]`` after the ``[`` (the ``]`` taken)."""
+        out = [self.expression()]
+        while self._is(","):
+            self.pos += 1
+            out.append(self.expression())
+        self.expect("]")
+        return out
+
+    def system_variable(self, name: str, loc: Location) -> Node:
+        """``$NAME`` or ``$NAME[AXIS]`` / ``$NAME[n]`` (the index: an axis name or a number)."""
+        index: str | None = None
+        if self._is("["):
+            self.pos += 1
+            tok = self.peek()
+            if tok is None or tok.kind not in (NAME, WORD, NUM):
+                raise Diagnostic("SIEM-SYNTAX", f"index expected after {name}[", loc)
+            index = tok.text
+            self.pos += 1
+            self.expect("]")
+        return ("sys", name, index, loc)
 
     def call(self, name: str, loc: Location) -> Node:
         arity, _ = FUNCTIONS[name]
@@ -246,6 +333,12 @@ def evaluate(node: Node, v: Variables) -> float:
         return v.get(node[1], node[2])
     if kind == "r":
         return v.r_get(evaluate(node[1], v), node[2])
+    if kind == "arr":
+        return v.array_get(node[1], [evaluate(i, v) for i in node[2]], node[3])
+    if kind == "sys":
+        return v.system_get(node[1], node[2], node[3])
+    if kind == "str":
+        raise Diagnostic("SIEM-SYNTAX", f'string "{node[1]}" where a number is needed', node[2])
     name, args, loc = node[1], node[2], node[3]
     values = [evaluate(a, v) for a in args]
     try:
@@ -280,6 +373,11 @@ def _binary(op: str, a: float, b: float, loc: Location) -> float:
         r = float(a <= b)
     elif op == ">=":
         r = float(a >= b)
+    elif op in ("B_AND", "B_OR", "B_XOR"):
+        if a != int(a) or b != int(b):
+            raise Diagnostic("SIEM-MATH", f"{op} takes whole numbers ({a:g}, {b:g})", loc)
+        x, y = int(a), int(b)
+        r = float(x & y if op == "B_AND" else x | y if op == "B_OR" else x ^ y)
     elif op == "AND":
         r = float(bool(a) and bool(b))
     elif op == "OR":

@@ -42,6 +42,12 @@ from kernel.ir import canon
 MAX_LOOPS = 1_000_000
 END = Block(0)  # the block that ended a level (M2/M17/M30), when read by the fast path
 MAX_DEPTH = 16
+#: loop passes in a row that read a PLC input before a loop counts as waiting on the machine
+MAX_INPUT_WAIT = 1000
+#: states kept to tell a main program repeating itself for ever (memory bound)
+MAX_STATES = 10_000
+#: passes through the same state at an unconditional jump back before SIEM-LOOP-LIMIT
+MAX_REPEATS = 10_000
 
 
 @dataclass
@@ -83,9 +89,13 @@ class Level:
 class Runner:
     def __init__(self, ex: Executor, main: Program) -> None:
         self.ex = ex
-        self.levels = [Level(main, Variables(ex.r))]
+        self.levels = [Level(main, Variables(ex.r, ex.system_variable))]
         self.programs: dict[str, Program] = {main.name: main}
         self.loops = 0
+        self.input_mark = 0  # PLC input reads at the last loop pass
+        self.waiting = 0  # loop passes in a row, each after reading a PLC input
+        self.seen_states: set[tuple[object, ...]] = set()  # at unconditional jumps back
+        self.repeats = 0  # arrivals at an unconditional jump back in a state seen before
         opts = ex.options
         self.guard = LoopGuard(opts.max_blocks, opts.max_idle_blocks)
 
@@ -200,7 +210,7 @@ class Runner:
         self.levels.append(callee)
 
     def _bind(self, bound: tuple[tuple[str, str, float], ...]) -> Variables:
-        scope = Variables(self.ex.r)
+        scope = Variables(self.ex.r, self.ex.system_variable)
         for kind, pname, value in bound:
             scope.define(kind, pname, value, self.ex.loc)
         return scope
@@ -240,12 +250,38 @@ class Runner:
         return tuple(bound), tuple(results)
 
     # ------------------------------------------------------------------ statements
+    def define_array(self, scope: Variables, kind: str, item: tuple) -> None:
+        """``DEF REAL NAME[n, m] = SET(...) / REP(v, count)``: elements in row-major order,
+        an omitted SET value 0, REP's value repeated count times (all elements without)."""
+        loc = self.ex.loc
+        name, dim_nodes, init = item
+        dims = []
+        for node in dim_nodes:
+            d = evaluate(node, scope)
+            if d != round(d):
+                raise Diagnostic("SIEM-ARRAY", f"{name}: dimension {d:g} is not whole", loc)
+            dims.append(int(round(d)))
+        if init[0] == "SET":
+            values = [0.0 if n is None else evaluate(n, scope) for n in init[1]]
+        else:
+            value = evaluate(init[1], scope)
+            size = 1
+            for d in dims:
+                size *= max(d, 0)
+            count = size if init[2] is None else evaluate(init[2], scope)
+            if count != round(count) or count < 0:
+                raise Diagnostic("SIEM-ARRAY", f"{name}: REP count {count:g}", loc)
+            values = [value] * min(int(count), size + 1)
+        scope.define_array(kind, name, tuple(dims), values, loc)
+
     def statement(self, level: Level, block: Block, index: int) -> None:
         ex = self.ex
         kind = block.kind
         scope = level.scope
         if kind == "GOTO":
             self.jump(level, block.args[0], block.args[1], index)
+            if level.index <= index:
+                self._repeats_for_ever(level)
         elif kind == "IFGOTO":
             if evaluate(block.args[0], scope):
                 self.jump(level, block.args[1], block.args[2], index)
@@ -265,7 +301,11 @@ class Runner:
             self.structure(level, block, index)
         elif kind == "DEF":
             kind_name, names = block.args
-            for name, node in names:
+            for item in names:
+                if len(item) == 3:
+                    self.define_array(scope, kind_name, item)
+                    continue
+                name, node = item
                 scope.define(
                     kind_name, name, evaluate(node, scope) if node is not None else 0.0, ex.loc
                 )
@@ -274,6 +314,11 @@ class Runner:
                 ex.emit(canon.Message(block.args[0], source=ex.loc))
         elif kind == "FRAME":
             self.frame(level, block)
+        elif kind == "ALARM":
+            number = evaluate(block.args[0], scope) if block.args and block.args[0] else 0.0
+            raise Diagnostic(
+                "SIEM-ALARM", f"the program sets alarm {number:g} (SETAL) and stops", ex.loc
+            )
         elif kind == "CYCLE":
             run_cycle(ex, block.args[0], block.args[1], scope)
         elif kind == "MCALL":
@@ -382,9 +427,49 @@ class Runner:
         level.structures = [o for o in level.structures if o.start < target <= o.end]
         level.index = target
 
+    def _repeats_for_ever(self, level: Level) -> None:
+        """An unconditional jump back (GOTOB, ENDLOOP) in the main program arriving with the
+        same variables, R parameters, position and modes as before: nothing can leave the
+        loop, the control runs it for ever. After :data:`MAX_REPEATS` such passes the reader
+        stops with SIEM-LOOP-LIMIT instead of running to the pass limit."""
+        if len(self.levels) != 1 or level.sections:
+            return
+        s = self.ex.s
+        state = (
+            level.index,
+            tuple(sorted(self.ex.r.items())),
+            tuple(sorted(level.scope.local.items())),
+            tuple((k, tuple(v[2])) for k, v in sorted(level.scope.arrays.items())),
+            tuple(round(p, 9) for p in s.pos),
+            (s.motion, s.absolute, s.feed, s.work, s.frame, s.tool),
+        )
+        if state not in self.seen_states:
+            if len(self.seen_states) < MAX_STATES:
+                self.seen_states.add(state)
+            return
+        self.repeats += 1
+        if self.repeats > MAX_REPEATS:
+            raise Diagnostic(
+                "SIEM-LOOP-LIMIT",
+                f"the program repeats itself for ever from here ({MAX_REPEATS} passes through "
+                "the same state): endless loop",
+                self.ex.loc,
+            )
+
     def _count(self, construct: str) -> None:
-        """A loop pass or backward jump: the reader's pass limit, then the shared guard."""
+        """A loop pass or backward jump: the reader's pass limit, a loop waiting on a PLC
+        input, then the shared guard."""
         self.loops += 1
+        reads = self.ex.input_reads
+        self.waiting = self.waiting + 1 if reads != self.input_mark else 0
+        self.input_mark = reads
+        if self.waiting > MAX_INPUT_WAIT:
+            raise Diagnostic(
+                "SIEM-WAIT-INPUT",
+                f"{construct}: the loop waits for a PLC input ($A_IN, $A_INA), which a reading "
+                "without the machine holds at 0: it would wait for ever",
+                self.ex.loc,
+            )
         if self.loops > MAX_LOOPS:
             raise Diagnostic(
                 "SIEM-LOOP-LIMIT",
@@ -460,6 +545,7 @@ class Runner:
         else:  # ENDLOOP
             self._count(f"LOOP (line {top.start + 1})")
             level.index = top.start + 1
+            self._repeats_for_ever(level)
         program.caching = True
 
     def _assign(self, scope: Variables, target: tuple, value: float) -> None:

@@ -40,6 +40,8 @@ class Machine:
         self.out: list[canon.Command] = []
         self.loc = Location()
         self.r: dict[int, float] = {}
+        self.tool_names: dict[str, int] = {}  # T="NAME" -> the IR's tool number
+        self.input_reads = 0  # reads of the PLC inputs $A_IN / $A_INA
 
     def emit(self, cmd: canon.Command) -> None:
         """Append one IR command to the block's output."""

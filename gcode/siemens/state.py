@@ -47,3 +47,4 @@ class State:
     adis: float = 0.0  # G641 rounding distance
     mcall: tuple[str, tuple] | None = None  # modal cycle call (MCALL CYCLE81(...))
     probing: bool = False
+    diameter: int = 0  # 0 DIAMOF, 1 DIAMON, 90 DIAM90 (X as a diameter)
