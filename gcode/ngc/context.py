@@ -12,6 +12,7 @@ only this and other leaf modules; :class:`gcode.ngc.interpreter.Interpreter` is 
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 from gcode.core.loopguard import MAX_BLOCKS, MAX_IDLE_BLOCKS
@@ -43,6 +44,9 @@ class InterpreterOptions:
     # LOOP-LIMIT, blocks with no canonical command emitted before LOOP-NO-PROGRESS
     max_blocks: int = MAX_BLOCKS
     max_idle_blocks: int = MAX_IDLE_BLOCKS
+    # an INI file's numbers, read by #<_ini[section]name> (keys upper-case; gcode.ngc.ini)
+    ini_values: Mapping[tuple[str, str], float] | None = None
+    fanuc_subs: bool = True  # M98/M99 programs allowed (INI DISABLE_FANUC_STYLE_SUB = 0)
 
 
 class AnyTool(ToolTable):
