@@ -354,6 +354,9 @@ def _slot(ctx: NgcContext, tool: int) -> int:
     """The tool's slot as rs274 prints it in CHANGE_TOOL: its 1-based row in the table."""
     if tool == 0:
         return 0
+    entry = ctx.tools.get(tool)
+    if entry is not None and entry.row:
+        return entry.row
     for i, number in enumerate(ctx.tools.tools, 1):
         if number == tool:
             return i
