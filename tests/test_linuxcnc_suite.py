@@ -4,8 +4,8 @@ Every case of ``tests/linuxcnc/manifest.toml`` (tests/interp, tests/ccomp and te
 LinuxCNC v2.9.10; see tests/linuxcnc/README.md) is checked by its status:
 
 * ``equivalent``: rs274 runs it; our output is equivalent to rs274's (``expected/<id>.canon``)
-  by the corpus rule of :mod:`tests.canon_equiv`, and we stop with an error only where rs274
-  does;
+  by the corpus rule of :mod:`tests.canon_equiv`, and its ``(PRINT, ...)`` comments print
+  what rs274 printed (``expected/<id>.print``);
 * ``rejected``: rs274 rejects it; we reject it with an ``NGC-*`` diagnostic in the same file
   and at the same line (``expected/<id>.expected.json``);
 * ``needs-g7x``: uses the G70-G72 lathe cycles; checked as ``equivalent``, expected to fail
@@ -42,8 +42,9 @@ STATUSES = ("equivalent", "rejected", "needs-g7x", "skipped")
 ATTEMPTS = 5  # rs274 runs of a case that differs before the reference test counts it
 
 
-def options(case: Case) -> InterpreterOptions:
-    """Our interpreter's options for a case, from the files rs274 was given (-t, -v, -i)."""
+def options(case: Case, printed: list[str] | None = None) -> InterpreterOptions:
+    """Our interpreter's options for a case, from the files rs274 was given (-t, -v, -i);
+    ``(PRINT, ...)`` texts go to ``printed``."""
     tools = None
     if case.tool_table:
         path = case.folder / case.tool_table
@@ -52,22 +53,25 @@ def options(case: Case) -> InterpreterOptions:
     if case.var:
         path = case.folder / case.var
         parameters = read_var_text(path.read_text().splitlines(), str(path))
-    opts = InterpreterOptions(tool_table=tools, parameters=parameters)
+    sink = printed.append if printed is not None else None
+    opts = InterpreterOptions(tool_table=tools, parameters=parameters, print_sink=sink)
     if case.ini:
         opts = with_ini(opts, read_ini_text((case.folder / case.ini).read_text(), str(case.folder)))
     return opts
 
 
-def run_ours(case: Case) -> tuple[list[str], Diagnostic | None]:
-    """Our canonical text for the case and the diagnostic that stopped it (if any)."""
+def run_ours(case: Case) -> tuple[list[str], Diagnostic | None, list[str]]:
+    """Our canonical text for the case, the diagnostic that stopped it (if any), and what
+    its ``(PRINT, ...)`` comments printed."""
     commands: list[canon.Command] = []
+    printed: list[str] = []
     error = None
     try:
-        for cmd in interpret(case.folder / case.program, options(case)):
+        for cmd in interpret(case.folder / case.program, options(case, printed)):
             commands.append(cmd)
     except Diagnostic as exc:
         error = exc
-    return list(canon.write_text(commands)), error
+    return list(canon.write_text(commands)), error, printed
 
 
 def _param(case: Case) -> object:
@@ -84,10 +88,12 @@ TERMINATES = [_param(c) for c in CASES if c.status == "skipped" and c.terminates
 
 @pytest.mark.parametrize("case", RUN)
 def test_equivalent_to_rs274(case: Case) -> None:
-    ours, error = run_ours(case)
+    ours, error, printed = run_ours(case)
     ref = case.canon.read_text().splitlines()
     assert error is None, f"we stopped with {error} where rs274 ran to the end"
     assert compare(ours, ref) == []
+    ref_printed = case.printed.read_text().splitlines() if case.printed.exists() else []
+    assert [p.rstrip() for p in printed] == [p.rstrip() for p in ref_printed]
 
 
 @pytest.mark.parametrize("case", REJECTED)
@@ -113,7 +119,7 @@ def run_ours_strict(case: Case) -> None:
 def test_ends(case: Case) -> None:
     """Upstream only checks that these end (Debian's rs274 never does): we end, with or
     without a diagnostic (the loop guard bounds any loop)."""
-    _ours, error = run_ours(case)
+    _ours, error, _printed = run_ours(case)
     assert error is None or error.code.startswith(("NGC-", "LOOP-"))
 
 

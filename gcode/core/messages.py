@@ -11,6 +11,7 @@ other comment is a ``COMMENT``.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 
 from gcode.core.params import Parameters
 from kernel.diagnostics import Diagnostic, Location
@@ -77,9 +78,18 @@ def _substitute(text: str, params: Parameters, loc: Location) -> str:
     return "".join(out)
 
 
-def comment_commands(text: str, params: Parameters, loc: Location) -> list[canon.Command]:
-    """The canonical commands for one (the last) comment of a line."""
+def comment_commands(
+    text: str,
+    params: Parameters,
+    loc: Location,
+    print_sink: Callable[[str], None] | None = None,
+) -> list[canon.Command]:
+    """The canonical commands for one (the last) comment of a line; a ``PRINT`` text goes to
+    ``print_sink`` (when given) with its parameters replaced, as rs274 prints it."""
     head = text.lstrip().lower()
+    if print_sink is not None and head.startswith("print,"):
+        print_sink(_substitute(text.lstrip()[6:], params, loc))
+        return []
     if head.startswith("msg,"):
         return [canon.Message(text.lstrip()[4:], source=loc)]
     if head.startswith("debug,"):

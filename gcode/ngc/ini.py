@@ -3,7 +3,8 @@
 LinuxCNC 2.9 reads, at start-up, ``[RS274NGC] SUBROUTINE_PATH`` (a ``:``-separated list of
 folders searched for ``<name>.ngc``), ``INI_VARS`` (on unless 0: ``#<_ini[section]name>``
 reads ``NAME`` of ``[SECTION]`` as a read-only number) and ``DISABLE_FANUC_STYLE_SUB``
-(``M98``/``M99`` programs refused). This module reads those from the file's text into
+(``M98``/``M99`` programs refused) and ``DISABLE_G92_PERSISTENCE`` (the G92 offset
+#5210-#5219 of the parameter file not kept). This module reads those from the file's text into
 :class:`IniSettings`; :func:`with_ini` puts them into the interpreter's options. A line is
 ``[SECTION]``, ``NAME = value``, or a comment starting with ``#`` or ``;``; the first of
 repeated names wins, as LinuxCNC's ``IniFile::Find`` returns the first.
@@ -82,8 +83,13 @@ def read_ini_text(text: str, folder: str = ".") -> IniSettings:
 
 def with_ini(options: InterpreterOptions, ini: IniSettings) -> InterpreterOptions:
     """``options`` with an INI file's settings (its search path before any already given)."""
+    parameters = options.parameters
+    if parameters is not None and ini.flag("RS274NGC", "DISABLE_G92_PERSISTENCE", False):
+        # the G92 offset is not kept from the parameter file: #5210-#5219 start at 0
+        parameters = {**parameters, **dict.fromkeys(range(5210, 5220), 0.0)}
     return dataclasses.replace(
         options,
+        parameters=parameters,
         search_path=ini.subroutine_path + options.search_path,
         ini_values=ini.ini_vars,
         fanuc_subs=not ini.flag("RS274NGC", "DISABLE_FANUC_STYLE_SUB", False),

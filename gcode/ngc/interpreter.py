@@ -186,7 +186,8 @@ class Interpreter(NgcContext):
             return False
         if block.comments:
             self.loc = Location(file, block.line, block.comments[-1][1])
-            for cmd in comment_commands(block.comments[-1][0], self.params, self.loc):
+            sink = self.options.print_sink
+            for cmd in comment_commands(block.comments[-1][0], self.params, self.loc, sink):
                 self.emit(cmd)
         if not block.words and not block.assignments:
             return False

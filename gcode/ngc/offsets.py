@@ -183,13 +183,16 @@ def modal_0(ctx: NgcContext, w: Words) -> None:
             for i in range(6):
                 ctx.params.values[5211 + i] = 0.0
                 s.g92_saved[i] = 0.0
-            ctx.params.values[5210] = 0.0
+        # G92.1 and G92.2 both mark the offsets not applied; G92.2 keeps #5211-#5219
+        # (LinuxCNC 2.9, interp_convert.cc convert_axis_offsets)
+        ctx.params.values[5210] = 0.0
         _emit_offsets(ctx, g5x=False)
     elif code == 923:
         s = ctx.s
         for i in range(6):
             s.pos[i] += s.g92[i] - s.g92_saved[i]
             s.g92[i] = s.g92_saved[i]
+        ctx.params.values[5210] = 1.0
         _emit_offsets(ctx, g5x=False)
 
 

@@ -6,7 +6,8 @@ Run by hand (``python tests/linuxcnc/regen.py``); needs LinuxCNC's stand-alone i
 
     rs274 [-i INI] [-t TOOL_TABLE] [-v VAR] -g PROGRAM OUT
 
-and writes ``expected/<id>.canon`` when rs274 runs the program to its end, or
+and writes ``expected/<id>.canon`` when rs274 runs the program to its end (with
+``expected/<id>.print``, what its ``(PRINT, ...)`` comments printed, if any), or
 ``expected/<id>.expected.json`` (file, 1-based line and message of the error) when it rejects
 it. The upstream ``expected`` files were made by other builds and are not used. Exits non-zero
 when rs274's verdict disagrees with a case's status or an error line cannot be established.
@@ -58,6 +59,11 @@ class Case:
     def error(self) -> Path:
         return EXPECTED / f"{self.id}.expected.json"
 
+    @property
+    def printed(self) -> Path:
+        """What rs274 printed for the case's ``(PRINT, ...)`` comments (when it printed)."""
+        return EXPECTED / f"{self.id}.print"
+
 
 def load_manifest(path: Path = HERE / "manifest.toml") -> list[Case]:
     """The cases of the manifest, in its order."""
@@ -73,6 +79,7 @@ class Run:
     code: int
     canon: str
     stderr: str
+    stdout: str = ""  # what (PRINT, ...) comments printed
 
     @property
     def message(self) -> str:
@@ -116,7 +123,7 @@ def run_rs274(case: Case, text: str | None = None) -> Run:
         except subprocess.TimeoutExpired:
             return Run(HUNG, "", "")
         canon = out.read_text() if out.exists() else ""
-    return Run(proc.returncode, canon, proc.stderr)
+    return Run(proc.returncode, canon, proc.stderr, proc.stdout)
 
 
 def _where_block(case: Case, block: str, main_line: int, mains: set[str]) -> tuple[str, int]:
@@ -181,9 +188,12 @@ def regen(case: Case, mains: set[str]) -> str | None:
         return str(exc)
     case.canon.unlink(missing_ok=True)
     case.error.unlink(missing_ok=True)
+    case.printed.unlink(missing_ok=True)
     case.canon.parent.mkdir(parents=True, exist_ok=True)
     if run.code == 0:
         case.canon.write_text(run.canon)
+        if run.stdout:
+            case.printed.write_text(run.stdout)
         if case.status == "rejected":
             return f"{case.id}: accepted by rs274, but its status is rejected"
         return None
