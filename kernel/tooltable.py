@@ -24,6 +24,10 @@ class Tool:
     back_angle: float = 0.0
     orientation: int = 0
     comment: str = ""
+    # the row LinuxCNC's non-random tool changer puts the tool in (its CHANGE_TOOL slot); 0:
+    # the table's order. Each P word read takes the next row, so a line with two P words
+    # takes two (LinuxCNC 2.9 tooldata_common.cc, tooldata_read_entry).
+    row: int = 0
 
     @property
     def z_offset(self) -> float:
@@ -54,6 +58,7 @@ _AXIS_INDEX = {c: i for i, c in enumerate("xyzabcuvw")}
 
 def read_linuxcnc_tbl(lines: Iterable[str], file: str | None = None) -> ToolTable:
     table = ToolTable()
+    rows = 0  # P words read so far
     for n, line in enumerate(lines, 1):
         text, _, comment = line.partition(";")
         words = text.split()
@@ -70,6 +75,8 @@ def read_linuxcnc_tbl(lines: Iterable[str], file: str | None = None) -> ToolTabl
                 ) from None
         if "t" not in fields:
             raise Diagnostic("TOOL-SYNTAX", "tool table line without T word", Location(file, n, 1))
+        p_words = sum(1 for w in words if w[0] in "Pp")
+        rows += p_words
         offset = [0.0] * 9
         for letter, i in _AXIS_INDEX.items():
             offset[i] = fields.get(letter, 0.0)
@@ -83,6 +90,7 @@ def read_linuxcnc_tbl(lines: Iterable[str], file: str | None = None) -> ToolTabl
             back_angle=fields.get("j", 0.0),
             orientation=int(fields.get("q", 0)),
             comment=comment.strip(),
+            row=rows if p_words else 0,
         )
     return table
 

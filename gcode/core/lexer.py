@@ -387,8 +387,8 @@ def _parse_oword(sc: _Scanner) -> OWord:
     else:
         value = sc.real_value()
         name = value
-    if sc.i >= len(sc.s) and not isinstance(name, str):
-        return OWord(name, "", [], col)  # "O123" alone: a program number, ignored
+    if sc.i >= len(sc.s):  # "O123" or "O<name>" alone: a program's number or name
+        return OWord(name, "", [], col)
     for kw in sorted(_OWORD_KEYWORDS, key=len, reverse=True):
         if sc.s.startswith(kw, sc.i):
             sc.i += len(kw)

@@ -110,13 +110,16 @@ class ProgramFile:
         cache[offset] = block
         return block
 
-    def next_oword_block(self) -> Block | None:
-        """Skip forward to the next line holding an O-word (used when skipping bodies)."""
+    def next_oword_block(self, also: re.Pattern[bytes] | None = None) -> Block | None:
+        """Skip forward to the next line holding an O-word (used when skipping bodies), or
+        matching ``also`` (lines the skipping must see, such as a closing ``%``)."""
         while True:
             raw = self.next_raw()
             if raw is None:
                 return None
             offset, data = raw
+            if also is not None and also.match(data):
+                return parse_line(_decode(data, self.path, self.line), self.line, self.path)
             if _OWORD_LINE_RE.match(data):
                 cached = self._cache.get(offset)
                 if cached is not None and cached.oword is not None:

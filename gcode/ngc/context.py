@@ -12,6 +12,7 @@ only this and other leaf modules; :class:`gcode.ngc.interpreter.Interpreter` is 
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 from gcode.core.loopguard import MAX_BLOCKS, MAX_IDLE_BLOCKS
@@ -47,6 +48,11 @@ class InterpreterOptions:
     # fraction of the start radius is accepted even past LinuxCNC's tolerance (a control
     # that does not refuse such arcs: Mach3); None: LinuxCNC's rule alone
     arc_radius_relative: float | None = None
+    # an INI file's numbers, read by #<_ini[section]name> (keys upper-case; gcode.ngc.ini)
+    ini_values: Mapping[tuple[str, str], float] | None = None
+    fanuc_subs: bool = True  # M98/M99 programs allowed (INI DISABLE_FANUC_STYLE_SUB = 0)
+    # receives each (PRINT, ...) text, parameters replaced, as rs274 writes it to its output
+    print_sink: Callable[[str], None] | None = None
 
 
 class AnyTool(ToolTable):

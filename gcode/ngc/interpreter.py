@@ -187,7 +187,8 @@ class Interpreter(NgcContext):
             return False
         if block.comments:
             self.loc = Location(file, block.line, block.comments[-1][1])
-            for cmd in comment_commands(block.comments[-1][0], self.params, self.loc):
+            sink = self.options.print_sink
+            for cmd in comment_commands(block.comments[-1][0], self.params, self.loc, sink):
                 self.emit(cmd)
         if not block.words and not block.assignments:
             return False
@@ -319,10 +320,19 @@ class Interpreter(NgcContext):
             motion.execute_motion(self, w, s.motion_mode)
         if 4 in w.m:
             code = w.m[4]
+            if code in (98, 99) and not self.options.fanuc_subs:
+                raise Diagnostic(
+                    "NGC-FANUC-SUBS-DISABLED",
+                    f"M{code} used, but Fanuc-style subroutines are disabled "
+                    "(DISABLE_FANUC_STYLE_SUB in the INI file)",
+                    loc,
+                )
             if code == 98:
-                self.flow.m98(v.get("p", 0.0), v.get("l", 1.0), loc)
+                if "p" not in v:
+                    raise Diagnostic("NGC-M98-NO-P", "M98 with no P word", loc)
+                self.flow.m98(v["p"], v.get("l", 1.0), loc)
                 return False
-            if code == 99 and self.flow.m99():
+            if code == 99 and self.flow.m99(loc):
                 return False
             return mcodes.program_stop(self, 2 if code == 99 else code)
         return False

@@ -183,13 +183,16 @@ def modal_0(ctx: NgcContext, w: Words) -> None:
             for i in range(6):
                 ctx.params.values[5211 + i] = 0.0
                 s.g92_saved[i] = 0.0
-            ctx.params.values[5210] = 0.0
+        # G92.1 and G92.2 both mark the offsets not applied; G92.2 keeps #5211-#5219
+        # (LinuxCNC 2.9, interp_convert.cc convert_axis_offsets)
+        ctx.params.values[5210] = 0.0
         _emit_offsets(ctx, g5x=False)
     elif code == 923:
         s = ctx.s
         for i in range(6):
             s.pos[i] += s.g92[i] - s.g92_saved[i]
             s.g92[i] = s.g92_saved[i]
+        ctx.params.values[5210] = 1.0
         _emit_offsets(ctx, g5x=False)
 
 
@@ -355,6 +358,9 @@ def _slot(ctx: NgcContext, tool: int) -> int:
     """The tool's slot as rs274 prints it in CHANGE_TOOL: its 1-based row in the table."""
     if tool == 0:
         return 0
+    entry = ctx.tools.get(tool)
+    if entry is not None and entry.row:
+        return entry.row
     for i, number in enumerate(ctx.tools.tools, 1):
         if number == tool:
             return i
@@ -382,9 +388,13 @@ def set_tool_number(ctx: NgcContext, w: Words) -> None:
 def _apply_tool_offset(ctx: NgcContext, new: list[float]) -> None:
     s = ctx.s
     lag = s.tlo_lag or [0.0] * 6
+    # the offset is in machine axes: the program position moves by it turned back by the
+    # XY rotation (G10 L2 R)
+    delta = [s.tool_offset[i] - new[i] for i in range(6)]
+    _rotate(delta, -s.rotation)
     for i in range(6):
-        s.pos[i] += s.tool_offset[i] - new[i]
-        lag[i] += new[i] - s.tool_offset[i]
+        s.pos[i] += delta[i]
+        lag[i] -= delta[i]
     s.tlo_lag = lag
     s.tool_offset = new
     if ctx.compat:
@@ -438,6 +448,52 @@ def tool_length(ctx: NgcContext, w: Words) -> None:
         _apply_tool_offset(ctx, new)
 
 
+def _current_in_system(ctx: NgcContext, system: int, with_g92: bool) -> list[float]:
+    """The current point, tool length offset taken off, in coordinate system ``system``
+    (LinuxCNC 2.9 interp_find.cc find_current_in_system_without_tlo): machine coordinates,
+    less that system's offset, turned back by its rotation, less G92 when ``with_g92``."""
+    s = ctx.s
+    m = s.to_machine(list(s.pos))
+    row = s.coords[system]
+    local = [a - b for a, b in zip(m, row[:6], strict=True)]
+    _rotate(local, -row[6])
+    if with_g92:
+        local = [a - b for a, b in zip(local, s.g92, strict=True)]
+    return local
+
+
+def _touch_off(ctx: NgcContext, w: Words, lword: int, offset: list[float], k: float) -> None:
+    """G10 L10 / L11: the tool's offsets (``offset``, table units, changed in place) that make
+    the current point have the given coordinates in the current system (L10) or in the
+    touch-off fixture G59.3 (L11, G92 not counted), as LinuxCNC 2.9's convert_setup_tool.
+
+    In XY the system's rotation turns the result; an X (or Y) word alone keeps the part of
+    the tool's XY offset that lies along the system's other axis.
+    """
+    v = w.values
+    system = 9 if lword == 11 else ctx.s.origin_index
+    t = _current_in_system(ctx, system, with_g92=lword == 10)
+    angle = ctx.s.coords[system][6]
+    if "x" in v or "y" in v:
+        if "x" in v and "y" in v:
+            xy = [t[0] - v["x"], t[1] - v["y"]]
+            kept = [0.0, 0.0]
+        else:
+            kept = [offset[0] * k, offset[1] * k]
+            _rotate(kept, -angle)
+            axis = 0 if "x" in v else 1
+            kept[axis] = 0.0
+            _rotate(kept, angle)
+            xy = [0.0, 0.0]
+            xy[axis] = t[axis] - v["xy"[axis]]
+        _rotate(xy, angle)
+        offset[0], offset[1] = (xy[0] + kept[0]) / k, (xy[1] + kept[1]) / k
+    for i, a in enumerate(AXES[2:], 2):
+        if a in v:
+            val = t[i] - v[a]
+            offset[i] = val / k if i < 3 else val
+
+
 def set_tool_entry(ctx: NgcContext, w: Words, lword: int) -> None:
     """G10 L1 (values), L10 / L11 (current position becomes the value)."""
     s = ctx.s
@@ -451,16 +507,12 @@ def set_tool_entry(ctx: NgcContext, w: Words, lword: int) -> None:
         raise Diagnostic("NGC-TOOL-UNKNOWN", f"requested tool {n} not found in the tool table", loc)
     k = _table_scale(ctx)
     offset = list(tool.offset)
-    for i, a in enumerate(AXES):
-        if a not in v:
-            continue
-        if lword == 1:
-            val = v[a]
-        elif lword == 10:
-            val = s.pos[i] + s.tool_offset[i] - v[a]
-        else:
-            val = s.pos[i] + s.tool_offset[i] + s.g5x[i] + s.g92[i] - v[a]
-        offset[i] = val / k if i < 3 else val
+    if lword == 1:
+        for i, a in enumerate(AXES):
+            if a in v:
+                offset[i] = v[a] / k if i < 3 else v[a]
+    else:
+        _touch_off(ctx, w, lword, offset, k)
     diameter = tool.diameter
     if "r" in v:
         diameter = 2.0 * v["r"] / k

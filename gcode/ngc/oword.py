@@ -10,6 +10,7 @@ as ``<name>.ngc`` on the search path, then by reading forward in the current fil
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -22,6 +23,8 @@ from gcode.core.state import SavedModes
 from kernel.diagnostics import Diagnostic, Location
 
 MAX_CALL_DEPTH = 64
+#: a line a forward search must see besides O-words: a closing ``%`` ends the search there
+_PERCENT_LINE = re.compile(rb"^\s*%")
 
 
 @dataclass(slots=True)
@@ -131,6 +134,7 @@ class Flow:
                 self.seen_line = True
             if block.oword is not None:
                 if not block.oword.keyword:  # a bare program number "O123": ignored
+                    self._check_bare(block, block.oword)
                     continue
                 # rs274 2.9 runs no comment of an O-word line: (MSG,...) there prints nothing
                 self.oword(block)
@@ -181,10 +185,49 @@ class Flow:
             loc,
         )
 
-    def _skip_to(self, name: str, keywords: tuple[str, ...], loc: Location) -> tuple[Block, OWord]:
-        """Read forward to the next O-word ``name`` with one of ``keywords``."""
+    def _in_m98(self) -> bool:
+        """Whether the innermost call is an M98 program (not an ``O... call``)."""
+        return bool(self.calls) and "m98" in self.calls[-1].extra
+
+    def _check_bare(self, block: Block, ow: OWord) -> None:
+        """A bare ``O...`` line (an M98 program) is not a subroutine ``O... call`` enters."""
+        if self.calls and not self._in_m98():
+            raise Diagnostic(
+                "NGC-OWORD-STYLE",
+                "Fanuc-style 'O....' program must be called with M98, not 'O.... call'",
+                Location(self.file.path, block.line, ow.column),
+            )
+
+    def _stop(self, b: Block, name: str, keywords: tuple[str, ...], loc: Location) -> None:
+        """A ``%`` line met by a forward search: the closing one (any but the file's first
+        line, which opens it) ends the search with an error there, as rs274 2.9 does."""
+        if b.line > 1:
+            raise Diagnostic(
+                "NGC-OWORD-PERCENT",
+                f"the closing % reached seeking O-word o<{name}> {'/'.join(keywords)} "
+                f"(from line {loc.line})",
+                Location(self.file.path, b.line, 1),
+            )
+
+    def _skip_to(
+        self,
+        name: str,
+        keywords: tuple[str, ...],
+        loc: Location,
+        defining: bool = False,
+        calling: bool = False,
+    ) -> tuple[Block, OWord]:
+        """Read forward to the next O-word ``name`` with one of ``keywords``.
+
+        As LinuxCNC: a closing ``%`` ends the search; skipping a subroutine's definition
+        (``defining``) another ``sub`` is an error; seeking a subroutine to call
+        (``calling``) the bare ``O<name>`` of an M98 program is.
+        """
         while True:
-            b = self.file.next_oword_block()
+            b = self.file.next_oword_block(_PERCENT_LINE)
+            if b is not None and b.oword is None:
+                self._stop(b, name, keywords, loc)
+                continue
             if b is None:  # rs274 reports this at the end of the file
                 f = self.file
                 raise Diagnostic(
@@ -195,12 +238,26 @@ class Flow:
                 )
             ow = b.oword
             assert ow is not None
+            if defining and ow.keyword == "sub":
+                raise Diagnostic(
+                    "NGC-OWORD-NESTED",
+                    "nested subroutine definition",
+                    Location(self.file.path, b.line, ow.column),
+                )
+            if calling and not ow.keyword and self._try_name(ow) == name:
+                raise Diagnostic(
+                    "NGC-OWORD-STYLE",
+                    "Fanuc-style 'O....' program must be called with M98, not 'O.... call'",
+                    Location(self.file.path, b.line, ow.column),
+                )
             if ow.keyword in keywords:
                 n = ow.name if isinstance(ow.name, str) else self._try_name(ow)
                 if n == name:
                     return b, ow
 
     def _try_name(self, ow: OWord) -> str | None:
+        if isinstance(ow.name, str):
+            return ow.name
         try:
             return self._name(ow, Location(self.file.path, self.file.line, ow.column))
         except Diagnostic:
@@ -213,8 +270,12 @@ class Flow:
             raise Diagnostic(
                 "NGC-OWORD-SUB-LOCATION", f"sub o<{name}> found in illegal location", loc
             )
+        if self._in_m98():
+            raise Diagnostic(
+                "NGC-OWORD-STYLE", "'O.... sub' subroutine must be called with 'O.... call'", loc
+            )
         self.subs[name] = (self.file, here)
-        self._skip_to(name, ("endsub",), loc)
+        self._skip_to(name, ("endsub",), loc, defining=True)
 
     def _leave(self, block: Block, ow: OWord, loc: Location) -> None:
         if not self.calls:
@@ -223,9 +284,13 @@ class Flow:
                 f"not in a subroutine definition: '{block.text.strip()}'",
                 loc,
             )
-        if ow.args:
-            self.return_value = evaluate(ow.args[0], self.host.params, loc)
-            self.value_returned = True
+        if self._in_m98():
+            raise Diagnostic(
+                "NGC-OWORD-STYLE", "Fanuc-style 'O....' program must end with M99", loc
+            )
+        # a return without a value clears #<_value> (LinuxCNC 2.9, interp_read.cc read_o)
+        self.return_value = evaluate(ow.args[0], self.host.params, loc) if ow.args else 0.0
+        self.value_returned = bool(ow.args)
         call = self.calls.pop()
         del self.controls[call.controls :]
         self.host.params.leave()
@@ -270,7 +335,7 @@ class Flow:
             pf.seek(Position(pf.path, 0, 0))
             saved, self.file = self.file, pf
             try:
-                self._skip_to(name, ("sub",), loc)
+                self._skip_to(name, ("sub",), loc, calling=True)
             finally:
                 self.file = saved
             self.subs[name] = (pf, pf.tell())
@@ -278,15 +343,16 @@ class Flow:
         # a subroutine defined further down in this file
         start = self.file.tell()
         try:
-            self._skip_to(name, ("sub",), loc)
-        except Diagnostic:
+            self._skip_to(name, ("sub",), loc, calling=True)
+        except Diagnostic as exc:
             self.file.seek(start)
+            if exc.code != "NGC-OWORD-EOF":
+                raise
             raise Diagnostic(
                 "NGC-OWORD-UNDEFINED", f"subroutine o<{name}> not defined", loc
             ) from None
         self.subs[name] = (self.file, self.file.tell())
         self.ahead.add(name)
-        self._skip_to(name, ("endsub",), loc)
         self.file.seek(start)
         return self.subs[name]
 
@@ -317,11 +383,18 @@ class Flow:
         self.file = target[0]
         self.file.seek(target[1])
 
-    def m99(self) -> bool:
+    def m99(self, loc: Location) -> bool:
         """``M99``: the end of an M98 program (again from its start while repeats remain);
         False outside any call (the caller then ends the program, as rs274 2.9 does)."""
         if not self.calls:
             return False
+        if not self._in_m98():
+            raise Diagnostic(
+                "NGC-OWORD-STYLE",
+                "'O.... endsub' or 'O.... return' must end an 'O.... sub' subroutine, not M99",
+                loc,
+            )
+        self.return_value, self.value_returned = 0.0, False  # as a return with no value
         call = self.calls[-1]
         repeat = call.extra.get("m98")
         del self.controls[call.controls :]
@@ -343,7 +416,10 @@ class Flow:
         """The line after ``O<name>`` (a bare program number), read forward from here."""
         start = self.file.tell()
         while True:
-            b = self.file.next_oword_block()
+            b = self.file.next_oword_block(_PERCENT_LINE)
+            if b is not None and b.oword is None:
+                self._stop(b, f"O{name}", ("",), loc)
+                continue
             if b is None:
                 end = Location(self.file.path, max(self.file.last_nonblank, 1), 1)
                 self.file.seek(start)
@@ -354,6 +430,12 @@ class Flow:
                 )
             ow = b.oword
             assert ow is not None
+            if ow.keyword == "sub" and self._try_name(ow) == name:
+                raise Diagnostic(
+                    "NGC-OWORD-STYLE",
+                    "'O.... sub' subroutine must be called with 'O.... call', not M98",
+                    Location(self.file.path, b.line, ow.column),
+                )
             if not ow.keyword and not isinstance(ow.name, str) and self._try_name(ow) == name:
                 break
         self.programs[name] = (self.file, self.file.tell())

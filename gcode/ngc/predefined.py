@@ -3,7 +3,7 @@ parameters" ``#<_x>``, ``#<_metric>``, ... and numbered 5400-5428)."""
 
 from __future__ import annotations
 
-from gcode.core.state import INVERSE_TIME, PER_MINUTE, PER_REV, ToolLengthCode
+from gcode.core.state import INCH_MM, INVERSE_TIME, PER_MINUTE, PER_REV, ToolLengthCode
 from gcode.ngc.context import NgcContext
 from kernel.ir.canon import Direction, Plane, Units
 
@@ -20,10 +20,13 @@ def named_parameter(ctx: NgcContext, name: str) -> float | None:
     if n in ("u", "v", "w"):
         return 0.0
     if n.startswith("abs_") and len(n) == 5 and n[4] in _AXES:
-        i = _AXES.index(n[4])
-        return s.pos[i] + s.machine_offset(i)
+        # machine coordinates: G92, the XY rotation, the G5x and the tool offsets (LinuxCNC
+        # 2.9, interp_namedparams.cc lookup_named_param)
+        return s.to_machine(list(s.pos))[_AXES.index(n[4])]
     if n in ("abs_u", "abs_v", "abs_w"):
         return 0.0
+    if n.startswith("ini[") and "]" in n:
+        return _ini_value(ctx, n)
     table = {
         "line": lambda: float(ctx.loc.line),
         "motion_mode": lambda: float(s.motion_mode if s.motion_mode is not None else 800),
@@ -72,6 +75,15 @@ def named_parameter(ctx: NgcContext, name: str) -> float | None:
     return fn() if fn is not None else None
 
 
+def _ini_value(ctx: NgcContext, name: str) -> float | None:
+    """``#<_ini[section]name>``: the INI file's number (LinuxCNC 2.9 INI_VARS), else None."""
+    values = ctx.options.ini_values
+    if not values:
+        return None
+    section, key = name[4:].split("]", 1)
+    return values.get((section.upper(), key.upper()))
+
+
 def _coord_code(index: int) -> int:
     return (540, 550, 560, 570, 580, 590, 591, 592, 593)[index - 1]
 
@@ -84,16 +96,18 @@ def numbered_parameter(ctx: NgcContext, index: int) -> float | None:
     if 5426 <= index <= 5428:
         return 0.0
     if 5400 <= index <= 5413:
-        # the tool table entry of the tool M6 loaded, in the table's units (rs274 2.9:
-        # neither G43 nor M61 changes them; G10 L1 on that tool does)
+        # the tool table entry of the tool M6 loaded (rs274 2.9: neither G43 nor M61
+        # changes them; G10 L1 on that tool does), lengths in the program's units
         n = s.loaded_tool
-        tool = ctx.tools.get(n)
         if index == 5400:
             return float(n)
+        tool = ctx.tools.get(n)
         if tool is None:
             return 0.0
         if index <= 5409:
-            return tool.offset[index - 5401]
+            length = index - 5401 in (0, 1, 2, 6, 7, 8)
+            scale = INCH_MM if s.units is Units.MM and length else 1.0
+            return tool.offset[index - 5401] * scale
         return (tool.diameter, tool.front_angle, tool.back_angle, float(tool.orientation))[
             index - 5410
         ]
