@@ -50,14 +50,28 @@ def blend_corners(path: Path) -> Path:
     corners = np.flatnonzero(ok)
     if not corners.size:
         return path
+    out = insert_blend_arcs(seg, corners, r[corners])
+    # a line shortened from both ends by half its length is gone (not -1e-16 long)
+    gone = (out["kind"] == LINE) & (out["length"] <= 1e-12)
+    if gone.any():
+        out = out[~gone]
+    return Path(out, path.file)
+
+
+def insert_blend_arcs(seg: np.ndarray, corners: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """``seg`` with a tangent arc of radius ``r[k]`` inserted at the corner after each row
+    ``corners[k]`` (both rows lines); the lines are shortened by the arc's tangent length.
+    Lines shortened to nothing are kept (zero length): the caller decides about them."""
+    u1, u2 = seg["u_end"][corners, :3], seg["u_start"][corners + 1, :3]
+    cos = np.clip(np.einsum("ij,ij->i", u1, u2), -1.0, 1.0)
+    theta = np.arccos(cos)
     rows = seg.copy()
-    r = r[corners]
-    d = r * np.tan(theta[corners] / 2)
+    d = r * np.tan(theta / 2)
     c = seg["end"][corners, :3]
-    v1, v2 = u1[corners], u2[corners]
+    v1, v2 = u1, u2
     start = c - d[:, None] * v1
     end = c + d[:, None] * v2
-    inward = v2 - cos[corners][:, None] * v1
+    inward = v2 - cos[:, None] * v1
     inward /= np.linalg.norm(inward, axis=1)[:, None]
     centre = start + r[:, None] * inward
     normal = np.cross(v1, v2)
@@ -70,10 +84,10 @@ def blend_corners(path: Path) -> Path:
     arcs["start"] = seg["end"][corners]
     arcs["end"] = seg["end"][corners]
     arcs["start"][:, :3], arcs["end"][:, :3] = start, end
-    arcs["length"] = r * theta[corners]
+    arcs["length"] = r * theta
     arcs["centre"], arcs["normal"], arcs["e1"], arcs["e2"] = centre, normal, e1, e2
     arcs["radius"] = arcs["radius_end"] = r
-    arcs["sweep"] = theta[corners]
+    arcs["sweep"] = theta
     arcs["u_start"][:, :3], arcs["u_end"][:, :3] = v1, v2
     arcs["feed"] = np.minimum(seg["feed"][corners], seg["feed"][corners + 1])
     arcs["blend"] = seg["blend"][corners]
@@ -84,9 +98,4 @@ def blend_corners(path: Path) -> Path:
     rows["length"][corners] -= d
     rows["start"][corners + 1, :3] = end
     rows["length"][corners + 1] -= d
-    out = np.insert(rows, corners + 1, arcs)
-    # a line shortened from both ends by half its length is gone (not -1e-16 long)
-    gone = (out["kind"] == LINE) & (out["length"] <= 1e-12)
-    if gone.any():
-        out = out[~gone]
-    return Path(out, path.file)
+    return np.insert(rows, corners + 1, arcs)
