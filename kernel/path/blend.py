@@ -60,12 +60,11 @@ def blend_corners(path: Path) -> Path:
 
 def insert_blend_arcs(seg: np.ndarray, corners: np.ndarray, r: np.ndarray) -> np.ndarray:
     """``seg`` with a tangent arc of radius ``r[k]`` inserted at the corner after each row
-    ``corners[k]`` (both rows lines); the lines are shortened by the arc's tangent length.
-    Lines shortened to nothing are kept (zero length): the caller decides about them."""
+    ``corners[k]`` (sorted; both rows lines); the lines are shortened by the arc's tangent
+    length. Lines shortened to nothing are kept (zero length): the caller decides."""
     u1, u2 = seg["u_end"][corners, :3], seg["u_start"][corners + 1, :3]
     cos = np.clip(np.einsum("ij,ij->i", u1, u2), -1.0, 1.0)
     theta = np.arccos(cos)
-    rows = seg.copy()
     d = r * np.tan(theta / 2)
     c = seg["end"][corners, :3]
     v1, v2 = u1, u2
@@ -78,7 +77,15 @@ def insert_blend_arcs(seg: np.ndarray, corners: np.ndarray, r: np.ndarray) -> np
     normal /= np.linalg.norm(normal, axis=1)[:, None]
     e1 = (start - centre) / r[:, None]
     e2 = np.cross(normal, e1)  # = v1: the arc leaves A along the first line
-    arcs = np.zeros(corners.size, dtype=seg.dtype)
+    # the rows moved to their places (row i after the arcs of the corners before it), the
+    # arcs in between: one copy of the table, no per-field inserts
+    n, k = len(seg), corners.size
+    out = np.empty(n + k, dtype=seg.dtype)
+    moved = np.arange(n) + np.searchsorted(corners, np.arange(n), "left")
+    out[moved] = seg
+    at = corners + 1 + np.arange(k)
+    out[at] = np.zeros(1, dtype=seg.dtype)
+    arcs = out[at]
     arcs["kind"] = ARC
     arcs["category"] = seg["category"][corners]
     arcs["start"] = seg["end"][corners]
@@ -93,9 +100,11 @@ def insert_blend_arcs(seg: np.ndarray, corners: np.ndarray, r: np.ndarray) -> np
     arcs["blend"] = seg["blend"][corners]
     arcs["source"] = seg["source"][corners + 1]
     arcs["line"] = seg["line"][corners + 1]
+    out[at] = arcs
     # shorten the lines on both sides
-    rows["end"][corners, :3] = start
-    rows["length"][corners] -= d
-    rows["start"][corners + 1, :3] = end
-    rows["length"][corners + 1] -= d
-    return np.insert(rows, corners + 1, arcs)
+    before, after = moved[corners], moved[corners + 1]
+    out["end"][before, :3] = start
+    out["length"][before] -= d
+    out["start"][after, :3] = end
+    out["length"][after] -= d
+    return out

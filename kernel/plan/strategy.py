@@ -10,7 +10,8 @@ and the servo stage do not know which one ran. The controller models have no jer
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
 
 import kernel.ir.canon as canon
 from kernel.machine import Machine, with_controller
@@ -20,6 +21,39 @@ from kernel.plan.models import grbl, linuxcnc
 from kernel.plan.planner import Plan, plan
 
 
+@dataclass(frozen=True, slots=True)
+class Built:
+    """A program's path as its model needs it (``prepared``: LinuxCNC's canon-layer view)."""
+
+    model: str
+    path: Path
+    prepared: linuxcnc.Prepared | None = None
+
+
+def build(commands: Iterable[canon.Command], machine: Machine, file: str | None = None) -> Built:
+    """IR -> path for ``machine.controller.model`` (the models see the program unblended)."""
+    model = machine.controller.model
+    if model == "linuxcnc":
+        prepared = linuxcnc.prepare(commands)
+        flat = with_controller(machine, accdec="trapezoid")
+        return Built(model, build_path(prepared.commands, flat, file), prepared)
+    if model == "grbl":
+        flat = with_controller(machine, accdec="trapezoid", blend_tolerance=0.0)
+        return Built(model, build_path(_no_blend(commands), flat, file))
+    return Built(model, build_path(commands, machine, file))
+
+
+def plan_built(built: Built, planning: Machine) -> Plan:
+    """Plan a :func:`build` result on ``planning`` with the model it was built for."""
+    if built.model == "linuxcnc" and built.prepared is not None:
+        return linuxcnc.plan(
+            built.path, with_controller(planning, accdec="trapezoid"), built.prepared
+        )
+    if built.model == "grbl":
+        return grbl.plan(built.path, with_controller(planning, accdec="trapezoid"))
+    return plan(built.path, planning)
+
+
 def plan_program(
     commands: Iterable[canon.Command],
     machine: Machine,
@@ -27,25 +61,14 @@ def plan_program(
     file: str | None = None,
 ) -> tuple[Path, Plan]:
     """Build the path of ``commands`` on ``machine`` and plan it on ``planning`` (default:
-    ``machine``) with the strategy ``machine.controller.model`` names."""
-    planning = machine if planning is None else planning
-    model = machine.controller.model
-    if model == "linuxcnc":
-        prepared = linuxcnc.prepare(commands)
-        flat = with_controller(machine, accdec="trapezoid")
-        path = build_path(prepared.commands, flat, file)
-        pl = linuxcnc.plan(path, with_controller(planning, accdec="trapezoid"), prepared)
-        return pl.path, pl
-    if model == "grbl":
-        flat = with_controller(machine, accdec="trapezoid", blend_tolerance=0.0)
-        path = build_path(_no_blend(commands), flat, file)
-        pl = grbl.plan(path, with_controller(planning, accdec="trapezoid"))
-        return pl.path, pl
-    path = build_path(commands, machine, file)
-    return path, plan(path, planning)
+    ``machine``) with the strategy ``machine.controller.model`` names. The path returned is
+    the one planned (a model may add blend arcs or split arcs into chords)."""
+    built = build(commands, machine, file)
+    pl = plan_built(built, machine if planning is None else planning)
+    return (built.path, pl) if built.model == "book" else (pl.path, pl)
 
 
-def _no_blend(commands: Iterable[canon.Command]) -> Iterable[canon.Command]:
+def _no_blend(commands: Iterable[canon.Command]) -> Iterator[canon.Command]:
     """The IR with G64 P tolerances dropped: Grbl has no blending, only junction speeds."""
     for cmd in commands:
         if isinstance(cmd, canon.SetMotionControlMode) and cmd.tolerance:
@@ -54,4 +77,4 @@ def _no_blend(commands: Iterable[canon.Command]) -> Iterable[canon.Command]:
             yield cmd
 
 
-__all__ = ["plan_program"]
+__all__ = ["Built", "build", "plan_built", "plan_program"]

@@ -47,10 +47,10 @@ def _ratio_min(limit: np.ndarray, comp: np.ndarray) -> np.ndarray:
 def arc_chords(radius: np.ndarray, sweep: np.ndarray, tolerance: float) -> np.ndarray:
     """motion_control.c ``mc_arc``: how many chords an arc becomes (at least one)."""
     r = np.asarray(radius, float)
-    den = np.sqrt(np.maximum(tolerance * (2.0 * r - tolerance), _TINY))
-    return np.maximum(np.floor(np.abs(0.5 * np.asarray(sweep, float) * r) / den), 1).astype(
-        np.int64
-    )
+    q = tolerance * (2.0 * r - tolerance)
+    den = np.sqrt(np.where(q > 0, q, 1.0))
+    count = np.floor(np.abs(0.5 * np.asarray(sweep, float) * r) / den)
+    return np.where(q > 0, np.maximum(count, 1), 1).astype(np.int64)
 
 
 def segment_arcs(path: Path, tolerance: float) -> Path:

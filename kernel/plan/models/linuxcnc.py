@@ -39,6 +39,8 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
 * **Ramped short segments** (tp.c ``tpActivateSegment``, ``tpCalculateRampAccel``): a
   tangent feed segment that lasts less than ``1/ARC_BLEND_RAMP_FREQ`` (10 ms) goes straight
   from its start speed to its end speed.
+* **Stops at task commands** (emctask.cc: spindle and coolant commands wait for motion to
+  finish): the queue runs dry there, so the move before stops (at half acceleration in G64).
 * **Naive-CAM merging** (emccanon.cc ``see_segment``/``linkable``/``flush_segments``): with
   ``G64 Q`` (``P`` alone sets ``Q = P``), runs of up to 101 feed lines whose points all lie
   within ``Q`` of the line from the run's start to its end become that one line.
@@ -95,6 +97,19 @@ _MODE_TERM = {
     canon.MotionMode.EXACT_PATH: EXACT,
     canon.MotionMode.CONTINUOUS: PARABOLIC,
 }
+
+
+_TASK_WAITS = frozenset(
+    {
+        "START_SPINDLE_CLOCKWISE",
+        "START_SPINDLE_COUNTERCLOCKWISE",
+        "STOP_SPINDLE_TURNING",
+        "FLOOD_ON",
+        "FLOOD_OFF",
+        "MIST_ON",
+        "MIST_OFF",
+    }
+)
 
 
 def _arc_end(cmd: canon.ArcFeed, plane: canon.Plane) -> tuple[float, float, float]:
@@ -182,6 +197,12 @@ def prepare(commands: Iterable[canon.Command]) -> Prepared:
                 pos = (cmd.x, cmd.y, cmd.z)
             case canon.ArcFeed():
                 pos = _arc_end(cmd, plane)
+            case _ if cmd.NAME in _TASK_WAITS:
+                # issued by task once motion has stopped (emctask.cc preconditions):
+                # the planner's queue runs dry there, a stop
+                emit(cmd)
+                emit(canon.Dwell(0.0, source=cmd.source))
+                continue
             case _:
                 moved = cmd.NAME.startswith(("STRAIGHT_PROBE", "RIGID_TAP"))
                 if moved or cmd.NAME in ("SET_G5X_OFFSET", "SET_G92_OFFSET", "SET_XY_ROTATION"):
@@ -279,9 +300,11 @@ class _Joins:
     arc_vel: np.ndarray  # blend arc top speed
     arc_acc: np.ndarray  # blend arc (plane) acceleration
     arc_req: np.ndarray  # blend arc requested speed
+    trim: np.ndarray  # blend arc tangent length on the lines (d_plan)
 
 
 _ARC_JOIN = 4
+_VIRTUAL = 5  # a blend arc next to a circle: modelled on the line beside it
 
 
 def _tri_vel(acc: np.ndarray, length: np.ndarray) -> np.ndarray:
@@ -335,7 +358,7 @@ def _joins(
     arc_acc = np.zeros(m)
     arc_req = np.zeros(m)
     if m == 0:
-        return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req)
+        return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, radius)
     moving = seg["kind"] != HOLD
     a, b = np.arange(m), np.arange(1, n)
     valid = moving[a] & moving[b]
@@ -377,7 +400,7 @@ def _joins(
     kind[valid & rot_j & (mode == PARABOLIC)] = PARABOLIC
     blend = kinked & (mode == PARABOLIC)
     if not blend.any():
-        return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req)
+        return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, radius)
     # --- blend arc (blendmath.c), line-line geometry at every blended corner
     dot = np.clip(np.sum(u1 * u2, axis=1), -1.0, 1.0)
     theta = np.arccos(-dot) / 2.0
@@ -389,6 +412,30 @@ def _joins(
     tolerance = np.minimum.reduce([t1, t2, nominal[a] * 0.25, nominal[b] * 0.25])
     l1 = nominal[a] * 0.5
     l2 = nominal[b] * 0.5
+    # next to a circle (blendmath.c blendInit3FromLineArc / ArcLine / ArcArc, spherical_arc.c
+    # arcConvexTest): the blend may take a third of the circle's angle (two thirds of a
+    # circle before the corner), less on a convex side, where the corner angle also shrinks
+    theta_tan = theta
+    arc_b = seg["kind"][b] == ARC
+    arc_a = seg["kind"][a] == ARC
+    if arc_b.any():
+        r2 = seg["radius"][b]
+        dot2 = np.sum((seg["start"][b, :3] - seg["centre"][b]) * u1, axis=1)
+        convex2 = dot2 >= 0
+        phi2 = np.minimum(np.abs(seg["sweep"][b]) / 3.0, np.where(convex2, theta_tan, np.pi / 2))
+        l2 = np.where(arc_b, np.where(convex2, np.sin(phi2 / 4.0) * r2, phi2 * r2), l2)
+        theta = np.where(arc_b & convex2, np.minimum(theta, theta_tan - phi2 / 4.0), theta)
+    if arc_a.any():
+        r1 = seg["radius_end"][a]
+        dot1 = np.sum((seg["end"][a, :3] - seg["centre"][a]) * u2, axis=1)
+        convex1 = dot1 < 0
+        phi1 = np.minimum(
+            np.abs(seg["sweep"][a]) * 2.0 / 3.0, np.where(convex1, theta_tan, np.pi / 2)
+        )
+        l1 = np.where(arc_a, np.where(convex1, np.sin(phi1 / 4.0) * r1, phi1 * r1), l1)
+        theta = np.where(arc_a & convex1, np.minimum(theta, theta_tan - phi1 / 4.0), theta)
+    theta = np.maximum(theta, 1e-6)
+    phi = math.pi - 2.0 * theta
     binormal = np.cross(u1, u2)
     binormal /= np.maximum(np.linalg.norm(binormal, axis=1), _TINY)[:, None]
     a_max = _inscribed(binormal, amax)
@@ -415,6 +462,15 @@ def _joins(
         r_plan = np.maximum(v_plan**2 / a_n, r_blend)
         s_arc = r_plan * phi
     ok &= np.isfinite(r_plan) & (r_plan >= _TINY) & (s_arc >= 1e-6)
+    # a blend next to a circle must lie in the circle's plane (tp.c tpCreateLineArcBlend and
+    # friends: pmUnitCartsColinear of the binormal and the circle's normal, to 1e-6 rad):
+    # a helix never blends with an arc
+    eps2 = 1e-12
+    for idx, is_arc in ((a, seg["kind"][a] == ARC), (b, seg["kind"][b] == ARC)):
+        nrm = seg["normal"][idx]
+        same = np.sum((binormal - nrm) ** 2, axis=1) < eps2
+        opposite = np.sum((binormal + nrm) ** 2, axis=1) < eps2
+        ok &= ~is_arc | same | opposite
     perf_arc = np.where(ok, np.minimum(v_plan, s_arc / period), 0.0)
     # parabolic estimate (segments not finalized yet: half their lengths, kink loss 0.1)
     acc1 = lim.maxacc[a] * (1.0 - KINK_RATIO) * 0.5
@@ -436,18 +492,48 @@ def _joins(
     kind[use_tan] = TANGENT
     kind[use_arc] = _ARC_JOIN
     # a blend arc next to a circle (blendmath.c blendInit3FromLineArc and friends) is not
-    # built: the join is passed at the blend arc's speed, on the programmed corner
+    # built: its length is run at its speed on the line beside it (on the programmed
+    # corner); between two circles the join is passed at the blend arc's speed
     virtual = use_arc & circ
-    kind[virtual] = TANGENT
+    line_side = (seg["kind"][a] == LINE) | (seg["kind"][b] == LINE)
+    kind[virtual & line_side] = _VIRTUAL
+    kind[virtual & ~line_side] = TANGENT
     kink_vel[virtual] = perf_arc[virtual]
     radius[use_arc] = r_plan[use_arc]
+    trim = np.zeros(m)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        trim[use_arc] = (r_plan / np.tan(theta))[use_arc]
     arc_vel[use_arc] = perf_arc[use_arc]
     arc_acc[use_arc] = a_max[use_arc]
     arc_req[use_arc] = v_req[use_arc]
-    return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req)
+    return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, trim)
 
 
 # ----------------------------------------------------------------------------- the plan
+def _split_lines(
+    table: np.ndarray, pos: np.ndarray, trim: np.ndarray, tail: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Cut ``trim`` off the line at ``pos`` (its end, where ``tail``) or off the line after
+    it (its start), as a row of its own between the two; returns the table and where the new
+    rows are. The geometry is unchanged."""
+    k = pos.size
+    p = np.where(tail, pos, pos + 1)  # the line that is cut
+    d = np.minimum(trim, 0.5 * table["length"][p])
+    piece = table[p].copy()
+    u = piece["u_start"]
+    cut_end = piece["end"] - d[:, None] * u
+    cut_start = piece["start"] + d[:, None] * u
+    piece["start"] = np.where(tail[:, None], cut_end, piece["start"])
+    piece["end"] = np.where(tail[:, None], piece["end"], cut_start)
+    piece["length"] = d
+    table = table.copy()
+    table["end"][p[tail]] = cut_end[tail]
+    table["start"][p[~tail]] = cut_start[~tail]
+    table["length"][p] -= d
+    out = np.insert(table, pos + 1, piece)
+    return out, pos + 1 + np.arange(k)
+
+
 def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     """Plan ``path`` (built from ``prepared.commands``) as LinuxCNC 2.9's planner runs it."""
     seg = path.segments
@@ -469,7 +555,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     out_kind = np.concatenate([j.kind, [STOP]])
     in_kind = np.concatenate([[STOP], j.kind])
     seg_term = np.where(out_kind == STOP, np.where(term == PARABOLIC, PARABOLIC, term), out_kind)
-    seg_term = np.where(out_kind == _ARC_JOIN, TANGENT, seg_term)
+    seg_term = np.where((out_kind == _ARC_JOIN) | (out_kind == _VIRTUAL), TANGENT, seg_term)
     # a G64 segment whose join stopped for a reversal is STOP (full acceleration)
     if n > 1:
         u1 = seg["u_end"][:-1, :3]
@@ -490,6 +576,10 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     if corners.size:
         table = insert_blend_arcs(seg, corners, j.radius[corners])
         at = corners + 1
+        # the blend arc is asked the faster of its two moves' speeds (tp.c
+        # tpCreateLineLineBlend: v_req)
+        rows = at + np.arange(corners.size)
+        table["feed"][rows] = np.maximum(seg["feed"][corners], seg["feed"][corners + 1])
         arc_len = table["length"][at + np.arange(corners.size)]
         arc_max = np.minimum(j.arc_vel[corners], arc_len / period)
 
@@ -511,6 +601,29 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
         is_blend_arc = np.zeros(n, bool)
         in_prev_tan = np.zeros(n, bool)
         bprev = blend_prev
+    virt = np.flatnonzero(j.kind == _VIRTUAL)
+    if virt.size:
+        # where the original rows are now (after the blend arcs)
+        pos = virt + np.searchsorted(corners, virt, "left")
+        table, rows = _split_lines(table, pos, j.trim[virt], seg["kind"][virt] == LINE)
+        at = pos + 1
+        vmax = np.minimum(j.arc_vel[virt], table["length"][rows] / period)
+
+        def ins_v(x: np.ndarray, values: np.ndarray | float | bool) -> np.ndarray:
+            return np.insert(x, at, values)
+
+        seg_term = ins_v(seg_term, TANGENT)
+        acc_all = ins_v(acc_all, j.arc_acc[virt])
+        maxvel = ins_v(maxvel, vmax)
+        reqvel = ins_v(reqvel, j.arc_req[virt])
+        kink_vel = ins_v(kink_vel, -1.0)
+        moving = ins_v(moving, True)
+        r_eff = ins_v(r_eff, np.inf)
+        is_blend_arc = ins_v(is_blend_arc, True)
+        bprev = ins_v(bprev, False)
+        in_prev_tan = ins_v(in_prev_tan, True)
+        nxt = rows + 1
+        in_prev_tan[nxt[nxt < in_prev_tan.size]] = True
     # a line both blends shortened to nothing is gone
     keep = ~((table["kind"] == LINE) & (table["length"] <= 1e-9))
     if not keep.all():
@@ -546,6 +659,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
         maxvel[circle] = np.where(over, np.sqrt(cut * r), v)
         acc_t[circle] = a_c * ratio
     acc_t = np.where(is_blend_arc, acc_all * ACC_RATIO_TAN, acc_t)
+    acc_t = np.where(consumed, np.concatenate([acc_t[1:], [0.0]]), acc_t)
     target = np.minimum(reqvel, maxvel)
     # junction speeds
     jcap = np.zeros(nn + 1)
