@@ -16,7 +16,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from click.testing import CliRunner
 
+from cli.plan import command
 from gcode.readers import read, read_text
 from kernel.machine import Machine, parse_machine, with_controller
 from kernel.plan.models.grbl import arc_chords, junction_speed
@@ -177,3 +179,24 @@ def test_models_run_the_same_program(model: str) -> None:
     rep = simulate(list(read_text(text, "rs274ngc")), machine).measure()
     assert math.isfinite(rep.cycle.total)
     assert rep.cycle.total >= (20 + 10 * math.pi / 2 + 20) / 20 + 0.5
+
+
+def test_plan_compare_prints_models_and_stretches() -> None:
+    """``cnc plan --compare``: one total per model, and the stretch of source lines where
+    they differ most carries each model's time (the sum over its lines of the model's plan)."""
+    prog = LCNC / "ngc" / "lcnc_sawtooth.native.ngc"
+    args = [str(prog), "--machine", str(LCNC / "machine.toml"), "--format", "json"]
+    res = CliRunner().invoke(command, [*args, "--compare", "linuxcnc,grbl,book"])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(res.output)
+    assert list(doc["models"]) == ["linuxcnc", "grbl", "book"]
+    totals = {m: r["cycle"]["total"] for m, r in doc["models"].items()}
+    t_lcnc, _, _ = _run(str(LCNC), "lcnc_sawtooth.native")
+    assert totals["linuxcnc"] == pytest.approx(t_lcnc)
+    assert doc["stretches"], "the models differ on the sawtooth's corners"
+    first = doc["stretches"][0]
+    spreads = [max(s["times"].values()) - min(s["times"].values()) for s in doc["stretches"]]
+    assert spreads == sorted(spreads, reverse=True)
+    assert first["first_line"] <= first["last_line"]
+    bad = CliRunner().invoke(command, [*args, "--compare", "linuxcnc,fanuc"])
+    assert bad.exit_code != 0 and "fanuc" in bad.output
