@@ -49,9 +49,11 @@ def _machine(folder: str) -> Machine:
 
 @cache
 def _run(folder: str, name: str) -> tuple[float, tuple[float, ...], tuple[float, ...]]:
-    """Cycle time and peak |axis speed|, |axis acceleration| (x, y, z) of one variant."""
+    """Cycle time and peak |axis speed|, |axis acceleration| (x, y, z) of one variant (the
+    grbl-sim programs are read as Grbl reads them)."""
     prog = Path(folder) / "ngc" / f"{name}.ngc"
-    rep = simulate(list(read(prog, "rs274ngc")), _machine(folder), str(prog)).measure()
+    dialect = "grbl" if Path(folder) == GRBL else "rs274ngc"
+    rep = simulate(list(read(prog, dialect)), _machine(folder), str(prog)).measure()
     vel = tuple(abs(rep.peak_velocity[a]) for a in "xyz")
     acc = tuple(abs(rep.peak_acceleration[a]) for a in "xyz")
     return rep.cycle.total, vel, acc
@@ -86,6 +88,15 @@ def _peak_error(ours: tuple[float, ...], theirs: list[float], floor: float) -> f
 
 
 LCNC_NAMES = sorted(n for n, g in LCNC_GOLDENS.items() if _usable(g))
+# the default run checks one program in four (all three modes of it) and the short ones;
+# ``-m slow`` checks every golden
+_PROGRAMS = sorted({n.rsplit(".", 1)[0] for n in LCNC_NAMES})
+_QUICK = set(_PROGRAMS[::4])
+LCNC_CASES = [
+    pytest.param(n, marks=() if n.rsplit(".", 1)[0] in _QUICK else pytest.mark.slow)
+    for n in LCNC_NAMES
+    if not n.startswith("corpus_")
+] + [pytest.param(n, marks=pytest.mark.slow) for n in LCNC_NAMES if n.startswith("corpus_")]
 
 
 def test_enough_lcnc_goldens() -> None:
@@ -95,7 +106,7 @@ def test_enough_lcnc_goldens() -> None:
     assert {"native", "G61", "G64P"} <= modes
 
 
-@pytest.mark.parametrize("name", LCNC_NAMES)
+@pytest.mark.parametrize("name", LCNC_CASES)
 def test_linuxcnc_cycle_time(name: str) -> None:
     """Cycle time within 2 % of LinuxCNC's (the known deviations within their own bound)."""
     g = LCNC_GOLDENS[name]
@@ -105,7 +116,7 @@ def test_linuxcnc_cycle_time(name: str) -> None:
     assert err <= bound, f"{name}: {t:.3f} s vs LinuxCNC {_num(g, 'time'):.3f} s"
 
 
-@pytest.mark.parametrize("name", LCNC_NAMES)
+@pytest.mark.parametrize("name", LCNC_CASES)
 def test_linuxcnc_peak_velocity(name: str) -> None:
     """Peak axis speed within 2 % of LinuxCNC's."""
     g = LCNC_GOLDENS[name]
@@ -114,7 +125,7 @@ def test_linuxcnc_peak_velocity(name: str) -> None:
     assert _peak_error(vel, _vec(g, "peak_velocity"), 0.5) <= bound
 
 
-@pytest.mark.parametrize("name", LCNC_NAMES)
+@pytest.mark.parametrize("name", LCNC_CASES)
 def test_linuxcnc_peak_acceleration(name: str) -> None:
     """Peak axis acceleration within 2 % of LinuxCNC's 99.9th percentile (its single-period
     spikes at segment changes are left out)."""

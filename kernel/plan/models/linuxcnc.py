@@ -41,6 +41,10 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   from its start speed to its end speed.
 * **Stops at task commands** (emctask.cc: spindle and coolant commands wait for motion to
   finish): the queue runs dry there, so the move before stops (at half acceleration in G64).
+* **Per-period discretisation** (tp.c ``tpCalculateTrapezoidalAccel``,
+  ``tcUpdateDistFromAccel``, ``tpCheckEndCondition``): the planner steps once per servo period,
+  and a stop costs it about 0.8 period more than the continuous profile, a program about 1.5
+  (measured on the goldens); the plan adds them as stand-stills.
 * **Naive-CAM merging** (emccanon.cc ``see_segment``/``linkable``/``flush_segments``): with
   ``G64 Q`` (``P`` alone sets ``Q = P``), runs of up to 101 feed lines whose points all lie
   within ``Q`` of the line from the run's start to its end become that one line.
@@ -73,6 +77,10 @@ GAP_CYCLES = 4  # [TRAJ] ARC_BLEND_GAP_CYCLES
 ACC_RATIO_TAN = 0.5  # blendmath.h BLEND_ACC_RATIO_TANGENTIAL
 ACC_RATIO_NORMAL = math.sqrt(1.0 - ACC_RATIO_TAN**2)
 MIN_SEGMENT_CYCLES = 1.02  # tp_types.h TP_MIN_SEGMENT_CYCLES
+# discretisation of the per-period planner, in servo periods: measured on the goldens
+# (tests/data/lcnc_tp: ~0.8 period per stop over 1-200 stops, ~1.5 per program)
+STOP_CYCLES = 0.8
+START_CYCLES = 1.5
 _SHARP = (math.pi * 2.0 / 180.0) ** 2  # tp.c SHARP_CORNER_DEG = 2, small-angle squared
 _TINY = 1e-12
 
@@ -510,28 +518,141 @@ def _joins(
 
 
 # ----------------------------------------------------------------------------- the plan
+def _fillet(
+    line_p: np.ndarray, u: np.ndarray, arc: np.void, at_start: bool, radius: float
+) -> tuple[np.ndarray, float, float, np.ndarray] | None:
+    """A circle of ``radius`` tangent to a line and to a planar circle meeting it at the
+    circle's start (``at_start``) or end: the point on the line (``line_p`` is the corner,
+    ``u`` the line's direction away from the corner), the distance back along the line, the
+    angle taken off the circle, and the fillet's centre; None when there is none."""
+    c = arc["centre"]
+    r = float(arc["radius"])
+    n = arc["normal"]
+    sweep = float(arc["sweep"])
+    e1, e2 = arc["e1"], arc["e2"]
+    psi = 0.0 if at_start else sweep
+    radial = math.cos(psi) * e1 + math.sin(psi) * e2
+    tangent = math.copysign(1.0, sweep) * (-math.sin(psi) * e1 + math.cos(psi) * e2)
+    t_away = tangent if at_start else -tangent  # the circle's direction away from the corner
+    side = t_away - float(t_away @ u) * u
+    norm = float(np.linalg.norm(side))
+    if norm < 1e-9 or abs(float(u @ n)) > 1e-9:
+        return None
+    side /= norm
+    inside = float(radial @ u) < 0.0  # the line lies inside the circle near the corner
+    rho = r - radius if inside else r + radius
+    if rho <= 0:
+        return None
+    w = line_p + radius * side - c
+    b = float(w @ u)
+    disc = b * b - float(w @ w) + rho * rho
+    if disc < 0:
+        return None
+    roots = [b - math.sqrt(disc), b + math.sqrt(disc)]
+    back = min((-x for x in roots if -x > 1e-12), default=None)
+    if back is None:
+        return None
+    q = line_p + back * u + radius * side
+    to_q = (q - c) / np.linalg.norm(q - c)
+    delta = math.acos(max(-1.0, min(1.0, float(to_q @ radial))))
+    if delta >= abs(sweep) / 2:
+        return None
+    return line_p + back * u, back, delta, q
+
+
+def _arc_row(
+    proto: np.void, centre: np.ndarray, start: np.ndarray, end: np.ndarray, u_in: np.ndarray
+) -> np.void:
+    """A planar arc row from ``start`` (leaving along ``u_in``) to ``end`` about ``centre``."""
+    row = proto.copy()
+    r = float(np.linalg.norm(start - centre))
+    e1 = (start - centre) / r
+    normal = np.cross(e1, u_in)
+    normal /= np.linalg.norm(normal)
+    e2 = np.cross(normal, e1)
+    to_end = (end - centre) / r
+    sweep = math.atan2(float(to_end @ e2), float(to_end @ e1)) % (2 * math.pi)
+    row["kind"] = ARC
+    row["start"][:3], row["end"][:3] = start, end
+    row["centre"], row["normal"], row["e1"], row["e2"] = centre, normal, e1, e2
+    row["radius"] = row["radius_end"] = r
+    row["sweep"] = sweep
+    row["axial"] = 0.0
+    row["length"] = r * sweep
+    row["u_start"][:3] = u_in
+    row["u_end"][:3] = -math.sin(sweep) * e1 + math.cos(sweep) * e2
+    return row
+
+
+def _trim_circle(row: np.void, delta: float, at_start: bool) -> None:
+    """Take ``delta`` (rad) off a planar circle row at its start or end, in place."""
+    sweep = float(row["sweep"])
+    sign = math.copysign(1.0, sweep)
+    e1, e2 = row["e1"].copy(), row["e2"].copy()
+    r = float(row["radius"])
+    c = row["centre"]
+    if at_start:
+        d = sign * delta
+        row["e1"] = math.cos(d) * e1 + math.sin(d) * e2
+        row["e2"] = -math.sin(d) * e1 + math.cos(d) * e2
+        row["start"][:3] = c + r * row["e1"]
+        row["u_start"][:3] = sign * row["e2"]
+    else:
+        psi = sweep - sign * delta
+        row["end"][:3] = c + r * (math.cos(psi) * e1 + math.sin(psi) * e2)
+        row["u_end"][:3] = sign * (-math.sin(psi) * e1 + math.cos(psi) * e2)
+    row["sweep"] = sweep - sign * delta
+    row["length"] = r * abs(float(row["sweep"]))
+
+
 def _split_lines(
-    table: np.ndarray, pos: np.ndarray, trim: np.ndarray, tail: np.ndarray
+    table: np.ndarray,
+    pos: np.ndarray,
+    trim: np.ndarray,
+    tail: np.ndarray,
+    radius: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Cut ``trim`` off the line at ``pos`` (its end, where ``tail``) or off the line after
-    it (its start), as a row of its own between the two; returns the table and where the new
-    rows are. The geometry is unchanged."""
-    k = pos.size
-    p = np.where(tail, pos, pos + 1)  # the line that is cut
-    d = np.minimum(trim, 0.5 * table["length"][p])
-    piece = table[p].copy()
-    u = piece["u_start"]
-    cut_end = piece["end"] - d[:, None] * u
-    cut_start = piece["start"] + d[:, None] * u
-    piece["start"] = np.where(tail[:, None], cut_end, piece["start"])
-    piece["end"] = np.where(tail[:, None], piece["end"], cut_start)
-    piece["length"] = d
+    """The blend of a line and a circle at each join after row ``pos``: where the circle is
+    planar, a fillet of ``radius`` tangent to both (the line and the circle shortened);
+    otherwise ``trim`` cut off the line (its end, where ``tail``, else the next row's start)
+    as a row of its own, on the programmed corner. Returns the table and the new rows."""
     table = table.copy()
-    table["end"][p[tail]] = cut_end[tail]
-    table["start"][p[~tail]] = cut_start[~tail]
-    table["length"][p] -= d
-    out = np.insert(table, pos + 1, piece)
-    return out, pos + 1 + np.arange(k)
+    pieces = []
+    for k in range(pos.size):
+        p = int(pos[k])
+        line_i, arc_i = (p, p + 1) if tail[k] else (p + 1, p)
+        line, arc = table[line_i], table[arc_i]
+        u = line["u_start"][:3]
+        corner = line["end"][:3] if tail[k] else line["start"][:3]
+        away = -u if tail[k] else u
+        flat = abs(float(arc["radius"] - arc["radius_end"])) < 1e-9 and abs(arc["axial"]) < 1e-9
+        got = _fillet(corner, away, arc, tail[k], float(radius[k])) if flat else None
+        if got is not None and got[1] < 0.5 * float(line["length"]):
+            a_pt, back, delta, q = got
+            _trim_circle(table[arc_i : arc_i + 1][0], delta, tail[k])
+            arc = table[arc_i]
+            if tail[k]:
+                table["end"][line_i, :3] = a_pt
+                piece = _arc_row(line, q, a_pt, arc["start"][:3], u)
+            else:
+                table["start"][line_i, :3] = a_pt
+                piece = _arc_row(line, q, arc["end"][:3], a_pt, arc["u_end"][:3])
+            table["length"][line_i] -= back
+            pieces.append(piece)
+            continue
+        d = min(float(trim[k]), 0.5 * float(line["length"]))
+        piece = line.copy()
+        if tail[k]:
+            piece["start"][:3] = corner - d * u
+            table["end"][line_i, :3] = corner - d * u
+        else:
+            piece["end"][:3] = corner + d * u
+            table["start"][line_i, :3] = corner + d * u
+        piece["length"] = d
+        table["length"][line_i] -= d
+        pieces.append(piece)
+    out = np.insert(table, pos + 1, np.array(pieces, dtype=table.dtype))
+    return out, pos + 1 + np.arange(pos.size)
 
 
 def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
@@ -605,7 +726,9 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     if virt.size:
         # where the original rows are now (after the blend arcs)
         pos = virt + np.searchsorted(corners, virt, "left")
-        table, rows = _split_lines(table, pos, j.trim[virt], seg["kind"][virt] == LINE)
+        table, rows = _split_lines(
+            table, pos, j.trim[virt], seg["kind"][virt] == LINE, j.radius[virt]
+        )
         at = pos + 1
         vmax = np.minimum(j.arc_vel[virt], table["length"][rows] / period)
 
@@ -710,10 +833,18 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     cap = np.where(moving, cap, 0.0)
     prof = trapezoids(length, v[:-1], v[1:], np.where(moving, cap, 0.0), acc_plan)
     duration = np.where(moving, prof.duration, table["duration"])
+    # the planner runs once per servo period: every stop costs about STOP_CYCLES periods
+    # more than the continuous profile, and a program START_CYCLES (tp.c
+    # tcUpdateDistFromAccel's half-period undershoot, the split cycle at a segment's end)
+    pause = np.where(moving & (v[1:] <= 0.0), STOP_CYCLES * period, 0.0)
+    last = np.flatnonzero(moving)
+    if last.size:
+        pause[last[-1]] += START_CYCLES * period
+    duration = duration + pause
     t_start = np.concatenate([[0.0], np.cumsum(duration)[:-1]]) if nn else np.zeros(0)
     s = np.concatenate([[0.0], np.cumsum(length)])
     out_path = Path(table, path.file)
-    return Plan(out_path, machine, v, cap, prof, np.zeros(nn), duration, t_start, s[:-1], 0.0)
+    return Plan(out_path, machine, v, cap, prof, pause, duration, t_start, s[:-1], 0.0)
 
 
 __all__ = ["EXACT", "PARABOLIC", "STOP", "TANGENT", "Prepared", "plan", "prepare"]

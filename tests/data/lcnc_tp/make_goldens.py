@@ -82,9 +82,12 @@ def main(argv: list[str]) -> None:
                 continue
             name = jobs[rid]
             old = best.get(name)
-            if old is None or (
-                _num(got, "path_length") > _num(old, "path_length") - 1e-3
-                and _num(got, "time") < _num(old, "time")
+            longer = _num(got, "path_length") - _num(old, "path_length") if old else 1.0
+            tol = 1e-3 * max(_num(got, "path_length"), 1.0)
+            if (
+                old is None
+                or longer > tol
+                or (abs(longer) <= tol and _num(got, "time") < _num(old, "time"))
             ):
                 best[name] = got
     doc = {
