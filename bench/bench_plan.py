@@ -7,7 +7,9 @@ parsing), then converted to the segment table, planned (look-ahead) and sampled 
 interpolation period. Printed: the machine time, the wall time of each stage and the
 ratio machine time / wall time (target >= 2000 for planning + sampling; also given with the
 IR -> path conversion), for the first run and the best of ``--repeat`` runs, and the sample
-memory. Run: ``python bench/bench_plan.py [segments] [--scurve] [--repeat=N]``.
+memory. Run: ``python bench/bench_plan.py [segments] [--scurve] [--repeat=N] [--model=NAME]``.
+``--model`` plans with a controller model (``[controller] model``: book, linuxcnc, grbl) through
+kernel.plan.strategy; the IR -> path conversion is then part of its planning stage.
 """
 
 from __future__ import annotations
@@ -21,9 +23,10 @@ import numpy as np
 
 from kernel.interp.interpolate import sample
 from kernel.ir import canon
-from kernel.machine import DEFAULT_MACHINE, with_controller
+from kernel.machine import DEFAULT_MACHINE, Machine, with_controller
 from kernel.path.build import build_path
 from kernel.plan.planner import plan
+from kernel.plan.strategy import build, plan_built
 from kernel.report.measure import measure
 
 
@@ -72,6 +75,44 @@ def cam_program(
     return cmds
 
 
+def cmds_for(n: int) -> list[canon.Command]:
+    """The benchmark program of about ``n`` segments."""
+    return cam_program(n)
+
+
+def _bench_model(cmds: list[canon.Command], machine: Machine, repeat: int) -> None:
+    """IR -> path, the model's plan and sampling, timed apart; best of ``repeat`` runs."""
+    clock = time.perf_counter
+    best = [math.inf] * 4  # wall plan+sample, cpu plan+sample, wall all, cpu all
+    for _ in range(repeat):
+        w0, c0 = clock(), time.process_time()
+        built = build(cmds, machine)
+        w1, c1 = clock(), time.process_time()
+        pl = plan_built(built, machine)
+        w2, c2 = clock(), time.process_time()
+        s = sample(pl)
+        w3, c3 = clock(), time.process_time()
+        print(
+            f"run: IR->path {w1 - w0:.3f} s, plan {w2 - w1:.3f} s, sample {w3 - w2:.3f} s "
+            f"(cpu {c1 - c0:.3f}, {c2 - c1:.3f}, {c3 - c2:.3f} s)"
+        )
+        best = [min(b, x) for b, x in zip(best, (w3 - w1, c3 - c1, w3 - w0, c3 - c0), strict=True)]
+    rep = measure(pl, s)
+    machine_time = pl.total_time
+    print(
+        f"model {machine.controller.model}: {len(cmds)} IR commands, {len(pl.path)} segments, "
+        f"machine time {machine_time:.1f} s, {len(s)} samples, limit hits {rep.hits_total}"
+    )
+    print(
+        f"best of {repeat} runs, plan + sample: machine/wall {machine_time / best[0]:.0f}x "
+        f"(target >= 2000x), machine/cpu {machine_time / best[1]:.0f}x"
+    )
+    print(
+        f"best of {repeat} runs, IR->path + plan + sample: machine/wall "
+        f"{machine_time / best[2]:.0f}x, machine/cpu {machine_time / best[3]:.0f}x"
+    )
+
+
 def main(argv: list[str]) -> None:
     n = int(argv[0]) if argv and argv[0].isdigit() else 200_000
     machine = DEFAULT_MACHINE
@@ -81,6 +122,12 @@ def main(argv: list[str]) -> None:
             repeat = max(1, int(a.split("=", 1)[1]))
     if "--scurve" in argv:
         machine = with_controller(machine, accdec="scurve")
+    for a in argv:
+        if a.startswith("--model="):
+            machine = with_controller(machine, model=a.split("=", 1)[1])
+    if machine.controller.model != "book":
+        _bench_model(cmds_for(n), machine, repeat)
+        return
     clock = time.perf_counter
     c0, t0 = time.process_time(), clock()
     cmds = cam_program(n)

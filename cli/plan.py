@@ -14,7 +14,8 @@ from rich.table import Table
 
 from cli.errors import guarded
 from cli.programs import dialect_option, load_machine, program_commands
-from kernel.machine import Machine
+from kernel.machine import CONTROLLER_MODELS, Machine, with_controller
+from kernel.report.compare import Stretch, differing_stretches, line_times
 from kernel.report.measure import Report
 from kernel.simulation import simulate
 
@@ -23,6 +24,72 @@ def run(program: str, machine: Machine, dialect: str | None = None) -> Report:
     """Plan, sample and measure ``program`` (the command's work, without printing)."""
     commands = program_commands(program, dialect=dialect, machine=machine)
     return simulate(commands, machine, program).measure()
+
+
+def compare(
+    program: str, machine: Machine, models: list[str], dialect: str | None = None
+) -> tuple[dict[str, Report], list[Stretch]]:
+    """Plan ``program`` with each controller model: their reports and the stretches of
+    source lines where their times differ most (kernel.report.compare)."""
+    reports: dict[str, Report] = {}
+    times: dict[str, dict[int, float]] = {}
+    for name in models:
+        result = simulate(
+            program_commands(program, dialect=dialect),
+            with_controller(machine, model=name),
+            program,
+        )
+        reports[name] = result.measure()
+        times[name] = line_times(result.plan)
+    return reports, differing_stretches(times, window=5, count=5)
+
+
+def _models(value: str) -> list[str]:
+    names = [v.strip() for v in value.split(",") if v.strip()]
+    bad = [v for v in names if v not in CONTROLLER_MODELS]
+    if bad or not names:
+        raise click.BadParameter(
+            f"{', '.join(bad) or 'nothing'}: models are {', '.join(CONTROLLER_MODELS)}"
+        )
+    return list(dict.fromkeys(names))
+
+
+def _compare_text(
+    reports: dict[str, Report], stretches: list[Stretch], program: str, console: Console
+) -> None:
+    names = list(reports)
+    first = reports[names[0]].cycle.total
+    t = Table(title=f"cycle time by controller model: {program}")
+    t.add_column("model")
+    t.add_column("total (s)", justify="right")
+    t.add_column(f"/ {names[0]}", justify="right")
+    t.add_column("cutting (s)", justify="right")
+    t.add_column("rapid (s)", justify="right")
+    for name, rep in reports.items():
+        ratio = f"{rep.cycle.total / first:.3f}" if first > 0 else "-"
+        t.add_row(
+            name,
+            f"{rep.cycle.total:.3f}",
+            ratio,
+            f"{rep.cycle.cutting:.3f}",
+            f"{rep.cycle.rapid:.3f}",
+        )
+    console.print(t)
+    if not stretches:
+        console.print("the models' times do not differ")
+        return
+    d = Table(title="where they differ most")
+    d.add_column("source lines")
+    for name in names:
+        d.add_column(f"{name} (s)", justify="right")
+    d.add_column("spread (s)", justify="right")
+    for st in stretches:
+        d.add_row(
+            f"{st.first}-{st.last}",
+            *(f"{st.times[n]:.3f}" for n in names),
+            f"{st.spread:.3f}",
+        )
+    console.print(d)
 
 
 def _text(report: Report, program: str, console: Console) -> None:
@@ -91,9 +158,20 @@ def _text(report: Report, program: str, console: Console) -> None:
 @click.option(
     "--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True
 )
+@click.option(
+    "--compare",
+    "compare_models",
+    default=None,
+    metavar="MODELS",
+    help="plan with several controller models (comma list of "
+    + ", ".join(CONTROLLER_MODELS)
+    + ") and show their cycle times side by side and where they differ most",
+)
 @dialect_option
 @guarded
-def command(program: str, machine_file: str | None, fmt: str, dialect: str) -> None:
+def command(
+    program: str, machine_file: str | None, fmt: str, dialect: str, compare_models: str | None
+) -> None:
     """Plan PROGRAM: cycle-time breakdown, path lengths, peak axis values, limit hits.
 
     PROGRAM is G-code, STEP-NC, canonical text or JSON lines (told apart by content).
@@ -103,7 +181,24 @@ def command(program: str, machine_file: str | None, fmt: str, dialect: str) -> N
       cnc plan part.ngc
       cnc plan part.ngc --machine mill.toml --format json > plan.json
       cnc plan ex1.stp
+      cnc plan part.ngc --compare linuxcnc,grbl,book
     """
+    if compare_models is not None:
+        models = _models(compare_models)
+        reports, stretches = compare(program, load_machine(machine_file), models, dialect)
+        if fmt == "json":
+            doc = {
+                "program": program,
+                "models": {n: r.to_dict() for n, r in reports.items()},
+                "stretches": [
+                    {"first_line": s.first, "last_line": s.last, "times": s.times}
+                    for s in stretches
+                ],
+            }
+            click.echo(json.dumps(doc, indent=2))
+        else:
+            _compare_text(reports, stretches, program, Console())
+        return
     report = run(program, load_machine(machine_file), dialect)
     if fmt == "json":
         click.echo(json.dumps({"program": program, **report.to_dict()}, indent=2))

@@ -29,6 +29,7 @@ AXIS_NAMES: tuple[str, ...] = ("x", "y", "z", "a", "b", "c")
 ROTARY: frozenset[str] = frozenset({"a", "b", "c"})
 ACCDEC_TYPES: tuple[str, ...] = ("trapezoid", "scurve")
 CORNER_RULES: tuple[str, ...] = ("axis", "angle")
+CONTROLLER_MODELS: tuple[str, ...] = ("book", "linuxcnc", "grbl")
 CIRCLE_METHODS: tuple[str, ...] = (
     "exact",
     "euler",
@@ -79,6 +80,10 @@ class Controller:
     ``tool_change_time``, ``spindle_orient_time``, ``program_stop_time``: durations, s.
     ``circle_method``: arc sampling, ``exact`` or a sampled-data method of book §3.3.2.
     ``feed_override``: feed override factor applied while overrides are enabled.
+    ``model``: the planner strategy (kernel.plan.strategy): ``book`` (the ADCBI look-ahead of
+    kernel.plan.planner), ``linuxcnc`` (LinuxCNC 2.9's trajectory planner) or ``grbl``
+    (Grbl 1.1's planner).
+    ``junction_deviation``, ``arc_tolerance``: Grbl's ``$11`` and ``$12``, mm (``grbl`` model).
     """
 
     interpolation_period: float = 0.001
@@ -96,6 +101,9 @@ class Controller:
     program_stop_time: float = 0.0
     circle_method: str = "exact"
     feed_override: float = 1.0
+    model: str = "book"
+    junction_deviation: float = 0.01
+    arc_tolerance: float = 0.002
 
 
 @dataclass(frozen=True, slots=True)
@@ -260,11 +268,12 @@ def _controller(table: object, loc: Location) -> Controller:
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise Diagnostic("MACH-RANGE", f"{what} must be an integer >= 1", loc)
             kw[key] = value
-        elif key in ("accdec", "corner_rule", "circle_method"):
+        elif key in ("accdec", "corner_rule", "circle_method", "model"):
             allowed = {
                 "accdec": ACCDEC_TYPES,
                 "corner_rule": CORNER_RULES,
                 "circle_method": CIRCLE_METHODS,
+                "model": CONTROLLER_MODELS,
             }[key]
             if value not in allowed:
                 raise Diagnostic("MACH-RANGE", f"{what} must be one of {', '.join(allowed)}", loc)
@@ -275,6 +284,8 @@ def _controller(table: object, loc: Location) -> Controller:
                 "chord_tolerance",
                 "feed_override",
                 "corner_velocity_step",
+                "junction_deviation",
+                "arc_tolerance",
             )
             v = _number(value, what, loc, positive=pos)
             if v < 0:

@@ -21,9 +21,9 @@ from kernel.axes.accdec import planning_machine
 from kernel.interp.interpolate import sample
 from kernel.interp.samples import Samples
 from kernel.machine import Machine
-from kernel.path.build import build_path
 from kernel.path.segments import Path
-from kernel.plan.planner import Plan, plan
+from kernel.plan.planner import Plan
+from kernel.plan.strategy import plan_program
 from kernel.report.measure import Report, measure
 from kernel.report.trace import CHUNK, Trace, setup
 
@@ -55,9 +55,9 @@ def simulate(
     file: str | None = None,
 ) -> SimulationResult:
     """Build, plan and sample ``commands`` on ``machine`` (``file``: the program's name in
-    diagnostics). Problems of the program raise ``PLAN-*`` diagnostics."""
-    path = build_path(commands, machine, file)
-    pl = plan(path, planning_machine(machine))
+    diagnostics). Problems of the program raise ``PLAN-*`` diagnostics. The planner is the
+    strategy ``[controller] model`` names (kernel.plan.strategy)."""
+    path, pl = plan_program(commands, machine, planning_machine(machine), file)
     return SimulationResult(machine, path, pl, sample(pl))
 
 

@@ -19,11 +19,12 @@ from hypothesis import strategies as st
 
 from kernel.interp.interpolate import sample
 from kernel.ir import canon
-from kernel.machine import AxisLimits, Controller, Machine
+from kernel.machine import AxisLimits, Controller, Machine, with_controller
 from kernel.path.build import build_path
 from kernel.path.geometry import evaluate
 from kernel.path.segments import ARC, HOLD, LINE
 from kernel.plan.planner import plan
+from kernel.plan.strategy import plan_program
 
 RTOL, ATOL = 1e-6, 1e-7
 
@@ -461,3 +462,33 @@ def test_g64_p_blend_arc_is_tangent_and_bounded_by_p():
     p = plan(build_path(cmds, m), m)
     assert p.v_junction[1] > 0 and p.v_junction[2] > 0  # the corner is run through the arc
     assert p.v_junction[1] == pytest.approx(math.sqrt(0.5 * 1000 * arc["radius"]))
+
+
+@pytest.mark.parametrize("model", ["linuxcnc", "grbl"])
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(cmds=programs(), machine=machines())
+def test_controller_models_respect_every_limit_and_their_path(model, cmds, machine):
+    """The controller models (kernel.plan.models) under the same properties: no axis over
+    its speed or acceleration limit, the path speed never above the feed, every sample on
+    the path the model plans (its blend arcs, Grbl's chords), the end point exact, stopped at
+    every barrier and at the end."""
+    m = with_controller(machine, model=model)
+    _, p = plan_program(cmds, m)
+    if not len(p.path):
+        return
+    s = sample(p)
+    path = p.path
+    for j, name in enumerate(s.axes):
+        ax = m.axis(name)
+        assert np.abs(s.velocity[:, j]).max() <= ax.velocity * (1 + RTOL) + ATOL
+        assert np.abs(s.acceleration[:, j]).max() <= ax.acceleration * (1 + RTOL) + ATOL
+    moving = s.segment >= 0
+    speed = np.linalg.norm(s.velocity[moving], axis=1)
+    feed = path.segments["feed"][s.segment[moving]]
+    assert np.all(speed <= feed * (1 + RTOL) + ATOL)
+    assert _on_path(path, s) <= 1e-7
+    assert np.allclose(s.position[-1], path.end_position[:3], rtol=0, atol=1e-9)
+    assert np.all(s.velocity[s.segment < 0] == 0.0)
+    assert np.all(s.velocity[-1] == 0.0)
+    assert np.all(p.v_junction[np.r_[False, path.segments["kind"] == HOLD]] == 0.0)
+    assert p.v_junction[0] == 0.0 and p.v_junction[-1] == 0.0

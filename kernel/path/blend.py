@@ -50,43 +50,61 @@ def blend_corners(path: Path) -> Path:
     corners = np.flatnonzero(ok)
     if not corners.size:
         return path
-    rows = seg.copy()
-    r = r[corners]
-    d = r * np.tan(theta[corners] / 2)
+    out = insert_blend_arcs(seg, corners, r[corners])
+    # a line shortened from both ends by half its length is gone (not -1e-16 long)
+    gone = (out["kind"] == LINE) & (out["length"] <= 1e-12)
+    if gone.any():
+        out = out[~gone]
+    return Path(out, path.file)
+
+
+def insert_blend_arcs(seg: np.ndarray, corners: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """``seg`` with a tangent arc of radius ``r[k]`` inserted at the corner after each row
+    ``corners[k]`` (sorted; both rows lines); the lines are shortened by the arc's tangent
+    length. Lines shortened to nothing are kept (zero length): the caller decides."""
+    u1, u2 = seg["u_end"][corners, :3], seg["u_start"][corners + 1, :3]
+    cos = np.clip(np.einsum("ij,ij->i", u1, u2), -1.0, 1.0)
+    theta = np.arccos(cos)
+    d = r * np.tan(theta / 2)
     c = seg["end"][corners, :3]
-    v1, v2 = u1[corners], u2[corners]
+    v1, v2 = u1, u2
     start = c - d[:, None] * v1
     end = c + d[:, None] * v2
-    inward = v2 - cos[corners][:, None] * v1
+    inward = v2 - cos[:, None] * v1
     inward /= np.linalg.norm(inward, axis=1)[:, None]
     centre = start + r[:, None] * inward
     normal = np.cross(v1, v2)
     normal /= np.linalg.norm(normal, axis=1)[:, None]
     e1 = (start - centre) / r[:, None]
     e2 = np.cross(normal, e1)  # = v1: the arc leaves A along the first line
-    arcs = np.zeros(corners.size, dtype=seg.dtype)
+    # the rows moved to their places (row i after the arcs of the corners before it), the
+    # arcs in between: one copy of the table, no per-field inserts
+    n, k = len(seg), corners.size
+    out = np.empty(n + k, dtype=seg.dtype)
+    moved = np.arange(n) + np.searchsorted(corners, np.arange(n), "left")
+    out[moved] = seg
+    at = corners + 1 + np.arange(k)
+    out[at] = np.zeros(1, dtype=seg.dtype)
+    arcs = out[at]
     arcs["kind"] = ARC
     arcs["category"] = seg["category"][corners]
     arcs["start"] = seg["end"][corners]
     arcs["end"] = seg["end"][corners]
     arcs["start"][:, :3], arcs["end"][:, :3] = start, end
-    arcs["length"] = r * theta[corners]
+    arcs["length"] = r * theta
     arcs["centre"], arcs["normal"], arcs["e1"], arcs["e2"] = centre, normal, e1, e2
     arcs["radius"] = arcs["radius_end"] = r
-    arcs["sweep"] = theta[corners]
+    arcs["sweep"] = theta
     arcs["u_start"][:, :3], arcs["u_end"][:, :3] = v1, v2
     arcs["feed"] = np.minimum(seg["feed"][corners], seg["feed"][corners + 1])
     arcs["blend"] = seg["blend"][corners]
     arcs["source"] = seg["source"][corners + 1]
     arcs["line"] = seg["line"][corners + 1]
+    out[at] = arcs
     # shorten the lines on both sides
-    rows["end"][corners, :3] = start
-    rows["length"][corners] -= d
-    rows["start"][corners + 1, :3] = end
-    rows["length"][corners + 1] -= d
-    out = np.insert(rows, corners + 1, arcs)
-    # a line shortened from both ends by half its length is gone (not -1e-16 long)
-    gone = (out["kind"] == LINE) & (out["length"] <= 1e-12)
-    if gone.any():
-        out = out[~gone]
-    return Path(out, path.file)
+    before, after = moved[corners], moved[corners + 1]
+    out["end"][before, :3] = start
+    out["length"][before] -= d
+    out["start"][after, :3] = end
+    out["length"][after] -= d
+    return out

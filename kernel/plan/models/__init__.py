@@ -1,0 +1,2 @@
+"""Controller models: planner strategies that reproduce a real control's trajectory planner
+(``[controller] model`` in the machine profile; kernel.plan.strategy picks one)."""

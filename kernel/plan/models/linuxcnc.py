@@ -1,0 +1,850 @@
+"""LinuxCNC 2.9's trajectory planner as a planner strategy (``[controller] model = "linuxcnc"``).
+
+Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/task/emccanon.cc``
+(read, not copied; GPL-2.0 sources), and checked against LinuxCNC itself
+(tests/data/lcnc_tp). What is reproduced, and where it comes from:
+
+* **Segment limits** (emccanon.cc ``getStraightVelocity``/``getStraightAcceleration``,
+  ``ARC_FEED``): a line's speed and acceleration are the largest whose every axis share stays
+  within its limit; an arc's are bounded by the plane's slowest axis, with the centripetal
+  share ``sqrt(3)/2`` of the plane's acceleration (``v = sqrt(0.866 a r_eff)``).
+* **Circle acceleration split** (blendmath.c ``pmCircleActualMaxVel``, tc.c
+  ``tcUpdateCircleAccRatio``): the normal acceleration at the segment's top speed takes what
+  it needs of the segment's acceleration, the tangential share is the rest (at most 1/2).
+* **Short-segment cap** (tc.c ``tcClampVelocityByLength``, tp.c
+  ``tpComputeOptimalVelocity``): a segment never runs faster than its length per servo
+  period (per 1.02 periods after a tangent join).
+* **Tangent joins and kinks** (tp.c ``tpSetupTangent``): a join whose direction change needs
+  less than ``ARC_BLEND_KINK_RATIO`` (0.1) of the axis accelerations in one period is run
+  through at speed; the two segments then lose that share of their acceleration. A kinked
+  join that is not blended (G61, exact path) keeps the 0.1 loss on both segments: the "ramps
+  peak near 0.9 of the acceleration" of multi-move G61 programs. Reversals within 2 degrees
+  and G61.1 (exact stop) stop.
+* **Blend arcs** (tp.c ``tpCreateLineLineBlend``, blendmath.c ``blendInit3FromLineLine``,
+  ``blendParamKinematics``, ``blendComputeParameters``, tc.c ``tcFindBlendTolerance``):
+  the G64 tolerance, or a quarter of the shorter segment when ``P`` is 0 (and never more than
+  a quarter of either), bounds the arc; the arc also takes at most half of either line; its
+  speed is ``sqrt(0.866 a_plane R)``; its radius is no larger than an equivalent parabolic
+  blend needs. Blend arcs run at half their plane acceleration tangentially.
+* **Blend choice** (tp.c ``tpChooseBestBlend``): the arc, the approximate tangent (kink
+  speed) or a parabolic blend, whichever is fastest (the parabolic estimate halved).
+* **Parabolic blends and the half acceleration** (tc.c ``tcGetOverallMaxAccel``, tp.c
+  ``tpComputeBlendVelocity``, ``tpUpdateBlend``): a segment that ends in a parabolic blend,
+  or that starts with one, runs at half its acceleration, and so does a G64 segment with no
+  blend after it (the program's last move, a move before a stop). A parabolic blend overlaps
+  the end of one segment with the start of the next; its time is that of a junction passed
+  at the blend speed, which is what the plan uses.
+* **Look-ahead** (tp.c ``tpRunOptimization``): backwards over ``ARC_BLEND_OPTIMIZATION_DEPTH``
+  (50) tangent segments; non-tangent joins stop it.
+* **Ramped short segments** (tp.c ``tpActivateSegment``, ``tpCalculateRampAccel``): a
+  tangent feed segment that lasts less than ``1/ARC_BLEND_RAMP_FREQ`` (10 ms) goes straight
+  from its start speed to its end speed.
+* **Stops at task commands** (emctask.cc: spindle and coolant commands wait for motion to
+  finish): the queue runs dry there, so the move before stops (at half acceleration in G64).
+* **Per-period discretisation** (tp.c ``tpCalculateTrapezoidalAccel``,
+  ``tcUpdateDistFromAccel``, ``tpCheckEndCondition``): the planner steps once per servo period,
+  and a stop costs it about 0.8 period more than the continuous profile, a program about 1.5
+  (measured on the goldens); the plan adds them as stand-stills.
+* **Naive-CAM merging** (emccanon.cc ``see_segment``/``linkable``/``flush_segments``): with
+  ``G64 Q`` (``P`` alone sets ``Q = P``), runs of up to 101 feed lines whose points all lie
+  within ``Q`` of the line from the run's start to its end become that one line.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
+
+import kernel.ir.canon as canon
+from kernel.machine import Machine
+from kernel.path.blend import insert_blend_arcs
+from kernel.path.segments import ARC, HOLD, LINE, RAPID, Path
+from kernel.plan.planner import Plan, lookahead, trapezoids
+
+# terminal conditions (LinuxCNC's TC_TERM_COND_*): how a segment ends
+STOP = 0  # G61.1 exact stop
+EXACT = 1  # G61 exact path
+PARABOLIC = 2  # G64
+TANGENT = 3
+
+KINK_RATIO = 0.1  # [TRAJ] ARC_BLEND_KINK_RATIO default (initraj.cc)
+OPT_DEPTH = 50  # [TRAJ] ARC_BLEND_OPTIMIZATION_DEPTH
+RAMP_FREQ = 100.0  # [TRAJ] ARC_BLEND_RAMP_FREQ, Hz
+GAP_CYCLES = 4  # [TRAJ] ARC_BLEND_GAP_CYCLES
+ACC_RATIO_TAN = 0.5  # blendmath.h BLEND_ACC_RATIO_TANGENTIAL
+ACC_RATIO_NORMAL = math.sqrt(1.0 - ACC_RATIO_TAN**2)
+MIN_SEGMENT_CYCLES = 1.02  # tp_types.h TP_MIN_SEGMENT_CYCLES
+# discretisation of the per-period planner, in servo periods: measured on the goldens
+# (tests/data/lcnc_tp: ~0.8 period per stop over 1-200 stops, ~1.5 per program)
+STOP_CYCLES = 0.8
+START_CYCLES = 1.5
+_SHARP = (math.pi * 2.0 / 180.0) ** 2  # tp.c SHARP_CORNER_DEG = 2, small-angle squared
+_TINY = 1e-12
+
+
+# ----------------------------------------------------------------------------- the IR pass
+@dataclass(frozen=True, slots=True)
+class Prepared:
+    """The program as LinuxCNC's canon layer hands it to the planner.
+
+    ``commands``: the IR with naive-CAM runs merged and every motion-mode change replaced by
+    an exact-path one (so the path builder blends nothing: the planner decides);
+    ``term`` and ``tolerance`` (mm): the path mode and G64 P in force at each command.
+    """
+
+    commands: list[canon.Command]
+    term: np.ndarray
+    tolerance: np.ndarray
+
+
+_MODE_TERM = {
+    canon.MotionMode.EXACT_STOP: STOP,
+    canon.MotionMode.EXACT_PATH: EXACT,
+    canon.MotionMode.CONTINUOUS: PARABOLIC,
+}
+
+
+_TASK_WAITS = frozenset(
+    {
+        "START_SPINDLE_CLOCKWISE",
+        "START_SPINDLE_COUNTERCLOCKWISE",
+        "STOP_SPINDLE_TURNING",
+        "FLOOD_ON",
+        "FLOOD_OFF",
+        "MIST_ON",
+        "MIST_OFF",
+    }
+)
+
+
+def _arc_end(cmd: canon.ArcFeed, plane: canon.Plane) -> tuple[float, float, float]:
+    if plane is canon.Plane.XZ:
+        return (cmd.second_end, cmd.axis_end_point, cmd.first_end)
+    if plane is canon.Plane.YZ:
+        return (cmd.axis_end_point, cmd.first_end, cmd.second_end)
+    return (cmd.first_end, cmd.second_end, cmd.axis_end_point)
+
+
+def _linkable(
+    chain: list[canon.StraightFeed], start: tuple[float, ...], cmd: canon.StraightFeed, tol: float
+) -> bool:
+    """emccanon.cc ``linkable``: every chained point within ``tol`` of start..new point."""
+    if len(chain) > 100:
+        return False
+    last = chain[-1]
+    if (cmd.a, cmd.b, cmd.c) != (last.a, last.b, last.c):
+        return False
+    b = np.array(start[:3])
+    m = np.array((cmd.x, cmd.y, cmd.z)) - b
+    mm = float(m @ m)
+    if mm == 0.0:
+        return False
+    for p in chain:
+        d = np.array((p.x, p.y, p.z)) - b
+        t = min(max(float(m @ d) / mm, 0.0), 1.0)
+        if float(np.linalg.norm(d - t * m)) > tol:
+            return False
+    return True
+
+
+def prepare(commands: Iterable[canon.Command]) -> Prepared:
+    """Merge naive-CAM runs and record the path mode of every command (emccanon.cc)."""
+    out: list[canon.Command] = [canon.SetMotionControlMode(canon.MotionMode.EXACT_PATH)]
+    terms = [PARABOLIC]
+    tols = [0.0]
+    term, tol, mm = PARABOLIC, 0.0, 1.0
+    naive = 0.0
+    plane = canon.Plane.XY
+    pos: tuple[float, ...] | None = None  # where the chain starts (program units)
+    chain: list[canon.StraightFeed] = []
+
+    def emit(cmd: canon.Command) -> None:
+        out.append(cmd)
+        terms.append(term)
+        tols.append(tol)
+
+    def flush() -> None:
+        nonlocal pos
+        if chain:
+            emit(chain[-1])
+            last = chain[-1]
+            pos = (last.x, last.y, last.z)
+            chain.clear()
+
+    for cmd in commands:
+        if isinstance(cmd, canon.StraightFeed):
+            if chain and not (
+                term == PARABOLIC
+                and naive > 0
+                and pos is not None
+                and _linkable(chain, pos, cmd, naive)
+            ):
+                flush()
+            chain.append(cmd)
+            if naive <= 0 or term != PARABOLIC:
+                flush()
+            continue
+        flush()
+        match cmd:
+            case canon.SetMotionControlMode():
+                term = _MODE_TERM[cmd.mode]
+                tol = cmd.tolerance * mm if term == PARABOLIC else 0.0
+                emit(canon.SetMotionControlMode(canon.MotionMode.EXACT_PATH, source=cmd.source))
+                continue
+            case canon.SetNaivecamTolerance():
+                naive = cmd.tolerance
+            case canon.UseLengthUnits():
+                mm = 25.4 if cmd.units is canon.Units.INCHES else 1.0
+                pos = None
+            case canon.SelectPlane():
+                plane = cmd.plane
+            case canon.StraightTraverse():
+                pos = (cmd.x, cmd.y, cmd.z)
+            case canon.ArcFeed():
+                pos = _arc_end(cmd, plane)
+            case _ if cmd.NAME in _TASK_WAITS:
+                # issued by task once motion has stopped (emctask.cc preconditions):
+                # the planner's queue runs dry there, a stop
+                emit(cmd)
+                emit(canon.Dwell(0.0, source=cmd.source))
+                continue
+            case _:
+                moved = cmd.NAME.startswith(("STRAIGHT_PROBE", "RIGID_TAP"))
+                if moved or cmd.NAME in ("SET_G5X_OFFSET", "SET_G92_OFFSET", "SET_XY_ROTATION"):
+                    pos = None
+        emit(cmd)
+    flush()
+    return Prepared(out, np.array(terms, dtype=np.int8), np.array(tols, dtype=float))
+
+
+# ----------------------------------------------------------------------------- segment limits
+def _ratio_min(limit: np.ndarray, comp: np.ndarray) -> np.ndarray:
+    """min over axes of limit_i / |comp_i| (inf where no axis component)."""
+    c = np.abs(comp)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(c > _TINY, limit / np.where(c > _TINY, c, 1.0), np.inf)
+    return r.min(axis=-1)
+
+
+def _inscribed(binormal: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """blendmath.c ``calculateInscribedDiameter``: the smallest axis bound seen in the plane
+    of ``binormal`` (rows), each axis' bound divided by the length of its projection."""
+    eye = np.eye(3)
+    out = np.full(binormal.shape[0], np.inf)
+    for i in range(3):
+        proj = np.abs(eye[i][None, :] - binormal * binormal[:, i : i + 1])
+        proj[:, i] = np.maximum(proj[:, i], _TINY)
+        scale = np.linalg.norm(proj, axis=1)
+        if bounds[i] > 0:
+            out = np.minimum(out, bounds[i] / scale)
+    return out
+
+
+@dataclass(frozen=True, slots=True)
+class _Limits:
+    reqvel: np.ndarray  # requested speed (feed, capped by the axes)
+    maxvel: np.ndarray  # the segment's own top speed
+    maxacc: np.ndarray  # path acceleration the axes allow
+    r_eff: np.ndarray  # arcs: effective radius (inf for lines)
+
+
+def _limits(path: Path, machine: Machine) -> _Limits:
+    seg = path.segments
+    ctl = machine.controller
+    vmax = np.array(machine.limit_vector("velocity"))
+    amax = np.array(machine.limit_vector("acceleration"))
+    feed = seg["feed"].copy()
+    rapid = seg["category"] == RAPID
+    if ctl.rapid_rate > 0:
+        feed[rapid] = np.minimum(feed[rapid], ctl.rapid_rate)
+    if ctl.max_feed > 0:
+        feed[~rapid] = np.minimum(feed[~rapid], ctl.max_feed)
+    u = seg["u_start"]
+    maxvel = _ratio_min(vmax, u)
+    maxacc = _ratio_min(amax, u)
+    r_eff = np.full(len(seg), np.inf)
+    arc = np.flatnonzero(seg["kind"] == ARC)
+    if arc.size:
+        sa = seg[arc]
+        nrm = np.abs(sa["normal"])
+        plane = nrm < 0.5  # the two in-plane axes
+        v_pl = np.where(plane, vmax[None, :3], np.inf).min(axis=1)
+        a_pl = np.where(plane, amax[None, :3], np.inf).min(axis=1)
+        sweep = np.maximum(np.abs(sa["sweep"]), _TINY)
+        spiral = sa["radius_end"] - sa["radius"]
+        rmin = np.minimum(sa["radius"], sa["radius_end"])
+        dr = spiral / sweep
+        reff_canon = np.sqrt(dr * dr + rmin * rmin)
+        v_planar = np.minimum(np.sqrt(a_pl * math.sqrt(3.0) / 2.0 * reff_canon), v_pl)
+        spiral_len = np.hypot(rmin * sweep, spiral)
+        total = sa["length"]
+        chord = np.abs(sa["end"] - sa["start"])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t_motion = np.where(chord > _TINY, chord / vmax, 0.0).max(axis=1)
+            tt_motion = np.where(chord > _TINY, chord / amax, 0.0).max(axis=1)
+        t_max = np.maximum(t_motion, spiral_len / v_planar)
+        tt_max = np.maximum(tt_motion, spiral_len / a_pl)
+        maxvel[arc] = total / np.maximum(t_max, _TINY)
+        maxacc[arc] = total / np.maximum(tt_max, _TINY)
+        # tp's effective radius (blendmath.c pmCircleEffectiveMinRadius)
+        h2 = sa["axial"] ** 2
+        n_inner = dr * dr + sa["radius"] ** 2
+        r_spiral = np.sqrt(n_inner**3) / np.maximum(n_inner + dr * dr, _TINY)
+        r_eff[arc] = h2 / np.maximum(r_spiral, _TINY) + r_spiral
+    reqvel = np.minimum(feed, maxvel)
+    return _Limits(reqvel, maxvel, maxacc, r_eff)
+
+
+# ----------------------------------------------------------------------------- joins
+@dataclass(frozen=True, slots=True)
+class _Joins:
+    kind: np.ndarray  # STOP / TANGENT / PARABOLIC / ARC blend (3 = TANGENT, 4 = arc)
+    kink_vel: np.ndarray
+    kink_red: np.ndarray
+    radius: np.ndarray  # blend arc radius (arc joins)
+    arc_vel: np.ndarray  # blend arc top speed
+    arc_acc: np.ndarray  # blend arc (plane) acceleration
+    arc_req: np.ndarray  # blend arc requested speed
+    trim: np.ndarray  # blend arc tangent length on the lines (d_plan)
+
+
+_ARC_JOIN = 4
+_VIRTUAL = 5  # a blend arc next to a circle: modelled on the line beside it
+
+
+def _tri_vel(acc: np.ndarray, length: np.ndarray) -> np.ndarray:
+    """blendmath.h ``findVPeak``: top of a triangle over ``length``."""
+    return np.sqrt(np.maximum(acc * length, 0.0))
+
+
+def _blend_velocity(
+    acc1: np.ndarray,
+    acc2: np.ndarray,
+    len1: np.ndarray,
+    len2: np.ndarray,
+    vt1: np.ndarray,
+    vt2: np.ndarray,
+    cos_half: np.ndarray,
+    tol: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """tp.c ``tpComputeBlendVelocity``: the parabolic blend's speed on each side."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r1 = np.minimum(_tri_vel(acc1, len1), vt1)
+        r2 = np.minimum(_tri_vel(acc2, len2), vt2)
+        t_reach = np.minimum(len1 / r1, len2 / r2)
+        t_blend = np.minimum(t_reach, np.maximum(r1 / acc1, r2 / acc2))
+        b1 = np.minimum(r1, t_blend * acc1)
+        b2 = np.minimum(r2, t_blend * acc2)
+        ok = (tol > 0) & (cos_half > math.cos(math.pi / 2 - 1e-3))
+        tv = 2.0 * np.sqrt(acc1 * tol / np.where(ok, cos_half, 1.0))
+    b1 = np.where(ok, np.minimum(b1, tv), b1)
+    b2 = np.where(ok, np.minimum(b2, tv), b2)
+    return np.nan_to_num(b1), np.nan_to_num(b2)
+
+
+def _joins(
+    seg: np.ndarray,
+    lim: _Limits,
+    term: np.ndarray,
+    tol: np.ndarray,
+    machine: Machine,
+) -> _Joins:
+    """Decide every join as tp.c ``tpHandleBlendArc`` does when the next move is queued."""
+    n = len(seg)
+    m = max(n - 1, 0)
+    period = machine.controller.interpolation_period
+    vmax = np.array(machine.limit_vector("velocity"))[:3]
+    amax = np.array(machine.limit_vector("acceleration"))[:3]
+    kind = np.full(m, STOP, dtype=np.int8)
+    kink_vel = np.full(m, -1.0)
+    kink_red = np.zeros(m)
+    radius = np.zeros(m)
+    arc_vel = np.zeros(m)
+    arc_acc = np.zeros(m)
+    arc_req = np.zeros(m)
+    if m == 0:
+        return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, radius)
+    moving = seg["kind"] != HOLD
+    a, b = np.arange(m), np.arange(1, n)
+    valid = moving[a] & moving[b]
+    rot = (np.abs(seg["u_end"][:, 3:]).max(axis=1) > 0) | (
+        np.abs(seg["u_start"][:, 3:]).max(axis=1) > 0
+    )
+    rot_j = rot[a] | rot[b]
+    mode = term[a]
+    u1 = seg["u_end"][a, :3]
+    u2 = seg["u_start"][b, :3]
+    u1 = u1 / np.maximum(np.linalg.norm(u1, axis=1), _TINY)[:, None]
+    u2 = u2 / np.maximum(np.linalg.norm(u2, axis=1), _TINY)[:, None]
+    length = seg["length"]
+    # speeds when the join is decided: the add-time short-segment cap only
+    maxvel = np.minimum(lim.maxvel, length / period)
+    vt = np.minimum(lim.reqvel, maxvel)
+    v_max = np.minimum(vt[a], vt[b])
+    circ = (seg["kind"][a] == ARC) | (seg["kind"][b] == ARC)
+    # tpSetupTangent
+    anti = np.sum((u1 + u2) ** 2, axis=1) < _SHARP
+    a_inst = v_max / period + lim.maxacc[b]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scale = np.where(
+            amax > 0, np.abs(a_inst[:, None] * (u2 - u1)) / np.where(amax > 0, amax, 1.0), 0.0
+        ).max(axis=1)
+    scale = np.where(circ, scale / ACC_RATIO_TAN, scale)
+    tangent = scale < KINK_RATIO
+    considered = valid & ~rot_j & (mode != STOP) & ~anti
+    is_tan = considered & tangent
+    kind[is_tan] = TANGENT
+    kink_vel[is_tan] = v_max[is_tan]
+    kink_red[is_tan] = scale[is_tan]
+    kinked = considered & ~tangent
+    with np.errstate(divide="ignore", invalid="ignore"):
+        kv = v_max * KINK_RATIO / np.maximum(scale, _TINY)
+    kink_vel[kinked] = kv[kinked]
+    kink_red[kinked] = KINK_RATIO
+    # rotary joins in G64: parabolic (no tangent check, no arc)
+    kind[valid & rot_j & (mode == PARABOLIC)] = PARABOLIC
+    blend = kinked & (mode == PARABOLIC)
+    if not blend.any():
+        return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, radius)
+    # --- blend arc (blendmath.c), line-line geometry at every blended corner
+    dot = np.clip(np.sum(u1 * u2, axis=1), -1.0, 1.0)
+    theta = np.arccos(-dot) / 2.0
+    ok = blend & (math.pi / 2 - theta >= 1e-6) & (theta >= 1e-6)
+    phi = math.pi - 2.0 * theta
+    nominal = length
+    t1 = np.where(tol[a] > 0, tol[a], nominal[a] * 0.25)
+    t2 = np.where(tol[b] > 0, tol[b], nominal[b] * 0.25)
+    tolerance = np.minimum.reduce([t1, t2, nominal[a] * 0.25, nominal[b] * 0.25])
+    l1 = nominal[a] * 0.5
+    l2 = nominal[b] * 0.5
+    # next to a circle (blendmath.c blendInit3FromLineArc / ArcLine / ArcArc, spherical_arc.c
+    # arcConvexTest): the blend may take a third of the circle's angle (two thirds of a
+    # circle before the corner), less on a convex side, where the corner angle also shrinks
+    theta_tan = theta
+    arc_b = seg["kind"][b] == ARC
+    arc_a = seg["kind"][a] == ARC
+    if arc_b.any():
+        r2 = seg["radius"][b]
+        dot2 = np.sum((seg["start"][b, :3] - seg["centre"][b]) * u1, axis=1)
+        convex2 = dot2 >= 0
+        phi2 = np.minimum(np.abs(seg["sweep"][b]) / 3.0, np.where(convex2, theta_tan, np.pi / 2))
+        l2 = np.where(arc_b, np.where(convex2, np.sin(phi2 / 4.0) * r2, phi2 * r2), l2)
+        theta = np.where(arc_b & convex2, np.minimum(theta, theta_tan - phi2 / 4.0), theta)
+    if arc_a.any():
+        r1 = seg["radius_end"][a]
+        dot1 = np.sum((seg["end"][a, :3] - seg["centre"][a]) * u2, axis=1)
+        convex1 = dot1 < 0
+        phi1 = np.minimum(
+            np.abs(seg["sweep"][a]) * 2.0 / 3.0, np.where(convex1, theta_tan, np.pi / 2)
+        )
+        l1 = np.where(arc_a, np.where(convex1, np.sin(phi1 / 4.0) * r1, phi1 * r1), l1)
+        theta = np.where(arc_a & convex1, np.minimum(theta, theta_tan - phi1 / 4.0), theta)
+    theta = np.maximum(theta, 1e-6)
+    phi = math.pi - 2.0 * theta
+    binormal = np.cross(u1, u2)
+    binormal /= np.maximum(np.linalg.norm(binormal, axis=1), _TINY)[:, None]
+    a_max = _inscribed(binormal, amax)
+    a_n = a_max * ACC_RATIO_NORMAL
+    v_req = np.maximum(vt[a], vt[b])
+    v_planar = _inscribed(binormal, vmax)
+    phi_eff = np.minimum(phi, math.pi * 0.49)
+    vm1 = np.minimum(maxvel[a], maxvel[b] / np.cos(phi_eff))
+    vm2 = np.minimum(maxvel[b], maxvel[a] / np.cos(phi_eff))
+    area = vm1 * vm2 / 2.0 * np.sin(phi)
+    base = np.linalg.norm(u2 * vm2[:, None] - u1 * vm1[:, None], axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        v_alt = np.where(circ | (base <= _TINY), 0.0, 2.0 * area / np.maximum(base, _TINY))
+        v_goal = np.minimum(v_req, np.maximum(v_alt, v_planar))
+        h_tol = tolerance / (1.0 - np.sin(theta))
+        d_tol = np.cos(theta) * h_tol
+        d_geom = np.minimum.reduce([l1, l2, d_tol])
+        r_geom = np.tan(theta) * d_geom
+        v_plan = np.minimum(np.sqrt(a_n * r_geom), v_goal)
+        a_par = 0.5 * a_max
+        v_tri = np.sqrt(2.0 * a_par * d_geom)
+        t_b = np.minimum(v_tri, v_plan) / a_par
+        r_blend = np.minimum(t_b * v_plan / phi, r_geom)
+        r_plan = np.maximum(v_plan**2 / a_n, r_blend)
+        s_arc = r_plan * phi
+    ok &= np.isfinite(r_plan) & (r_plan >= _TINY) & (s_arc >= 1e-6)
+    # a blend next to a circle must lie in the circle's plane (tp.c tpCreateLineArcBlend and
+    # friends: pmUnitCartsColinear of the binormal and the circle's normal, to 1e-6 rad):
+    # a helix never blends with an arc
+    eps2 = 1e-12
+    for idx, is_arc in ((a, seg["kind"][a] == ARC), (b, seg["kind"][b] == ARC)):
+        nrm = seg["normal"][idx]
+        same = np.sum((binormal - nrm) ** 2, axis=1) < eps2
+        opposite = np.sum((binormal + nrm) ** 2, axis=1) < eps2
+        ok &= ~is_arc | same | opposite
+    perf_arc = np.where(ok, np.minimum(v_plan, s_arc / period), 0.0)
+    # parabolic estimate (segments not finalized yet: half their lengths, kink loss 0.1)
+    acc1 = lim.maxacc[a] * (1.0 - KINK_RATIO) * 0.5
+    acc2 = lim.maxacc[b] * (1.0 - KINK_RATIO) * 0.5
+    acc1 = np.where(seg["kind"][a] == ARC, acc1 * ACC_RATIO_TAN, acc1)
+    acc2 = np.where(seg["kind"][b] == ARC, acc2 * ACC_RATIO_TAN, acc2)
+    b1, b2 = _blend_velocity(
+        acc1, acc2, length[a] / 2, length[b] / 2, vt[a], vt[b], np.cos(theta), tol[a]
+    )
+    perf_par = np.sin(theta) * (b1 + b2) / 2.0 / 2.0
+    perf = np.stack([perf_par, kink_vel, perf_arc], axis=1)
+    best = np.argmax(perf, axis=1)
+    use_par = blend & (best == 0)
+    use_tan = blend & (best == 1)
+    use_arc = blend & (best == 2)
+    kind[use_par] = PARABOLIC
+    kink_vel[use_par | use_arc] = -1.0
+    kink_red[use_par | use_arc] = 0.0
+    kind[use_tan] = TANGENT
+    kind[use_arc] = _ARC_JOIN
+    # a blend arc next to a circle (blendmath.c blendInit3FromLineArc and friends) is not
+    # built: its length is run at its speed on the line beside it (on the programmed
+    # corner); between two circles the join is passed at the blend arc's speed
+    virtual = use_arc & circ
+    line_side = (seg["kind"][a] == LINE) | (seg["kind"][b] == LINE)
+    kind[virtual & line_side] = _VIRTUAL
+    kind[virtual & ~line_side] = TANGENT
+    kink_vel[virtual] = perf_arc[virtual]
+    radius[use_arc] = r_plan[use_arc]
+    trim = np.zeros(m)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        trim[use_arc] = (r_plan / np.tan(theta))[use_arc]
+    arc_vel[use_arc] = perf_arc[use_arc]
+    arc_acc[use_arc] = a_max[use_arc]
+    arc_req[use_arc] = v_req[use_arc]
+    return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, trim)
+
+
+# ----------------------------------------------------------------------------- the plan
+def _fillet(
+    line_p: np.ndarray, u: np.ndarray, arc: np.void, at_start: bool, radius: float
+) -> tuple[np.ndarray, float, float, np.ndarray] | None:
+    """A circle of ``radius`` tangent to a line and to a planar circle meeting it at the
+    circle's start (``at_start``) or end: the point on the line (``line_p`` is the corner,
+    ``u`` the line's direction away from the corner), the distance back along the line, the
+    angle taken off the circle, and the fillet's centre; None when there is none."""
+    c = arc["centre"]
+    r = float(arc["radius"])
+    n = arc["normal"]
+    sweep = float(arc["sweep"])
+    e1, e2 = arc["e1"], arc["e2"]
+    psi = 0.0 if at_start else sweep
+    radial = math.cos(psi) * e1 + math.sin(psi) * e2
+    tangent = math.copysign(1.0, sweep) * (-math.sin(psi) * e1 + math.cos(psi) * e2)
+    t_away = tangent if at_start else -tangent  # the circle's direction away from the corner
+    side = t_away - float(t_away @ u) * u
+    norm = float(np.linalg.norm(side))
+    if norm < 1e-9 or abs(float(u @ n)) > 1e-9:
+        return None
+    side /= norm
+    inside = float(radial @ u) < 0.0  # the line lies inside the circle near the corner
+    rho = r - radius if inside else r + radius
+    if rho <= 0:
+        return None
+    w = line_p + radius * side - c
+    b = float(w @ u)
+    disc = b * b - float(w @ w) + rho * rho
+    if disc < 0:
+        return None
+    roots = [b - math.sqrt(disc), b + math.sqrt(disc)]
+    back = min((-x for x in roots if -x > 1e-12), default=None)
+    if back is None:
+        return None
+    q = line_p + back * u + radius * side
+    to_q = (q - c) / np.linalg.norm(q - c)
+    delta = math.acos(max(-1.0, min(1.0, float(to_q @ radial))))
+    if delta >= abs(sweep) / 2:
+        return None
+    return line_p + back * u, back, delta, q
+
+
+def _arc_row(
+    proto: np.void, centre: np.ndarray, start: np.ndarray, end: np.ndarray, u_in: np.ndarray
+) -> np.void:
+    """A planar arc row from ``start`` (leaving along ``u_in``) to ``end`` about ``centre``."""
+    row = proto.copy()
+    r = float(np.linalg.norm(start - centre))
+    e1 = (start - centre) / r
+    normal = np.cross(e1, u_in)
+    normal /= np.linalg.norm(normal)
+    e2 = np.cross(normal, e1)
+    to_end = (end - centre) / r
+    sweep = math.atan2(float(to_end @ e2), float(to_end @ e1)) % (2 * math.pi)
+    row["kind"] = ARC
+    row["start"][:3], row["end"][:3] = start, end
+    row["centre"], row["normal"], row["e1"], row["e2"] = centre, normal, e1, e2
+    row["radius"] = row["radius_end"] = r
+    row["sweep"] = sweep
+    row["axial"] = 0.0
+    row["length"] = r * sweep
+    row["u_start"][:3] = u_in
+    row["u_end"][:3] = -math.sin(sweep) * e1 + math.cos(sweep) * e2
+    return row
+
+
+def _trim_circle(row: np.void, delta: float, at_start: bool) -> None:
+    """Take ``delta`` (rad) off a planar circle row at its start or end, in place."""
+    sweep = float(row["sweep"])
+    sign = math.copysign(1.0, sweep)
+    e1, e2 = row["e1"].copy(), row["e2"].copy()
+    r = float(row["radius"])
+    c = row["centre"]
+    if at_start:
+        d = sign * delta
+        row["e1"] = math.cos(d) * e1 + math.sin(d) * e2
+        row["e2"] = -math.sin(d) * e1 + math.cos(d) * e2
+        row["start"][:3] = c + r * row["e1"]
+        row["u_start"][:3] = sign * row["e2"]
+    else:
+        psi = sweep - sign * delta
+        row["end"][:3] = c + r * (math.cos(psi) * e1 + math.sin(psi) * e2)
+        row["u_end"][:3] = sign * (-math.sin(psi) * e1 + math.cos(psi) * e2)
+    row["sweep"] = sweep - sign * delta
+    row["length"] = r * abs(float(row["sweep"]))
+
+
+def _split_lines(
+    table: np.ndarray,
+    pos: np.ndarray,
+    trim: np.ndarray,
+    tail: np.ndarray,
+    radius: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The blend of a line and a circle at each join after row ``pos``: where the circle is
+    planar, a fillet of ``radius`` tangent to both (the line and the circle shortened);
+    otherwise ``trim`` cut off the line (its end, where ``tail``, else the next row's start)
+    as a row of its own, on the programmed corner. Returns the table and the new rows."""
+    table = table.copy()
+    pieces = []
+    for k in range(pos.size):
+        p = int(pos[k])
+        line_i, arc_i = (p, p + 1) if tail[k] else (p + 1, p)
+        line, arc = table[line_i], table[arc_i]
+        u = line["u_start"][:3]
+        corner = line["end"][:3] if tail[k] else line["start"][:3]
+        away = -u if tail[k] else u
+        flat = abs(float(arc["radius"] - arc["radius_end"])) < 1e-9 and abs(arc["axial"]) < 1e-9
+        got = _fillet(corner, away, arc, tail[k], float(radius[k])) if flat else None
+        if got is not None and got[1] < 0.5 * float(line["length"]):
+            a_pt, back, delta, q = got
+            _trim_circle(table[arc_i : arc_i + 1][0], delta, tail[k])
+            arc = table[arc_i]
+            if tail[k]:
+                table["end"][line_i, :3] = a_pt
+                piece = _arc_row(line, q, a_pt, arc["start"][:3], u)
+            else:
+                table["start"][line_i, :3] = a_pt
+                piece = _arc_row(line, q, arc["end"][:3], a_pt, arc["u_end"][:3])
+            table["length"][line_i] -= back
+            pieces.append(piece)
+            continue
+        d = min(float(trim[k]), 0.5 * float(line["length"]))
+        piece = line.copy()
+        if tail[k]:
+            piece["start"][:3] = corner - d * u
+            table["end"][line_i, :3] = corner - d * u
+        else:
+            piece["end"][:3] = corner + d * u
+            table["start"][line_i, :3] = corner + d * u
+        piece["length"] = d
+        table["length"][line_i] -= d
+        pieces.append(piece)
+    out = np.insert(table, pos + 1, np.array(pieces, dtype=table.dtype))
+    return out, pos + 1 + np.arange(pos.size)
+
+
+def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
+    """Plan ``path`` (built from ``prepared.commands``) as LinuxCNC 2.9's planner runs it."""
+    seg = path.segments
+    n = len(seg)
+    period = machine.controller.interpolation_period
+    src = np.clip(seg["source"], 0, max(len(prepared.term) - 1, 0))
+    term = prepared.term[src] if n else np.zeros(0, dtype=np.int8)
+    tol = prepared.tolerance[src] if n else np.zeros(0)
+    lim = _limits(path, machine)
+    if n > 1:
+        # tp.c handleModeChange: no blending between a traverse and a feed move
+        rapid = seg["category"] == RAPID
+        mv = seg["kind"] != HOLD
+        change = np.concatenate([(rapid[:-1] != rapid[1:]) & mv[:-1] & mv[1:], [False]])
+        term = np.where(change, STOP, term).astype(np.int8)
+    j = _joins(seg, lim, term, tol, machine)
+    moving = seg["kind"] != HOLD
+    # per-segment state after the joins: how each segment ends and starts
+    out_kind = np.concatenate([j.kind, [STOP]])
+    in_kind = np.concatenate([[STOP], j.kind])
+    seg_term = np.where(out_kind == STOP, np.where(term == PARABOLIC, PARABOLIC, term), out_kind)
+    seg_term = np.where((out_kind == _ARC_JOIN) | (out_kind == _VIRTUAL), TANGENT, seg_term)
+    # a G64 segment whose join stopped for a reversal is STOP (full acceleration)
+    if n > 1:
+        u1 = seg["u_end"][:-1, :3]
+        u2 = seg["u_start"][1:, :3]
+        anti = np.sum((u1 + u2) ** 2, axis=1) < _SHARP
+        stop_rev = (j.kind == STOP) & anti & moving[:-1] & moving[1:] & (term[:-1] != STOP)
+        seg_term[:-1] = np.where(stop_rev, STOP, seg_term[:-1])
+    blend_prev = in_kind == PARABOLIC
+    kred = np.maximum(np.concatenate([j.kink_red, [0.0]]), np.concatenate([[0.0], j.kink_red]))
+    half = (seg_term == PARABOLIC) | blend_prev
+    acc_all = lim.maxacc * (1.0 - kred) * np.where(half, 0.5, 1.0)
+    maxvel = lim.maxvel.copy()
+    kink_vel = np.concatenate([j.kink_vel, [-1.0]])
+    reqvel = lim.reqvel.copy()
+    # insert the blend arcs
+    corners = np.flatnonzero(j.kind == _ARC_JOIN)
+    table = seg
+    if corners.size:
+        table = insert_blend_arcs(seg, corners, j.radius[corners])
+        at = corners + 1
+        # the blend arc is asked the faster of its two moves' speeds (tp.c
+        # tpCreateLineLineBlend: v_req)
+        rows = at + np.arange(corners.size)
+        table["feed"][rows] = np.maximum(seg["feed"][corners], seg["feed"][corners + 1])
+        arc_len = table["length"][at + np.arange(corners.size)]
+        arc_max = np.minimum(j.arc_vel[corners], arc_len / period)
+
+        def ins(x: np.ndarray, values: np.ndarray) -> np.ndarray:
+            return np.insert(x, at, values)
+
+        seg_term = ins(seg_term, TANGENT)
+        acc_all = ins(acc_all, j.arc_acc[corners])
+        maxvel = ins(maxvel, arc_max)
+        reqvel = ins(reqvel, j.arc_req[corners])
+        kink_vel = ins(kink_vel, -1.0)
+        moving = ins(moving, True)
+        r_eff = ins(lim.r_eff, np.inf)
+        is_blend_arc = ins(np.zeros(n, bool), True)
+        bprev = ins(blend_prev, False)
+        in_prev_tan = ins(np.concatenate([[False], j.kind == _ARC_JOIN]), True)
+    else:
+        r_eff = lim.r_eff
+        is_blend_arc = np.zeros(n, bool)
+        in_prev_tan = np.zeros(n, bool)
+        bprev = blend_prev
+    virt = np.flatnonzero(j.kind == _VIRTUAL)
+    if virt.size:
+        # where the original rows are now (after the blend arcs)
+        pos = virt + np.searchsorted(corners, virt, "left")
+        table, rows = _split_lines(
+            table, pos, j.trim[virt], seg["kind"][virt] == LINE, j.radius[virt]
+        )
+        at = pos + 1
+        vmax = np.minimum(j.arc_vel[virt], table["length"][rows] / period)
+
+        def ins_v(x: np.ndarray, values: np.ndarray | float | bool) -> np.ndarray:
+            return np.insert(x, at, values)
+
+        seg_term = ins_v(seg_term, TANGENT)
+        acc_all = ins_v(acc_all, j.arc_acc[virt])
+        maxvel = ins_v(maxvel, vmax)
+        reqvel = ins_v(reqvel, j.arc_req[virt])
+        kink_vel = ins_v(kink_vel, -1.0)
+        moving = ins_v(moving, True)
+        r_eff = ins_v(r_eff, np.inf)
+        is_blend_arc = ins_v(is_blend_arc, True)
+        bprev = ins_v(bprev, False)
+        in_prev_tan = ins_v(in_prev_tan, True)
+        nxt = rows + 1
+        in_prev_tan[nxt[nxt < in_prev_tan.size]] = True
+    # a line both blends shortened to nothing is gone
+    keep = ~((table["kind"] == LINE) & (table["length"] <= 1e-9))
+    if not keep.all():
+        table = table[keep]
+        seg_term, acc_all = seg_term[keep], acc_all[keep]
+        maxvel, reqvel = maxvel[keep], reqvel[keep]
+        kink_vel, moving, r_eff = kink_vel[keep], moving[keep], r_eff[keep]
+        is_blend_arc, in_prev_tan, bprev = is_blend_arc[keep], in_prev_tan[keep], bprev[keep]
+    kinds = table["kind"]
+    length = table["length"]
+    nn = len(table)
+    prev_tan = np.concatenate([[False], seg_term[:-1] == TANGENT]) | in_prev_tan
+    # short-segment caps at finalisation and in the optimiser
+    capped = np.minimum(maxvel, length / period)
+    capped = np.where(prev_tan, np.minimum(capped, length / (period * MIN_SEGMENT_CYCLES)), capped)
+    # blendmath.c blendCheckConsume: what is left of a line before a blend arc, if shorter
+    # than GAP_CYCLES periods at the arc's speed, becomes part of the arc (its speed)
+    arc_next = np.concatenate([is_blend_arc[1:], [False]])
+    v_next = np.concatenate([maxvel[1:], [0.0]])
+    consumed = (kinds == LINE) & arc_next & ~bprev & (length < GAP_CYCLES * period * v_next)
+    maxvel = np.where(consumed, np.minimum(maxvel, v_next), capped)
+    # circles: normal acceleration at the top speed, tangential share of the rest
+    acc_t = acc_all.copy()
+    circle = (kinds == ARC) & ~is_blend_arc
+    if circle.any():
+        a_c = acc_all[circle]
+        r = np.maximum(r_eff[circle], 1e-300)
+        v = maxvel[circle]
+        a_n_vmax = v * v / r
+        cut = ACC_RATIO_NORMAL * a_c
+        over = a_n_vmax > cut
+        ratio = np.where(over, ACC_RATIO_TAN, np.sqrt(np.clip(1 - (a_n_vmax / a_c) ** 2, 0, 1)))
+        maxvel[circle] = np.where(over, np.sqrt(cut * r), v)
+        acc_t[circle] = a_c * ratio
+    acc_t = np.where(is_blend_arc, acc_all * ACC_RATIO_TAN, acc_t)
+    acc_t = np.where(consumed, np.concatenate([acc_t[1:], [0.0]]), acc_t)
+    target = np.minimum(reqvel, maxvel)
+    # junction speeds
+    jcap = np.zeros(nn + 1)
+    if nn > 1:
+        tan = (seg_term[:-1] == TANGENT) & moving[:-1] & moving[1:]
+        cap_t = np.minimum(target[:-1], target[1:])
+        kv = kink_vel[:-1]
+        cap_t = np.where(kv >= 0, np.minimum(cap_t, kv), cap_t)
+        par = (seg_term[:-1] == PARABOLIC) & moving[:-1] & moving[1:]
+        par_at = np.flatnonzero(par)
+        par_cap = np.zeros(par_at.size)
+        if par_at.size:
+            p, q = par_at, par_at + 1
+            u1 = table["u_end"][p, :3]
+            u2 = table["u_start"][q, :3]
+            dot = np.clip(np.sum(u1 * u2, axis=1), -1.0, 1.0)
+            cos_half = np.cos(np.arccos(-dot) / 2.0)
+            src_t = np.clip(table["source"][p], 0, max(len(prepared.tolerance) - 1, 0))
+            b1, b2 = _blend_velocity(
+                acc_t[p],
+                acc_t[q],
+                length[p],
+                length[q],
+                target[p],
+                target[q],
+                cos_half,
+                prepared.tolerance[src_t],
+            )
+            par_cap = np.minimum(b1, b2)
+        inner = np.where(tan, cap_t, 0.0)
+        inner[par_at] = par_cap
+        jcap[1:-1] = inner
+    acc_plan = np.where(moving, acc_t, 0.0)
+    window = None if nn <= OPT_DEPTH else OPT_DEPTH
+    v = lookahead(length, jcap, acc_plan, None, window)
+    # ramped short tangent segments: straight from the start speed to the end speed
+    cap = target.copy()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_est = 2.0 * length / (v[:-1] + np.minimum(v[1:], target))
+    ramp = (
+        (seg_term == TANGENT)
+        & (table["category"] != RAPID)
+        & moving
+        & (t_est < 1.0 / RAMP_FREQ)
+        & (kinds == LINE)
+    )
+    cap = np.where(ramp, np.maximum(v[:-1], v[1:]), cap)
+    cap = np.where(moving, cap, 0.0)
+    prof = trapezoids(length, v[:-1], v[1:], np.where(moving, cap, 0.0), acc_plan)
+    duration = np.where(moving, prof.duration, table["duration"])
+    # the planner runs once per servo period: every stop costs about STOP_CYCLES periods
+    # more than the continuous profile, and a program START_CYCLES (tp.c
+    # tcUpdateDistFromAccel's half-period undershoot, the split cycle at a segment's end)
+    pause = np.where(moving & (v[1:] <= 0.0), STOP_CYCLES * period, 0.0)
+    last = np.flatnonzero(moving)
+    if last.size:
+        pause[last[-1]] += START_CYCLES * period
+    duration = duration + pause
+    t_start = np.concatenate([[0.0], np.cumsum(duration)[:-1]]) if nn else np.zeros(0)
+    s = np.concatenate([[0.0], np.cumsum(length)])
+    out_path = Path(table, path.file)
+    return Plan(out_path, machine, v, cap, prof, pause, duration, t_start, s[:-1], 0.0)
+
+
+__all__ = ["EXACT", "PARABOLIC", "STOP", "TANGENT", "Prepared", "plan", "prepare"]
