@@ -118,30 +118,32 @@ def test_helix_then_full_circle_cuts_an_annulus() -> None:
 
 @pytest.mark.parametrize("seed", range(5))
 def test_closed_form_envelopes_agree_with_dense_sampling(seed: int) -> None:
-    """The envelopes against an independent way: the tool placed at 20,001 points along the
+    """The envelopes against an independent way: the tool placed at 10,001 points along the
     move, its lowest point over each cell taken directly from the tool's shape."""
     rng = np.random.default_rng(seed)
     radius = 3.0
     d = tuple(float(v) for v in rng.uniform(-6, 6, 3))
     z0 = float(rng.uniform(-2, 2))
-    gx, gy = np.meshgrid(np.linspace(-10, 10, 41), np.linspace(-10, 10, 41))
-    t = np.linspace(0.0, 1.0, 20_001)[:, None, None]
-    px, py, pz = t * d[0], t * d[1], z0 + t * d[2]
-    r2 = (gx - px) ** 2 + (gy - py) ** 2
-    inside = r2 <= radius * radius
-    flat = np.where(inside, pz, np.inf).min(axis=0)
-    ball = np.where(
-        inside, pz + radius - np.sqrt(np.maximum(radius * radius - r2, 0.0)), np.inf
-    ).min(axis=0)
+    gx, gy = np.meshgrid(np.linspace(-10, 10, 31), np.linspace(-10, 10, 31))
+    flat = np.full(gx.shape, np.inf)
+    ball = np.full(gx.shape, np.inf)
+    for chunk in np.array_split(np.linspace(0.0, 1.0, 10_001), 10):
+        t = chunk[:, None, None]
+        px, py, pz = t * d[0], t * d[1], z0 + t * d[2]
+        r2 = (gx - px) ** 2 + (gy - py) ** 2
+        inside = r2 <= radius * radius
+        flat = np.minimum(flat, np.where(inside, pz, np.inf).min(axis=0))
+        lift = radius - np.sqrt(np.maximum(radius * radius - r2, 0.0))
+        ball = np.minimum(ball, np.where(inside, pz + lift, np.inf).min(axis=0))
     got_flat = flat_envelope(gx, gy, d, z0, radius)
     got_ball = ball_envelope(gx, gy, d, z0, radius)
     both = np.isfinite(flat)
     assert np.array_equal(np.isfinite(got_flat) & both, both)
     # sampling can only miss the true minimum: the closed form is lower, and by little
     assert np.all(got_flat[both] <= flat[both] + 1e-9)
-    assert np.allclose(got_flat[both], flat[both], atol=2e-3)
+    assert np.allclose(got_flat[both], flat[both], atol=5e-3)
     assert np.all(got_ball[both] <= ball[both] + 1e-9)
-    assert np.allclose(got_ball[both], ball[both], atol=2e-3)
+    assert np.allclose(got_ball[both], ball[both], atol=5e-3)
 
 
 def test_the_stock_mesh_is_closed_and_holds_the_stock() -> None:
