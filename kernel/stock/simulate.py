@@ -202,6 +202,8 @@ def sweep_line(
     """The window of cells a line move can touch and the lowest swept tool height over
     each (+inf where untouched), or None when the move misses the grid."""
     r = tool.radius
+    if min(p0[2], p1[2]) >= hf.box.z1:
+        return None  # wholly above the stock (whose top never rises)
     win = hf.window(
         min(p0[0], p1[0]) - r, max(p0[0], p1[0]) + r, min(p0[1], p1[1]) - r, max(p0[1], p1[1]) + r
     )
