@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -246,3 +247,29 @@ def test_no_stock_is_a_usage_error(tmp_path: Path) -> None:
     prog.write_text(CLEAN)
     res = CliRunner().invoke(cli, ["sim", str(prog)])
     assert res.exit_code == 2
+
+
+def test_inch_program_and_gcode_helix_through_the_reader(tmp_path: Path) -> None:
+    """G20 coordinates become millimetres; a G2 helix with P turns then a full circle at
+    depth cuts the annulus of the canonical-command test above."""
+    inch = "G20 G90\nG0 X1 Y1 Z0.2\nG1 Z-0.1 F10\nG1 X3\nG0 Z0.2\nM2\n"
+    _, out = sim(tmp_path, inch, "--tool", "0=flat:10", "--resolution", "0.1")
+    exact = 10 * 2.54 * 50.8 + math.pi * 25 * 2.54
+    assert abs(float(out["removed_volume"]) - exact) / exact < 0.005
+    helix = (
+        "G21 G90 G17\nG0 X55 Y25 Z2\nG1 Z0 F100\nG2 X55 Y25 I-5 J0 Z-4 P4\n"
+        "G2 X55 Y25 I-5 J0\nG0 Z5\nM2\n"
+    )
+    _, out = sim(tmp_path, helix, "--tool", "0=flat:6", "--resolution", "0.1")
+    exact = math.pi * (8**2 - 2**2) * 4
+    assert abs(float(out["removed_volume"]) - exact) / exact < 0.005
+    assert out["findings"] == []
+
+
+def test_every_sim_code_is_documented() -> None:
+    root = Path(__file__).resolve().parent.parent
+    errors = (root / "docs" / "errors.md").read_text()
+    sources = [*(root / "kernel" / "stock").glob("*.py"), root / "cli" / "sim.py"]
+    codes = {c for p in sources for c in re.findall(r'"(SIM-[A-Z0-9-]+)"', p.read_text())}
+    assert len(codes) >= 8
+    assert [c for c in sorted(codes) if f"`{c}`" not in errors] == []
