@@ -95,14 +95,14 @@ def _text(program: str, res: SimResult, hf: HeightField) -> str:
 )
 @click.option(
     "--resolution",
-    type=float,
+    type=click.FloatRange(min=0.0, min_open=True),
     default=0.5,
     show_default=True,
     help="grid cell size (mm)",
 )
 @click.option(
     "--chord-tol",
-    type=float,
+    type=click.FloatRange(min=0.0, min_open=True),
     default=0.005,
     show_default=True,
     help="arcs are swept as chords within this (mm)",
@@ -154,8 +154,6 @@ def command(
     box = parse_stock(stock, Location(None)) if stock else machine_stock(machine, machine_file)
     if box is None:
         raise click.UsageError("no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or [stock] box")
-    if not chord_tol > 0:
-        raise click.BadParameter("must be > 0", param_hint="--chord-tol")
     table = load_tool_table(tool_table) if tool_table else None
     shapes: dict[int, ToolShape] = shapes_from_table(table) if table else {}
     for spec in tool_specs:

@@ -273,3 +273,22 @@ def test_every_sim_code_is_documented() -> None:
     codes = {c for p in sources for c in re.findall(r'"(SIM-[A-Z0-9-]+)"', p.read_text())}
     assert len(codes) >= 8
     assert [c for c in sorted(codes) if f"`{c}`" not in errors] == []
+
+
+def test_stock_from_the_machine_profile_and_bad_grids(tmp_path: Path) -> None:
+    root = Path(__file__).resolve().parent
+    profile = tmp_path / "m.toml"
+    profile.write_text(
+        (root / "check" / "shop.toml").read_text() + "\n[stock]\nbox = [0, 0, -20, 100, 50, 0]\n"
+    )
+    prog = tmp_path / "p.ngc"
+    prog.write_text(CLEAN)
+    args = ["sim", str(prog), "--tool", "0=flat:10", "--format", "json"]
+    res = CliRunner().invoke(cli, [*args, "--machine", str(profile)])
+    assert res.exit_code == 0, res.output
+    exact = 10 * 3 * 60 + math.pi * 25 * 3
+    assert abs(json.loads(res.stdout)["removed_volume"] - exact) / exact < 0.01
+    for bad in (["--resolution", "0"], ["--chord-tol", "-1"], ["--tool", "0=cone:3"]):
+        res = CliRunner().invoke(cli, [*args, "--stock", STOCK, *bad])
+        assert res.exit_code in (1, 2) and "Traceback" not in res.output
+        assert res.exit_code == 2 or "SIM-TOOL" in res.output
