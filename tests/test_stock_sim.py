@@ -292,3 +292,33 @@ def test_stock_from_the_machine_profile_and_bad_grids(tmp_path: Path) -> None:
         res = CliRunner().invoke(cli, [*args, "--stock", STOCK, *bad])
         assert res.exit_code in (1, 2) and "Traceback" not in res.output
         assert res.exit_code == 2 or "SIM-TOOL" in res.output
+
+
+def test_final_heights_match_the_closed_form_cell_by_cell() -> None:
+    """Ball groove: in the straight part each cell centre is at the circle's height exactly.
+    Helix then circle: the ring is at full depth and the rest untouched, away from its edges
+    by a cell diagonal plus the chord tolerance."""
+    r, depth, y = 5.0, 3.0, 25.03
+    hf = HeightField(BOX, 0.1)
+    simulate_removal(slot(depth, 60.0), hf, {0: ToolShape("ball", 2 * r)})
+    cols = (hf.xs > 25.0) & (hf.xs < 75.0)
+    dy = hf.ys - y
+    expect = np.where(
+        np.abs(dy) < r, -depth + r - np.sqrt(np.maximum(r * r - dy * dy, 0.0)), np.inf
+    )
+    expect = np.minimum(expect, 0.0)[:, None]
+    assert np.max(np.abs(hf.h[:, cols] - expect)) < 1e-9
+    cx, cy, tol = 50.0, 25.0, 0.005
+    hf = HeightField(BOX, 0.1)
+    cmds: list[canon.Command] = [
+        canon.StraightTraverse(cx + 5, cy, 2.0),
+        canon.StraightFeed(cx + 5, cy, 0.0),
+        canon.ArcFeed(cx + 5, cy, cx, cy, 4, -4.0),
+        canon.ArcFeed(cx + 5, cy, cx, cy, 1, -4.0),
+        canon.StraightTraverse(cx + 5, cy, 5.0),
+    ]
+    simulate_removal(cmds, hf, {0: ToolShape("flat", 6.0)}, tol)
+    rr = np.hypot(hf.xs[None, :] - cx, hf.ys[:, None] - cy)
+    margin = diag(0.1) / 2 + tol
+    assert np.all(hf.h[(rr > 2 + margin) & (rr < 8 - margin)] == -4.0)
+    assert np.all(hf.h[(rr < 2 - margin) | (rr > 8 + margin)] == 0.0)
