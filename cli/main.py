@@ -22,6 +22,7 @@ SUBCOMMANDS: dict[str, str] = {
     "run": "cli.run",
     "machine": "cli.machine",
     "convert": "cli.convert",
+    "sim": "cli.sim",
 }
 
 

@@ -1,0 +1,68 @@
+"""``cnc sim`` speed: a generated 3-axis finishing program on a 300 x 300 mm stock (issue 17).
+
+The program is a raster of short 3-D lines (1.5 mm each) over a wavy surface with a 6 mm
+ball end mill, rapids between rows, fed to :func:`kernel.stock.simulate_removal` as canonical
+commands (the reader's time is not counted). Prints CPU seconds (the machine may be shared),
+moves per second and the peak memory for several move counts and grid sizes, so that time
+against moves and against cells can be read off.
+Usage: ``python bench/bench_sim.py [MOVES ...] [GRID_MM ...]`` (a grid size has a dot).
+"""
+
+from __future__ import annotations
+
+import math
+import resource
+import sys
+import time
+
+from kernel.ir import canon
+from kernel.stock import HeightField, StockBox, ToolShape, simulate_removal
+
+BOX = StockBox(0.0, 0.0, -30.0, 300.0, 300.0, 0.0)
+SEG = 1.5  # mm of each feed move
+
+
+def program(moves: int) -> list[canon.Command]:
+    """About ``moves`` feed moves: rows along X, each of 200 short 3-D lines, rows spread
+    over the stock in Y, one rapid up, across and down between rows."""
+    per_row = int(BOX.x1 // SEG)
+    rows = max(1, moves // per_row)
+    step = BOX.y1 / rows
+    cmds: list[canon.Command] = []
+    for r in range(rows):
+        y = (r + 0.5) * step
+        cmds.append(canon.StraightTraverse(0.0, y, 5.0))
+        for k in range(per_row + 1):
+            x = k * SEG
+            z = -2.0 - 1.5 * math.sin(x / 20.0) * math.cos(y / 25.0)
+            cmds.append(canon.StraightFeed(x, y, z))
+        cmds.append(canon.StraightTraverse(BOX.x1, y, 5.0))
+    return cmds
+
+
+def run(moves: int, res: float) -> tuple[float, int, int]:
+    cmds = program(moves)
+    hf = HeightField(BOX, res)
+    t0 = time.process_time()
+    result = simulate_removal(cmds, hf, {0: ToolShape("ball", 6.0)})
+    return time.process_time() - t0, result.moves, hf.nx * hf.ny
+
+
+def main(argv: list[str]) -> None:
+    counts = [int(a) for a in argv if not a.startswith("--") and "." not in a] or [
+        5_000,
+        10_000,
+        20_000,
+    ]
+    grids = [float(a) for a in argv if "." in a] or [0.2, 0.1]
+    print(f"{'moves':>8} {'grid mm':>8} {'cells':>10} {'seconds':>8} {'moves/s':>9}")
+    for res in grids:
+        for n in counts:
+            secs, moves, cells = run(n, res)
+            print(f"{moves:>8} {res:>8g} {cells:>10} {secs:>8.2f} {moves / secs:>9.0f}")
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(f"peak memory {peak:.0f} MB")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

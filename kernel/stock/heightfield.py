@@ -1,0 +1,156 @@
+"""The Z-map: a grid of cell-centre columns of material, and one tool swept along one line.
+
+Each cell (i, j) holds the height of the material column at its centre, from the stock's
+bottom ``z0`` up to ``h[j, i]``. A tool moving along a line removes, at every cell, what lies
+above the lowest point of the swept tool over that cell (:func:`line_envelope`), computed in
+closed form and vectorised over the cells of the move's bounding box:
+
+- flat end mill of radius R: the tool's end is a disc at the tip; the lowest tip height
+  over the parameters t in [0, 1] where the cell is within R of the tip in XY. Those t are an
+  interval (a quadratic inequality in t) and z is linear in t, so the minimum is at one of
+  its ends.
+- ball end mill of radius R: the swept ball is a capsule around the segment of ball centres;
+  the lowest point of a vertical line inside it is on one of the end spheres or on the
+  capsule's cylinder where the contact parameter lies in [0, 1] (a quadratic in z).
+
+Error bound of the grid: a cell stands for its centre's column, so the removed volume is
+exact up to the cells the swept outline crosses: at most (outline length) x (cell diagonal /
+2) x (depth) (see docs/simulation.md).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from kernel.diagnostics import Diagnostic, Location
+
+#: the most cells a height field may have (memory: 8 bytes a cell, 400 MB)
+MAX_CELLS = 50_000_000
+
+
+@dataclass(frozen=True, slots=True)
+class StockBox:
+    """An axis-aligned block of material in machine coordinates (mm)."""
+
+    x0: float
+    y0: float
+    z0: float
+    x1: float
+    y1: float
+    z1: float
+
+    @property
+    def volume(self) -> float:
+        return (self.x1 - self.x0) * (self.y1 - self.y0) * (self.z1 - self.z0)
+
+
+def parse_stock(text: str, where: Location | None = None) -> StockBox:
+    """``box:X0,Y0,Z0,X1,Y1,Z1`` -> :class:`StockBox` (``SIM-STOCK`` otherwise)."""
+    kind, _, rest = text.partition(":")
+    try:
+        values = [float(v) for v in rest.split(",")]
+    except ValueError:
+        values = []
+    if kind.strip().lower() != "box" or len(values) != 6 or not all(map(math.isfinite, values)):
+        raise Diagnostic("SIM-STOCK", f"stock {text!r} is not box:X0,Y0,Z0,X1,Y1,Z1", where)
+    box = StockBox(*values)
+    if not (box.x1 > box.x0 and box.y1 > box.y0 and box.z1 > box.z0):
+        raise Diagnostic("SIM-STOCK", f"stock {text!r}: each max must exceed its min", where)
+    return box
+
+
+class HeightField:
+    """The stock box as a grid of material columns at ``resolution`` mm (cells are square
+    up to the box's size being fitted by a whole number of them)."""
+
+    def __init__(self, box: StockBox, resolution: float) -> None:
+        if not resolution > 0:
+            raise Diagnostic("SIM-GRID", f"resolution {resolution} must be > 0")
+        nx = max(1, round((box.x1 - box.x0) / resolution))
+        ny = max(1, round((box.y1 - box.y0) / resolution))
+        if nx * ny > MAX_CELLS:
+            raise Diagnostic(
+                "SIM-GRID",
+                f"{nx} x {ny} cells is more than {MAX_CELLS}: use a coarser --resolution",
+            )
+        self.box = box
+        self.nx, self.ny = nx, ny
+        self.dx = (box.x1 - box.x0) / nx
+        self.dy = (box.y1 - box.y0) / ny
+        self.xs = box.x0 + (np.arange(nx) + 0.5) * self.dx
+        self.ys = box.y0 + (np.arange(ny) + 0.5) * self.dy
+        self.h = np.full((ny, nx), box.z1, dtype=np.float64)
+
+    @property
+    def cell_area(self) -> float:
+        return self.dx * self.dy
+
+    def volume(self) -> float:
+        """Material left (mm³)."""
+        return float(np.sum(self.h - self.box.z0) * self.cell_area)
+
+    def window(
+        self, xmin: float, xmax: float, ymin: float, ymax: float
+    ) -> tuple[slice, slice] | None:
+        """Rows and columns whose centres lie in the rectangle, or None when none does."""
+        b = self.box
+        i0 = max(0, math.ceil((xmin - b.x0) / self.dx - 0.5))
+        i1 = min(self.nx - 1, math.floor((xmax - b.x0) / self.dx - 0.5))
+        j0 = max(0, math.ceil((ymin - b.y0) / self.dy - 0.5))
+        j1 = min(self.ny - 1, math.floor((ymax - b.y0) / self.dy - 0.5))
+        if i1 < i0 or j1 < j0:
+            return None
+        return slice(j0, j1 + 1), slice(i0, i1 + 1)
+
+
+def flat_envelope(
+    qx: np.ndarray, qy: np.ndarray, d: tuple[float, float, float], z0: float, radius: float
+) -> np.ndarray:
+    """Lowest tip height of a flat end mill over cells at (qx, qy) relative to the start,
+    moving by ``d`` from height ``z0``; +inf where the tool never covers the cell."""
+    ddx, ddy, ddz = d
+    q2 = qx * qx + qy * qy
+    r2 = radius * radius
+    l2 = ddx * ddx + ddy * ddy
+    if l2 <= 1e-24:
+        return np.where(q2 <= r2, z0 + min(0.0, ddz), np.inf)
+    qd = qx * ddx + qy * ddy
+    disc = qd * qd - l2 * (q2 - r2)
+    root = np.sqrt(np.maximum(disc, 0.0))
+    t1 = np.clip((qd - root) / l2, 0.0, 1.0)
+    t2 = np.clip((qd + root) / l2, 0.0, 1.0)
+    ok = (disc >= 0.0) & (qd - root <= l2) & (qd + root >= 0.0)
+    return np.where(ok, z0 + np.minimum(t1 * ddz, t2 * ddz), np.inf)
+
+
+def ball_envelope(
+    qx: np.ndarray, qy: np.ndarray, d: tuple[float, float, float], z0: float, radius: float
+) -> np.ndarray:
+    """Lowest point of a ball end mill (tip ``z0`` at the start) swept by ``d`` over cells
+    at (qx, qy) relative to the start: the capsule of ball centres; +inf where untouched."""
+    ddx, ddy, ddz = d
+    r2 = radius * radius
+    cz = z0 + radius  # ball centre at the start
+    q2 = qx * qx + qy * qy
+    e0 = np.where(q2 <= r2, cz - np.sqrt(np.maximum(r2 - q2, 0.0)), np.inf)
+    px, py = qx - ddx, qy - ddy
+    p2 = px * px + py * py
+    e1 = np.where(p2 <= r2, cz + ddz - np.sqrt(np.maximum(r2 - p2, 0.0)), np.inf)
+    env = np.minimum(e0, e1)
+    length = math.sqrt(ddx * ddx + ddy * ddy + ddz * ddz)
+    ux, uy, uz = ddx / max(length, 1e-300), ddy / max(length, 1e-300), ddz / max(length, 1e-300)
+    a = ux * ux + uy * uy
+    if length <= 1e-12 or a <= 1e-12:
+        return env  # no move, or a vertical one: the end spheres are the whole envelope
+    # vertical line (qx, qy, z) against the cylinder of radius R around the centre segment
+    s0 = qx * ux + qy * uy
+    b = -2.0 * s0 * uz
+    c = q2 - s0 * s0 - r2
+    disc = b * b - 4.0 * a * c
+    z = (-b - np.sqrt(np.maximum(disc, 0.0))) / (2.0 * a)  # relative to the start centre
+    t = (s0 + z * uz) / length
+    hit = (disc >= 0.0) & (t >= 0.0) & (t <= 1.0)
+    return np.where(hit, np.minimum(env, cz + z), env)
