@@ -120,7 +120,9 @@ def test_allow_loss_accepts_exactly_the_named_losses(tmp_path: Path) -> None:
     assert {g["code"] for g in data["accepted"]} == {"CONV-SPINDLE", "CONV-COOLANT"}
     assert data["losses"] == []
     bad = run(str(src), "--to", "sandia", "--allow-loss", "CONV-ARC-LINES")
-    assert bad.exit_code == 1 and "error[CONV-OPTION]" in bad.output
+    # a usage error (exit 2), located at the program like every other error
+    assert bad.exit_code == 2 and f"{src}: error[CONV-OPTION]" in bad.output
+    assert "CONV-ARC-LINES: not a loss code" in bad.output
 
 
 def test_notes_come_once_per_kind_with_the_first_line_and_a_count(tmp_path: Path) -> None:
