@@ -114,10 +114,8 @@ def test_tool_length_register_survives_a_round_trip(
         back = list(read_text(text, target, program.name, marked_options(program, table)))
     except Diagnostic as exc:
         pytest.skip(f"the {target} reader refuses the output ({exc.code})")
-    # the Siemens reader takes a D edge's length from the table unscaled (a reader matter,
-    # not the register's): with a table its registers are compared
-    lengths = not (table and target == "siemens840d")
-    assert states(back, lengths) == states(ir, lengths)
+    # the Siemens reader scales a D edge's length from the inch table as the others do
+    assert states(back) == states(ir)
 
 
 def test_grbl_refuses_g43_h_at_its_line() -> None:
