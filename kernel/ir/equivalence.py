@@ -565,6 +565,7 @@ def expanded(stream: Iterable[canon.Command | Moves]) -> Iterator[canon.Command]
 #: the state a motion sees, as the fast path interns it
 _State = tuple[float, canon.Direction, int | str, bool, bool, canon.Plane, canon.Units | None]
 _ARC = 3  # a kind beside Moves' 0 1 2
+_SMALL = 256  # Moves of fewer events join the rows as Python lists
 _MOTION_KINDS = (
     canon.StraightTraverse,
     canon.StraightFeed,
@@ -641,15 +642,25 @@ class _Table:
                 moves += 1
             elif t is Moves:
                 assert isinstance(c, Moves)
-                flush()
                 n = len(c.kind)
-                if n:
+                if not n:
+                    continue
+                if n < _SMALL:  # as rows: a few list items cost less than three arrays
+                    kind = c.kind.tolist()
+                    pk.extend(kind)
+                    pv.extend(map(tuple, c.position.tolist()))
+                    rates = c.feed.tolist()
+                    pf.extend(rates)
+                    moves += n - kind.count(2)
+                    feed = rates[-1]
+                else:
+                    flush()
                     kinds.append(c.kind)
                     values.append(c.position)
                     feeds.append(c.feed)
-                    rows += n
                     moves += n - int(np.count_nonzero(c.kind == 2))
                     feed = float(c.feed[-1])
+                rows += n
             elif isinstance(c, _MOTION_KINDS):
                 self.ok = False  # probes, curves, dwells: first_difference's rules
                 return
