@@ -63,6 +63,16 @@ LOSSES = [
     ),
     ("stop", "G21 G90\nG1 X10 F100\nM1\nM2\n", ".ngc", ["--to", "sandia"], "CONV-STOP"),
     ("dwell", "G21 G90\nG1 X10 F100\nG4 P1\nM2\n", ".ngc", ["--to", "sandia"], "CONV-DWELL"),
+    ("override", "G21 G90\nM48\nG1 X1 F100\nM2\n", ".ngc", ["--to", "sandia"], "CONV-OVERRIDE"),
+    ("output", "G21 G90\nM62 P1\nG1 X1 F100\nM2\n", ".ngc", ["--to", "fanuc"], "CONV-OUTPUT"),
+    ("pallet", "G21 G90\nG1 X1 F100\nM60\nM2\n", ".ngc", ["--to", "grbl"], "CONV-PALLET"),
+    (
+        "tool register",
+        "G21 G90\nT1 M6\nG43 H1\nG1 X1 F100\nM2\n",
+        ".ngc",
+        ["--to", "grbl"],
+        "CONV-TOOL-REGISTER",
+    ),
 ]
 
 
