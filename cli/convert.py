@@ -519,7 +519,7 @@ def convert_many(
     code: 0 all converted, 1 a program failed, 2 a program could not be read or its output
     exists without --force."""
     if not folder:
-        raise Diagnostic("CONV-OPTION", "several programs need -o FOLDER to receive their outputs")
+        _usage("several programs need -o FOLDER to receive their outputs", sources[0])
     if os.path.exists(folder) and not os.path.isdir(folder):
         raise Diagnostic("IO-EXISTS", f"-o {folder} is a file, not a folder", Location(folder))
     _refuse_existing(report_path, job.force, "report")

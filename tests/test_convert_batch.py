@@ -83,7 +83,7 @@ def test_an_existing_output_is_kept_without_force(tmp_path: Path) -> None:
 def test_several_programs_need_an_output_folder(tmp_path: Path) -> None:
     src = _tree(tmp_path, {"a.ngc": GOOD, "b.ngc": GOOD, "o.nc": "x"})
     none = run(str(src / "a.ngc"), str(src / "b.ngc"), "--to", "fanuc")
-    assert none.exit_code == 1 and "CONV-OPTION" in none.output
+    assert none.exit_code == 2 and f"{src / 'a.ngc'}: error[CONV-OPTION]" in none.output
     on_a_file = run(
         str(src / "a.ngc"), str(src / "b.ngc"), "--to", "fanuc", "-o", str(src / "o.nc")
     )
