@@ -21,7 +21,7 @@ processes (``cnc canon FILE --dialect FROM -o OUT`` and ``cnc convert FILE --fro
 TO -o OUT --force``, notes to a file): start-up included, CPU time of the child.
 
     python bench/convert_bench.py [LINES] [--from D|all] [--to D|all] [--shape mill|lathe|cam]
-                                  [--cli]
+                                  [--cli] [--no-verify]
 """
 
 from __future__ import annotations
@@ -38,6 +38,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from cli.canon import _write as canon_write
+from cli.verify import Recorder, Verification, reader_options, verified_output
 from gcode import readers, registry
 from gcode.ngc.interpreter import InterpreterOptions, interpret, interpret_chunks
 from gcode.registry import NAMES, get_dialect
@@ -127,18 +128,33 @@ def canon_run(path: Path, dialect: str, sink: Path) -> None:
         canon_write(chunks, str(path), "text", True, fh)
 
 
-def convert_run(path: Path, src: str, dst: str, sink: Path, notes: Path) -> None:
+def convert_run(
+    path: Path, src: str, dst: str, sink: Path, notes: Path, verify: bool = True
+) -> None:
     """``cnc convert PATH --from SRC --to DST -o SINK`` (notes: the CLI's stderr), with the
-    CLI's defaults: cycles kept, cutter compensation kept where the target has it."""
+    CLI's defaults: cycles kept, cutter compensation kept where the target has it, register
+    marks, and the output read back and compared with the source (``verify``, as the CLI
+    does without ``--no-verify``: cli.verify)."""
+    target = get_dialect(dst)
+    keep_comp = target.has_cutter_comp
     options = InterpreterOptions(
         search_path=(str(path.parent),),
         cycle_marks=True,
-        keep_cutter_comp=get_dialect(dst).has_cutter_comp,
+        keep_cutter_comp=keep_comp,
+        register_marks=True,
     )
     report = ConversionReport(source_dialect=src, target_dialect=dst)
     ir = readers.read_chunks(path, src, options)
+    writer = WriterOptions(cycles="keep")
+    if verify:
+        recorder = Recorder(ir, str(path))
+        chunks = write_text(recorder, target, writer, report, source=str(path))
+        back = reader_options(str(path), None, True, keep_comp)
+        chunks = verified_output(chunks, recorder, target, back, writer, report, Verification())
+    else:
+        chunks = write_text(ir, target, writer, report, source=str(path))
     with open(sink, "w", encoding="utf-8", newline="\n") as fh:
-        fh.writelines(write_text(ir, dst, WriterOptions(cycles="keep"), report))
+        fh.writelines(chunks)
     with open(notes, "w") as err:
         for change in report.changes:
             rec = DiagnosticRecord(
@@ -197,7 +213,13 @@ def main() -> None:
     parser.add_argument(
         "--cli", action="store_true", help="time the cnc commands as child processes instead"
     )
+    parser.add_argument(
+        "--no-verify",
+        action="store_true",
+        help="convert without reading the output back (cnc convert --no-verify)",
+    )
     args = parser.parse_args()
+    verify = not args.no_verify
     readable = registry.readable()
     sources = readable if args.src == "all" else (args.src,)
     targets = NAMES if args.dst == "all" else (args.dst,)
@@ -225,7 +247,7 @@ def main() -> None:
             print(f"from {src}: {path.name}, {count} lines")
             for dst in targets:
                 try:
-                    convert_run(path, src, dst, sink, notes)  # warm-up, and refusals
+                    convert_run(path, src, dst, sink, notes, verify)  # warm-up, and refusals
                 except Diagnostic as exc:
                     print(f"  to {dst:12s} refused ({exc.code}), skipped")
                     continue
@@ -236,7 +258,9 @@ def main() -> None:
                         base, conv = run_canon(), run_convert()
                     else:
                         base = timed(lambda p=path, s=src: canon_run(p, s, sink))
-                        conv = timed(lambda p=path, s=src, d=dst: convert_run(p, s, d, sink, notes))
+                        conv = timed(
+                            lambda p=path, s=src, d=dst: convert_run(p, s, d, sink, notes, verify)
+                        )
                     pairs.append((conv, base))
                 wall = statistics.median(c[0] / b[0] for c, b in pairs)
                 cpu = sum(c[1] for c, _ in pairs) / sum(b[1] for _, b in pairs)

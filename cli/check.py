@@ -28,24 +28,11 @@ import click
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
-from cli.programs import check_input, dialect_option, jobs_option, load_tool_table
+from cli.programs import check_input, dialect_option, expand, jobs_option, load_tool_table
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
 from kernel.diagnostics import Diagnostic, Location, Severity
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
-
-PROGRAM_SUFFIXES = (
-    ".ngc",
-    ".nc",
-    ".gcode",
-    ".tap",
-    ".mpf",
-    ".spf",
-    ".canon",
-    ".jsonl",
-    ".stp",
-    ".p21",
-)
 
 
 @dataclass(frozen=True, slots=True)
@@ -149,18 +136,6 @@ def _size(path: str) -> int:
         return os.stat(path).st_size
     except OSError:
         return 0
-
-
-def expand(files: tuple[str, ...]) -> list[str]:
-    """Files as given; directories contribute their programs (sorted, recursively)."""
-    out: list[str] = []
-    for f in files:
-        p = Path(f)
-        if p.is_dir():
-            out.extend(str(q) for q in sorted(p.rglob("*")) if q.suffix.lower() in PROGRAM_SUFFIXES)
-        else:
-            out.append(f)
-    return out
 
 
 def run_checks(paths: list[str], setup: Setup, jobs: int) -> list[FileResult]:

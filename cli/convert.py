@@ -19,23 +19,28 @@ import os
 import sys
 import tempfile
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
-from typing import cast
+from typing import NoReturn, cast
 
 import click
 
-from cli.errors import guarded
+from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.errors import report as report_error
+from cli.programs import expand
 from cli.verify import Recorder, Verification, reader_options, verified_output
 from gcode.registry import (
     ALIASES,
     DEFAULT_INPUT,
     INPUTS,
     NAMES,
+    REGISTRY,
     get_dialect,
     reader_name,
     suffix_summary,
 )
 from gcode.write.report import LOSS_CODES, Change, ConversionReport, Group, group
+from gcode.write.spec import Dialect
 from gcode.write.writer import ARC_FORMATS, CYCLE_MODES, WriterOptions, write_text
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
 from kernel.ir import canon
@@ -140,7 +145,7 @@ def source_language(path: str, dialect: str) -> str:
 
 def _allowed_losses(values: tuple[str, ...]) -> frozenset[str]:
     """``--allow-loss`` values (repeatable, comma-separated) as loss codes; ``CONV-`` may be
-    left off. A code that is not a loss is a usage error (CONV-OPTION)."""
+    left off. A code that is not a loss is a ValueError saying so."""
     codes: set[str] = set()
     for value in values:
         for part in value.split(","):
@@ -150,11 +155,16 @@ def _allowed_losses(values: tuple[str, ...]) -> frozenset[str]:
             code = name if name.startswith("CONV-") else "CONV-" + name
             if code not in LOSS_CODES:
                 known = ", ".join(sorted(LOSS_CODES))
-                raise Diagnostic(
-                    "CONV-OPTION", f"--allow-loss {part.strip()}: not a loss code ({known})"
-                )
+                raise ValueError(f"--allow-loss {part.strip()}: not a loss code ({known})")
             codes.add(code)
     return frozenset(codes)
+
+
+def _usage(message: str, source: str) -> NoReturn:
+    """A bad option value: the located ``CONV-OPTION`` error at the program it was given
+    for, and the usage exit code (2)."""
+    report_error(Diagnostic("CONV-OPTION", message, Location(source)))
+    sys.exit(EXIT_USAGE)
 
 
 def _echo_groups(groups: list[Group], severity: Severity, prefix: str, source: str) -> None:
@@ -178,7 +188,7 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
 
 
 @click.command("convert")
-@click.argument("source", type=click.Path(dir_okay=False))
+@click.argument("sources", nargs=-1, required=True, type=click.Path())
 @click.option(
     "--from",
     "src",
@@ -197,7 +207,13 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
     type=click.Choice([*NAMES, *ALIASES], case_sensitive=False),
     help="output dialect",
 )
-@click.option("-o", "--output", type=click.Path(dir_okay=False), help="output file (else stdout)")
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(),
+    help="output file (else stdout); with several SOURCES or a directory, the folder that "
+    "receives one output per input, named with the target's suffix",
+)
 @click.option("--force", is_flag=True, help="replace an existing output or report file")
 @click.option(
     "--arc-format",
@@ -277,11 +293,11 @@ def _refuse_existing(path: str | None, force: bool, what: str) -> None:
     "--report",
     "report_path",
     type=click.Path(dir_okay=False),
-    help="write the conversion report as JSON",
+    help="write the conversion report as JSON (several SOURCES: one report per file, in a list)",
 )
 @guarded
 def command(
-    source: str,
+    sources: tuple[str, ...],
     src: str,
     dst: str,
     output: str | None,
@@ -305,7 +321,7 @@ def command(
     report_path: str | None,
     allow_loss: tuple[str, ...],
 ) -> None:
-    """Convert SOURCE from one control's language to another's through the canonical IR.
+    """Convert SOURCES from one control's language to another's through the canonical IR.
 
     A loss (what the target cannot say changes what the machine does: spindle, coolant,
     tool change or length, offsets, units, feed mode, compensation, stops, outputs, motion
@@ -320,16 +336,22 @@ def command(
       cnc convert part.ngc --to fanuc -o part.nc
       cnc convert part.ngc --to grbl --arc-format r --units mm -o part.gcode
       cnc convert part.canon --from canon --to rs274ngc --line-numbers 10
+      cnc convert programs/ --to siemens840d -o converted/
+
+    SOURCES are files or directories (their programs, recursively, as `cnc check` takes
+    them). With more than one program, -o names a folder: each program is converted on its
+    own into it (a subfolder's programs into the same subfolder), with the target's suffix,
+    and a status line says what became of it. A program that fails writes no file and the
+    others go on; the exit code is 1 when one failed (2 when one could not be read or its
+    output exists without --force).
     """
-    if not os.path.exists(source):
-        raise Diagnostic("IO-OPEN", f"no such file: {source}", Location(source))
-    if output and Path(output).resolve() == Path(source).resolve():
-        raise Diagnostic("IO-EXISTS", "output would replace the input", Location(output))
-    _refuse_existing(output, force, "output")
-    _refuse_existing(report_path, force, "report")
     target = get_dialect(dst)
     if tolerance <= 0 or (decimals is not None and not 0 <= decimals <= 9):
-        raise Diagnostic("CONV-OPTION", "tolerance must be > 0 and decimals within 0..9")
+        _usage("tolerance must be > 0 and decimals within 0..9", sources[0])
+    try:
+        allowed = _allowed_losses(allow_loss)
+    except ValueError as exc:
+        _usage(str(exc), sources[0])
     opts = WriterOptions(
         arc_format=arc_format,
         units=units,
@@ -345,31 +367,88 @@ def command(
         write_tool_table=write_tool_table,
         write_tool_lengths=write_tool_table and tool_table is not None,
     )
-    allowed = _allowed_losses(allow_loss)
-    src = source_language(source, src.lower())
-    report = ConversionReport(source_dialect=src, target_dialect=target.name, allowed=allowed)
-    keep_comp = cutter_comp == "keep" and target.has_cutter_comp
-    ir = read_program(source, src, tool_table, report, cycles == "keep", keep_comp)
-    check = None if no_verify else Verification()
+    job = Job(
+        src.lower(),
+        target,
+        opts,
+        allowed,
+        tool_table,
+        cutter_comp == "keep" and target.has_cutter_comp,
+        not no_verify,
+        force,
+    )
+    if len(sources) == 1 and not os.path.isdir(sources[0]):
+        _refuse_existing(report_path, force, "report")
+        outcome = convert_file(sources[0], output, job)
+        if report_path:
+            _write_json(report_path, outcome.data)
+        if not outcome.converted:
+            sys.exit(EXIT_PROGRAM_ERROR)
+        return
+    sys.exit(convert_many(sources, output, report_path, job))
+
+
+@dataclass(frozen=True)
+class Job:
+    """What every program of one ``cnc convert`` is converted with."""
+
+    src: str
+    target: Dialect
+    opts: WriterOptions
+    allowed: frozenset[str]
+    tool_table: str | None
+    keep_comp: bool
+    verify: bool
+    force: bool
+
+
+@dataclass
+class Outcome:
+    """One program's conversion: converted (and written) or refused, its JSON report."""
+
+    converted: bool
+    verified: bool
+    data: dict[str, object]
+
+
+def convert_file(source: str, output: str | None, job: Job) -> Outcome:
+    """Convert one program to ``output`` (None: standard output). A loss not accepted is
+    printed and the outcome is not converted; an error in the program or its files is a
+    Diagnostic; either way nothing is written."""
+    if not os.path.exists(source):
+        raise Diagnostic("IO-OPEN", f"no such file: {source}", Location(source))
+    if os.path.isdir(source):
+        raise Diagnostic("IO-OPEN", f"{source} is a folder, not a program", Location(source))
+    if output and Path(output).resolve() == Path(source).resolve():
+        raise Diagnostic("IO-EXISTS", "output would replace the input", Location(output))
+    if output and os.path.isdir(output):
+        raise Diagnostic("IO-EXISTS", f"output {output} is a folder", Location(output))
+    _refuse_existing(output, job.force, "output")
+    target, opts = job.target, job.opts
+    cycles = opts.cycles == "keep"
+    src = source_language(source, job.src)
+    report = ConversionReport(source_dialect=src, target_dialect=target.name, allowed=job.allowed)
+    ir = read_program(source, src, job.tool_table, report, cycles, job.keep_comp)
+    check = Verification() if job.verify else None
     recorder = Recorder(ir, source)
     chunks = write_text(recorder if check else ir, target, opts, report, source=source)
     if check:  # the output is read back and compared with the source before it is written
-        back = reader_options(source, tool_table, cycles == "keep", keep_comp)
+        back = reader_options(source, job.tool_table, cycles, job.keep_comp)
         chunks = verified_output(chunks, recorder, target, back, opts, report, check)
     # the text goes to a temporary file first: a refused conversion leaves no file, and
     # nothing on standard output
     folder = os.path.dirname(os.path.abspath(output)) if output else None
+    if folder:
+        os.makedirs(folder, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=".convert-", dir=folder)
     try:
         with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
             fh.writelines(chunks)
+        data = report.to_dict()
+        data["verified"] = bool(check and check.verified)
+        data["options"] = {k: v for k, v in vars(opts).items() if not k.startswith("_")}
         refused = report.refused()
         _echo_groups(group(refused), Severity.ERROR, "", source)
-        if report_path:
-            data = report.to_dict()
-            data["verified"] = bool(check and check.verified)
-            data["options"] = {k: v for k, v in vars(opts).items() if not k.startswith("_")}
-            Path(report_path).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
         if refused:
             codes = ",".join(sorted({str(c.loss_code) for c in refused}))
             click.echo(
@@ -377,7 +456,7 @@ def command(
                 f"run differently; accept with --allow-loss {codes}",
                 err=True,
             )
-            sys.exit(1)
+            return Outcome(False, False, data)
         if output:
             os.replace(tmp, output)
         else:
@@ -391,3 +470,99 @@ def command(
     _echo_groups(group(report.notes()), Severity.NOTE, "", source)
     if check and output:  # a program on standard output is followed by nothing
         click.echo(check.summary(source), err=True)
+    return Outcome(True, bool(check and check.verified), data)
+
+
+def _write_json(path: str, data: object) -> None:
+    Path(path).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
+
+
+#: the suffix of a converted program, per target (else the target's first registry suffix,
+#: else ``.ngc``)
+OUTPUT_SUFFIX = {
+    "fanuc": ".nc",
+    "fanuc_lathe": ".nc",
+    "haas": ".nc",
+    "haas_lathe": ".nc",
+    "grbl": ".gcode",
+    "sandia": ".txt",
+}
+
+
+def output_suffix(target: str) -> str:
+    """The suffix a converted program is named with in an output folder."""
+    if target in OUTPUT_SUFFIX:
+        return OUTPUT_SUFFIX[target]
+    entry = next((e for e in REGISTRY if e.name == target), None)
+    return entry.suffixes[0] if entry and entry.suffixes else ".ngc"
+
+
+def planned_outputs(sources: tuple[str, ...], folder: str, target: str) -> list[tuple[str, str]]:
+    """(program, its output) for every program named or found in a named folder (as
+    ``cnc check`` finds them, cli.check.expand): a folder's programs keep their place
+    below it."""
+    suffix = output_suffix(target)
+    pairs: list[tuple[str, str]] = []
+    for given in sources:
+        base = Path(given)
+        found = expand((given,)) if base.is_dir() else [given]
+        for program in found:
+            rel = Path(program).relative_to(base) if base.is_dir() else Path(Path(program).name)
+            pairs.append((program, str(Path(folder) / rel.with_suffix(suffix))))
+    return pairs
+
+
+def convert_many(
+    sources: tuple[str, ...], folder: str | None, report_path: str | None, job: Job
+) -> int:
+    """Convert each program on its own into ``folder``, a status line each; the exit
+    code: 0 all converted, 1 a program failed, 2 a program could not be read or its output
+    exists without --force."""
+    if not folder:
+        _usage("several programs need -o FOLDER to receive their outputs", sources[0])
+    if os.path.exists(folder) and not os.path.isdir(folder):
+        raise Diagnostic("IO-EXISTS", f"-o {folder} is a file, not a folder", Location(folder))
+    _refuse_existing(report_path, job.force, "report")
+    pairs = planned_outputs(sources, folder, job.target.name)
+    if not pairs:
+        raise Diagnostic("IO-OPEN", "no programs found", Location(sources[0]))
+    taken: dict[str, str] = {}
+    failed = io_failed = 0
+    reports: list[dict[str, object]] = []
+    for program, output in pairs:
+        entry: dict[str, object] = {"source": program, "output": output}
+        try:
+            first = taken.setdefault(str(Path(output).resolve()), program)
+            if first != program:
+                raise Diagnostic(
+                    "IO-EXISTS",
+                    f"{output} is the output of {first} too; convert them separately",
+                    Location(program),
+                )
+            outcome = convert_file(program, output, job)
+        except Diagnostic as exc:
+            report_error(exc)
+            io_failed += exc.code.startswith("IO-")
+            failed += 1
+            click.echo(f"{program}: not converted ({exc.code})", err=True)
+            entry.update(status="failed", code=exc.code, message=exc.message)
+        else:
+            entry.update(outcome.data)
+            if outcome.converted:
+                state = "verified" if outcome.verified else "not verified"
+                click.echo(f"{program}: converted to {output} ({state})", err=True)
+                entry["status"] = "converted"
+            else:
+                failed += 1
+                click.echo(f"{program}: not converted (CONV-LOSS)", err=True)
+                entry["status"] = "failed"
+        reports.append(entry)
+    click.echo(
+        f"{len(pairs) - failed} of {len(pairs)} programs converted to {job.target.title}",
+        err=True,
+    )
+    if report_path:
+        _write_json(report_path, {"files": reports})
+    if io_failed:
+        return EXIT_USAGE
+    return EXIT_PROGRAM_ERROR if failed else EXIT_OK

@@ -28,6 +28,33 @@ from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
 from kernel.tooltable import ToolTable, read_tool_table
 
 KINDS = ("gcode", "canon", "jsonl", "part21")
+#: the files a folder given to ``cnc check`` or ``cnc convert`` contributes
+PROGRAM_SUFFIXES = (
+    ".ngc",
+    ".nc",
+    ".gcode",
+    ".tap",
+    ".mpf",
+    ".spf",
+    ".canon",
+    ".jsonl",
+    ".stp",
+    ".p21",
+)
+
+
+def expand(files: tuple[str, ...]) -> list[str]:
+    """Files as given; directories contribute their programs (sorted, recursively)."""
+    out: list[str] = []
+    for f in files:
+        p = Path(f)
+        if p.is_dir():
+            out.extend(str(q) for q in sorted(p.rglob("*")) if q.suffix.lower() in PROGRAM_SUFFIXES)
+        else:
+            out.append(f)
+    return out
+
+
 _PART21 = re.compile(r"^\s*ISO-10303-21\s*;", re.M)
 _CANON_LINE = re.compile(r"^\s*(?:\d+\s+N[.\d]*\s+)?[A-Z][A-Z0-9_]*\(.*\)\s*$")
 

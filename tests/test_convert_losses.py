@@ -63,6 +63,16 @@ LOSSES = [
     ),
     ("stop", "G21 G90\nG1 X10 F100\nM1\nM2\n", ".ngc", ["--to", "sandia"], "CONV-STOP"),
     ("dwell", "G21 G90\nG1 X10 F100\nG4 P1\nM2\n", ".ngc", ["--to", "sandia"], "CONV-DWELL"),
+    ("override", "G21 G90\nM48\nG1 X1 F100\nM2\n", ".ngc", ["--to", "sandia"], "CONV-OVERRIDE"),
+    ("output", "G21 G90\nM62 P1\nG1 X1 F100\nM2\n", ".ngc", ["--to", "fanuc"], "CONV-OUTPUT"),
+    ("pallet", "G21 G90\nG1 X1 F100\nM60\nM2\n", ".ngc", ["--to", "grbl"], "CONV-PALLET"),
+    (
+        "tool register",
+        "G21 G90\nT1 M6\nG43 H1\nG1 X1 F100\nM2\n",
+        ".ngc",
+        ["--to", "grbl"],
+        "CONV-TOOL-REGISTER",
+    ),
 ]
 
 
@@ -120,7 +130,9 @@ def test_allow_loss_accepts_exactly_the_named_losses(tmp_path: Path) -> None:
     assert {g["code"] for g in data["accepted"]} == {"CONV-SPINDLE", "CONV-COOLANT"}
     assert data["losses"] == []
     bad = run(str(src), "--to", "sandia", "--allow-loss", "CONV-ARC-LINES")
-    assert bad.exit_code == 1 and "error[CONV-OPTION]" in bad.output
+    # a usage error (exit 2), located at the program like every other error
+    assert bad.exit_code == 2 and f"{src}: error[CONV-OPTION]" in bad.output
+    assert "CONV-ARC-LINES: not a loss code" in bad.output
 
 
 def test_notes_come_once_per_kind_with_the_first_line_and_a_count(tmp_path: Path) -> None:

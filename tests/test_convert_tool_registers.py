@@ -114,10 +114,8 @@ def test_tool_length_register_survives_a_round_trip(
         back = list(read_text(text, target, program.name, marked_options(program, table)))
     except Diagnostic as exc:
         pytest.skip(f"the {target} reader refuses the output ({exc.code})")
-    # the Siemens reader takes a D edge's length from the table unscaled (a reader matter,
-    # not the register's): with a table its registers are compared
-    lengths = not (table and target == "siemens840d")
-    assert states(back, lengths) == states(ir, lengths)
+    # the Siemens reader scales a D edge's length from the inch table as the others do
+    assert states(back) == states(ir)
 
 
 def test_grbl_refuses_g43_h_at_its_line() -> None:
@@ -135,6 +133,35 @@ def test_siemens_refuses_another_tools_register() -> None:
     text, error = converted(ir, "siemens840d")
     assert error is not None and error.code == "CONV-TOOL-REGISTER"
     assert error.location.line == 3
+
+
+def test_siemens_keeps_the_length_across_a_tool_change() -> None:
+    """G43 H1 stays in force across M6 in RS274/NGC; the 840D's M6 D0 would end it."""
+    src = "G21 G90\nT1 M6\nG43 H1\nT1 M6\nG0 X0 Y0 Z5\nM2\n"
+    ir = list(read_text(src, "rs274ngc", "p.ngc", InterpreterOptions(register_marks=True)))
+    text, error = converted(ir, "siemens840d")
+    assert error is None and text is not None
+    assert text.splitlines().count("T1 M6 D1") == 1 and "T1 M6 D0" in text
+    back = read_text(text, "siemens840d", "p.mpf", InterpreterOptions(register_marks=True))
+    assert states(back) == states(ir) == [("G43", 1, 0.0)]
+    other = src.replace("T1 M6\nG0", "T2 M6\nG0")
+    ir = list(read_text(other, "rs274ngc", "p.ngc", InterpreterOptions(register_marks=True)))
+    text, error = converted(ir, "siemens840d")
+    assert error is not None and error.code == "CONV-TOOL-REGISTER"
+    assert error.location.line == 4
+
+
+def test_a_lathe_has_no_tool_length_to_cancel() -> None:
+    ir = read_text(
+        "G21 G90\nG49\nG1 X1 F100\nM2\n",
+        "rs274ngc",
+        "p.ngc",
+        InterpreterOptions(register_marks=True),
+    )
+    for target in ("fanuc_lathe", "haas_lathe"):
+        text, error = converted(ir, target)
+        assert error is None and text is not None and "G49" not in text
+        assert list(read_text(text, target, "p.nc", InterpreterOptions()))
 
 
 def test_canon_text_has_no_marks() -> None:

@@ -41,6 +41,7 @@ DIALECT = Dialect(
     orient="SPOS={angle}",
     css="G96 S{speed} LIMS={max}",
     tool_change="M6 D0",
+    tool_change_keeping_length="M6 D1",
     tool_length="D1",
     tool_length_off="D0",
     tool_register="D1",

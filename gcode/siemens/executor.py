@@ -365,13 +365,16 @@ class Executor(Machine):
         self.activate_edge(n)
 
     def activate_edge(self, n: int) -> None:
-        """Tool length of the active edge from the tool table (its Z offset)."""
+        """Tool length of the active edge from the tool table (its Z offset), in program
+        units: the table is in inches, as the RS274/NGC and Fanuc readers take it
+        (gcode.ngc.offsets._table_scale)."""
         s = self.s
         s.edge = n
         length = 0.0
         if n and self.tools is not None:
             tool = self.tools.get(s.tool)
-            length = tool.z_offset if tool is not None else 0.0
+            scale = INCH_MM if s.units is canon.Units.MM else 1.0
+            length = tool.z_offset * scale if tool is not None else 0.0
         s.pos[2] += s.tool_length - length
         s.tool_length = length
         if self.options.register_marks:  # the tool's edge: G43 H<tool> elsewhere
@@ -425,6 +428,7 @@ class Executor(Machine):
                 s.pos[i] *= k
             s.frame = s.frame.scaled(k)
             s.g5x = tuple(v * k if i < 3 else v for i, v in enumerate(s.g5x))
+            s.tool_length *= k  # part of pos[2], scaled with it
             s.units = units
             self.emit(canon.UseLengthUnits(units, source=self.loc))
             if s.feed and s.feed_mode != 1:  # the programmed feed keeps its speed

@@ -73,6 +73,7 @@ class WriterContext:
         self.file: str | None = None  # the source program (locations of bulk runs)
         self.comp_register: int | None = None  # the next G41/G42's D register (CompRegister)
         self.tool_register: ToolLengthRegister | None = None  # the next tool length's mark
+        self.length_register: int | None = None  # the G43 H register in force (None: none)
         self.motion: str | None = None
         # positions in output units: the IR's (exact) and what the text set (rounded)
         self.cur = dict.fromkeys("XYZABC", 0.0)

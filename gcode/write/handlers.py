@@ -181,6 +181,17 @@ def change_tool(w: WriterContext, c: canon.ChangeTool) -> None:
         w.comment(f"change to tool {tool}")
         w.block(w.d.stop)
         return
+    keeping = w.d.tool_change_keeping_length
+    if keeping is not None and w.length_register is not None:
+        # G43 H n stays in force across M6; this control's change ends it unless told
+        if w.length_register != tool:
+            w.refuse(
+                "CONV-TOOL-REGISTER",
+                f"G43 H{w.length_register} stays in force across the change to tool {tool}; "
+                f"{w.d.title} takes only the active tool's own length ({keeping})",
+            )
+        w.block(w.d.tool_word.format(tool=tool), keeping)
+        return
     w.block(w.d.tool_word.format(tool=tool), w.d.tool_change)
 
 
@@ -195,6 +206,10 @@ def tool_length(w: WriterContext, c: canon.UseToolLengthOffset) -> None:
     w.flush()
     w.invalidate()
     mark, w.tool_register = w.tool_register, None
+    w.length_register = mark.register if mark is not None and mark.code == "G43" else None
+    cancel = mark is None or mark.code == "G49"
+    if w.d.tool_length is None and w.d.tool_register is None and cancel and not c.length:
+        return  # a control without tool length offsets (the lathes): none to cancel
     if mark is not None and mark.code == "G49":
         w.block(w.d.tool_length_off)
         return

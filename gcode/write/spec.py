@@ -77,6 +77,9 @@ class Dialect:
     css: str | None = "G96 D{max} S{speed}"  # {max} omitted when 0
     css_off: str | None = "G97"
     tool_change: str | None = "M6"
+    # the tool change that keeps the new tool's length in force where the change itself
+    # ends it (Siemens M6 D0 / M6 D1); None: a change leaves the length offset as it is
+    tool_change_keeping_length: str | None = None
     tool_length: str | None = "G43.1 Z{length}"  # or "G10 L10 P{tool} R{length}|G43 H{tool}"
     tool_length_off: str = "G49"
     # a tool length kept as its register (gcode.core.register_marks): G43 H n; a form without

@@ -15,6 +15,9 @@ other length units compares with its source; the units a motion sees must then m
 one (every inch motion of the source is, say, a millimetre motion of the output).
 
 The comparison streams: each side is read once, item by item, and nothing is kept behind.
+:func:`equivalent` is its fast path for a large program: both streams as arrays of motions
+(a reader's runs of plain lines come as :class:`Moves`), compared in numpy; it says True
+only where :func:`first_difference` would find nothing, and leaves every other case to it.
 """
 
 from __future__ import annotations
@@ -22,6 +25,8 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
+
+import numpy as np
 
 from kernel.diagnostics import Location
 from kernel.ir import canon
@@ -509,3 +514,247 @@ def _cover(
         if math.dist(end, src.end) <= tol_mm and (at > 0.5 or not closed):
             return out, None
     return out, f"the output's pieces stop before the end of this {name}"
+
+
+# ---------------------------------------------------------------- the array fast path
+
+
+@dataclass(frozen=True, slots=True)
+class Moves:
+    """A run of plain moves and feed changes as arrays (a reader's run of plain lines):
+    ``kind[i]`` is 0 (STRAIGHT_TRAVERSE), 1 (STRAIGHT_FEED) or 2 (SET_FEED_RATE),
+    ``position[i]`` the x y z a b c after it, ``feed[i]`` the rate in force, ``line[i]``
+    its source line in ``file``."""
+
+    kind: np.ndarray
+    position: np.ndarray
+    feed: np.ndarray
+    line: np.ndarray
+    file: str | None
+
+    def commands(self) -> list[canon.Command]:
+        """The events as IR command objects, each with its source line."""
+        out: list[canon.Command] = []
+        file = self.file
+        for k, pos, rate, ln in zip(
+            self.kind.tolist(),
+            self.position.tolist(),
+            self.feed.tolist(),
+            self.line.tolist(),
+            strict=True,
+        ):
+            src = Location(file, ln, 1)
+            if k == 0:
+                out.append(canon.StraightTraverse(*pos, source=src))
+            elif k == 1:
+                out.append(canon.StraightFeed(*pos, source=src))
+            else:
+                out.append(canon.SetFeedRate(rate, source=src))
+        return out
+
+
+def expanded(stream: Iterable[canon.Command | Moves]) -> Iterator[canon.Command]:
+    """A stream with its :class:`Moves` as command objects."""
+    for item in stream:
+        if isinstance(item, Moves):
+            yield from item.commands()
+        else:
+            yield item
+
+
+#: the state a motion sees, as the fast path interns it
+_State = tuple[float, canon.Direction, int | str, bool, bool, canon.Plane, canon.Units | None]
+_ARC = 3  # a kind beside Moves' 0 1 2
+_SMALL = 256  # Moves of fewer events join the rows as Python lists
+_MOTION_KINDS = (
+    canon.StraightTraverse,
+    canon.StraightFeed,
+    canon.ArcFeed,
+    canon.StraightProbe,
+    canon.NurbsFeed,
+    canon.EllipseFeed,
+    canon.Dwell,
+)
+
+
+class _Table:
+    """One stream's motions as columns: kind, the six values (ends, or an arc's end and
+    normal end with A B C), the feed rate in force and an id of the rest of the state
+    they see (interned in ``states``, shared by both sides), an arc's centre and turns
+    apart, and the ordered events with the number of motions before each. ``ok`` is False
+    where the stream holds what only :func:`first_difference` compares."""
+
+    def __init__(self, stream: Iterable[canon.Command | Moves], states: dict[_State, int]):
+        self.ok = True
+        kinds: list[np.ndarray] = []
+        values: list[np.ndarray] = []
+        feeds: list[np.ndarray] = []
+        state_runs: list[tuple[int, int]] = []  # (state id, rows)
+        self.arcs: list[tuple[float, float, int]] = []
+        self.events: list[tuple[int, str]] = []
+        rows = 0  # rows so far, feed changes of Moves included
+        moves = 0  # motions so far
+        pk: list[int] = []
+        pv: list[tuple[float, ...]] = []
+        pf: list[float] = []
+        feed = speed = 0.0
+        direction = canon.Direction.STOPPED
+        tool: int | str = 0
+        mist = flood = False
+        plane = canon.Plane.XY
+        units: canon.Units | None = None
+        state = states.setdefault((speed, direction, tool, mist, flood, plane, units), len(states))
+        run_start = 0  # first row seeing ``state``
+
+        def flush() -> None:
+            if pk:
+                kinds.append(np.array(pk, dtype=np.int8))
+                values.append(np.array(pv, dtype=np.float64).reshape(len(pk), 6))
+                feeds.append(np.array(pf, dtype=np.float64))
+                pk.clear()
+                pv.clear()
+                pf.clear()
+
+        def restate() -> int:
+            nonlocal run_start
+            state_runs.append((state, rows - run_start))
+            run_start = rows
+            key = (speed, direction, tool, mist, flood, plane, units)
+            return states.setdefault(key, len(states))
+
+        traverse, straight, arc = canon.StraightTraverse, canon.StraightFeed, canon.ArcFeed
+        for c in stream:
+            t = type(c)
+            if t is straight or t is traverse:
+                assert isinstance(c, straight | traverse)
+                pk.append(1 if t is straight else 0)
+                pv.append((c.x, c.y, c.z, c.a, c.b, c.c))
+                pf.append(feed)
+                rows += 1
+                moves += 1
+            elif t is arc:
+                assert isinstance(c, canon.ArcFeed)
+                pk.append(_ARC)
+                pv.append((c.first_end, c.second_end, c.axis_end_point, c.a, c.b, c.c))
+                pf.append(feed)
+                self.arcs.append((c.first_axis, c.second_axis, c.rotation))
+                rows += 1
+                moves += 1
+            elif t is Moves:
+                assert isinstance(c, Moves)
+                n = len(c.kind)
+                if not n:
+                    continue
+                if n < _SMALL:  # as rows: a few list items cost less than three arrays
+                    kind = c.kind.tolist()
+                    pk.extend(kind)
+                    pv.extend(map(tuple, c.position.tolist()))
+                    rates = c.feed.tolist()
+                    pf.extend(rates)
+                    moves += n - kind.count(2)
+                    feed = rates[-1]
+                else:
+                    flush()
+                    kinds.append(c.kind)
+                    values.append(c.position)
+                    feeds.append(c.feed)
+                    moves += n - int(np.count_nonzero(c.kind == 2))
+                    feed = float(c.feed[-1])
+                rows += n
+            elif isinstance(c, _MOTION_KINDS):
+                self.ok = False  # probes, curves, dwells: first_difference's rules
+                return
+            elif t is canon.SetFeedRate:
+                assert isinstance(c, canon.SetFeedRate)
+                feed = c.rate
+            elif t is canon.SetSpindleSpeed:
+                assert isinstance(c, canon.SetSpindleSpeed)
+                speed = c.speed
+                state = restate()
+            elif t is canon.StartSpindleClockwise:
+                direction = canon.Direction.CLOCKWISE
+                state = restate()
+            elif t is canon.StartSpindleCounterclockwise:
+                direction = canon.Direction.COUNTERCLOCKWISE
+                state = restate()
+            elif t is canon.StopSpindleTurning:
+                direction = canon.Direction.STOPPED
+                state = restate()
+            elif t is canon.MistOn or t is canon.MistOff:
+                mist = t is canon.MistOn
+                state = restate()
+            elif t is canon.FloodOn or t is canon.FloodOff:
+                flood = t is canon.FloodOn
+                state = restate()
+            elif t is canon.UseLengthUnits:
+                assert isinstance(c, canon.UseLengthUnits)
+                units = c.units
+                state = restate()
+            elif t is canon.SelectPlane:
+                assert isinstance(c, canon.SelectPlane)
+                plane = c.plane
+                state = restate()
+            elif isinstance(c, _EVENTS):
+                if isinstance(c, canon.ChangeTool):
+                    tool = c.name or c.slot
+                    state = restate()
+                text = c.text.strip() if isinstance(c, canon.Message) else c.to_text()
+                self.events.append((moves, c.NAME + " " + text))
+        flush()
+        state_runs.append((state, rows - run_start))
+        self.kind = np.concatenate(kinds) if kinds else np.zeros(0, dtype=np.int8)
+        self.values = np.concatenate(values) if values else np.zeros((0, 6))
+        self.feed = np.concatenate(feeds) if feeds else np.zeros(0)
+        ids = np.array([s for s, _ in state_runs], dtype=np.int64)
+        self.state = np.repeat(ids, [n for _, n in state_runs])
+        motion = self.kind != 2
+        if not motion.all():
+            self.kind, self.values = self.kind[motion], self.values[motion]
+            self.feed, self.state = self.feed[motion], self.state[motion]
+
+
+def equivalent(
+    source: Iterable[canon.Command | Moves],
+    output: Iterable[canon.Command | Moves],
+    resolution: Mapping[canon.Units | None, float] | None = None,
+) -> bool:
+    """True when the two streams are equivalent by :func:`first_difference`'s rule, found
+    by comparing their motion tables as arrays; False means only that this fast path
+    cannot tell (a curve replaced by pieces, a probe, a difference anywhere), and
+    :func:`first_difference` must compare and say what differs. Each motion must be of
+    the same kind (arcs of the same turns) and see exactly the same state, feed aside;
+    that is stricter than the rule, never looser."""
+    states: dict[_State, int] = {}
+    src = _Table(source, states)
+    if not src.ok:
+        return False
+    out = _Table(output, states)
+    if not out.ok or src.events != out.events or len(src.kind) != len(out.kind):
+        return False
+    if not np.array_equal(src.kind, out.kind) or not np.array_equal(src.state, out.state):
+        return False
+    if len(src.arcs) != len(out.arcs):
+        return False
+    rounding = resolution or {}
+    keys = sorted(states, key=states.__getitem__)
+    k = np.array([_mm(key[6]) for key in keys])
+    written = np.array([rounding.get(key[6], 0.0) * _mm(key[6]) * (1 + 1e-6) for key in keys])
+    exact = np.maximum(EXACT * k, written + 1e-9)
+    mm, tol = k[src.state], exact[src.state]
+    lengths = np.abs(src.values[:, :3] - out.values[:, :3]) * mm[:, None]
+    if not (lengths <= tol[:, None]).all():
+        return False
+    if not (np.abs(src.values[:, 3:] - out.values[:, 3:]) <= EXACT).all():
+        return False
+    rate_src, rate_out = src.feed * mm, out.feed * mm
+    if not (np.abs(rate_src - rate_out) <= np.maximum(tol, 1e-4 * np.abs(rate_src))).all():
+        return False
+    if src.arcs:
+        a, b = np.array(src.arcs), np.array(out.arcs)
+        if not np.array_equal(a[:, 2], b[:, 2]):
+            return False
+        arc = src.kind == _ARC
+        centre = np.abs(a[:, :2] - b[:, :2]) * mm[arc][:, None]
+        if not (centre <= tol[arc][:, None]).all():
+            return False
+    return True

@@ -1,0 +1,122 @@
+"""kernel.ir.equivalence.equivalent, the array fast path of convert's verification: True
+only where first_difference finds nothing, whatever mix of command objects and Moves
+arrays each side comes as."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from kernel.ir import canon
+from kernel.ir.equivalence import Moves, equivalent, expanded, first_difference
+from tests.convert_support import ir_of, programs
+
+
+def _stream(shift: float = 0.0, feed: float = 100.0, speed: float = 1000.0) -> list:
+    return [
+        canon.UseLengthUnits(canon.Units.MM),
+        canon.SetSpindleSpeed(speed),
+        canon.StartSpindleClockwise(),
+        canon.SetFeedRate(feed),
+        canon.StraightTraverse(0.0, 0.0, 5.0),
+        canon.StraightFeed(10.0 + shift, 0.0, 0.0),
+        canon.ArcFeed(20.0, 0.0, 15.0, 0.0, -1, 0.0),
+        canon.ChangeTool(2),
+        canon.StraightFeed(20.0, 5.0, 0.0),
+        canon.ProgramEnd(),
+    ]
+
+
+def _as_moves(stream: list) -> list:
+    """The stream's plain moves and feed changes as Moves arrays, as a fast lane gives them."""
+    out: list = []
+    run: list = []
+    feed = 0.0  # the rate in force, across runs
+
+    def close() -> None:
+        nonlocal feed
+        if run:
+            kind = np.array(
+                [{canon.StraightTraverse: 0, canon.StraightFeed: 1}.get(type(c), 2) for c in run],
+                dtype=np.int8,
+            )
+            rates, pos, rows = [], (0.0,) * 6, []
+            for c in run:
+                if isinstance(c, canon.SetFeedRate):
+                    feed = c.rate
+                else:
+                    pos = (c.x, c.y, c.z, c.a, c.b, c.c)
+                rows.append(pos)
+                rates.append(feed)
+            out.append(
+                Moves(
+                    kind, np.array(rows), np.array(rates), np.zeros(len(run), dtype=np.int64), "f"
+                )
+            )
+            run.clear()
+
+    for c in stream:
+        if isinstance(c, canon.StraightTraverse | canon.StraightFeed | canon.SetFeedRate):
+            run.append(c)
+        else:
+            close()
+            out.append(c)
+    close()
+    return out
+
+
+def test_the_same_stream_is_equivalent_as_objects_and_as_arrays() -> None:
+    assert equivalent(_stream(), _stream())
+    assert equivalent(_as_moves(_stream()), _stream())
+    assert equivalent(_stream(), _as_moves(_stream()))
+    assert [c.to_text() for c in expanded(_as_moves(_stream()))] == [c.to_text() for c in _stream()]
+
+
+@pytest.mark.parametrize(
+    "changed",
+    [
+        _stream(shift=0.001),
+        _stream(feed=101.0),
+        _stream(speed=1200.0),
+        _stream()[:-2] + _stream()[-1:],
+        [
+            c if not isinstance(c, canon.ArcFeed) else canon.ArcFeed(20.0, 0.0, 15.0, 1.0, -1, 0.0)
+            for c in _stream()
+        ],
+        [c if not isinstance(c, canon.ChangeTool) else canon.ChangeTool(3) for c in _stream()],
+    ],
+    ids=["position", "feed", "spindle", "a-motion-less", "arc-centre", "tool"],
+)
+def test_a_difference_is_left_to_first_difference(changed: list) -> None:
+    assert not equivalent(_stream(), changed)
+    assert not equivalent(_as_moves(_stream()), _as_moves(changed))
+    assert first_difference(_stream(), changed, 0.001) is not None
+
+
+def test_written_rounding_is_allowed_as_the_rule_allows_it() -> None:
+    rounded = _stream(shift=0.0004)
+    half = {canon.Units.MM: 0.0005, None: 0.0005}
+    assert equivalent(_stream(), rounded, half)
+    assert first_difference(_stream(), rounded, 0.001, half) is None
+    assert not equivalent(_stream(), rounded)
+
+
+def test_it_never_passes_what_the_rule_rejects_on_the_golden_programs() -> None:
+    checked = passed = 0
+    for program in programs()[::5]:
+        ir = ir_of(program)
+        if ir is None:
+            continue
+        moved = [
+            canon.StraightFeed(c.x + 0.01, c.y, c.z, c.a, c.b, c.c, source=c.source)
+            if isinstance(c, canon.StraightFeed)
+            else c
+            for c in ir
+        ]
+        if equivalent(_as_moves(list(ir)), list(ir)):  # the same program: passed, mostly
+            passed += 1
+            assert first_difference(ir, ir, 0.001) is None
+        if moved != list(ir):
+            assert not equivalent(list(ir), moved)
+            checked += 1
+    assert checked > 10 and passed > 30
