@@ -128,11 +128,32 @@ CASES = [
 ]
 
 
+#: cases that show a converter defect not fixed yet -> what differs (strict: a fix shows)
+KNOWN: dict[str, str] = {
+    "golden/ngc/191_g10_l20_rotation_mm_tlo.ngc-rs274ngc-to-siemens840d-none": (
+        "the Siemens output does not carry a G10 L20 offset set under an XY rotation with a "
+        "tool length offset"
+    ),
+    "dialects/fanuc/012_lathe_diameter_u_w.nc-fanuc_lathe-to-sandia-none": (
+        "the Sandia output loses the lathe's XZ plane"
+    ),
+    "realworld/ngc/lcnc__daisy.ngc-rs274ngc-to-haas-none": (
+        "a feed rate differs in the 5th significant digit after the Haas writer's rounding"
+    ),
+    "realworld/shop/fanuc_lathe/gcodeworkshop_FANUC0T.nc-fanuc_lathe-to-siemens840d-table": (
+        "spindle and flood state are lost converting this Fanuc lathe program to Siemens "
+        "with a tool table"
+    ),
+}
+
+
 def _params() -> list[object]:
     params = []
     for index, (program, target, table) in enumerate(CASES):
         marks = [] if index % STRIDE == 0 else [pytest.mark.slow]
         ident = f"{program.name}-{program.dialect}-to-{target}-{'table' if table else 'none'}"
+        if ident in KNOWN:
+            marks.append(pytest.mark.xfail(strict=True, reason=KNOWN[ident]))
         params.append(pytest.param(program, target, table, id=ident, marks=marks))
     return params
 
