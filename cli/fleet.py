@@ -21,6 +21,7 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any, TypeVar
 
+import dask
 from distributed import Client, LocalCluster, as_completed
 
 from kernel.diagnostics import Diagnostic, Location
@@ -51,7 +52,11 @@ def connect(address: str) -> Iterator[Client]:
     ``local:N`` (N worker processes of one thread each, no dashboard), closed on exit."""
     n = parse_local(address)
     if n is not None:
+        # programs are independent tasks: let the scheduler hand each worker a queue of them
+        # instead of one per thread (Dask's root-task queuing), so no worker waits a round
+        # trip to the scheduler between two programs
         with (
+            dask.config.set({"distributed.scheduler.worker-saturation": "inf"}),
             LocalCluster(
                 n_workers=n,
                 threads_per_worker=1,
