@@ -13,6 +13,12 @@
 Usage: ``PYTHONPATH=. python bench/bench_cluster.py [N] [M1,M2,...]`` (the workers import
 ``cli`` too). The machine is shared: run it
 when idle, and read the ratio rather than the absolute rates.
+
+Measured 2026-12-02 on this 2-CPU container shared with other agents (not idle):
+2,000 programs: --jobs 2 75/s, local:2 34/s, ratio 45 % (target 90 % not met: with one
+program per task, Dask's per-task cost, about 15 ms of scheduler, client and worker time on
+the same two busy cores, is as large as checking a small program); results identical.
+Client peak RSS streaming 1,000 programs: 79 MiB; 10,000 programs: 80 MiB (flat).
 """
 
 from __future__ import annotations

@@ -213,6 +213,7 @@ def test_worker_killed_mid_batch_loses_nothing(tmp_path: Path) -> None:
                 os.kill(pids[0], signal.SIGKILL)  # a worker dies with tasks in flight
             seen.append(i)
             got[i] = res
+        assert pids[0] not in client.run(os.getpid).values()  # the kill took effect
     assert sorted(seen) == list(range(len(paths)))  # each program exactly once
     assert [got[i].findings for i in range(len(paths))] == [r.findings for r in expected]
 
