@@ -6,6 +6,7 @@ Examples::
     cnc check --machine mill.toml --format sarif -o check.sarif programs/*.ngc
     cnc check --jobs 4 --format junit -o check.xml programs/
     cnc check --list-rules
+    cnc check --scheduler tcp://head:8786 --results results/ --resume library/
 
 Exit codes (DESIGN.md): 0 no errors, 1 errors in a program, 2 usage or I/O error. One bad
 file never stops the batch.
@@ -13,10 +14,13 @@ file never stops the batch.
 
 from __future__ import annotations
 
+import hashlib
+import json
 import os
 import sys
 import time
 import tomllib
+from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from importlib import metadata
@@ -25,10 +29,18 @@ from typing import Any
 
 import click
 
+from cli.deadline import ProgramTimeout, deadline
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
-from cli.programs import check_input, dialect_option, expand, jobs_option, load_tool_table
+from cli.programs import (
+    check_input,
+    dialect_option,
+    expand,
+    jobs_option,
+    load_tool_table,
+    scheduler_option,
+)
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
 from kernel.diagnostics import Diagnostic, Location, Severity
@@ -42,6 +54,10 @@ class Setup:
     context: CheckContext
     dialect: str | None = None  # --dialect of G-code input
     verbosity: int = 0  # -v/-q balance: whether a guessed dialect is told on stderr
+    timeout: float | None = None  # per-program time limit in seconds (None: none)
+
+
+DEFAULT_TIMEOUT = 600.0  # s: --timeout's default, far above any real program's check time
 
 
 def _read_toml(path: str) -> dict[str, Any]:
@@ -108,16 +124,23 @@ def _init_worker(setup: Setup) -> None:
 
 
 def check_file(path: str, setup: Setup | None = None) -> FileResult:
-    """Check one file; program problems become findings, I/O problems ``io_error``."""
+    """Check one file; program problems become findings, I/O problems ``io_error``, a
+    program past ``setup.timeout`` the finding CNC001/CHECK-TIMEOUT. The one task function
+    of the local pool (``--jobs``) and of a Dask cluster (``--scheduler``)."""
     setup = setup or _SETUP
     assert setup is not None
     t0 = time.perf_counter()
     ctx = setup.context
     try:
-        cmds, text = check_input(
-            path, setup.dialect, setup.verbosity, ctx.tools, ctx.tool_mm_per_unit, ctx.machine
-        )
-        findings = check_stream(cmds, ctx, path, text)
+        with deadline(setup.timeout):
+            cmds, text = check_input(
+                path, setup.dialect, setup.verbosity, ctx.tools, ctx.tool_mm_per_unit, ctx.machine
+            )
+            findings = check_stream(cmds, ctx, path, text)
+    except ProgramTimeout:
+        msg = f"stopped at the time limit of {setup.timeout:g} s (--timeout)"
+        late = Finding("CNC001", Severity.ERROR, msg, Location(path), "CHECK-TIMEOUT")
+        return FileResult(path, (late,), None, time.perf_counter() - t0)
     except OSError as exc:
         return FileResult(path, (), exc.strerror or str(exc), time.perf_counter() - t0)
     except Exception as exc:  # noqa: BLE001 - a bug must not take the rest of the batch down
@@ -138,21 +161,125 @@ def _size(path: str) -> int:
         return 0
 
 
-def run_checks(paths: list[str], setup: Setup, jobs: int) -> list[FileResult]:
-    """Check ``paths`` with ``jobs`` worker processes (1: in this process); input order kept.
+def _largest_first(paths: list[str]) -> list[int]:
+    """Indices of ``paths``, largest file first (longest-processing-time-first), so one
+    long program does not leave the other workers idle at the end."""
+    return sorted(range(len(paths)), key=lambda i: -_size(paths[i]))
 
-    Largest files go first and the rest follow in small chunks, so one long program does
-    not leave the other workers idle at the end (longest-processing-time-first).
-    """
+
+def iter_checks(
+    paths: list[str], setup: Setup, jobs: int, scheduler: str | None = None
+) -> Iterator[tuple[int, FileResult]]:
+    """Check ``paths`` and yield ``(index, result)`` as each program finishes: on the Dask
+    scheduler at ``scheduler`` (``local:N``: a LocalCluster), else with ``jobs`` worker
+    processes (1: in this process). Every path yields exactly once."""
+    if scheduler:
+        from cli import fleet  # Dask only when asked for: plain start-up stays fast
+
+        with fleet.connect(scheduler) as client:
+            yield from fleet.map_stream(
+                client, check_file, paths, setup, _lost, _largest_first(paths)
+            )
+        return
     if jobs <= 1 or len(paths) <= 1:
-        return [check_file(p, setup) for p in paths]
+        for i, p in enumerate(paths):
+            yield i, check_file(p, setup)
+        return
     jobs = min(jobs, len(paths))
-    order = sorted(range(len(paths)), key=lambda i: -_size(paths[i]))
+    order = _largest_first(paths)
     chunk = max(1, min(16, len(paths) // (jobs * 16)))
     with ProcessPoolExecutor(jobs, initializer=_init_worker, initargs=(setup,)) as pool:
-        done = list(pool.map(_check_one, [paths[i] for i in order], chunksize=chunk))
-    by_index = dict(zip(order, done, strict=True))
+        done = pool.map(_check_one, [paths[i] for i in order], chunksize=chunk)
+        yield from zip(order, done, strict=True)
+
+
+def _lost(path: str, exc: BaseException) -> FileResult:
+    """The row of a program the cluster gave up on (its workers kept dying)."""
+    msg = f"the cluster could not check it ({type(exc).__name__}: {exc})"
+    bug = Finding("CNC001", Severity.ERROR, msg, Location(path), "CLUSTER-TASK")
+    return FileResult(path, (bug,))
+
+
+def run_checks(
+    paths: list[str], setup: Setup, jobs: int, scheduler: str | None = None
+) -> list[FileResult]:
+    """Check ``paths`` (see :func:`iter_checks`); input order kept."""
+    by_index = dict(iter_checks(paths, setup, jobs, scheduler))
     return [by_index[i] for i in range(len(paths))]
+
+
+class ResultStore:
+    """``--results DIR``: one JSON file per program, written as its result arrives, so a
+    batch that stops part-way can go on with ``--resume``."""
+
+    def __init__(self, directory: str, inputs: list[str | None]) -> None:
+        self.directory = directory
+        os.makedirs(directory, exist_ok=True)
+        # a result is stale when older than the profile, configuration or tool table
+        self.newest_input = max((os.stat(p).st_mtime for p in inputs if p), default=0.0)
+
+    def path(self, program: str) -> str:
+        """``DIR/<stem>-<hash of the absolute path>.json``: one name per program."""
+        key = hashlib.sha1(os.path.abspath(program).encode()).hexdigest()[:16]
+        return os.path.join(self.directory, f"{Path(program).stem}-{key}.json")
+
+    def load(self, program: str) -> FileResult | None:
+        """The stored result of ``program`` if newer than it and than the profile."""
+        target = self.path(program)
+        try:
+            stamp = os.stat(target).st_mtime
+            if stamp <= max(os.stat(program).st_mtime, self.newest_input):
+                return None
+            with open(target, encoding="utf-8") as fh:
+                doc = json.load(fh)
+        except (OSError, ValueError):
+            return None
+        if doc.get("program") != os.path.abspath(program):
+            return None
+        return FileResult(
+            program,
+            tuple(Finding.from_dict(f) for f in doc["findings"]),
+            doc.get("io_error"),
+            float(doc.get("seconds", 0.0)),
+        )
+
+    def save(self, result: FileResult) -> None:
+        """Write ``result`` atomically (a half-written file is never taken for a result)."""
+        target = self.path(result.file)
+        doc = {
+            "program": os.path.abspath(result.file),
+            "findings": [f.to_dict() for f in result.findings],
+            "io_error": result.io_error,
+            "seconds": result.seconds,
+        }
+        tmp = f"{target}.{os.getpid()}.tmp"
+        with open(tmp, "w", encoding="utf-8") as fh:
+            json.dump(doc, fh)
+        os.replace(tmp, target)
+
+
+def _check_all(
+    paths: list[str],
+    setup: Setup,
+    jobs: int,
+    scheduler: str | None,
+    results_dir: str | None,
+    resume: bool,
+    *profile: str | None,
+) -> list[FileResult]:
+    """Every program's result in input order: resumed ones from ``results_dir``, the others
+    checked (stored there as each arrives when ``results_dir`` is given)."""
+    store = ResultStore(results_dir, list(profile)) if results_dir else None
+    results: list[FileResult | None] = [None] * len(paths)
+    if store is not None and resume:
+        for i, p in enumerate(paths):
+            results[i] = store.load(p)
+    todo = [i for i, r in enumerate(results) if r is None]
+    for j, res in iter_checks([paths[i] for i in todo], setup, jobs, scheduler):
+        results[todo[j]] = res
+        if store is not None:
+            store.save(res)
+    return [r for r in results if r is not None]
 
 
 def _version() -> str:
@@ -211,6 +338,26 @@ def _list_rules(ctx: CheckContext) -> str:
     help="Write the report to this file instead of standard output.",
 )
 @click.option("--force", is_flag=True, help="Replace the -o report file if it exists.")
+@scheduler_option
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0),
+    default=DEFAULT_TIMEOUT,
+    show_default=True,
+    help="Per-program time limit in seconds (0: none); a program past it is one failed row.",
+)
+@click.option(
+    "--results",
+    "results_dir",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="Also keep each program's result in DIR (one JSON per program), for --resume.",
+)
+@click.option(
+    "--resume",
+    is_flag=True,
+    help="Skip programs whose --results file is newer than the program and the profile.",
+)
 @click.option("--list-rules", is_flag=True, help="List the rules with their effective severity.")
 @guarded
 def command(
@@ -223,6 +370,10 @@ def command(
     jobs: int,
     output: str | None,
     force: bool,
+    scheduler: str | None,
+    timeout: float,
+    results_dir: str | None,
+    resume: bool,
     list_rules: bool,
 ) -> None:
     """Lint and verify programs without simulating them.
@@ -236,6 +387,7 @@ def command(
       cnc check part.ngc
       cnc check -m mill.toml -f sarif -o check.sarif programs/
       cnc check -j 4 -f junit -o check.xml *.ngc
+      cnc check --scheduler local:2 --results res/ --resume programs/
     """
     ctx = load_context(machine_path, config_path, tool_table)
     if list_rules:
@@ -247,11 +399,16 @@ def command(
         raise Diagnostic(
             "IO-EXISTS", "report file exists; use --force to replace it", Location(output)
         )
+    if resume and not results_dir:
+        raise click.UsageError("--resume needs --results DIR (where the results are kept)")
     paths = expand(files)
     if jobs == 0:
         jobs = os.cpu_count() or 1
     t0 = time.perf_counter()
-    results = run_checks(paths, Setup(ctx, dialect, verbosity()), jobs)
+    setup = Setup(ctx, dialect, verbosity(), timeout or None)
+    results = _check_all(
+        paths, setup, jobs, scheduler, results_dir, resume, machine_path, config_path, tool_table
+    )
     rules = tuple(
         (r, ctx.config.severity(r.id, r.severity, r.default_enabled)) for r in RULES.values()
     )

@@ -15,6 +15,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
+from cli.deadline import ProgramTimeout, deadline
 from cli.programs import check_input
 from kernel.check import CheckContext, Finding, check_stream
 from kernel.diagnostics import Diagnostic, Location, Severity
@@ -35,6 +36,7 @@ class RunOptions:
     html: bool = False
     dialect: str | None = None  # --dialect of G-code input
     verbosity: int = 0  # -v/-q balance: whether a guessed dialect is told on stderr
+    timeout: float | None = None  # per-program time limit in seconds (None: none)
 
 
 @dataclass(slots=True)
@@ -155,6 +157,15 @@ def _plots(data: Any, axes: tuple[str, ...], stem: str) -> dict[str, bytes]:
     return out
 
 
+def run_task(item: tuple[str, str], setup: tuple[CheckContext, RunOptions]) -> RunResult:
+    """``run_program(path, ctx, opts, name=name)`` for ``item = (path, name)``: the one task
+    function of ``cnc run``'s local pool (``--jobs``) and of a Dask cluster
+    (``--scheduler``)."""
+    path, name = item
+    ctx, opts = setup
+    return run_program(path, ctx, opts, name=name)
+
+
 def run_program(
     program: str,
     ctx: CheckContext,
@@ -164,9 +175,46 @@ def run_program(
 ) -> RunResult:
     """Run ``program`` through the pipeline and write ``DIR/<name>.report.json`` (``name``
     defaults to the file stem); never raises for problems of the program
-    (``progress(done, total)`` follows the servo simulation)."""
+    (``progress(done, total)`` follows the servo simulation). A program past
+    ``opts.timeout`` stops with the diagnostic RUN-TIMEOUT in its report."""
     t0 = time.perf_counter()
     name = name or _stem(program)
+    try:
+        with deadline(opts.timeout):
+            return _run_program(program, ctx, opts, progress, name, t0)
+    except ProgramTimeout:
+        diag = Diagnostic(
+            "RUN-TIMEOUT",
+            f"stopped at the time limit of {opts.timeout:g} s (--timeout)",
+            Location(program),
+        )
+        res = RunResult(program, report=os.path.join(opts.out_dir, f"{name}.report.json"))
+        res.status, res.message = "error", str(diag)
+        res.seconds = time.perf_counter() - t0
+        doc = {
+            "schema": REPORT_SCHEMA,
+            "version": REPORT_VERSION,
+            "program": program,
+            "machine": ctx.machine.name,
+            "status": res.status,
+            "diagnostics": [diag.record.to_dict()],
+            "findings": [],
+            "seconds": round(res.seconds, 6),
+        }
+        with open(res.report, "w", encoding="utf-8") as fh:
+            json.dump(doc, fh, indent=2)
+        return res
+
+
+def _run_program(
+    program: str,
+    ctx: CheckContext,
+    opts: RunOptions,
+    progress: Callable[[int, int], None] | None,
+    name: str,
+    t0: float,
+) -> RunResult:
+    """The pipeline of :func:`run_program` without the time limit."""
     res = RunResult(program, report=os.path.join(opts.out_dir, f"{name}.report.json"))
     doc: dict[str, Any] = {
         "schema": REPORT_SCHEMA,

@@ -10,6 +10,7 @@ generator, after the commands before them (as rs274 stops at its first error).
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import re
 from collections.abc import Iterator
@@ -279,7 +280,32 @@ dialect_option = click.option(
     "text, JSON lines and Part 21 are recognised by content whatever this says.",
 )
 
+
 #: ``--jobs/-j`` of the batch commands (check, run)
+def _scheduler(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
+    """Refuse a malformed ``local:N`` and a missing Dask before any work (usage errors)."""
+    if value is None:
+        return None
+    if value.startswith("local:"):
+        n = value[len("local:") :]
+        if not n.isdigit() or int(n) < 1:
+            raise click.BadParameter(f"'{value}': use local:N with N >= 1 workers")
+    if importlib.util.find_spec("distributed") is None:
+        raise click.BadParameter(
+            "needs Dask: pip install 'cnc-toolchain[cluster]' (see docs/cluster.md)"
+        )
+    return value
+
+
+scheduler_option = click.option(
+    "--scheduler",
+    metavar="ADDRESS",
+    default=None,
+    callback=_scheduler,
+    help="Work on a Dask cluster: a scheduler address (tcp://host:8786) or local:N for N "
+    "local worker processes. Workers read the programs by path (docs/cluster.md).",
+)
+
 jobs_option = click.option(
     "--jobs",
     "-j",

@@ -5,6 +5,7 @@ Examples::
     cnc run part.ngc -o reports/
     cnc run -m mill.toml -j 4 -o reports/ programs/
     cnc run --traces csv -o out/ part.ngc
+    cnc run --scheduler tcp://head:8786 --resume -o reports/ library/
 
 Per program: interpret, check, plan, interpolate, simulate acc/dec and servos; write
 ``DIR/<name>.report.json`` (schema ``cnc-run-report`` version 1: status, diagnostics, check
@@ -15,9 +16,11 @@ findings, the planner's measurements, servo following and contour errors) and wi
 
 from __future__ import annotations
 
+import json
 import os
 import sys
 import time
+from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
 import click
@@ -25,13 +28,13 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from cli.check import expand, load_context
+from cli.check import DEFAULT_TIMEOUT, expand, load_context
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.main import verbosity
-from cli.pipeline import RunOptions, RunResult, report_names, run_program
-from cli.programs import dialect_option, jobs_option
-from kernel.check import CheckContext
-from kernel.diagnostics import Diagnostic, Location
+from cli.pipeline import RunOptions, RunResult, report_names, run_program, run_task
+from cli.programs import dialect_option, jobs_option, scheduler_option
+from kernel.check import CheckContext, Finding
+from kernel.diagnostics import Diagnostic, Location, Severity
 
 _CTX: tuple[CheckContext, RunOptions] | None = None
 
@@ -43,7 +46,64 @@ def _init(ctx: CheckContext, opts: RunOptions) -> None:
 
 def _run_one(path: str, name: str) -> RunResult:
     assert _CTX is not None
-    return run_program(path, *_CTX, name=name)
+    return run_task((path, name), _CTX)
+
+
+def _lost(item: tuple[str, str], exc: BaseException) -> RunResult:
+    """The row of a program the cluster gave up on (its workers kept dying)."""
+    diag = Diagnostic(
+        "CLUSTER-TASK",
+        f"the cluster could not run it ({type(exc).__name__}: {exc})",
+        Location(item[0]),
+    )
+    return RunResult(item[0], status="error", message=str(diag))
+
+
+def _on_cluster(
+    address: str, items: list[tuple[str, str]], ctx: CheckContext, opts: RunOptions
+) -> Iterator[tuple[int, RunResult]]:
+    """``(index, result)`` of each program as the Dask cluster at ``address`` finishes it."""
+    from cli import fleet  # Dask only when asked for: plain start-up stays fast
+
+    with fleet.connect(address) as client:
+        yield from fleet.map_stream(client, run_task, items, (ctx, opts), _lost)
+
+
+def _resumed(path: str, report: str, newest_input: float) -> RunResult | None:
+    """The summary row of ``path`` from its report, if the report is newer than the program
+    and the profile (``--resume``); None when it must run again."""
+    try:
+        stamp = os.stat(report).st_mtime
+        if stamp <= max(os.stat(path).st_mtime, newest_input):
+            return None
+        with open(report, encoding="utf-8") as fh:
+            doc = json.load(fh)
+    except (OSError, ValueError):
+        return None
+    if doc.get("program") != path or "status" not in doc:
+        return None
+    findings = [Finding.from_dict(f) for f in doc.get("findings", [])]
+    res = RunResult(path, status=str(doc["status"]), report=report)
+    res.errors = sum(1 for f in findings if f.severity == Severity.ERROR)
+    res.warnings = sum(1 for f in findings if f.severity == Severity.WARNING)
+    measure, servo = doc.get("measure", {}), doc.get("servo", {})
+    res.cycle_time = float(measure.get("cycle", {}).get("total", 0.0))
+    res.samples = int(measure.get("samples", 0))
+    fe = [abs(float(p["value"])) for p in servo.get("following_error", {}).values()]
+    res.following_error = max(fe, default=0.0)
+    res.contour_error = abs(float(servo.get("contour_error", {}).get("value", 0.0)))
+    res.seconds = float(doc.get("seconds", 0.0))
+    if res.status != "ok":
+        diags = doc.get("diagnostics", [])
+        if diags:
+            d = diags[0]
+            loc = Location(d.get("file"), int(d.get("line") or 0), int(d.get("column") or 0))
+            res.message = str(Diagnostic(str(d["code"]), str(d["message"]), loc))
+        else:
+            stop = next((f for f in findings if f.rule == "CNC001"), None)
+            first = stop or next((f for f in findings if f.severity == Severity.ERROR), None)
+            res.message = first.format() if first else ""
+    return res
 
 
 def _summary(results: list[RunResult], console: Console, seconds: float) -> None:
@@ -110,6 +170,19 @@ def _summary(results: list[RunResult], console: Console, seconds: float) -> None
     help="Also write each program's per-axis servo trace in this format.",
 )
 @click.option("--force", is_flag=True, help="Replace reports and traces that already exist.")
+@scheduler_option
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0),
+    default=DEFAULT_TIMEOUT,
+    show_default=True,
+    help="Per-program time limit in seconds (0: none); a program past it is one failed row.",
+)
+@click.option(
+    "--resume",
+    is_flag=True,
+    help="Skip programs whose report in DIR is newer than the program and the profile.",
+)
 @dialect_option
 @guarded
 def command(
@@ -120,6 +193,9 @@ def command(
     html: bool,
     traces: str | None,
     force: bool,
+    scheduler: str | None,
+    timeout: float,
+    resume: bool,
     dialect: str,
 ) -> None:
     """Run programs through the whole pipeline and write a report per program.
@@ -132,16 +208,30 @@ def command(
       cnc run -m mill.toml -j 4 -o reports/ programs/
       cnc run --traces csv -o out/ part.ngc
       cnc run --html -o reports/ part.ngc
+      cnc run --scheduler local:2 --resume -o reports/ programs/
     """
     ctx = load_context(machine_path, None, None)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise Diagnostic("IO-NOT-DIR", "output path is not a directory", Location(out_dir))
     opts = RunOptions(
-        out_dir, traces, html=html, force=force, dialect=dialect, verbosity=verbosity()
+        out_dir,
+        traces,
+        html=html,
+        force=force or resume,
+        dialect=dialect,
+        verbosity=verbosity(),
+        timeout=timeout or None,
     )
     paths = list(dict.fromkeys(expand(files)))  # each program once
     names = report_names(paths)
-    if not force:  # refuse before any work, so nothing of an earlier run is lost
+    results: dict[str, RunResult] = {}
+    if resume:  # a stale or missing report runs again and is replaced
+        newest = os.stat(machine_path).st_mtime if machine_path else 0.0
+        for p in paths:
+            old = _resumed(p, os.path.join(out_dir, f"{names[p]}.report.json"), newest)
+            if old is not None:
+                results[p] = old
+    elif not force:  # refuse before any work, so nothing of an earlier run is lost
         taken = [t for p in paths for t in _outputs(out_dir, names[p], opts) if os.path.exists(t)]
         if taken:
             more = f" and {len(taken) - 1} more" if len(taken) > 1 else ""
@@ -154,7 +244,7 @@ def command(
     jobs = (os.cpu_count() or 1) if jobs == 0 else jobs
     console = Console(stderr=True)
     t0 = time.perf_counter()
-    results: dict[str, RunResult] = {}
+    todo = [p for p in paths if p not in results]
     columns = (
         TextColumn("{task.description}"),
         BarColumn(),
@@ -163,9 +253,14 @@ def command(
     )
     quiet = verbosity() < 0
     with Progress(*columns, console=console, transient=True, disable=quiet) as progress:
-        files_task = progress.add_task("programs", total=len(paths))
-        if jobs <= 1 or len(paths) <= 1:
-            for p in paths:
+        files_task = progress.add_task("programs", total=len(todo))
+        if scheduler:
+            items = [(p, names[p]) for p in todo]
+            for i, res in _on_cluster(scheduler, items, ctx, opts):
+                results[todo[i]] = res
+                progress.advance(files_task)
+        elif jobs <= 1 or len(todo) <= 1:
+            for p in todo:
                 sub = progress.add_task(f"  {os.path.basename(p)}: servo samples", total=None)
 
                 def tick(done: int, total: int, sub: int = sub) -> None:
@@ -176,9 +271,9 @@ def command(
                 progress.advance(files_task)
         else:
             with ProcessPoolExecutor(
-                min(jobs, len(paths)), initializer=_init, initargs=(ctx, opts)
+                min(jobs, len(todo)), initializer=_init, initargs=(ctx, opts)
             ) as pool:
-                futures = {pool.submit(_run_one, p, names[p]): p for p in paths}
+                futures = {pool.submit(_run_one, p, names[p]): p for p in todo}
                 for fut in as_completed(futures):
                     results[futures[fut]] = fut.result()
                     progress.advance(files_task)
