@@ -28,6 +28,7 @@ import click
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
+from cli.outputs import refuse_output, write_output
 from cli.programs import dialect_option, jobs_option, load_tool_table, program_commands
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
@@ -264,11 +265,10 @@ def command(
         return
     if not files:
         raise click.UsageError("no FILES given (see --help)")
-    if output and os.path.exists(output) and not force:
-        raise Diagnostic(
-            "IO-EXISTS", "report file exists; use --force to replace it", Location(output)
-        )
     paths = expand(files)
+    if output:
+        inputs = (*paths, machine_path or "", config_path or "", tool_table or "")
+        refuse_output(output, force, inputs, "report file")
     if jobs == 0:
         jobs = os.cpu_count() or 1
     t0 = time.perf_counter()
@@ -284,8 +284,7 @@ def command(
     )
     text = render(report, fmt, color=color, verbosity=verbosity())
     if output:
-        with open(output, "w", encoding="utf-8") as fh:
-            fh.write(text)
+        write_output(output, text)
     else:
         click.echo(text, nl=False)
     if report.io_errors:

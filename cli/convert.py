@@ -25,6 +25,7 @@ from typing import cast
 import click
 
 from cli.errors import guarded
+from cli.outputs import refuse_output, write_output
 from cli.verify import Recorder, Verification, reader_options, verified_output
 from gcode.registry import (
     ALIASES,
@@ -168,13 +169,6 @@ def _echo_groups(groups: list[Group], severity: Severity, prefix: str, source: s
             severity,
         )
         click.echo(rec.format(), err=True)
-
-
-def _refuse_existing(path: str | None, force: bool, what: str) -> None:
-    if path and os.path.exists(path) and not force:
-        raise Diagnostic(
-            "IO-EXISTS", f"{what} {path} exists; use --force to replace it", Location(path)
-        )
 
 
 @click.command("convert")
@@ -323,10 +317,11 @@ def command(
     """
     if not os.path.exists(source):
         raise Diagnostic("IO-OPEN", f"no such file: {source}", Location(source))
-    if output and Path(output).resolve() == Path(source).resolve():
-        raise Diagnostic("IO-EXISTS", "output would replace the input", Location(output))
-    _refuse_existing(output, force, "output")
-    _refuse_existing(report_path, force, "report")
+    inputs = (source, tool_table or "")
+    if output:
+        refuse_output(output, force, inputs, "output")
+    if report_path:
+        refuse_output(report_path, force, (*inputs, output or ""), "report")
     target = get_dialect(dst)
     if tolerance <= 0 or (decimals is not None and not 0 <= decimals <= 9):
         raise Diagnostic("CONV-OPTION", "tolerance must be > 0 and decimals within 0..9")
@@ -369,7 +364,7 @@ def command(
             data = report.to_dict()
             data["verified"] = bool(check and check.verified)
             data["options"] = {k: v for k, v in vars(opts).items() if not k.startswith("_")}
-            Path(report_path).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
+            write_output(report_path, json.dumps(data, indent=2) + "\n")
         if refused:
             codes = ",".join(sorted({str(c.loss_code) for c in refused}))
             click.echo(

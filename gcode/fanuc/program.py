@@ -11,12 +11,12 @@ with four/five digits).
 from __future__ import annotations
 
 import bisect
-import os
 import re
 from array import array
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
+from gcode.core.search import find_in_dirs, search_dirs
 from gcode.fanuc.lexer import FBlock, parse_line
 from kernel.diagnostics import Diagnostic, Location
 
@@ -127,15 +127,10 @@ def read_source(path: str) -> Source:
 
 
 def find_program_file(number: int, search_path: tuple[str, ...], here: str) -> str | None:
-    """A file holding program O<number> on the search path (then beside ``here``)."""
+    """A file holding program O<number> in one of the search directories (beside ``here``
+    when there is none), never outside them (:func:`gcode.core.search.find_in_dirs`)."""
     names = []
     for digits in (f"{number}", f"{number:04d}", f"{number:05d}"):
         for stem in (f"O{digits}", f"o{digits}", digits):
             names += [stem, stem + ".nc", stem + ".NC", stem + ".txt"]
-    dirs = list(search_path) + [os.path.dirname(here) or "."]
-    for d in dirs:
-        for name in names:
-            p = os.path.join(d, name)
-            if os.path.isfile(p):
-                return p
-    return None
+    return find_in_dirs(search_dirs(search_path, here), names)
