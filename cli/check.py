@@ -29,7 +29,13 @@ from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
 from cli.outputs import refuse_output, write_output
-from cli.programs import dialect_option, jobs_option, load_tool_table, program_commands
+from cli.programs import (
+    apply_limits,
+    dialect_option,
+    jobs_option,
+    load_tool_table,
+    program_commands,
+)
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
 from kernel.diagnostics import Diagnostic, Location, Severity
@@ -76,6 +82,7 @@ def load_context(
     if machine_path:
         with open(machine_path, encoding="utf-8") as fh:
             machine = parse_machine(fh.read(), machine_path)
+        apply_limits(machine, machine_path)
         extra = machine.extra
         table = dict(extra.get("check", {})) if isinstance(extra.get("check"), dict) else {}
         if "check" in extra and not isinstance(extra["check"], dict):

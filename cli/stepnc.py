@@ -8,6 +8,7 @@ import os
 
 import click
 
+import kernel.limits as limits
 from cli.errors import EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.outputs import refuse_output, replacing, write_output
 from kernel.diagnostics import Diagnostic, Location, Severity
@@ -84,8 +85,14 @@ def info(file: str) -> None:
     root = Tree(f"[bold]PROJECT #{project.id}[/] {escape(repr(project.its_id))}")
     plan = project.main_workplan
 
-    def walk(node: Tree, element: Entity) -> None:
+    def walk(node: Tree, element: Entity, active: tuple[int, ...] = ()) -> None:
         label = f"[bold]{element.type}[/] #{element.id} {escape(repr(element.its_id))}"
+        if element.id in active or len(active) >= limits.current().nesting:
+            raise Diagnostic(
+                "STEPNC-CYCLE",
+                f"{element.type} #{element.id} contains itself or is nested too deeply",
+                element.where(),
+            )
         if element.type == "MACHINING_WORKINGSTEP":
             ws = node.add(label)
             f, op = element.its_feature, element.its_operation
@@ -107,7 +114,7 @@ def info(file: str) -> None:
             except AttributeError:
                 continue
             for child in children or ():
-                walk(sub, child)
+                walk(sub, child, (*active, element.id))
 
     walk(root, plan)
     tools = root.add("[bold]tools[/]")

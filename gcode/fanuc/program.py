@@ -16,6 +16,7 @@ from array import array
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
+import kernel.limits as limits
 from gcode.core.search import find_in_dirs, search_dirs
 from gcode.fanuc.lexer import FBlock, parse_line
 from kernel.diagnostics import Diagnostic, Location
@@ -78,8 +79,12 @@ class Source:
     @classmethod
     def from_bytes(cls, path: str, data: bytes) -> Source:
         src = cls(path, Lines(path, data))
+        digits = limits.current().digits
         for m in _O_BYTES_RE.finditer(data):
-            src.programs.setdefault(int(m.group(1)), src.lines.line_of(m.start()))
+            index = src.lines.line_of(m.start())
+            if len(m.group(1)) > digits:
+                limits.check_digits(src.lines[index], path, index + 1)
+            src.programs.setdefault(int(m.group(1)), index)
         return src
 
     @classmethod
@@ -116,6 +121,7 @@ class Source:
                     break
                 m = _N_RE.match(raw)
                 if m is not None:
+                    limits.check_digits(raw, self.path, i + 1)
                     table.setdefault(int(m.group(1)), i)
             self.sequences[start] = table
         return table.get(number)

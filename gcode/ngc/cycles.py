@@ -17,6 +17,7 @@ Per plane the hole axis is Z (G17), X (G19) or Y (G18); "depth" below means that
 
 from __future__ import annotations
 
+import kernel.limits as limits
 from gcode.core.codes import Words
 from gcode.core.cycle_marks import CycleEnd, CycleStart
 from gcode.core.state import AXES, INVERSE_TIME, PLANE_AXES, ControlCode
@@ -197,6 +198,7 @@ def canned_cycle(ctx: NgcContext, w: Words, code: int, previous: int | None) -> 
         ctx.emit(canon.SetMotionControlMode(MotionMode.EXACT_PATH, source=loc))
     if not first:
         height = clear
+    _check_passes(ctx, code, repeats, r, bottom)
     for _ in range(repeats):
         a1 += inc1
         a2 += inc2
@@ -212,6 +214,20 @@ def canned_cycle(ctx: NgcContext, w: Words, code: int, previous: int | None) -> 
         modes.control_mode(ctx, s.control_mode, words, check=False)
     if marks:
         ctx.emit(CycleEnd(tuple(s.pos), source=loc))
+
+
+def _check_passes(ctx: NgcContext, code: int, repeats: int, r: float, bottom: float) -> None:
+    """LIMIT-COUNT before a cycle whose repeats times pecks pass ``kernel.limits``' budget
+    (an L1e9 or a peck of 1e-6 mm would run for hours and fill memory)."""
+    pecks = 1.0
+    q = ctx.s.cycle.q
+    if code in (730, 830) and q > 0:
+        pecks = max(1.0, (r - bottom) / q + 1.0)
+    limit = limits.current().cycle_passes
+    if repeats * pecks > limit:
+        raise limits.count_error(
+            f"{_NAMES[code]} passes", repeats * pecks, limit, "cycle_passes", ctx.loc
+        )
 
 
 PLANE_CENTRE_LETTERS = {

@@ -31,6 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import kernel.limits as limits
+from kernel.diagnostics import Diagnostic, Location
 from kernel.interp.bulk import bulk_array
 from kernel.interp.samples import Samples
 from kernel.machine import AXIS_NAMES, Controller, Machine
@@ -318,6 +320,42 @@ def _columns(machine: Machine) -> list[int]:
     return [AXIS_NAMES.index(a) for a in machine.axis_names]
 
 
+def check_moves(plan: Plan, period: float) -> None:
+    """Before sampling: ``PLAN-TRAVEL`` for a move longer along a linear axis than that
+    axis' whole travel (it cannot stay inside it), and ``LIMIT-COUNT`` for a move that would
+    take more than ``kernel.limits``' ``samples_per_move`` samples (an arc of 1e9 turns)."""
+    seg = plan.path.segments
+    if not len(seg):
+        return
+    file = plan.path.file
+    machine = plan.machine
+    span = np.asarray(machine.limit_vector("max")) - np.asarray(machine.limit_vector("min"))
+    linear = np.isfinite(span) & np.array([n not in "abc" for n in AXIS_NAMES])
+    if linear.any():
+        extent = np.abs(seg["end"] - seg["start"])
+        over = (extent > span * (1 + 1e-9) + 1e-6) & linear
+        rows = over.any(axis=1)
+        if rows.any():
+            i = int(np.argmax(rows))
+            names = ", ".join(n.upper() for n, o in zip(AXIS_NAMES, over[i], strict=True) if o)
+            raise Diagnostic(
+                "PLAN-TRAVEL",
+                f"move longer along {names} than the machine's travel",
+                Location(file, int(seg["line"][i])),
+            )
+    steps = (plan.duration + plan.pause) / period
+    i = int(np.argmax(steps))
+    limit = limits.current().samples_per_move
+    if not steps[i] <= limit:
+        raise limits.count_error(
+            "interpolation samples of one move",
+            float(steps[i]),
+            limit,
+            "samples_per_move",
+            Location(file, int(seg["line"][i])),
+        )
+
+
 def _outputs(count: int, nax: int) -> tuple[np.ndarray, ...]:
     """``t``, position, velocity, acceleration, jerk, segment and line arrays."""
     return (
@@ -341,6 +379,7 @@ def sample(plan: Plan, period: float | None = None, chunk: int = CHUNK) -> Sampl
     machine = plan.machine
     period = machine.controller.interpolation_period if period is None else period
     seg = plan.path.segments
+    check_moves(plan, period)
     count = int(math.ceil(plan.total_time / period - 1e-9)) + 1 if len(seg) else 1
     nax = len(machine.axis_names)
     if not len(seg):
