@@ -25,6 +25,7 @@ from typing import Any
 
 import click
 
+from cli.budget import cpu_budget
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
@@ -133,8 +134,12 @@ def check_file(path: str, setup: Setup | None = None) -> FileResult:
     t0 = time.perf_counter()
     ctx = setup.context
     try:
-        cmds = program_commands(path, ctx.tools, ctx.tool_mm_per_unit, setup.dialect)
-        findings = check_stream(cmds, ctx, path)
+        with cpu_budget(path):
+            cmds = program_commands(path, ctx.tools, ctx.tool_mm_per_unit, setup.dialect)
+            findings = check_stream(cmds, ctx, path)
+    except Diagnostic as exc:  # LIMIT-TIME
+        bug = Finding("CNC001", Severity.ERROR, exc.message, exc.location, exc.code)
+        return FileResult(path, (bug,), None, time.perf_counter() - t0)
     except OSError as exc:
         return FileResult(path, (), exc.strerror or str(exc), time.perf_counter() - t0)
     except Exception as exc:  # noqa: BLE001 - a bug must not take the rest of the batch down

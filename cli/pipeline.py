@@ -16,6 +16,7 @@ from contextlib import ExitStack
 from dataclasses import dataclass
 from typing import Any
 
+from cli.budget import cpu_budget
 from cli.outputs import open_output, refuse_output, replacing
 from cli.programs import program_commands
 from kernel.check import CheckContext, Finding, check_stream
@@ -160,6 +161,22 @@ def _plots(data: Any, axes: tuple[str, ...], stem: str) -> dict[str, bytes]:
 
 
 def run_program(
+    program: str,
+    ctx: CheckContext,
+    opts: RunOptions,
+    progress: Callable[[int, int], None] | None = None,
+    name: str | None = None,
+) -> RunResult:
+    """:func:`_run_program` under the CPU-time budget (``--limit seconds=N``): a program
+    that uses it up is reported as an error (LIMIT-TIME) and the batch goes on."""
+    try:
+        with cpu_budget(program):
+            return _run_program(program, ctx, opts, progress, name)
+    except Diagnostic as diag:
+        return RunResult(program, status="error", message=str(diag))
+
+
+def _run_program(
     program: str,
     ctx: CheckContext,
     opts: RunOptions,

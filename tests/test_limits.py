@@ -190,3 +190,15 @@ def test_canonical_text_digits_and_nurbs_count() -> None:
     assert info.value.code == "CANON-SYNTAX"
     tc = next(canon.read_text(["CHANGE_TOOL(1e308)"], "c.canon"))
     canon.parse_command(tc, "c.canon")  # a tool named by the text, no overflow
+
+
+def test_cpu_budget_per_program_in_check(tmp_path: Path) -> None:
+    busy = tmp_path / "busy.ngc"  # moves for ever: 10^8 blocks before LOOP-LIMIT
+    busy.write_text("o1 while [1]\n#1=[#1+1]\nG0 X[#1 MOD 10]\no1 endwhile\nM2\n")
+    fine = tmp_path / "fine.ngc"
+    fine.write_text("G21\nG0 X1\nM2\n")
+    start = time.process_time()
+    res = CliRunner().invoke(cli, ["--limit", "seconds=1", "check", str(busy), str(fine)])
+    assert time.process_time() - start < 20
+    assert "LIMIT-TIME" in res.output and "2 files checked: 1 error" in res.output
+    assert res.exit_code == 1
