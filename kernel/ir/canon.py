@@ -899,6 +899,8 @@ def parse_command(tc: TextCommand, file: str | None = None) -> Command:
             order = int(float(args[0]))
             n = int(float(args[1]))
             vals = [float(a) for a in args[2:]]
+            if not 0 <= 3 * n <= len(vals):
+                raise ValueError(f"{n} control points but {len(vals)} values")
             pts = tuple(tuple(vals[3 * i : 3 * i + 3]) for i in range(n))
             return NurbsFeed(order, pts, tuple(vals[3 * n :]), source=loc)  # type: ignore[arg-type]
         if cls is ChangeTool:
