@@ -16,12 +16,12 @@ from cli.errors import guarded
 from cli.programs import dialect_option, load_machine, program_commands
 from kernel.machine import Machine
 from kernel.report.measure import Report
-from kernel.simulation import simulate
+from kernel.simulation import measure_program
 
 
 def run(program: str, machine: Machine, dialect: str | None = None) -> Report:
     """Plan, sample and measure ``program`` (the command's work, without printing)."""
-    return simulate(program_commands(program, dialect=dialect), machine, program).measure()
+    return measure_program(program_commands(program, dialect=dialect), machine, program)
 
 
 def _text(report: Report, program: str, console: Console) -> None:
