@@ -16,6 +16,7 @@ from typing import Any, TextIO
 import click
 
 from cli.errors import guarded
+from cli.outputs import open_output, refuse_output
 from cli.programs import detect_kind, dialect_option, load_tool_table, program_dialect, read_head
 from gcode.core.loopguard import MAX_BLOCKS
 from gcode.core.params import read_var_text
@@ -223,7 +224,8 @@ def _write(chunks: Iterator[object], path: str, fmt: str, linuxcnc: bool, out: T
     "search",
     multiple=True,
     type=click.Path(file_okay=False),
-    help="Directory searched for o<name> call subroutine files (repeatable).",
+    help="Directory searched for o<name> call, M98 and CALL sub-program files (repeatable; "
+    "default: the program's own directory). Names never reach outside these directories.",
 )
 @click.option(
     "--format",
@@ -282,7 +284,12 @@ def command(
     """
     if not os.path.isfile(program):
         raise Diagnostic("IO-OPEN", "cannot open program: no such file", Location(program))
+    if output is not None:
+        refuse_output(output, force, (program, tool_table or "", params or ""))
     chunks: Iterator[object]
+    # the subroutine search path (LinuxCNC's SUBROUTINE_PATH): the -I directories, or the
+    # program's own directory when none is given
+    dirs = search or (str(Path(program).resolve().parent),)
     stepnc = detect_kind(read_head(program)) == "part21"
     linuxcnc = not nist and not stepnc  # STEP-NC prints as NIST's ISO 14649 interpreter
     if stepnc:
@@ -294,10 +301,9 @@ def command(
     elif (language := program_dialect(program, dialect)) != "rs274ngc":
         from gcode.readers import read
 
-        here = (*search, str(Path(program).resolve().parent))
-        chunks = iter(read(program, language, _options(tool_table, params, here, nist, max_blocks)))
+        chunks = iter(read(program, language, _options(tool_table, params, dirs, nist, max_blocks)))
     else:
-        chunks = interpret_chunks(program, _options(tool_table, params, search, nist, max_blocks))
+        chunks = interpret_chunks(program, _options(tool_table, params, dirs, nist, max_blocks))
     if output is None:
         try:
             _write(chunks, program, fmt, linuxcnc, sys.stdout)
@@ -305,9 +311,5 @@ def command(
             devnull = os.open(os.devnull, os.O_WRONLY)
             os.dup2(devnull, sys.stdout.fileno())
         return
-    if os.path.exists(output) and not force:
-        raise Diagnostic(
-            "IO-EXISTS", "output file exists (use --force to overwrite)", Location(output)
-        )
-    with open(output, "w", encoding="utf-8") as fh:
+    with open_output(output) as fh:
         _write(chunks, program, fmt, linuxcnc, fh)

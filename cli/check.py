@@ -29,11 +29,14 @@ from typing import Any
 
 import click
 
+from cli.budget import cpu_budget
 from cli.deadline import ProgramTimeout, deadline
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
+from cli.outputs import refuse_output, write_output
 from cli.programs import (
+    apply_limits,
     check_input,
     dialect_option,
     expand,
@@ -79,6 +82,7 @@ def load_context(
     if machine_path:
         with open(machine_path, encoding="utf-8") as fh:
             machine = parse_machine(fh.read(), machine_path)
+        apply_limits(machine, machine_path)
         extra = machine.extra
         table = dict(extra.get("check", {})) if isinstance(extra.get("check"), dict) else {}
         if "check" in extra and not isinstance(extra["check"], dict):
@@ -132,7 +136,7 @@ def check_file(path: str, setup: Setup | None = None) -> FileResult:
     t0 = time.perf_counter()
     ctx = setup.context
     try:
-        with deadline(setup.timeout):
+        with deadline(setup.timeout), cpu_budget(path):
             cmds, text = check_input(
                 path, setup.dialect, setup.verbosity, ctx.tools, ctx.tool_mm_per_unit, ctx.machine
             )
@@ -141,6 +145,9 @@ def check_file(path: str, setup: Setup | None = None) -> FileResult:
         msg = f"stopped at the time limit of {setup.timeout:g} s (--timeout)"
         late = Finding("CNC001", Severity.ERROR, msg, Location(path), "CHECK-TIMEOUT")
         return FileResult(path, (late,), None, time.perf_counter() - t0)
+    except Diagnostic as exc:  # LIMIT-TIME
+        bug = Finding("CNC001", Severity.ERROR, exc.message, exc.location, exc.code)
+        return FileResult(path, (bug,), None, time.perf_counter() - t0)
     except OSError as exc:
         return FileResult(path, (), exc.strerror or str(exc), time.perf_counter() - t0)
     except Exception as exc:  # noqa: BLE001 - a bug must not take the rest of the batch down
@@ -395,13 +402,12 @@ def command(
         return
     if not files:
         raise click.UsageError("no FILES given (see --help)")
-    if output and os.path.exists(output) and not force:
-        raise Diagnostic(
-            "IO-EXISTS", "report file exists; use --force to replace it", Location(output)
-        )
     if resume and not results_dir:
         raise click.UsageError("--resume needs --results DIR (where the results are kept)")
     paths = expand(files)
+    if output:
+        inputs = (*paths, machine_path or "", config_path or "", tool_table or "")
+        refuse_output(output, force, inputs, "report file")
     if jobs == 0:
         jobs = os.cpu_count() or 1
     t0 = time.perf_counter()
@@ -420,8 +426,7 @@ def command(
     )
     text = render(report, fmt, color=color, verbosity=verbosity())
     if output:
-        with open(output, "w", encoding="utf-8") as fh:
-            fh.write(text)
+        write_output(output, text)
     else:
         click.echo(text, nl=False)
     if report.io_errors:

@@ -27,6 +27,7 @@ import click
 
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.errors import report as report_error
+from cli.outputs import refuse_output, write_output
 from cli.programs import expand
 from cli.verify import Recorder, Verification, reader_options, verified_output
 from gcode.registry import (
@@ -178,13 +179,6 @@ def _echo_groups(groups: list[Group], severity: Severity, prefix: str, source: s
             severity,
         )
         click.echo(rec.format(), err=True)
-
-
-def _refuse_existing(path: str | None, force: bool, what: str) -> None:
-    if path and os.path.exists(path) and not force:
-        raise Diagnostic(
-            "IO-EXISTS", f"{what} {path} exists; use --force to replace it", Location(path)
-        )
 
 
 @click.command("convert")
@@ -378,7 +372,8 @@ def command(
         force,
     )
     if len(sources) == 1 and not os.path.isdir(sources[0]):
-        _refuse_existing(report_path, force, "report")
+        if report_path:
+            refuse_output(report_path, force, (sources[0], tool_table or ""), "report")
         outcome = convert_file(sources[0], output, job)
         if report_path:
             _write_json(report_path, outcome.data)
@@ -419,11 +414,10 @@ def convert_file(source: str, output: str | None, job: Job) -> Outcome:
         raise Diagnostic("IO-OPEN", f"no such file: {source}", Location(source))
     if os.path.isdir(source):
         raise Diagnostic("IO-OPEN", f"{source} is a folder, not a program", Location(source))
-    if output and Path(output).resolve() == Path(source).resolve():
-        raise Diagnostic("IO-EXISTS", "output would replace the input", Location(output))
     if output and os.path.isdir(output):
         raise Diagnostic("IO-EXISTS", f"output {output} is a folder", Location(output))
-    _refuse_existing(output, job.force, "output")
+    if output:
+        refuse_output(output, job.force, (source, job.tool_table or ""), "output")
     target, opts = job.target, job.opts
     cycles = opts.cycles == "keep"
     src = source_language(source, job.src)
@@ -474,7 +468,7 @@ def convert_file(source: str, output: str | None, job: Job) -> Outcome:
 
 
 def _write_json(path: str, data: object) -> None:
-    Path(path).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
+    write_output(path, json.dumps(data, indent=2) + "\n")
 
 
 #: the suffix of a converted program, per target (else the target's first registry suffix,
@@ -522,7 +516,8 @@ def convert_many(
         _usage("several programs need -o FOLDER to receive their outputs", sources[0])
     if os.path.exists(folder) and not os.path.isdir(folder):
         raise Diagnostic("IO-EXISTS", f"-o {folder} is a file, not a folder", Location(folder))
-    _refuse_existing(report_path, job.force, "report")
+    if report_path:
+        refuse_output(report_path, job.force, (*sources, job.tool_table or ""), "report")
     pairs = planned_outputs(sources, folder, job.target.name)
     if not pairs:
         raise Diagnostic("IO-OPEN", "no programs found", Location(sources[0]))

@@ -18,12 +18,12 @@ import json
 import math
 import sys
 from dataclasses import fields
-from pathlib import Path
 from typing import Any
 
 import click
 
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.outputs import refuse_output, write_output
 from cli.programs import load_machine
 from kernel.diagnostics import Diagnostic, Location
 from kernel.machine import DEFAULT_MACHINE, KINDS, AxisLimits, Controller, Machine
@@ -279,8 +279,6 @@ def init(output: str | None, force: bool, kind: str) -> None:
     if output is None:
         click.echo(text, nl=False)
         return
-    if Path(output).exists() and not force:
-        raise Diagnostic("IO-EXISTS", "file exists; use --force to overwrite", Location(output))
-    with open(output, "w", encoding="utf-8") as fh:
-        fh.write(text)
+    refuse_output(output, force, what="file")
+    write_output(output, text)
     click.echo(f"wrote {output}", err=True)

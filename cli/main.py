@@ -12,6 +12,9 @@ import importlib.util
 
 import click
 
+import kernel.limits as limits
+from kernel.diagnostics import Diagnostic
+
 #: command name -> module defining ``command`` (a click command or group)
 SUBCOMMANDS: dict[str, str] = {
     "canon": "cli.canon",
@@ -61,11 +64,37 @@ Exit codes: 0 clean, 1 errors in the program(s), 2 usage or I/O error.
 @click.version_option(package_name="cnc-toolchain", prog_name="cnc")
 @click.option("-q", "--quiet", count=True, help="Print less (repeat for errors only).")
 @click.option("-v", "--verbose", count=True, help="Print more (repeat for debugging detail).")
+@click.option(
+    "--limit",
+    "limit_values",
+    multiple=True,
+    metavar="NAME=N",
+    help="Change a resource limit (repeatable): digits, nesting, expression_depth, "
+    "cycle_passes, samples_per_move, nurbs_points, toolpath_passes, seconds "
+    "(docs/reliability.md).",
+)
 @click.pass_context
-def cli(ctx: click.Context, quiet: int, verbose: int) -> None:
+def cli(ctx: click.Context, quiet: int, verbose: int, limit_values: tuple[str, ...]) -> None:
     """cnc: G-code and STEP-NC to canonical machining commands, planning and simulation."""
     ctx.ensure_object(dict)
     ctx.obj["verbosity"] = verbose - quiet
+    if limit_values:
+        set_limits(limit_values)
+
+
+def set_limits(values: tuple[str, ...]) -> None:
+    """``NAME=N`` pairs into :func:`kernel.limits.configure` (a usage error when malformed)."""
+    pairs: dict[str, float] = {}
+    for item in values:
+        name, _, number = item.partition("=")
+        try:
+            pairs[name.strip()] = float(number)
+        except ValueError:
+            raise click.BadParameter(f"{item!r}: give NAME=N", param_hint="--limit") from None
+    try:
+        limits.configure(**pairs)
+    except Diagnostic as exc:
+        raise click.BadParameter(exc.message, param_hint="--limit") from None
 
 
 def verbosity(ctx: click.Context | None = None) -> int:

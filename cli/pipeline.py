@@ -12,10 +12,13 @@ import json
 import os
 import time
 from collections.abc import Callable, Iterator
+from contextlib import ExitStack
 from dataclasses import dataclass
 from typing import Any
 
+from cli.budget import cpu_budget
 from cli.deadline import ProgramTimeout, deadline
+from cli.outputs import open_output, refuse_output, replacing
 from cli.programs import check_input
 from kernel.check import CheckContext, Finding, check_stream
 from kernel.diagnostics import Diagnostic, Location, Severity
@@ -94,38 +97,41 @@ def _simulate(
     doc["measure"] = m.to_dict()
     res.cycle_time, res.samples = m.cycle.total, m.samples
     trace = result.servo()
-    writer = None
-    if opts.trace_format:
-        from kernel.report.trace_writers import open_writer
+    with ExitStack() as stack:  # the trace is renamed into place once complete
+        writer = None
+        if opts.trace_format:
+            from kernel.report.trace_writers import open_writer
 
-        tpath = os.path.join(opts.out_dir, f"{name}_trace.{opts.trace_format}")
-        writer = open_writer(
-            opts.trace_format,
-            tpath,
-            columns(samples.axes),
-            opts.force,
-            trace.rows,
-            column_dtypes(samples.axes),
-        )
-        doc["trace"] = tpath
-    total, done = trace.rows, 0
-    data = None
-    if opts.html:
-        from kernel.report.plots import PlotData
+            tpath = os.path.join(opts.out_dir, f"{name}_trace.{opts.trace_format}")
+            refuse_output(tpath, opts.force, (program,))
+            spool = stack.enter_context(replacing(tpath))
+            writer = open_writer(
+                opts.trace_format,
+                spool,
+                columns(samples.axes),
+                True,
+                trace.rows,
+                column_dtypes(samples.axes),
+            )
+            doc["trace"] = tpath
+        total, done = trace.rows, 0
+        data = None
+        if opts.html:
+            from kernel.report.plots import PlotData
 
-        data = PlotData(samples.axes, total_rows=total)
-    try:
-        for table in trace.chunks():
-            done += len(table["t"])
+            data = PlotData(samples.axes, total_rows=total)
+        try:
+            for table in trace.chunks():
+                done += len(table["t"])
+                if writer is not None:
+                    writer.write(table)
+                if data is not None:
+                    data.add(table)
+                if progress is not None:
+                    progress(done, total)
+        finally:
             if writer is not None:
-                writer.write(table)
-            if data is not None:
-                data.add(table)
-            if progress is not None:
-                progress(done, total)
-    finally:
-        if writer is not None:
-            writer.close()
+                writer.close()
     doc["servo"] = trace.errors.to_dict()
     fe = [abs(float(p.value)) for p in trace.errors.following.values()]
     res.following_error = max(fe, default=0.0)
@@ -176,11 +182,12 @@ def run_program(
     """Run ``program`` through the pipeline and write ``DIR/<name>.report.json`` (``name``
     defaults to the file stem); never raises for problems of the program
     (``progress(done, total)`` follows the servo simulation). A program past
-    ``opts.timeout`` stops with the diagnostic RUN-TIMEOUT in its report."""
+    ``opts.timeout`` stops with the diagnostic RUN-TIMEOUT in its report; one that uses up
+    its CPU budget (``--limit seconds=N``) is an error (LIMIT-TIME); the batch goes on."""
     t0 = time.perf_counter()
     name = name or _stem(program)
     try:
-        with deadline(opts.timeout):
+        with deadline(opts.timeout), cpu_budget(program):
             return _run_program(program, ctx, opts, progress, name, t0)
     except ProgramTimeout:
         diag = Diagnostic(
@@ -201,9 +208,11 @@ def run_program(
             "findings": [],
             "seconds": round(res.seconds, 6),
         }
-        with open(res.report, "w", encoding="utf-8") as fh:
+        with open_output(res.report) as fh:
             json.dump(doc, fh, indent=2)
         return res
+    except Diagnostic as diag:  # LIMIT-TIME
+        return RunResult(program, status="error", message=str(diag))
 
 
 def _run_program(
@@ -239,7 +248,8 @@ def _run_program(
         )
         findings: list[Finding] = check_stream(recording(stream), ctx, program, text)
     except OSError as exc:
-        res.status, res.message = "io-error", f"{program}: {exc.strerror or exc}"
+        code = "IO-OPEN" if isinstance(exc, (FileNotFoundError, PermissionError)) else "IO-ERROR"
+        res.status, res.message = "io-error", f"{program}: error[{code}]: {exc.strerror or exc}"
         res.seconds = time.perf_counter() - t0
         return res
     except Exception as exc:  # noqa: BLE001 - a bug must not take the rest of the batch down
@@ -271,13 +281,13 @@ def _run_program(
     doc["status"] = res.status
     res.seconds = time.perf_counter() - t0
     doc["seconds"] = round(res.seconds, 6)
-    with open(res.report, "w", encoding="utf-8") as fh:
+    with open_output(res.report) as fh:
         json.dump(doc, fh, indent=2, default=_json_default)
     if opts.html:
         from cli.formats.html_report import render_html
 
         page = json.loads(json.dumps(doc, default=_json_default))
-        with open(os.path.join(opts.out_dir, f"{name}.report.html"), "w", encoding="utf-8") as fh:
+        with open_output(os.path.join(opts.out_dir, f"{name}.report.html")) as fh:
             fh.write(render_html(page, images))
     return res
 

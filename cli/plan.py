@@ -17,13 +17,13 @@ from cli.programs import dialect_option, load_machine, program_commands
 from kernel.machine import CONTROLLER_MODELS, Machine, with_controller
 from kernel.report.compare import Stretch, differing_stretches, line_times
 from kernel.report.measure import Report
-from kernel.simulation import simulate
+from kernel.simulation import measure_program, simulate
 
 
 def run(program: str, machine: Machine, dialect: str | None = None) -> Report:
     """Plan, sample and measure ``program`` (the command's work, without printing)."""
     commands = program_commands(program, dialect=dialect, machine=machine)
-    return simulate(commands, machine, program).measure()
+    return measure_program(commands, machine, program)
 
 
 def compare(

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import click
 
+import kernel.limits as limits
 from cli.main import verbosity as current_verbosity
 from gcode.detect import Guess
 from gcode.readers import text_findings
@@ -321,7 +322,28 @@ def load_machine(path: str | None) -> Machine:
     if path is None:
         return DEFAULT_MACHINE
     with open(path, encoding="utf-8") as fh:
-        return parse_machine(fh.read(), path)
+        machine = parse_machine(fh.read(), path)
+    apply_limits(machine, path)
+    return machine
+
+
+def apply_limits(machine: Machine, path: str | None) -> None:
+    """The profile's ``[limits]`` table into :mod:`kernel.limits` (``LIMIT-CONFIG`` when it
+    is not a table of numbers); ``--limit`` on the command line, set earlier, wins."""
+    table = machine.extra.get("limits")
+    if table is None:
+        return
+    if not isinstance(table, dict) or not all(
+        isinstance(v, int | float) and not isinstance(v, bool) for v in table.values()
+    ):
+        raise Diagnostic("LIMIT-CONFIG", "[limits] must be a table of numbers", Location(path))
+    given = click.get_current_context(silent=True)
+    root = given.find_root().params.get("limit_values", ()) if given else ()
+    named = {str(item).partition("=")[0].strip() for item in root}
+    try:
+        limits.configure(**{k: float(v) for k, v in table.items() if k not in named})
+    except Diagnostic as exc:
+        raise Diagnostic(exc.code, exc.message, Location(path)) from None
 
 
 def load_tool_table(path: str) -> ToolTable:

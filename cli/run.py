@@ -31,6 +31,7 @@ from rich.table import Table
 from cli.check import DEFAULT_TIMEOUT, expand, load_context
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.main import verbosity
+from cli.outputs import refuse_output
 from cli.pipeline import RunOptions, RunResult, report_names, run_program, run_task
 from cli.programs import dialect_option, jobs_option, scheduler_option
 from kernel.check import CheckContext, Finding
@@ -232,7 +233,7 @@ def command(
             if old is not None:
                 results[p] = old
     elif not force:  # refuse before any work, so nothing of an earlier run is lost
-        taken = [t for p in paths for t in _outputs(out_dir, names[p], opts) if os.path.exists(t)]
+        taken = [t for p in paths for t in _outputs(out_dir, names[p], opts) if os.path.lexists(t)]
         if taken:
             more = f" and {len(taken) - 1} more" if len(taken) > 1 else ""
             raise Diagnostic(
@@ -240,6 +241,9 @@ def command(
                 f"report exists{more}; use --force to replace, or another -o directory",
                 Location(taken[0]),
             )
+    for p in paths:  # an output that is one of the programs is refused even with --force
+        for t in _outputs(out_dir, names[p], opts):
+            refuse_output(t, True, paths)
     os.makedirs(out_dir, exist_ok=True)
     jobs = (os.cpu_count() or 1) if jobs == 0 else jobs
     console = Console(stderr=True)

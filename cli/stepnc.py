@@ -8,14 +8,18 @@ import os
 
 import click
 
+import kernel.limits as limits
 from cli.errors import EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.outputs import refuse_output, replacing, write_output
 from kernel.diagnostics import Diagnostic, Location, Severity
 
 MODES = click.Choice(["nist", "default"])
 
 
-def _write_guard(path: str, force: bool) -> None:
-    if os.path.exists(path) and not force:
+def _write_guard(path: str, force: bool, inputs: tuple[str, ...] = ()) -> None:
+    """Refuse an output that is an input (always) or exists (a symlink too) without --force."""
+    refuse_output(path, True, inputs)
+    if os.path.lexists(path) and not force:
         raise click.UsageError(f"{path} exists; use --force to overwrite")
 
 
@@ -81,8 +85,14 @@ def info(file: str) -> None:
     root = Tree(f"[bold]PROJECT #{project.id}[/] {escape(repr(project.its_id))}")
     plan = project.main_workplan
 
-    def walk(node: Tree, element: Entity) -> None:
+    def walk(node: Tree, element: Entity, active: tuple[int, ...] = ()) -> None:
         label = f"[bold]{element.type}[/] #{element.id} {escape(repr(element.its_id))}"
+        if element.id in active or len(active) >= limits.current().nesting:
+            raise Diagnostic(
+                "STEPNC-CYCLE",
+                f"{element.type} #{element.id} contains itself or is nested too deeply",
+                element.where(),
+            )
         if element.type == "MACHINING_WORKINGSTEP":
             ws = node.add(label)
             f, op = element.its_feature, element.its_operation
@@ -104,7 +114,7 @@ def info(file: str) -> None:
             except AttributeError:
                 continue
             for child in children or ():
-                walk(sub, child)
+                walk(sub, child, (*active, element.id))
 
     walk(root, plan)
     tools = root.add("[bold]tools[/]")
@@ -173,7 +183,7 @@ def to_gcode(
     from stepnc.to_canon import canon_from_file
 
     if output is not None:
-        _write_guard(output, force)
+        _write_guard(output, force, (file, tool_file or ""))
     from gcode.write.writer import write as emit_write
 
     cmds = canon_from_file(file, tool_file, mode)
@@ -181,8 +191,7 @@ def to_gcode(
     if output is None:
         click.echo(text, nl=False)
         return
-    with open(output, "w") as fh:
-        fh.write(text)
+    write_output(output, text)
 
 
 @command.command("part")
@@ -201,9 +210,10 @@ def part(file: str, output: str, raw: str | None, force: bool) -> None:
 
     if not output.lower().endswith((".step", ".stp", ".stl")):
         raise click.UsageError("OUTPUT must end in .step, .stp or .stl")
-    _write_guard(output, force)
+    _write_guard(output, force, (file,))
     shape = geometry.finished_part(load(file), _raw(raw))
-    geometry.export(shape, output)
+    with replacing(output) as tmp:
+        geometry.export(shape, tmp)
     click.echo(f"{output}: finished part, volume {geometry.volume(shape):.3f} mm^3")
 
 

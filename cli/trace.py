@@ -14,6 +14,7 @@ import os
 import click
 
 from cli.errors import guarded
+from cli.outputs import open_output, refuse_output, replacing
 from cli.programs import dialect_option, load_machine, program_commands
 from kernel.diagnostics import Diagnostic, Location
 
@@ -76,7 +77,7 @@ def command(
     """
     from kernel import simulate
     from kernel.report.trace import column_dtypes, columns
-    from kernel.report.trace_writers import check_target, open_writer
+    from kernel.report.trace_writers import open_writer
 
     machine = load_machine(machine_file)
     stem = os.path.splitext(os.path.basename(program))[0]
@@ -90,7 +91,7 @@ def command(
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise Diagnostic("IO-NOT-DIR", "output path is not a directory", Location(out_dir))
     for t in targets:
-        check_target(t, force)
+        refuse_output(t, force, (program, machine_file or ""))
     if fmt == "parquet":  # fail before the simulation, not after it
         from importlib.util import find_spec
 
@@ -111,16 +112,17 @@ def command(
         from kernel.report.plots import PlotData
 
         data = PlotData(samples.axes, total_rows=trace.rows)
-    writer = open_writer(fmt, trace_path, names, force, trace.rows, column_dtypes(samples.axes))
     rows = 0
-    try:
-        for table in trace.chunks():
-            writer.write(table)
-            rows += len(table["t"])
-            if data is not None:
-                data.add(table)
-    finally:
-        writer.close()
+    with replacing(trace_path) as tmp:
+        writer = open_writer(fmt, tmp, names, True, trace.rows, column_dtypes(samples.axes))
+        try:
+            for table in trace.chunks():
+                writer.write(table)
+                rows += len(table["t"])
+                if data is not None:
+                    data.add(table)
+        finally:
+            writer.close()
     summary = {
         "program": program,
         "machine": machine.name,
@@ -131,7 +133,7 @@ def command(
     predicted = trace.predicted()
     if predicted is not None:
         summary["predicted"] = predicted
-    with open(summary_path, "w", encoding="utf-8") as fh:
+    with open_output(summary_path) as fh:
         json.dump(summary, fh, indent=2)
     written = [trace_path, summary_path]
     if data is not None:
@@ -161,12 +163,14 @@ def _plots(
     out = []
     for a in axes:
         fig = axis_figure(data, a, f"{stem}: axis {a.upper()}, commanded vs actual")
-        fig.savefig(plot_paths[a])
+        with replacing(plot_paths[a]) as tmp:
+            fig.savefig(tmp)
         plt.close(fig)
         out.append(plot_paths[a])
     if "x" in axes and "y" in axes:
         fig = path_figure(data, f"{stem}: XY path, actual coloured by contour error")
-        fig.savefig(xy_path)
+        with replacing(xy_path) as tmp:
+            fig.savefig(tmp)
         plt.close(fig)
         out.append(xy_path)
     return out

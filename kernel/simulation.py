@@ -18,13 +18,13 @@ from dataclasses import dataclass
 
 import kernel.ir.canon as canon
 from kernel.axes.accdec import planning_machine
-from kernel.interp.interpolate import sample
+from kernel.interp.interpolate import sample, sample_windows
 from kernel.interp.samples import Samples
 from kernel.machine import Machine
 from kernel.path.segments import Path
 from kernel.plan.planner import Plan
 from kernel.plan.strategy import plan_program
-from kernel.report.measure import Report, measure
+from kernel.report.measure import Report, measure, measure_windows
 from kernel.report.trace import CHUNK, Trace, setup
 
 
@@ -61,4 +61,16 @@ def simulate(
     return SimulationResult(machine, path, pl, sample(pl))
 
 
-__all__ = ["SimulationResult", "simulate"]
+def measure_program(
+    commands: Iterable[canon.Command],
+    machine: Machine,
+    file: str | None = None,
+) -> Report:
+    """What ``simulate(...).measure()`` reports, with the samples made and reduced window by
+    window (:func:`kernel.report.measure.measure_windows`): memory holds the path and plan
+    and one window of samples, however long the program runs."""
+    _path, pl = plan_program(commands, machine, planning_machine(machine), file)
+    return measure_windows(pl, sample_windows(pl))
+
+
+__all__ = ["SimulationResult", "measure_program", "simulate"]

@@ -20,6 +20,9 @@ FAST_INSTANCE = re.compile(
 _FAST_TOKEN = re.compile(r"'(?:[^']|'')*'|[^\s,()']+|[(),]")
 _ENUM_NAME = re.compile(r"\.[A-Za-z_][A-Za-z0-9_]*\.\Z")
 _NUMBER_START = frozenset("0123456789+-")
+#: deeper lists go to the exact parser, which checks ``kernel.limits`` (nesting >= 16 is
+#: never seen in real files)
+_NESTING = 16
 
 
 def fast_params(body: str) -> tuple | None:
@@ -60,6 +63,8 @@ def fast_params(body: str) -> tuple | None:
                 stack.append(cur)
                 cur = []
                 expect = True
+                if len(stack) >= _NESTING:
+                    return None  # the exact parser reports LIMIT-NESTING
             elif c == ".":
                 if _ENUM_NAME.match(t) is None:
                     return None

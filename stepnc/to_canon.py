@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass
 
+import kernel.limits as limits
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
 from stepnc.executor import DEFAULT_START, NIST_START, Executor, start_within
@@ -103,6 +104,12 @@ def canon_from_model(
     for element in _walk(plan, ex):
         try:
             _execute(ex, element, wp_frame, setup_z)
+        except Diagnostic as exc:
+            if exc.location.file is not None:
+                raise
+            # a limit reached inside a toolpath generator: at the operation
+            where = ex.source if ex.source.entity is not None else element.where()
+            raise Diagnostic(exc.code, exc.message, where) from None
         except (AttributeError, TypeError, ValueError, IndexError, ZeroDivisionError) as exc:
             # a valid file can still combine entities in ways no generator expects
             raise Diagnostic(
@@ -134,18 +141,30 @@ def _setup(model: Model, project: Entity, plan: Entity) -> tuple[float, Frame]:
     return z, frame
 
 
-def _walk(element: Entity, ex: Executor) -> Iterator[Entity]:
-    """Executables in execution order (ISO 14649-10 §4.6.1)."""
+def _walk(
+    element: Entity, ex: Executor, active: tuple[int, ...] = (), count: list[int] | None = None
+) -> Iterator[Entity]:
+    """Executables in execution order (ISO 14649-10 §4.6.1). A workplan that contains
+    itself is STEPNC-CYCLE; nesting past ``kernel.limits`` nesting is LIMIT-NESTING and more
+    executables than ``cycle_passes`` (a plan of plans, each twice) LIMIT-COUNT."""
     t = element.type
-    if t == "WORKPLAN" or t == "NON_SEQUENTIAL" or t == "SELECTIVE":
-        elements = element.its_elements or ()
-        if t == "SELECTIVE":
-            elements = elements[:1]  # the controller may choose: take the first alternative
+    count = [0] if count is None else count
+    if t == "WORKPLAN" or t == "NON_SEQUENTIAL" or t == "SELECTIVE" or t == "PARALLEL":
+        if element.id in active:
+            raise Diagnostic("STEPNC-CYCLE", f"{t} #{element.id} contains itself", element.where())
+        lim = limits.current()
+        if len(active) >= lim.nesting:
+            loc = element.where()
+            raise limits.nesting_error(loc.file, loc.line, loc.column)
+        inner = (*active, element.id)
+        if t == "PARALLEL":
+            elements = element.branches or ()
+        else:
+            elements = element.its_elements or ()
+            if t == "SELECTIVE":
+                elements = elements[:1]  # the controller may choose: take the first alternative
         for e in elements:
-            yield from _walk(e, ex)
-    elif t == "PARALLEL":
-        for e in element.branches or ():
-            yield from _walk(e, ex)
+            yield from _walk(e, ex, inner, count)
     elif t in ("IF_STATEMENT", "WHILE_STATEMENT"):
         raise Diagnostic(
             "STEPNC-UNSUPPORTED",
@@ -153,6 +172,12 @@ def _walk(element: Entity, ex: Executor) -> Iterator[Entity]:
             element.where(),
         )
     else:
+        count[0] += 1
+        limit = limits.current().cycle_passes
+        if count[0] > limit:
+            raise limits.count_error(
+                "executables of the workplan", count[0], limit, "cycle_passes", element.where()
+            )
         yield element
 
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
+import kernel.limits as limits
 from gcode.core.codes import Words
 from kernel.diagnostics import Diagnostic, Location
 
@@ -115,7 +116,7 @@ class _Scanner:
     ``cols[i]`` is the 1-based column in the original line of character ``i``.
     """
 
-    __slots__ = ("s", "i", "cols", "loc_file", "line")
+    __slots__ = ("s", "i", "cols", "loc_file", "line", "nest", "depth", "limits")
 
     def __init__(self, s: str, cols: list[int], file: str | None, line: int) -> None:
         self.s = s
@@ -123,6 +124,22 @@ class _Scanner:
         self.cols = cols
         self.loc_file = file
         self.line = line
+        # brackets, functions and signs open now (parser recursion), and a bound on the
+        # depth of the tree being built (evaluation recursion): kernel.limits
+        self.nest = 0
+        self.depth = 0
+        self.limits = limits.current()
+
+    def enter(self, levels: int = 1) -> None:
+        """One more nested bracket, function or sign: LIMIT-NESTING past the limits."""
+        self.nest += 1
+        self.depth += levels
+        if self.nest > self.limits.nesting or self.depth > self.limits.expression_depth:
+            raise limits.nesting_error(self.loc_file, self.line, self.col())
+
+    def leave(self, levels: int = 1) -> None:
+        self.nest -= 1
+        self.depth -= levels
 
     def col(self, i: int | None = None) -> int:
         i = self.i if i is None else i
@@ -142,11 +159,16 @@ class _Scanner:
         c = self.peek()
         if c == "-":
             self.i += 1
+            self.enter()
             v = self.real_value()
+            self.leave()
             return -v if isinstance(v, float) else ("neg", v)
         if c == "+":
             self.i += 1
-            return self.real_value()
+            self.enter()
+            v = self.real_value()
+            self.leave()
+            return v
         if c == "[":
             return self.bracketed()
         if c == "#":
@@ -175,12 +197,17 @@ class _Scanner:
                 raise self.error("NGC-NAMED-PARAM", "empty named parameter", start)
             self.i = end + 1
             return ("<", name)
-        return ("#", self.real_value())
+        self.enter()
+        node = ("#", self.real_value())
+        self.leave()
+        return node
 
     def bracketed(self) -> Expr:
         start = self.i
         self.i += 1  # '['
+        self.enter()
         node = self.expression(0)
+        self.leave()
         if self.peek() != "]":
             raise self.error("NGC-UNCLOSED-EXPR", "expression not closed with ']'", start)
         self.i += 1
@@ -238,6 +265,7 @@ class _Scanner:
             return self.real_value()
         left = self.expression(level + 1)
         ops = _LEVELS[level]
+        chained = 0  # operators of this level so far: each deepens the left-leaning tree
         while True:
             op = self.operator()
             if op is None or op not in ops:
@@ -245,8 +273,13 @@ class _Scanner:
                     raise self.error(
                         "NGC-BAD-OPERATOR", f"unknown operator at '{self.s[self.i :]}'"
                     )
+                self.depth -= chained
                 return left
             self.i += len(op)
+            chained += 1
+            self.depth += 1
+            if self.depth > self.limits.expression_depth:
+                raise limits.nesting_error(self.loc_file, self.line, self.col())
             right = self.expression(level + 1)
             left = ("b", op, left, right)
 
@@ -290,6 +323,7 @@ def _strip_comments(
 
 def parse_line(raw: str, line: int, file: str | None = None) -> Block:
     """Parse one line of RS274/NGC into a :class:`Block` (no evaluation)."""
+    limits.check_digits(raw, file, line)
     low = raw.lower()
     if _PLAIN_LINE_RE.fullmatch(low):
         # the CAM line: axis words only; evaluated here once (NIST v3 §3.3: order and

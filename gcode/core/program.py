@@ -8,7 +8,6 @@ subroutine calls jump back by byte offset, as LinuxCNC does. Parsed blocks are c
 from __future__ import annotations
 
 import io
-import os
 import re
 from collections import OrderedDict
 from dataclasses import dataclass
@@ -16,6 +15,7 @@ from pathlib import Path
 from typing import BinaryIO
 
 from gcode.core.lexer import Block, parse_line
+from gcode.core.search import find_in_dirs
 from kernel.diagnostics import Diagnostic, Location
 
 _CACHE_SIZE = 4096
@@ -137,10 +137,9 @@ def _decode(data: bytes, path: str, line: int) -> str:
 
 
 def find_subroutine_file(name: str, search_path: list[str], current_dir: str) -> str | None:
-    """``o<name> call`` of a subroutine not defined in the program: ``name.ngc`` on the path."""
-    for d in [*search_path, current_dir]:
-        for candidate in (f"{name}.ngc", f"{name}.NGC"):
-            p = os.path.join(d, candidate)
-            if os.path.isfile(p):
-                return str(Path(p))
-    return None
+    """``o<name> call`` of a subroutine not defined in the program: ``name.ngc`` in one of the
+    search directories (``current_dir`` when there is none), never outside them
+    (:func:`gcode.core.search.find_in_dirs`)."""
+    dirs = search_path or [current_dir]
+    found = find_in_dirs(dirs, (f"{name}.ngc", f"{name}.NGC"))
+    return None if found is None else str(Path(found))

@@ -19,6 +19,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
+import kernel.limits as limits
 from kernel.diagnostics import Diagnostic, Location
 
 FUNCTIONS = frozenset(
@@ -103,6 +104,7 @@ def _strip(raw: str, file: str | None, line: int) -> tuple[str, list[int], str |
 
 def parse_line(raw: str, line: int, file: str | None = None) -> FBlock:
     """The block of one line (no evaluation)."""
+    limits.check_digits(raw, file, line)
     if "(" not in raw and ";" not in raw and "#" not in raw and "[" not in raw:
         s = raw.replace(" ", "").replace("\t", "").replace("\r", "").upper()
         if s and _PLAIN_RE.fullmatch(s) and s[0] not in "ON":
@@ -139,13 +141,29 @@ def parse_line(raw: str, line: int, file: str | None = None) -> FBlock:
 
 
 class _Scanner:
-    __slots__ = ("s", "i", "blk", "file")
+    __slots__ = ("s", "i", "blk", "file", "nest", "depth", "limits")
 
     def __init__(self, s: str, blk: FBlock, file: str | None) -> None:
         self.s = s
         self.i = 0
         self.blk = blk
         self.file = file
+        # open brackets, functions and signs (parser recursion) and a bound on the tree's
+        # depth (evaluation recursion): kernel.limits
+        self.nest = 0
+        self.depth = 0
+        self.limits = limits.current()
+
+    def enter(self) -> None:
+        """One more nested bracket, function or sign: LIMIT-NESTING past the limits."""
+        self.nest += 1
+        self.depth += 1
+        if self.nest > self.limits.nesting or self.depth > self.limits.expression_depth:
+            raise limits.nesting_error(self.file, self.blk.line, self.blk.column(self.i))
+
+    def leave(self) -> None:
+        self.nest -= 1
+        self.depth -= 1
 
     def error(self, code: str, msg: str, i: int | None = None) -> Diagnostic:
         col = self.blk.column(self.i if i is None else i)
@@ -263,7 +281,9 @@ class _Scanner:
     # ------------------------------------------------------------ expressions
     def bracketed(self) -> Expr:
         self.expect("[")
+        self.enter()
         node = self.expression(0)
+        self.leave()
         self.expect("]")
         return node
 
@@ -273,7 +293,9 @@ class _Scanner:
             raise self.error("FANUC-SYNTAX", "value expected at end of block")
         if ch in "-+":
             self.i += 1
+            self.enter()
             inner = self.operand()
+            self.leave()
             return ("neg", inner) if ch == "-" else inner
         if ch == "#":
             self.i += 1
@@ -289,10 +311,12 @@ class _Scanner:
         for name in FUNCTIONS:
             if self.at(name + "["):
                 self.i += len(name) + 1
+                self.enter()
                 args = [self.expression(0)]
                 while self.peek() == ",":
                     self.i += 1
                     args.append(self.expression(0))
+                self.leave()
                 self.expect("]")
                 if name == "ATAN" and len(args) == 1 and self.at("/["):
                     self.i += 1
@@ -305,10 +329,16 @@ class _Scanner:
             return self.operand()
         left = self.expression(level + 1)
         ops = _LEVELS[level]
+        chained = 0  # operators of this level so far: each deepens the left-leaning tree
         while True:
             m = _OP_RE.match(self.s, self.i)
             if m is None or m.group(0) not in ops:
+                self.depth -= chained
                 return left
             self.i = m.end()
+            chained += 1
+            self.depth += 1
+            if self.depth > self.limits.expression_depth:
+                raise limits.nesting_error(self.file, self.blk.line, self.blk.column(self.i))
             right = self.expression(level + 1)
             left = ("b", m.group(0), left, right)

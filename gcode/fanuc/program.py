@@ -11,12 +11,13 @@ with four/five digits).
 from __future__ import annotations
 
 import bisect
-import os
 import re
 from array import array
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
+import kernel.limits as limits
+from gcode.core.search import find_in_dirs, search_dirs
 from gcode.fanuc.lexer import FBlock, parse_line
 from kernel.diagnostics import Diagnostic, Location
 
@@ -80,8 +81,12 @@ class Source:
     @classmethod
     def from_bytes(cls, path: str, data: bytes) -> Source:
         src = cls(path, Lines(path, data))
+        digits = limits.current().digits
         for m in _O_BYTES_RE.finditer(data):
-            src.programs.setdefault(int(m.group(1)), src.lines.line_of(m.start()))
+            index = src.lines.line_of(m.start())
+            if len(m.group(1)) > digits:
+                limits.check_digits(src.lines[index], path, index + 1)
+            src.programs.setdefault(int(m.group(1)), index)
         return src
 
     @classmethod
@@ -118,6 +123,7 @@ class Source:
                     break
                 m = _N_RE.match(raw)
                 if m is not None:
+                    limits.check_digits(raw, self.path, i + 1)
                     table.setdefault(int(m.group(1)), i)
             self.sequences[start] = table
         return table.get(number)
@@ -129,15 +135,10 @@ def read_source(path: str) -> Source:
 
 
 def find_program_file(number: int, search_path: tuple[str, ...], here: str) -> str | None:
-    """A file holding program O<number> on the search path (then beside ``here``)."""
+    """A file holding program O<number> in one of the search directories (beside ``here``
+    when there is none), never outside them (:func:`gcode.core.search.find_in_dirs`)."""
     names = []
     for digits in (f"{number}", f"{number:04d}", f"{number:05d}"):
         for stem in (f"O{digits}", f"o{digits}", digits):
             names += [stem, stem + ".nc", stem + ".NC", stem + ".txt"]
-    dirs = list(search_path) + [os.path.dirname(here) or "."]
-    for d in dirs:
-        for name in names:
-            p = os.path.join(d, name)
-            if os.path.isfile(p):
-                return p
-    return None
+    return find_in_dirs(search_dirs(search_path, here), names)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 
+import kernel.limits as limits
 from gcode.core.codes import Words
 from gcode.core.cycle_marks import CycleEnd, CycleStart
 from gcode.core.state import AXES, INVERSE_TIME, PLANE_AXES, ControlCode
@@ -200,6 +201,7 @@ def canned_cycle(ctx: NgcContext, w: Words, code: int, previous: int | None) -> 
     if not first:
         height = clear
     polar = not s.absolute and ("@" in v or "^" in v)
+    _check_passes(ctx, code, repeats, r, bottom)
     for _ in range(repeats):
         if polar:  # each repeat turns about the origin again (G17 only: motion.polar_words)
             inc1, inc2 = polar_step(v, a1, a2)
@@ -224,6 +226,20 @@ def polar_step(v: dict[str, float], x0: float, y0: float) -> tuple[float, float]
     radius = math.hypot(x0, y0) + v.get("@", 0.0)
     angle = math.radians(math.degrees(math.atan2(y0, x0)) + v.get("^", 0.0))
     return radius * math.cos(angle) - x0, radius * math.sin(angle) - y0
+
+
+def _check_passes(ctx: NgcContext, code: int, repeats: int, r: float, bottom: float) -> None:
+    """LIMIT-COUNT before a cycle whose repeats times pecks pass ``kernel.limits``' budget
+    (an L1e9 or a peck of 1e-6 mm would run for hours and fill memory)."""
+    pecks = 1.0
+    q = ctx.s.cycle.q
+    if code in (730, 830) and q > 0:
+        pecks = max(1.0, (r - bottom) / q + 1.0)
+    limit = limits.current().cycle_passes
+    if repeats * pecks > limit:
+        raise limits.count_error(
+            f"{_NAMES[code]} passes", repeats * pecks, limit, "cycle_passes", ctx.loc
+        )
 
 
 PLANE_CENTRE_LETTERS = {

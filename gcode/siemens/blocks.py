@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import kernel.limits as limits
 from gcode.siemens.expr import Node, Parser
 from gcode.siemens.lexer import NAME, OP, STR, WORD, Token, tokenize
 from kernel.diagnostics import Diagnostic, Location
@@ -152,6 +153,7 @@ class Block:
 
 def parse_block(text: str, file: str | None, line: int) -> Block:
     """The block on one line (raises a located ``SIEM-*`` Diagnostic on bad syntax)."""
+    limits.check_digits(text, file, line)
     tokens, comment = tokenize(text, file, line)
     block = Block(line, comment=comment)
     i = 0

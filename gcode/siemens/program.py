@@ -8,11 +8,11 @@ fundamentals, "Subprograms"): ``L100`` and ``NAME`` are looked for as ``L100.SPF
 
 from __future__ import annotations
 
-import os
 import re
 from array import array
 from collections import OrderedDict
 
+from gcode.core.search import find_in_dirs, search_dirs
 from gcode.siemens.blocks import Block, parse_block
 from kernel.diagnostics import Diagnostic, Location
 
@@ -193,13 +193,10 @@ def _is_statement(head: str, line: str) -> bool:
 
 
 def find_subprogram(name: str, search_path: tuple[str, ...], current: str) -> str | None:
-    """The file of subprogram ``name``: NAME.SPF (or .MPF, any case) on the search path,
-    then beside the calling program."""
-    dirs = [*search_path, os.path.dirname(os.path.abspath(current)) if current else "."]
-    for d in dirs:
-        for ext in (".SPF", ".spf", ".MPF", ".mpf"):
-            for stem in (name, name.lower()):
-                p = os.path.join(d, stem + ext)
-                if os.path.isfile(p):
-                    return p
-    return None
+    """The file of subprogram ``name``: NAME.SPF (or .MPF, any case) in one of the search
+    directories (beside the calling program ``current`` when there is none), never outside
+    them (:func:`gcode.core.search.find_in_dirs`)."""
+    names = [
+        stem + ext for ext in (".SPF", ".spf", ".MPF", ".mpf") for stem in (name, name.lower())
+    ]
+    return find_in_dirs(search_dirs(search_path, current), names)

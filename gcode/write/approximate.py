@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kernel.interp.nurbs import DENSE_KNOTS, span_index
 from kernel.ir import canon
 
 CHECKS = 33  # sample points checked per fitted piece
@@ -63,7 +64,28 @@ def nurbs_basis(order: int, knots: np.ndarray, u: np.ndarray) -> np.ndarray:
 
 
 def nurbs_evaluate(order: int, points: np.ndarray, knots: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """Points (len(u), 2) of the rational curve; ``points`` rows are (first, second, weight)."""
+    """Points (len(u), 2) of the rational curve; ``points`` rows are (first, second, weight).
+
+    A long curve is evaluated one knot span at a time on the ``order`` control points that
+    span depends on: the dense basis of a 5,000-point curve would take gigabytes."""
+    u = np.asarray(u, dtype=float)
+    if len(knots) > DENSE_KNOTS:
+        p = order - 1
+        s = span_index(np.asarray(knots, dtype=float), p, len(points), u)
+        out = np.empty((len(u), 2))
+        order_u = np.argsort(s, kind="stable")
+        spans, starts = np.unique(s[order_u], return_index=True)
+        ends = np.append(starts[1:], len(order_u))
+        for span, lo, hi in zip(spans.tolist(), starts.tolist(), ends.tolist(), strict=True):
+            idx = order_u[lo:hi]
+            out[idx] = _nurbs_dense(
+                order, points[span - p : span + 1], knots[span - p : span + p + 2], u[idx]
+            )
+        return out
+    return _nurbs_dense(order, points, knots, u)
+
+
+def _nurbs_dense(order: int, points: np.ndarray, knots: np.ndarray, u: np.ndarray) -> np.ndarray:
     basis = nurbs_basis(order, knots, u) * points[:, 2:3]
     den = basis.sum(axis=0)
     return (basis.T @ points[:, :2]) / den[:, None]

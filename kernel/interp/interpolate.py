@@ -27,10 +27,13 @@ formulation (tests/test_kernel_sampling_equivalence.py).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
 
+import kernel.limits as limits
+from kernel.diagnostics import Diagnostic, Location
 from kernel.interp.bulk import bulk_array
 from kernel.interp.samples import Samples
 from kernel.machine import AXIS_NAMES, Controller, Machine
@@ -256,11 +259,15 @@ class _Sampler:
             self.s_end_moving = (plan.s_start + seg["length"])[self.moving_idx]
             self.length = np.ascontiguousarray(seg["length"])
 
-    def run(self, los: range, out: tuple[np.ndarray, ...]) -> None:
+    def run(
+        self, los: range, out: tuple[np.ndarray, ...], offset: int = 0, count: int | None = None
+    ) -> None:
         """Fill the chunks starting at ``los`` of ``out`` (:func:`_outputs`), with scratch
-        buffers of this call's own."""
+        buffers of this call's own. ``out`` holds the rows from ``offset`` on (a window of
+        :func:`sample_windows`) of the ``count`` samples in all."""
         t, pos, vel, acc, jerk, seg_out, line_out = out
-        count, chunk, period, total = len(t), self.chunk, self.period, self.total
+        count = len(t) + offset if count is None else count
+        chunk, period, total = self.chunk, self.period, self.total
         kind, u, start, tf = self.kind, self.u, self.start, self.tf
         seg = self.plan.path.segments
         arcs = None
@@ -271,7 +278,8 @@ class _Sampler:
         rows = np.empty((2, width, len(self.cols)))
         for lo in los:
             hi = min(count, lo + chunk)
-            tt = np.multiply(np.arange(lo, hi, dtype=float), period, out=t[lo:hi])
+            a_, b_ = lo - offset, hi - offset  # rows of this call's arrays
+            tt = np.multiply(np.arange(lo, hi, dtype=float), period, out=t[a_:b_])
             grid = (lo, period)
             if tt[-1] > total:
                 tt, grid = np.minimum(tt, total), None
@@ -282,19 +290,19 @@ class _Sampler:
                 gk, local, v, a = _trapezoid_state(self.pc, tt, scratch, grid)
             n = hi - lo
             uk = np.take(u, gk, axis=0, out=rows[0, :n], mode="clip")
-            p = np.multiply(uk, local[:, None], out=pos[lo:hi])
+            p = np.multiply(uk, local[:, None], out=pos[a_:b_])
             p += np.take(start, gk, axis=0, out=rows[1, :n], mode="clip")
-            np.multiply(uk, v[:, None], out=vel[lo:hi])
-            np.multiply(uk, a[:, None], out=acc[lo:hi])
+            np.multiply(uk, v[:, None], out=vel[a_:b_])
+            np.multiply(uk, a[:, None], out=acc[a_:b_])
             if j is not None:
-                np.multiply(uk, j[:, None], out=jerk[lo:hi])
+                np.multiply(uk, j[:, None], out=jerk[a_:b_])
             if arcs is not None:
                 on_arc = np.flatnonzero(kind.take(gk) == ARC)
                 if on_arc.size:
                     sel = (gk[on_arc], local[on_arc], v[on_arc], a[on_arc])
-                    arcs.add(lo + on_arc, *sel, None if j is None else j[on_arc])
-            np.take(self.seg_index, gk, out=seg_out[lo:hi], mode="clip")
-            np.take(self.lines_of, gk, out=line_out[lo:hi], mode="clip")
+                    arcs.add(a_ + on_arc, *sel, None if j is None else j[on_arc])
+            np.take(self.seg_index, gk, out=seg_out[a_:b_], mode="clip")
+            np.take(self.lines_of, gk, out=line_out[a_:b_], mode="clip")
         if arcs is not None:
             arcs.flush()
 
@@ -316,6 +324,42 @@ class _Sampler:
 def _columns(machine: Machine) -> list[int]:
     """Columns of the machine's axes among the six of the segment table."""
     return [AXIS_NAMES.index(a) for a in machine.axis_names]
+
+
+def check_moves(plan: Plan, period: float) -> None:
+    """Before sampling: ``PLAN-TRAVEL`` for a move longer along a linear axis than that
+    axis' whole travel (it cannot stay inside it), and ``LIMIT-COUNT`` for a move that would
+    take more than ``kernel.limits``' ``samples_per_move`` samples (an arc of 1e9 turns)."""
+    seg = plan.path.segments
+    if not len(seg):
+        return
+    file = plan.path.file
+    machine = plan.machine
+    span = np.asarray(machine.limit_vector("max")) - np.asarray(machine.limit_vector("min"))
+    linear = np.isfinite(span) & np.array([n not in "abc" for n in AXIS_NAMES])
+    if linear.any():
+        extent = np.abs(seg["end"] - seg["start"])
+        over = (extent > span * (1 + 1e-9) + 1e-6) & linear
+        rows = over.any(axis=1)
+        if rows.any():
+            i = int(np.argmax(rows))
+            names = ", ".join(n.upper() for n, o in zip(AXIS_NAMES, over[i], strict=True) if o)
+            raise Diagnostic(
+                "PLAN-TRAVEL",
+                f"move longer along {names} than the machine's travel",
+                Location(file, int(seg["line"][i])),
+            )
+    steps = (plan.duration + plan.pause) / period
+    i = int(np.argmax(steps))
+    limit = limits.current().samples_per_move
+    if not steps[i] <= limit:
+        raise limits.count_error(
+            "interpolation samples of one move",
+            float(steps[i]),
+            limit,
+            "samples_per_move",
+            Location(file, int(seg["line"][i])),
+        )
 
 
 def _outputs(count: int, nax: int) -> tuple[np.ndarray, ...]:
@@ -341,6 +385,7 @@ def sample(plan: Plan, period: float | None = None, chunk: int = CHUNK) -> Sampl
     machine = plan.machine
     period = machine.controller.interpolation_period if period is None else period
     seg = plan.path.segments
+    check_moves(plan, period)
     count = int(math.ceil(plan.total_time / period - 1e-9)) + 1 if len(seg) else 1
     nax = len(machine.axis_names)
     if not len(seg):
@@ -356,3 +401,38 @@ def sample(plan: Plan, period: float | None = None, chunk: int = CHUNK) -> Sampl
     if jerk[-1].any():
         jerk[-1] = 0.0
     return Samples(period, t, pos, vel, acc, jerk, seg_out, line_out, machine.axis_names)
+
+
+#: rows per window of :func:`sample_windows` (a multiple of the chunk): 262,144 samples,
+#: about 40 MB of arrays for three axes
+WINDOW = 1 << 18
+
+
+def sample_windows(
+    plan: Plan, window: int = WINDOW, period: float | None = None, chunk: int = CHUNK
+) -> Iterator[Samples]:
+    """The samples of :func:`sample`, ``window`` rows at a time (each a :class:`Samples`
+    whose ``t`` goes on from the last): memory bounded by the window, not by the program's
+    duration. Every row is computed as :func:`sample` computes it (the same chunks)."""
+    machine = plan.machine
+    period = machine.controller.interpolation_period if period is None else period
+    seg = plan.path.segments
+    if not len(seg):
+        yield sample(plan, period, chunk)
+        return
+    check_moves(plan, period)
+    count = int(math.ceil(plan.total_time / period - 1e-9)) + 1
+    nax = len(machine.axis_names)
+    window = max(chunk, window // chunk * chunk)
+    sampler = _Sampler(plan, period, chunk)
+    for lo in range(0, count, window):
+        hi = min(count, lo + window)
+        out = _outputs(hi - lo, nax)
+        sampler.run(range(lo, hi, chunk), out, offset=lo, count=count)
+        t, pos, vel, acc, jerk, seg_out, line_out = out
+        if hi == count:
+            pos[-1] = seg["end"][-1][_columns(machine)]
+            vel[-1] = acc[-1] = 0.0
+            if jerk[-1].any():
+                jerk[-1] = 0.0
+        yield Samples(period, t, pos, vel, acc, jerk, seg_out, line_out, machine.axis_names)

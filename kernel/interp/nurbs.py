@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import kernel.limits as limits
 from kernel.diagnostics import Diagnostic, Location
 
 
@@ -83,6 +84,11 @@ class NurbsCurve:
                 f"knot vector must be clamped: {p + 1} equal knots at each end",
                 source,
             )
+        limit = limits.current().nurbs_points
+        if n1 > limit:
+            raise limits.count_error(
+                "NURBS control points", n1, limit, "nurbs_points", source or Location()
+            )
         _, counts = np.unique(k[p + 1 : -p - 1], return_counts=True)
         if counts.size and counts.max() > p:
             raise Diagnostic(
@@ -129,9 +135,53 @@ def _diff(knots: np.ndarray, k: int, lower: np.ndarray) -> np.ndarray:
     return c1 * lower[:, :cnt] - c2 * lower[:, 1 : cnt + 1]
 
 
+#: curves with more knots are evaluated span by span (:func:`_banded`)
+DENSE_KNOTS = 64
+
+
 def derivatives(curve: NurbsCurve, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """P(u), P'(u), P''(u), each (len(u), d)."""
     u = np.clip(np.atleast_1d(np.asarray(u, dtype=float)), *curve.domain)
+    if curve.knots.size > DENSE_KNOTS:
+        return _banded(curve, u)
+    return _dense(curve, u)
+
+
+def span_index(knots: np.ndarray, degree: int, count: int, u: np.ndarray) -> np.ndarray:
+    """The knot span ``s`` (``knots[s] <= u < knots[s+1]``, the last non-empty one closed)
+    holding each ``u`` of a clamped curve with ``count`` control points."""
+    right = knots[1:] > knots[:-1]
+    last = int(np.flatnonzero(right)[-1])
+    s = np.searchsorted(knots, u, side="right") - 1
+    return np.clip(s, degree, min(last, count - 1))
+
+
+def _banded(curve: NurbsCurve, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_dense` one knot span at a time on the ``p+1`` control points and ``2p+2``
+    knots that span depends on (a basis function is zero outside its ``p+1`` spans), so
+    memory is linear in ``len(u)`` and not ``len(u)`` times the number of control points."""
+    p, kn = curve.degree, curve.knots
+    s = span_index(kn, p, len(curve.points), u)
+    d = curve.points.shape[1]
+    out = (np.empty((len(u), d)), np.empty((len(u), d)), np.empty((len(u), d)))
+    order = np.argsort(s, kind="stable")
+    spans, starts = np.unique(s[order], return_index=True)
+    ends = np.append(starts[1:], len(order))
+    for span, lo, hi in zip(spans.tolist(), starts.tolist(), ends.tolist(), strict=True):
+        idx = order[lo:hi]
+        local = NurbsCurve(
+            curve.points[span - p : span + 1],
+            curve.weights[span - p : span + 1],
+            kn[span - p : span + p + 2],
+            p,
+        )
+        for dst, src in zip(out, _dense(local, u[idx]), strict=True):
+            dst[idx] = src
+    return out
+
+
+def _dense(curve: NurbsCurve, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """P, P', P'' from the full basis matrices (small curves)."""
     p, kn = curve.degree, curve.knots
     bs = _basis(kn, p, u)
     n = bs[p]

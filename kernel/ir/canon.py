@@ -37,6 +37,7 @@ from dataclasses import dataclass, field, fields
 from enum import Enum
 from typing import Any, ClassVar
 
+import kernel.limits as limits
 from kernel.diagnostics import Diagnostic, Location
 
 Source = Location
@@ -834,6 +835,7 @@ def read_text(lines: Iterable[str], file: str | None = None) -> Iterator[TextCom
     Lines that are not commands (interpreter chatter after an error) are skipped.
     """
     for i, line in enumerate(lines, 1):
+        limits.check_digits(line, file, i)
         m = _LINE_RE.match(line.rstrip("\n"))
         if not m:
             continue
@@ -891,10 +893,14 @@ def parse_command(tc: TextCommand, file: str | None = None) -> Command:
                 # LinuxCNC prints NURBS_FEED(<number of control points>, ...) without the
                 # curve (saicanon.cc): order unknown (0), the count kept as blank points
                 count = int(float(args[0]))
+                if count > limits.current().nurbs_points:
+                    raise ValueError(f"{count} control points (limit: --limit nurbs_points=N)")
                 return NurbsFeed(0, ((math.nan, math.nan, math.nan),) * count, source=loc)
             order = int(float(args[0]))
             n = int(float(args[1]))
             vals = [float(a) for a in args[2:]]
+            if not 0 <= 3 * n <= len(vals):
+                raise ValueError(f"{n} control points but {len(vals)} values")
             pts = tuple(tuple(vals[3 * i : 3 * i + 3]) for i in range(n))
             return NurbsFeed(order, pts, tuple(vals[3 * n :]), source=loc)  # type: ignore[arg-type]
         if cls is ChangeTool:
@@ -937,7 +943,7 @@ def parse_command(tc: TextCommand, file: str | None = None) -> Command:
             raise ValueError(f"{len(args)} arguments, expected at most {len(flds)}")
         values = [_convert(a, f.type) for a, f in zip(args, flds, strict=False)]
         return cls(*values, source=loc)
-    except (ValueError, IndexError, TypeError) as exc:
+    except (ValueError, IndexError, TypeError, OverflowError) as exc:
         raise Diagnostic(
             "CANON-SYNTAX", f"cannot read {tc.name}({', '.join(tc.args)}): {exc}", loc
         ) from None

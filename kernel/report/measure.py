@@ -10,6 +10,7 @@ Following and contour error of the servo are measured by the servo stage (issue 
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
@@ -248,3 +249,124 @@ def measure(plan: Plan, samples: Samples) -> Report:
         hits=hits,
         hits_total=total,
     )
+
+
+class _Runs:
+    """Runs of samples over one limit of one axis, across windows: the first ``keep`` runs
+    (merged where a run crosses a window boundary) and how many there are."""
+
+    __slots__ = ("axis", "kind", "limit", "high", "keep", "found", "total", "open")
+
+    def __init__(self, axis: str, kind: str, limit: float, high: bool, keep: int) -> None:
+        self.axis, self.kind, self.limit, self.high, self.keep = axis, kind, limit, high, keep
+        self.found: list[list[float]] = []  # [value, time, samples, line]
+        self.total = 0
+        self.open = False  # the last window ended inside a run
+
+    def add(self, values: np.ndarray, mask: np.ndarray, samples: Samples) -> None:
+        starts, lens = _runs(mask)
+        if self.open and len(starts) and starts[0] == 0:
+            n0 = int(lens[0])
+            worst = values[:n0].max() if self.high else values[:n0].min()
+            if self.found and self.total <= self.keep:
+                last = self.found[-1]
+                last[0] = max(last[0], worst) if self.high else min(last[0], worst)
+                last[2] += n0
+            starts, lens = starts[1:], lens[1:]
+        self.open = bool(mask[-1]) if len(mask) else self.open
+        for s, n in zip(starts, lens, strict=True):
+            self.total += 1
+            if len(self.found) < self.keep:
+                run = values[s : s + n]
+                worst = float(run.max() if self.high else run.min())
+                t, line = float(samples.t[s]), int(samples.source_line[s])
+                self.found.append([worst, t, int(n), line])
+
+    def hits(self) -> list[LimitHit]:
+        return [
+            LimitHit(self.axis, self.kind, float(v), self.limit, t, int(n), int(line))
+            for v, t, n, line in self.found
+        ]
+
+
+def measure_windows(plan: Plan, windows: Iterable[Samples], max_hits: int = 50) -> Report:
+    """:func:`measure` over samples that come window by window
+    (:func:`kernel.interp.interpolate.sample_windows`): only running reductions are kept
+    (extremes, chord error, the first runs over each limit), so memory does not grow with
+    the program's duration. Gives the report :func:`measure` gives for the same samples."""
+    seg = plan.path.segments
+    cat = seg["category"]
+    length = seg["length"]
+    machine = plan.machine
+    names = ("position", "velocity", "acceleration", "jerk")
+    checks = ["velocity", "acceleration"]
+    if machine.controller.accdec == "scurve":
+        checks.append("jerk")
+    extremes: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    runs: list[tuple[int, str, _Runs]] = []
+    count, chord = 0, 0.0
+    last: Samples | None = None
+    axes: tuple[str, ...] = machine.axis_names
+    for w in windows:
+        axes = w.axes
+        if not runs:
+            for j, name in enumerate(axes):
+                ax = machine.axis(name)
+                for kind in checks:
+                    lim = float(getattr(ax, kind))
+                    runs.append((j, kind, _Runs(name, kind, lim, True, max_hits)))
+                runs.append((j, "max", _Runs(name, "travel", float(ax.max), True, max_hits)))
+                runs.append((j, "min", _Runs(name, "travel", float(ax.min), False, max_hits)))
+        if not len(w):
+            continue
+        count += len(w)
+        for name in names:
+            hi, lo = _column_extremes(getattr(w, name))
+            if name in extremes:
+                hi, lo = np.maximum(extremes[name][0], hi), np.minimum(extremes[name][1], lo)
+            extremes[name] = (hi, lo)
+        chord = max(chord, chord_error(plan, w))
+        if last is not None:  # the pair of samples across the boundary
+            pair = Samples(
+                w.period,
+                *(np.concatenate([getattr(last, f)[-1:], getattr(w, f)[:1]]) for f in _FIELDS),
+                axes,
+            )
+            chord = max(chord, chord_error(plan, pair))
+        for j, kind, acc in runs:
+            if kind == "max":
+                col = w.position[:, j]
+                mask = col > acc.limit + ATOL
+            elif kind == "min":
+                col = w.position[:, j]
+                mask = col < acc.limit - ATOL
+            else:
+                col = np.abs(getattr(w, kind)[:, j])
+                mask = col > acc.limit * (1 + RTOL) + ATOL
+            acc.add(col, mask, w)
+        last = w
+
+    def peaks(name: str) -> dict[str, float]:
+        if name not in extremes:
+            return {a: 0.0 for a in axes}
+        m = _peak(extremes[name])
+        return {a: float(v) for a, v in zip(axes, m, strict=True)}
+
+    hits = [h for _, _, acc in runs for h in acc.hits()]
+    hits.sort(key=lambda h: h.time)
+    return Report(
+        cycle=cycle_time(plan),
+        feed_length=float(length[(cat == FEED) | (cat == PROBE)].sum()),
+        rapid_length=float(length[cat == RAPID].sum()),
+        segments=len(seg),
+        samples=count,
+        peak_velocity=peaks("velocity"),
+        peak_acceleration=peaks("acceleration"),
+        peak_jerk=peaks("jerk"),
+        chord_error=chord,
+        hits=hits[:max_hits],
+        hits_total=sum(acc.total for _, _, acc in runs),
+    )
+
+
+_FIELDS = ("t", "position", "velocity", "acceleration", "jerk", "segment", "source_line")

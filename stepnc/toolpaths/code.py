@@ -9,29 +9,50 @@ from __future__ import annotations
 
 import math
 
+import kernel.limits as limits
+from kernel.diagnostics import Location
 from stepnc.frames import Frame
 
 FEED, ARC, TRAVERSE = 1, 2, 3
 Line = tuple
 
 
+def check_count(count: float, what: str) -> None:
+    """LIMIT-COUNT when an operation would generate more than ``kernel.limits``'
+    ``toolpath_passes`` passes or lines (a 0.0001 mm tool or stepover); the executor
+    locates it at the operation."""
+    limit = limits.current().toolpath_passes
+    if count > limit:
+        raise limits.count_error(what, count, limit, "toolpath_passes", Location())
+
+
 class Code(list):
-    """A list of pseudocode lines with writers named after the NIST helpers."""
+    """A list of pseudocode lines with writers named after the NIST helpers; generated
+    toolpaths stop at ``kernel.limits``' ``toolpath_passes`` lines (:func:`check_count`)."""
+
+    def _grow(self) -> None:
+        if len(self) % 65536 == 0 and len(self):
+            check_count(len(self), "toolpath lines of one operation")
 
     def feed(self, x: float, y: float, z: float) -> None:
+        self._grow()
         self.append((FEED, x, y, z))
 
     def traverse(self, x: float, y: float, z: float) -> None:
+        self._grow()
         self.append((TRAVERSE, x, y, z))
 
     def arc(self, ex: float, ey: float, cx: float, cy: float, turns: int, z: float) -> None:
+        self._grow()
         self.append((ARC, ex, ey, cx, cy, int(turns), z))
 
     def feed_y(self, x: float, y: float, z: float) -> None:
         """Feed in a frame rotated 90 degrees counterclockwise (NIST ``write_feed_y``)."""
+        self._grow()
         self.append((FEED, -y, x, z))
 
     def traverse_y(self, x: float, y: float, z: float) -> None:
+        self._grow()
         self.append((TRAVERSE, -y, x, z))
 
     def end(self) -> tuple[float, float, float]:

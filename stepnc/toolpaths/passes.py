@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 from stepnc.executor import ALLOW, TINY, UP
 from stepnc.model import Entity, tool_dimension
+from stepnc.toolpaths.code import check_count
 
 
 @dataclass(frozen=True)
@@ -52,6 +53,7 @@ def passes_of(op: Entity, depth: float) -> Passes:
     mill_depth = depth - bottom
     if mill_depth <= TINY or axial <= TINY or stepover <= TINY:
         raise ValueError("depth less bottom allowance, axial and radial depths must be positive")
+    check_count(1 + (mill_depth - TINY) / axial, "layers of the operation")
     n = 1 + int((mill_depth - TINY) / axial)
     levels = tuple(-mill_depth * k / n for k in range(1, n + 1))
     retract = _opt(op, "retract_plane")

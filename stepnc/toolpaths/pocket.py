@@ -17,7 +17,7 @@ import math
 from stepnc.executor import ALLOW, TINY, UP
 from stepnc.frames import Frame, coords, direction, frame_of
 from stepnc.model import Entity, measure, tool_dimension
-from stepnc.toolpaths.code import Code, place
+from stepnc.toolpaths.code import Code, check_count, place
 from stepnc.toolpaths.passes import outside_in
 from stepnc.toolpaths.pocket_entry import enter, plunge_start
 
@@ -392,6 +392,7 @@ def _zigzag(
                 put(*b)
 
     n = max(1, math.ceil((2 * hv - TINY) / st.stepover)) if hv > TINY else 0
+    check_count(n, "zigzag strokes of the pocket")
     sign = 1.0 if st.left else -1.0
     vs = [sign * (-hv + 2 * hv * k / n) for k in range(n + 1)] if n else [0.0]
     forward = True
@@ -445,6 +446,7 @@ def _loop(
 
 
 def _passes(total: float, stepover: float) -> tuple[int, float]:
+    check_count(1 + (total - TINY) / stepover, "passes of the pocket")
     n = 1 + int((total - TINY) / stepover)
     return n, total / n
 

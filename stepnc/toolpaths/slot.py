@@ -29,7 +29,7 @@ from kernel.diagnostics import Diagnostic
 from stepnc.executor import TINY
 from stepnc.frames import Frame, direction, frame_of
 from stepnc.model import Entity, measure
-from stepnc.toolpaths.code import Code, place
+from stepnc.toolpaths.code import Code, check_count, place
 from stepnc.toolpaths.passes import Passes, outside_in, passes_of
 
 OVERRUN = 1.0  # clearance beyond the tool radius past an open end (mm)
@@ -225,6 +225,7 @@ def slot_region(shape: SlotShape, h: float, ps: Passes) -> Region:
 
 def mill(code: Code, g: Region, ps: Passes, contour: bool, ccw: bool, ramp: float) -> None:
     n = max(1, math.ceil((2 * g.h - TINY) / ps.stepover)) if g.h > TINY else 0
+    check_count(n, "strokes of the slot")
     vs = [-g.h + 2 * g.h * k / n for k in range(n + 1)] if n else [0.0]
     contour = contour and n > 0
     if contour:  # the contour pass cuts the two outermost strokes (|v| = h) itself
@@ -276,6 +277,7 @@ def mill_loops(
     starts and ends at its -u, -v corner; neighbouring loops are joined by a straight feed
     between those corners, inside the larger loop."""
     n = max(1, math.ceil((g.h - TINY) / ps.stepover)) if g.h > TINY else 0
+    check_count(n, "loops of the slot")
     loops = [inset(g, g.h * (n - k) / n) if n else g for k in range(n + 1)]  # inner first
     if from_outside:
         loops.reverse()

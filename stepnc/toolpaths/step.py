@@ -27,7 +27,7 @@ from stepnc.executor import TINY
 from stepnc.frames import Frame
 from stepnc.model import Entity
 from stepnc.prisms import raw_block
-from stepnc.toolpaths.code import Code, place
+from stepnc.toolpaths.code import Code, check_count, place
 from stepnc.toolpaths.passes import passes_of
 from stepnc.toolpaths.slot import OVERRUN, linear_path_frame
 
@@ -87,6 +87,7 @@ def generate(ex, job) -> None:  # noqa: ANN001
     wall = -(r + ps.side)  # tool centre of the last stroke
     span = max(0.0, reach - ps.side - 2 * r)  # from the outermost stroke to the wall stroke
     n = math.ceil((span - TINY) / ps.stepover) if span > TINY else 0
+    check_count(n, "strokes of the step")
     vs = [wall - span * (n - k) / n for k in range(n + 1)] if n else [wall]
     ends = (-(r + OVERRUN), length + r + OVERRUN)
     if kind == "UNIDIRECTIONAL_MILLING" and strat.cutmode == "CLIMB":

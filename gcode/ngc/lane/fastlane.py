@@ -38,6 +38,7 @@ import contextlib
 import importlib.util
 import logging
 import os
+import stat
 import sys
 import sysconfig
 import zlib
@@ -302,10 +303,25 @@ BUILD_NOTICE = "building fast kernels, once, ~30 s (cached in %s)"
 
 
 def cache_dir() -> Path:
-    """Where the AOT kernel module is kept: ``$XDG_CACHE_HOME/cnc-toolchain`` (default
-    ``~/.cache/cnc-toolchain``)."""
+    """Where the AOT kernel module is kept: ``$CNC_CACHE_DIR`` when set, else
+    ``$XDG_CACHE_HOME/cnc-toolchain`` (default ``~/.cache/cnc-toolchain``)."""
+    own = os.environ.get("CNC_CACHE_DIR")
+    if own:
+        return Path(own)
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     return Path(base) / "cnc-toolchain"
+
+
+def private_dir(directory: Path) -> bool:
+    """Make ``directory`` (mode 0700 when created) and say whether code may be loaded from
+    it: it must be ours and writable by nobody else, or another user could plant a module."""
+    try:
+        directory.mkdir(mode=0o700, parents=True, exist_ok=True)
+        st = directory.stat()
+    except OSError:
+        return False
+    mine = not hasattr(os, "getuid") or st.st_uid == os.getuid()
+    return mine and not st.st_mode & (stat.S_IWGRP | stat.S_IWOTH)
 
 
 def aot_name() -> str:
@@ -332,8 +348,12 @@ def build_aot(directory: Path, name: str) -> tuple[bool, str]:
     package_root = str(_KERNEL_SOURCE.parents[3])  # gcode/ngc/lane/ -> the checkout
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join(p for p in (package_root, env.get("PYTHONPATH")) if p)
+    if not private_dir(directory):
+        return (
+            False,
+            f"{directory}: not a private directory (owned by another user or writable by others)",
+        )
     try:
-        directory.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(dir=directory, prefix=".build-") as tmp:
             proc = subprocess.run(
                 [sys.executable, "-m", "gcode.ngc.lane.fastlane_kernels", tmp, name],
@@ -357,6 +377,12 @@ def load_aot(directory: Path) -> ModuleType | None:
     name = aot_name()
     path = directory / (name + sysconfig.get_config_var("EXT_SUFFIX"))
     failed = directory / (name + ".failed")
+    if not private_dir(directory):
+        _log.warning(
+            "not loading fast kernels from %s: owned by another user or writable by others",
+            directory,
+        )
+        return None
     if not path.is_file():
         if failed.exists():
             return None

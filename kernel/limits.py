@@ -1,0 +1,118 @@
+"""Resource limits: what keeps a hostile or broken program from running away.
+
+Each limit has a stable code (``LIMIT-*``, docs/errors.md), is reported at the line that
+reaches it, and has a default no real program comes near (docs/reliability.md says why each
+default is safe). They are process-wide settings: the CLI sets them from the machine
+profile's ``[limits]`` table and ``--limit NAME=VALUE`` (:func:`configure`) before reading a
+program; the readers and the kernel read :func:`current`.
+
+A leaf module: the front ends and the kernel import it, it imports only diagnostics.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, fields, replace
+
+from kernel.diagnostics import Diagnostic, Location
+
+
+@dataclass(frozen=True)
+class Limits:
+    """The limits of one run (defaults: far beyond any real program, well within memory and
+    Python's recursion limit)."""
+
+    #: digits in one number (G-code words, parameters, canonical text, Part 21): CAM output
+    #: has at most ~20; 100 keeps every value finite (below 1e100) and far from Python's
+    #: 4,300-digit integer conversion limit
+    digits: int = 100
+    #: brackets, functions and unary signs nested in one expression (parser recursion)
+    nesting: int = 64
+    #: depth of one expression's tree, chained binary operators included (evaluation)
+    expression_depth: int = 256
+    #: passes, pecks and repeats one canned-cycle block or generated operation may produce
+    cycle_passes: int = 100_000
+    #: interpolation samples of one move (a move longer than this at the machine's period)
+    samples_per_move: int = 50_000_000
+    #: control points of one NURBS curve
+    nurbs_points: int = 100_000
+    #: toolpath passes (lines, rings, levels) one STEP-NC operation may generate
+    toolpath_passes: int = 1_000_000
+    #: CPU seconds per program in batch commands (cnc check and cnc run); 0: no limit
+    seconds: float = 0.0
+
+
+_current = Limits()
+NAMES = tuple(f.name for f in fields(Limits))
+
+
+def current() -> Limits:
+    """The limits in force."""
+    return _current
+
+
+def configure(**values: float) -> Limits:
+    """Set some limits by name (the rest keep their value); returns the new limits."""
+    global _current
+    bad = [k for k in values if k not in NAMES]
+    if bad:
+        raise Diagnostic(
+            "LIMIT-CONFIG", f"unknown limit {', '.join(bad)}; known: {', '.join(NAMES)}"
+        )
+    typed: dict[str, float | int] = {}
+    for f in fields(Limits):
+        if f.name in values:
+            v = values[f.name]
+            if v < 0 or (f.name != "seconds" and v < 1):
+                raise Diagnostic("LIMIT-CONFIG", f"limit {f.name} must be >= 1, not {v}")
+            typed[f.name] = float(v) if f.name == "seconds" else int(v)
+    _current = replace(_current, **typed)
+    return _current
+
+
+def reset() -> None:
+    """Back to the defaults (tests)."""
+    global _current
+    _current = Limits()
+
+
+_LONG_RUNS: dict[int, re.Pattern[str]] = {}
+
+
+def check_digits(text: str, file: str | None = None, line: int = 0, col0: int = 1) -> None:
+    """``LIMIT-DIGITS`` at the first run of more than ``digits`` digits in ``text`` (one
+    line, whose first character is at column ``col0``). Cheap: lines shorter than the limit
+    are not scanned."""
+    limit = _current.digits
+    if len(text) <= limit:
+        return
+    pattern = _LONG_RUNS.get(limit)
+    if pattern is None:
+        pattern = _LONG_RUNS[limit] = re.compile(r"\d{" + str(limit + 1) + ",}")
+    m = pattern.search(text)
+    if m is not None:
+        raise Diagnostic(
+            "LIMIT-DIGITS",
+            f"a number of {m.end() - m.start()} digits (limit {limit}, --limit digits=N)",
+            Location(file, line, col0 + m.start()) if line else Location(file),
+        )
+
+
+def nesting_error(file: str | None, line: int, column: int) -> Diagnostic:
+    """``LIMIT-NESTING``: an expression nested deeper than the limits allow."""
+    lim = _current
+    return Diagnostic(
+        "LIMIT-NESTING",
+        f"expression nested too deeply (limits: {lim.nesting} brackets, functions or signs, "
+        f"{lim.expression_depth} levels with operators)",
+        Location(file, line, column),
+    )
+
+
+def count_error(what: str, count: float, limit: int, name: str, loc: Location) -> Diagnostic:
+    """``LIMIT-COUNT``: a block or operation would generate ``count`` items of ``what``."""
+    return Diagnostic(
+        "LIMIT-COUNT",
+        f"{what}: {count:.6g} would be generated (limit {limit}, --limit {name}=N)",
+        loc,
+    )

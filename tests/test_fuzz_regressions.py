@@ -1,0 +1,78 @@
+"""Every distinct failure the fuzzing campaigns (tests/fuzzing.py) found, pinned: each case
+must now end with success or a located, coded diagnostic, in this process and quickly.
+
+The hostile inputs of issue 19 found by hand (long numbers, deep nesting, endless cycles,
+self-containing workplans, tiny tools) are pinned in tests/test_limits.py; this file holds
+what the campaigns found on top of them, with the campaign and seed that found it.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+import kernel.limits as limits
+from cli.main import cli
+from tests.fuzzing import case, check_one
+
+PINNED = [
+    # canon, seed 1910 of `python -m tests.fuzzing canon 2000`: NURBS_FEED with a control
+    # point count of 1e9 and nine values built a billion-point tuple (worker out of memory)
+    (
+        "canon",
+        "    1 N..... STRAIGHT_FEED(49, inf, 154.40695, -91.7465, 32.2705, 90, -110.212, 28.11)\n"
+        "    2 N..... NURBS_FEED(149.0501, 1000000000, -47.4, 80, -125.084, 166, -21.06, 79.31,"
+        " -86)\n",
+    ),
+]
+
+
+@pytest.mark.parametrize(("dialect", "text"), PINNED)
+def test_pinned_fuzz_failure_is_diagnosed(dialect: str, text: str) -> None:
+    start = time.process_time()
+    out = check_one("reader", dialect, text)
+    assert out.ok, out
+    assert time.process_time() - start < 5.0
+
+
+def test_cases_are_reproducible_from_their_seed() -> None:
+    assert case("rs274ngc", 17) == case("rs274ngc", 17)
+    assert case("stepnc", 3) == case("stepnc", 3)
+
+
+#: found through ``cnc check`` (``python -m tests.fuzzing DIALECT 120 cli``): loops that move
+#: for ever (incremental moves in a WHILE whose condition never changes) ran until
+#: LOOP-LIMIT, 10**8 blocks, minutes of CPU; the batch budget now ends them
+PINNED_CLI = [
+    (
+        "fanuc",
+        "%\nO5066\nG20 G91\nG01 X-127.52508 Z45 F1276.\n#7=#5001\n"
+        "WHILE[[[ABS[[#4001]*162.6264]]]]DO2\nG01 X11\nEND2\nM30\n%\n",
+    ),
+    (
+        "siemens840d",
+        "G70 G91\nG3 J=171.981 Z=61 F2552\nWHILE R5<0.0000001\nG1 X=-119\nENDWHILE\nM30\n",
+    ),
+    (
+        "haas",
+        "%\nO8516\nG21 G90 G17\nG01 X175.7624 F425.\n"
+        "WHILE[#0MOD#5001EQ[[[[-88.71164GT#4001]]]]]DO1\nG01 X-150.135\nEND1\nM30\n%\n",
+    ),
+]
+
+
+@pytest.mark.parametrize(("dialect", "text"), PINNED_CLI)
+def test_pinned_endless_moving_loops_end_in_check(tmp_path: Path, dialect: str, text: str) -> None:
+    path = tmp_path / ("p.mpf" if dialect == "siemens840d" else "p.nc")
+    path.write_text(text)
+    start = time.process_time()
+    res = CliRunner().invoke(
+        cli, ["--limit", "seconds=1", "check", "--dialect", dialect, str(path)]
+    )
+    limits.reset()
+    assert time.process_time() - start < 15
+    assert res.exit_code == 1, res.output
+    assert "LIMIT-TIME" in res.output and "CHECK-INTERNAL" not in res.output
