@@ -333,6 +333,7 @@ def _layer(
     # loops can run inside out (material outside the loop) or outside in (inside it).
     for loop in reversed(loops) if st.outside_in else loops:
         code.extend(loop)
+    check_count(len(code), "toolpath lines of one operation")
 
 
 ZIGZAG = ("BIDIRECTIONAL_MILLING", "CONTOUR_BIDIRECTIONAL")
@@ -467,15 +468,15 @@ def _regular(
     end2 = -end1
     c = width / 2.0 - radius
     r_now, off = -c, 0.0
-    loops = []
+    loops = Code()
+    starts = []
     for _ in range(n):
         r_now += stepover
         off += stepover
-        loop = Code()
-        loop.feed(end1 + off, 0, z)
-        _loop(loop, end1, end2, c, off, r_now, s, z)
-        loops.append(loop)
-    return loops
+        starts.append(len(loops))
+        loops.feed(end1 + off, 0, z)
+        _loop(loops, end1, end2, c, off, r_now, s, z)
+    return _split(loops, starts)
 
 
 def _semicircle_ends(
@@ -486,32 +487,39 @@ def _semicircle_ends(
     end1 = (length - width) / 2.0
     end2 = -end1
     r = 0.0
-    loops = []
+    loops = Code()
+    starts = []
     for _ in range(n):
         r += stepover
-        loop = Code()
-        loop.feed(end1 + r, 0, z)
-        loop.arc(end1, r * s, end1, 0, s, z)
-        loop.feed(end2, r * s, z)
-        loop.arc(end2, -r * s, end2, 0, s, z)
-        loop.feed(end1, -r * s, z)
-        loop.arc(end1 + r, 0, end1, 0, s, z)
-        loops.append(loop)
-    return loops
+        starts.append(len(loops))
+        loops.feed(end1 + r, 0, z)
+        loops.arc(end1, r * s, end1, 0, s, z)
+        loops.feed(end2, r * s, z)
+        loops.arc(end2, -r * s, end2, 0, s, z)
+        loops.feed(end1, -r * s, z)
+        loops.arc(end1 + r, 0, end1, 0, s, z)
+    return _split(loops, starts)
 
 
 def _circular(length: float, z: float, stepover: float, diameter: float, s: int) -> list[Code]:
     """Full circles about the centre, innermost first."""
     n, stepover = _passes((length - diameter) / 2.0, stepover)
     r = 0.0
-    loops = []
+    loops = Code()
+    starts = []
     for _ in range(n):
         r += stepover
-        loop = Code()
-        loop.feed(r, 0, z)
-        loop.arc(r, 0, 0, 0, s, z)
-        loops.append(loop)
-    return loops
+        starts.append(len(loops))
+        loops.feed(r, 0, z)
+        loops.arc(r, 0, 0, 0, s, z)
+    return _split(loops, starts)
+
+
+def _split(lines: Code, starts: list[int]) -> list[Code]:
+    """``lines`` cut at ``starts`` into its loops (written into one Code first so that its
+    line budget, kernel.limits' ``toolpath_passes``, applies to them all)."""
+    ends = [*starts[1:], len(lines)]
+    return [Code(lines[a:b]) for a, b in zip(starts, ends, strict=True)]
 
 
 def _cut_straight(
