@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 from gcode.core import linuxcnc as lc
 from gcode.core.blocks import Assignment, check_letter_uses, evaluate_block, is_constant
@@ -28,13 +29,15 @@ from gcode.core.program import ProgramFile
 from gcode.core.state import G80, INVERSE_TIME, ControlCode, FeedCode, SavedModes
 from gcode.ngc import mcodes, modes, motion, offsets
 from gcode.ngc.context import AnyTool, InterpreterOptions, NgcContext
-from gcode.ngc.lane.fastlane import Run
-from gcode.ngc.lane.lane import Lane
 from gcode.ngc.oword import Flow
 from gcode.ngc.predefined import named_parameter, numbered_parameter
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.ir.canon import Plane, Units
+
+if TYPE_CHECKING:  # the fast lane needs numpy: loaded only for a large file (_lane_for)
+    from gcode.ngc.lane.fastlane import Run
+    from gcode.ngc.lane.lane import Lane
 
 __all__ = [
     "LANE_MIN_BYTES",
@@ -78,12 +81,15 @@ LANE_MIN_BYTES = 1 << 20
 
 
 def _lane_for(pf: ProgramFile) -> Lane | None:
-    """The compiled fast lane for a large program file."""
+    """The compiled fast lane for a large program file (imported here: it needs numpy, which
+    a small program then never loads)."""
     try:
         if os.path.getsize(pf.path) < LANE_MIN_BYTES:
             return None
     except OSError:
         return None
+    from gcode.ngc.lane.lane import Lane
+
     return Lane.for_file(pf)
 
 
