@@ -76,8 +76,10 @@ def interpret_text(
 
 
 _PLANES = {170: Plane.XY, 180: Plane.XZ, 190: Plane.YZ}
-#: files from this size on use the compiled fast lane (gcode.ngc.lane.lane)
-LANE_MIN_BYTES = 1 << 20
+#: files from this size on use the compiled fast lane (gcode.ngc.lane.lane). The measured
+#: break-even (docs/performance.md, CPU time of ``cnc canon``): loading numpy and the lane
+#: costs about 0.06 s, which the lane wins back on plain CAM code from about 235 KB on.
+LANE_MIN_BYTES = 1 << 18
 
 
 def _lane_for(pf: ProgramFile) -> Lane | None:
