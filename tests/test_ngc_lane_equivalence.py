@@ -1,10 +1,9 @@
 """The fast lane changes nothing: every program gives the same commands with it as without.
 
 The interpreter uses the compiled lane (gcode/ngc/lane/fastlane.py via gcode/ngc/lane/lane.py)
-only for files
-of 1 MiB and more; here it is forced on for every golden and corpus program, whose outputs
-must be identical, command for command and source line for source line, to the general
-path's. The bench's CAM program exercises long runs.
+only for files of ``LANE_MIN_BYTES`` and more; here it is forced on for every golden and
+corpus program, whose outputs must be identical, command for command and source line for
+source line, to the general path's. The bench's CAM program exercises long runs.
 """
 
 from __future__ import annotations

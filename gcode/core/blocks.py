@@ -12,7 +12,16 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from gcode.core.codes import Words, add_g, add_m, add_value, g_code, m_code
+from gcode.core.codes import (
+    G_GROUPS,
+    M_GROUPS,
+    Words,
+    add_g,
+    add_m,
+    add_value,
+    g_code,
+    m_code,
+)
 from gcode.core.expr import evaluate
 from gcode.core.lexer import Block, Expr, Word
 from gcode.core.params import Parameters
@@ -34,17 +43,36 @@ def evaluate_block(
     words = Words()
     line = block.line
     if not block.assignments:
+        # the common block: constant words, each valid once; anything else (an expression,
+        # an unknown code, a repeated letter or group) is redone below, which says why
+        g = words.g
+        m = words.m
         values = words.values
         columns = words.columns
         for w in block.words:
             v = w.value
-            letter = w.letter
-            if type(v) is not float or letter == "g" or letter == "m" or letter in values:
+            if type(v) is not float:
                 break
-            values[letter] = v
-            columns[letter] = w.column
+            letter = w.letter
+            if letter == "g":
+                code = round(v * 10)
+                group = G_GROUPS.get(code)
+                if group is None or group in g or abs(v * 10 - code) > 1e-3:
+                    break
+                g[group] = code
+            elif letter == "m":
+                code = round(v)
+                group = M_GROUPS.get(code, 10 if 100 <= code <= 199 else None)
+                if group is None or group in m or len(m) >= 4 or abs(v - code) > 1e-4:
+                    break
+                m[group] = code
+            elif letter in values:
+                break
+            else:
+                values[letter] = v
+                columns[letter] = w.column
         else:
-            words.plain = bool(values) and values.keys() <= _AXES
+            words.plain = bool(values) and not g and not m and values.keys() <= _AXES
             return words, []
         words = Words()
     items: list[tuple[int, Word | tuple[Expr, Expr, int]]] = [(w.column, w) for w in block.words]

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 from gcode.core import linuxcnc as lc
 from gcode.core.blocks import Assignment, check_letter_uses, evaluate_block, is_constant
@@ -28,13 +29,15 @@ from gcode.core.program import ProgramFile
 from gcode.core.state import G80, INVERSE_TIME, ControlCode, FeedCode, SavedModes
 from gcode.ngc import mcodes, modes, motion, offsets
 from gcode.ngc.context import AnyTool, InterpreterOptions, NgcContext
-from gcode.ngc.lane.fastlane import Run
-from gcode.ngc.lane.lane import Lane
 from gcode.ngc.oword import Flow
 from gcode.ngc.predefined import named_parameter, numbered_parameter
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.ir.canon import Plane, Units
+
+if TYPE_CHECKING:  # the fast lane needs numpy: loaded only for a large file (_lane_for)
+    from gcode.ngc.lane.fastlane import Run
+    from gcode.ngc.lane.lane import Lane
 
 __all__ = [
     "LANE_MIN_BYTES",
@@ -73,17 +76,22 @@ def interpret_text(
 
 
 _PLANES = {170: Plane.XY, 180: Plane.XZ, 190: Plane.YZ}
-#: files from this size on use the compiled fast lane (gcode.ngc.lane.lane)
-LANE_MIN_BYTES = 1 << 20
+#: files from this size on use the compiled fast lane (gcode.ngc.lane.lane). The measured
+#: break-even (docs/performance.md, CPU time of ``cnc canon``): loading numpy and the lane
+#: costs about 0.06 s, which the lane wins back on plain CAM code from about 235 KB on.
+LANE_MIN_BYTES = 1 << 18
 
 
 def _lane_for(pf: ProgramFile) -> Lane | None:
-    """The compiled fast lane for a large program file."""
+    """The compiled fast lane for a large program file (imported here: it needs numpy, which
+    a small program then never loads)."""
     try:
         if os.path.getsize(pf.path) < LANE_MIN_BYTES:
             return None
     except OSError:
         return None
+    from gcode.ngc.lane.lane import Lane
+
     return Lane.for_file(pf)
 
 

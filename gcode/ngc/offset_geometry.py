@@ -20,9 +20,9 @@ connection rules did not survive, so LinuxCNC is the reference for the corners:
 
 from __future__ import annotations
 
+import functools
 import math
-
-import numpy as np
+from typing import Any
 
 #: LinuxCNC ``TOLERANCE_CONCAVE_CORNER``: corners within this angle (rad) count as tangent.
 SMALL = 0.05
@@ -30,14 +30,22 @@ SMALL = 0.05
 TOLERANCE_EQUAL = 0.0001
 HALF_PI = math.pi / 2
 TWO_PI = 2 * math.pi
-_LD = np.longdouble
-_PI_LD = _LD("3.14159265358979323846264338327950288")  # M_PIl
+
+
+@functools.cache
+def _long_double() -> tuple[Any, Any, Any]:
+    """numpy's long double, its sine and ``M_PIl``, imported on first use: only cutter
+    compensation needs them, and a program without it then starts without numpy."""
+    import numpy as np
+
+    return np.longdouble, np.sin, np.longdouble("3.14159265358979323846264338327950288")
 
 
 def plus_pi(angle: float, k: float) -> float:
     """``angle + k * M_PIl`` as LinuxCNC's C++ computes it: its angle constants are long
     double, so the sum is long double until stored in a double. Matching that keeps our last
     bit, and so rs274's rounding at a printed fourth decimal, the same."""
+    _LD, _sin, _PI_LD = _long_double()
     return float(_LD(angle) + _LD(k) * _PI_LD)
 
 
@@ -115,12 +123,14 @@ def line_line_retreat(beta: float, radius: float) -> float:
     double, so it is never exactly zero (its "zero degree inside corner" test cannot fire);
     a path that doubles back is cut back a very long way and then fails the gouge test.
     """
+    _LD, _sin, _PI_LD = _long_double()
     half = float((_LD(beta) + _PI_LD) / 2)
     return radius / math.tan(half)
 
 
 def normalise_beta(beta: float) -> float:
     """Bring an arc corner angle into LinuxCNC's range (-90°, 270°]."""
+    _LD, _sin, _PI_LD = _long_double()
     if _LD(beta) > _LD(1.5) * _PI_LD:
         return plus_pi(beta, -2)
     if _LD(beta) < -_PI_LD / 2:
@@ -158,7 +168,8 @@ def line_to_arc_meet(
     ``theta`` is the direction of travel at the end of the line (``convert_arc_comp2``).
     ``None`` when the tool cannot reach the arc without gouging.
     """
-    cy = float(_LD(arc_radius) * np.sin(_LD(beta) - _PI_LD / 2))
+    _LD, _sin, _PI_LD = _long_double()
+    cy = float(_LD(arc_radius) * _sin(_LD(beta) - _PI_LD / 2))
     if tool_inside_arc(side, turn):
         dist = arc_radius - tool_radius
         ratio = (cy + tool_radius) / dist

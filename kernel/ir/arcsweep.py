@@ -15,14 +15,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
-import numpy as np
+if TYPE_CHECKING:  # numpy only for the array form: the scalar form starts without it
+    import numpy as np
 
 TWO_PI = 2.0 * math.pi
 FULL_TURN_TOL = 1e-12  # a first turn this small (radians) or less is a full circle
 
-_T = TypeVar("_T", float, np.ndarray)
+_T = TypeVar("_T", float, "np.ndarray")
 
 
 def _pick_float(full: bool, whole: float, part: float) -> float:
@@ -30,6 +31,8 @@ def _pick_float(full: bool, whole: float, part: float) -> float:
 
 
 def _pick_array(full: np.ndarray, whole: float, part: np.ndarray) -> np.ndarray:
+    import numpy as np
+
     return np.where(full, whole, part)
 
 
@@ -67,6 +70,8 @@ def arc_sweep(theta0: float, theta1: float, rotation: int) -> float:
 
 def arc_sweeps(theta0: np.ndarray, theta1: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     """:func:`arc_sweep` of many arcs at once (float arrays of equal shape), bit for bit."""
+    import numpy as np
+
     sign = np.where(rotation > 0, 1.0, -1.0)
     part = _first_turn(sign * (theta1 - theta0), _pick_array)
     return np.where(rotation == 0, 0.0, sign * _sweep(part, np.abs(rotation)))
