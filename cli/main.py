@@ -12,9 +12,6 @@ import importlib.util
 
 import click
 
-import kernel.limits as limits
-from kernel.diagnostics import Diagnostic
-
 #: command name -> module defining ``command`` (a click command or group)
 SUBCOMMANDS: dict[str, str] = {
     "canon": "cli.canon",
@@ -83,7 +80,11 @@ def cli(ctx: click.Context, quiet: int, verbose: int, limit_values: tuple[str, .
 
 
 def set_limits(values: tuple[str, ...]) -> None:
-    """``NAME=N`` pairs into :func:`kernel.limits.configure` (a usage error when malformed)."""
+    """``NAME=N`` pairs into :func:`kernel.limits.configure` (a usage error when malformed).
+    The kernel is imported here, not at the top: ``cnc --version`` loads no kernel module."""
+    import kernel.limits as limits
+    from kernel.diagnostics import Diagnostic
+
     pairs: dict[str, float] = {}
     for item in values:
         name, _, number = item.partition("=")
