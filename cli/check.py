@@ -43,6 +43,7 @@ from cli.programs import (
     jobs_option,
     load_tool_table,
     scheduler_option,
+    timeout_option,
 )
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
@@ -58,9 +59,6 @@ class Setup:
     dialect: str | None = None  # --dialect of G-code input
     verbosity: int = 0  # -v/-q balance: whether a guessed dialect is told on stderr
     timeout: float | None = None  # per-program time limit in seconds (None: none)
-
-
-DEFAULT_TIMEOUT = 600.0  # s: --timeout's default, far above any real program's check time
 
 
 def _read_toml(path: str) -> dict[str, Any]:
@@ -346,13 +344,7 @@ def _list_rules(ctx: CheckContext) -> str:
 )
 @click.option("--force", is_flag=True, help="Replace the -o report file if it exists.")
 @scheduler_option
-@click.option(
-    "--timeout",
-    type=click.FloatRange(min=0),
-    default=DEFAULT_TIMEOUT,
-    show_default=True,
-    help="Per-program time limit in seconds (0: none); a program past it is one failed row.",
-)
+@timeout_option
 @click.option(
     "--results",
     "results_dir",

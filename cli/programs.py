@@ -307,6 +307,17 @@ scheduler_option = click.option(
     "local worker processes. Workers read the programs by path (docs/cluster.md).",
 )
 
+DEFAULT_TIMEOUT = 600.0  # s: --timeout's default, far above any real program's time
+
+#: ``--timeout`` of the batch commands (check, run)
+timeout_option = click.option(
+    "--timeout",
+    type=click.FloatRange(min=0),
+    default=DEFAULT_TIMEOUT,
+    show_default=True,
+    help="Per-program time limit in seconds (0: none); a program past it is one failed row.",
+)
+
 jobs_option = click.option(
     "--jobs",
     "-j",

@@ -28,12 +28,12 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from cli.check import DEFAULT_TIMEOUT, expand, load_context
+from cli.check import expand, load_context
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.main import verbosity
 from cli.outputs import refuse_output
 from cli.pipeline import RunOptions, RunResult, report_names, run_program, run_task
-from cli.programs import dialect_option, jobs_option, scheduler_option
+from cli.programs import dialect_option, jobs_option, scheduler_option, timeout_option
 from kernel.check import CheckContext, Finding
 from kernel.diagnostics import Diagnostic, Location, Severity
 
@@ -172,13 +172,7 @@ def _summary(results: list[RunResult], console: Console, seconds: float) -> None
 )
 @click.option("--force", is_flag=True, help="Replace reports and traces that already exist.")
 @scheduler_option
-@click.option(
-    "--timeout",
-    type=click.FloatRange(min=0),
-    default=DEFAULT_TIMEOUT,
-    show_default=True,
-    help="Per-program time limit in seconds (0: none); a program past it is one failed row.",
-)
+@timeout_option
 @click.option(
     "--resume",
     is_flag=True,

@@ -290,17 +290,7 @@ def test_pocket_floor_is_cleared(name, length, width, radius, allowance):
 
 
 def _assert_floor_cleared(cmds, length, width, radius, allowance, name):
-    bottom = min(_z(c) for c in _feeds(cmds))
-    pos, pts = np.zeros(3), []
-    for c in cmds:
-        if isinstance(c, (canon.StraightFeed, canon.ArcFeed)):
-            s = gouge._samples(pos, c, 0.2)
-            pts.append(s[np.abs(s[:, 2] - bottom) < 1e-9])
-        if isinstance(c, (canon.StraightFeed, canon.StraightTraverse)):
-            pos = np.array([c.x, c.y, c.z])
-        elif isinstance(c, canon.ArcFeed):
-            pos = np.array([c.first_end, c.second_end, c.axis_end_point])
-    path = np.concatenate(pts)[:, :2]
+    path = _bottom_path(cmds)
     hl, hw = length / 2 - allowance - 0.25, width / 2 - allowance - 0.25
     r = radius - allowance - 0.25  # the outline 0.25 mm inside the walls
     gx, gy = np.meshgrid(np.linspace(-hl, hl, 61), np.linspace(-hw, hw, 41))

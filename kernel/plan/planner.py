@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kernel.diagnostics import Diagnostic, Location
-from kernel.machine import Machine, filter_time
+from kernel.machine import Controller, Machine, filter_time
 from kernel.path.blend import blend_corners
 from kernel.path.curvature import curvature_joint_caps, erode_joint_caps
 from kernel.path.segments import ARC, HOLD, RAPID, Path
@@ -59,7 +59,7 @@ def axis_corner_speed(u1: np.ndarray, u2: np.ndarray, dv_max: np.ndarray) -> np.
     step ``F |u2_i - u1_i|`` stays within ``dVm_i`` (inf where no axis changes speed).
     Rows of ``u1`` / ``u2`` (unit tangents, d position / ds) are corners; the planner's
     ``axis`` corner rule."""
-    return _ratio_min(np.asarray(dv_max, float), np.asarray(u2, float) - np.asarray(u1, float))
+    return ratio_min(np.asarray(dv_max, float), np.asarray(u2, float) - np.asarray(u1, float))
 
 
 def axis_corner_speeds(
@@ -72,7 +72,7 @@ def axis_corner_speeds(
     the one :func:`axis_corner_speed` takes (``dV = u2 - u1`` there: ``F1 = F2 = 1``).
     """
     dv = f2 * np.asarray(u2, float) - f1 * np.asarray(u1, float)
-    q = min(float(_ratio_min(np.asarray(dv_max, float), dv)), 1.0)
+    q = min(float(ratio_min(np.asarray(dv_max, float), dv)), 1.0)
     return q * f1, q * f2
 
 
@@ -243,12 +243,26 @@ def _machine_vectors(machine: Machine) -> tuple[np.ndarray, np.ndarray, np.ndarr
     )
 
 
-def _ratio_min(limit: np.ndarray, comp: np.ndarray) -> np.ndarray:
-    """min over axes of limit_i / |comp_i| (inf where no axis component)."""
+def ratio_min(limit: np.ndarray, comp: np.ndarray) -> np.ndarray:
+    """min over axes of limit_i / |comp_i| (inf where no axis component): the path rate at
+    which the first axis reaches its limit (Grbl's ``limit_value_by_axis_maximum``)."""
     c = np.abs(comp)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(c > _TINY, limit / np.where(c > _TINY, c, 1.0), np.inf)
     return r.min(axis=-1)
+
+
+def commanded_feed(path: Path, ctl: Controller) -> np.ndarray:
+    """Every segment's programmed feed, rapids capped at the controller's rapid rate and
+    feeds at its maximum feed (each when set)."""
+    seg = path.segments
+    feed = seg["feed"].copy()
+    rapid = seg["category"] == RAPID
+    if ctl.rapid_rate > 0:
+        feed[rapid] = np.minimum(feed[rapid], ctl.rapid_rate)
+    if ctl.max_feed > 0:
+        feed[~rapid] = np.minimum(feed[~rapid], ctl.max_feed)
+    return feed
 
 
 def segment_limits(path: Path, machine: Machine) -> tuple[np.ndarray, np.ndarray]:
@@ -257,15 +271,10 @@ def segment_limits(path: Path, machine: Machine) -> tuple[np.ndarray, np.ndarray
     ctl = machine.controller
     vmax, amax, jmax = _machine_vectors(machine)
     kind = seg["kind"]
-    feed = seg["feed"].copy()
-    rapid = seg["category"] == RAPID
-    if ctl.rapid_rate > 0:
-        feed[rapid] = np.minimum(feed[rapid], ctl.rapid_rate)
-    if ctl.max_feed > 0:
-        feed[~rapid] = np.minimum(feed[~rapid], ctl.max_feed)
+    feed = commanded_feed(path, ctl)
     u = seg["u_start"]
-    cap = np.minimum(feed, _ratio_min(vmax, u))
-    acc = _ratio_min(amax, u)
+    cap = np.minimum(feed, ratio_min(vmax, u))
+    acc = ratio_min(amax, u)
     arc = np.flatnonzero(kind == ARC)
     if arc.size:
         # per-axis shares for an arc in any plane: in-plane weight w_i = sqrt(1 - n_i^2)
@@ -294,9 +303,9 @@ def segment_limits(path: Path, machine: Machine) -> tuple[np.ndarray, np.ndarray
         else:  # exact points: sagitta R (1 - cos(dtheta/2)) <= E
             step = 2 * np.arccos(np.clip(1 - ctl.chord_tolerance / r1, -1, 1))
             v_chord = r1 * step / period
-        rot = _ratio_min(vmax[3:], sa["u_start"][:, 3:])
+        rot = ratio_min(vmax[3:], sa["u_start"][:, 3:])
         cap[arc] = np.minimum.reduce([feed[arc], v_arc, v_cent, v_chord, rot])
-        acc[arc] = np.minimum(a_tan, _ratio_min(amax[3:], sa["u_start"][:, 3:]))
+        acc[arc] = np.minimum(a_tan, ratio_min(amax[3:], sa["u_start"][:, 3:]))
         if ctl.accdec == "scurve":
             # axis jerk on arcs: j p1 + 3 v a p2 + v^3 p3, |p2| = w/R, |p3| = w/R^2: a
             # quarter of each in-plane jerk limit to v^3/R^2, a quarter to 3 v a/R, half

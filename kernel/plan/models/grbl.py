@@ -28,20 +28,12 @@ import numpy as np
 
 from kernel.machine import Machine
 from kernel.path.geometry import evaluate
-from kernel.path.segments import ARC, HOLD, LINE, RAPID, Path
-from kernel.plan.planner import Plan, lookahead, trapezoids
+from kernel.path.segments import ARC, HOLD, LINE, Path
+from kernel.plan.planner import Plan, commanded_feed, lookahead, ratio_min, trapezoids
 
 BLOCK_BUFFER = 16  # config.h BLOCK_BUFFER_SIZE on the AVR
 _TINY = 1e-12
 _COS_STRAIGHT = 0.999999  # planner.c: straight continuation / reversal thresholds
-
-
-def _ratio_min(limit: np.ndarray, comp: np.ndarray) -> np.ndarray:
-    """planner.c ``limit_value_by_axis_maximum``: min over axes of limit_i / |u_i|."""
-    c = np.abs(comp)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r = np.where(c > _TINY, limit / np.where(c > _TINY, c, 1.0), np.inf)
-    return r.min(axis=-1)
 
 
 def arc_chords(radius: np.ndarray, sweep: np.ndarray, tolerance: float) -> np.ndarray:
@@ -104,7 +96,7 @@ def junction_speed(
     diff = u2 - u1
     norm = np.linalg.norm(diff, axis=1)
     unit = diff / np.maximum(norm, _TINY)[:, None]
-    a_j = _ratio_min(accel, unit)
+    a_j = ratio_min(accel, unit)
     sin_half = np.sqrt(np.clip(0.5 * (1.0 - cos), 0.0, 1.0))
     with np.errstate(divide="ignore", invalid="ignore"):
         v2 = a_j * deviation * sin_half / np.maximum(1.0 - sin_half, _TINY)
@@ -123,14 +115,9 @@ def plan(path: Path, machine: Machine) -> Plan:
     amax = np.array(machine.limit_vector("acceleration"))
     moving = seg["kind"] != HOLD
     u = seg["u_start"]
-    rapid_rate = _ratio_min(vmax, u)
-    acc = _ratio_min(amax, u)
-    feed = seg["feed"].copy()
-    rapid = seg["category"] == RAPID
-    if ctl.rapid_rate > 0:
-        feed[rapid] = np.minimum(feed[rapid], ctl.rapid_rate)
-    if ctl.max_feed > 0:
-        feed[~rapid] = np.minimum(feed[~rapid], ctl.max_feed)
+    rapid_rate = ratio_min(vmax, u)
+    acc = ratio_min(amax, u)
+    feed = commanded_feed(path, ctl)
     nominal = np.where(moving, np.minimum(feed, rapid_rate), 0.0)
     jcap = np.zeros(n + 1)
     if n > 1:

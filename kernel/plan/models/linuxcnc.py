@@ -62,7 +62,7 @@ import kernel.ir.canon as canon
 from kernel.machine import Machine
 from kernel.path.blend import insert_blend_arcs
 from kernel.path.segments import ARC, HOLD, LINE, RAPID, Path
-from kernel.plan.planner import Plan, lookahead, trapezoids
+from kernel.plan.planner import Plan, commanded_feed, lookahead, ratio_min, trapezoids
 
 # terminal conditions (LinuxCNC's TC_TERM_COND_*): how a segment ends
 STOP = 0  # G61.1 exact stop
@@ -221,14 +221,6 @@ def prepare(commands: Iterable[canon.Command]) -> Prepared:
 
 
 # ----------------------------------------------------------------------------- segment limits
-def _ratio_min(limit: np.ndarray, comp: np.ndarray) -> np.ndarray:
-    """min over axes of limit_i / |comp_i| (inf where no axis component)."""
-    c = np.abs(comp)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r = np.where(c > _TINY, limit / np.where(c > _TINY, c, 1.0), np.inf)
-    return r.min(axis=-1)
-
-
 def _inscribed(binormal: np.ndarray, bounds: np.ndarray) -> np.ndarray:
     """blendmath.c ``calculateInscribedDiameter``: the smallest axis bound seen in the plane
     of ``binormal`` (rows), each axis' bound divided by the length of its projection."""
@@ -256,15 +248,10 @@ def _limits(path: Path, machine: Machine) -> _Limits:
     ctl = machine.controller
     vmax = np.array(machine.limit_vector("velocity"))
     amax = np.array(machine.limit_vector("acceleration"))
-    feed = seg["feed"].copy()
-    rapid = seg["category"] == RAPID
-    if ctl.rapid_rate > 0:
-        feed[rapid] = np.minimum(feed[rapid], ctl.rapid_rate)
-    if ctl.max_feed > 0:
-        feed[~rapid] = np.minimum(feed[~rapid], ctl.max_feed)
+    feed = commanded_feed(path, ctl)
     u = seg["u_start"]
-    maxvel = _ratio_min(vmax, u)
-    maxacc = _ratio_min(amax, u)
+    maxvel = ratio_min(vmax, u)
+    maxacc = ratio_min(amax, u)
     r_eff = np.full(len(seg), np.inf)
     arc = np.flatnonzero(seg["kind"] == ARC)
     if arc.size:
