@@ -20,8 +20,11 @@ from click.testing import CliRunner
 
 from cli.plan import command
 from gcode.readers import read, read_text
-from kernel.machine import Machine, parse_machine, with_controller
+from kernel.interp.interpolate import sample
+from kernel.ir import canon
+from kernel.machine import AxisLimits, Controller, Machine, parse_machine, with_controller
 from kernel.plan.models.grbl import arc_chords, junction_speed
+from kernel.plan.strategy import plan_program
 from kernel.simulation import simulate
 
 DATA = Path(__file__).parent / "data"
@@ -211,3 +214,22 @@ def test_plan_compare_prints_models_and_stretches() -> None:
     assert first["first_line"] <= first["last_line"]
     bad = CliRunner().invoke(command, [*args, "--compare", "linuxcnc,fanuc"])
     assert bad.exit_code != 0 and "fanuc" in bad.output
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="known defect of the linuxcnc model: on a helix that slows to a stop, the "
+    "tangential share of the path acceleration is not reduced for the normal part at the "
+    "speed actually run, so X reaches 200.65 mm/s^2 of 200 (found by the property test)",
+)
+def test_linuxcnc_model_helix_stop_keeps_the_axis_acceleration_limit():
+    axes = tuple(AxisLimits(n, velocity=20.0, acceleration=200.0, jerk=20000.0) for n in "xyz")
+    machine = with_controller(Machine("helix", axes, Controller()), model="linuxcnc")
+    cmds = [
+        canon.SetFeedRate(644.0),
+        canon.ArcFeed(-1.8011436155469336, 0.5984721441039565, -1.0, 0.0, 1, 1.0),
+        canon.StraightTraverse(0.0, 0.0, 0.0),
+    ]
+    _, p = plan_program(cmds, machine)
+    s = sample(p)
+    assert np.abs(s.acceleration).max() <= 200.0 * (1 + 1e-6)
