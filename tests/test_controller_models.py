@@ -216,13 +216,10 @@ def test_plan_compare_prints_models_and_stretches() -> None:
     assert bad.exit_code != 0 and "fanuc" in bad.output
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="known defect of the linuxcnc model: on a helix that slows to a stop, the "
-    "tangential share of the path acceleration is not reduced for the normal part at the "
-    "speed actually run, so X reaches 200.65 mm/s^2 of 200 (found by the property test)",
-)
 def test_linuxcnc_model_helix_stop_keeps_the_axis_acceleration_limit():
+    """Found by the property test: LinuxCNC's effective helix radius (the whole rise squared
+    over the radius) leaves too large a tangential share on a short steep helix that slows
+    to a stop; the model caps it with the helix's true curvature."""
     axes = tuple(AxisLimits(n, velocity=20.0, acceleration=200.0, jerk=20000.0) for n in "xyz")
     machine = with_controller(Machine("helix", axes, Controller()), model="linuxcnc")
     cmds = [

@@ -221,6 +221,29 @@ def prepare(commands: Iterable[canon.Command]) -> Prepared:
 
 
 # ----------------------------------------------------------------------------- segment limits
+def _helix_tangential_cap(arcs: np.ndarray, machine: Machine, speed: np.ndarray) -> np.ndarray:
+    """The largest path acceleration along each arc (rows of the segment table) that keeps
+    its in-plane acceleration within the plane's slowest axis at ``speed``.
+
+    LinuxCNC's effective radius (blendmath.c ``pmCircleEffectiveMinRadius``) adds the whole
+    helix rise squared over the radius, so on a steep short helix it overstates the radius
+    and the tangential share it leaves can push an axis past its limit. Here the normal
+    acceleration is taken with the helix's true curvature r / (r^2 + c^2) (c the rise per
+    radian), and the tangential share is what the plane has left, seen along the path (a
+    helix's tangent leaves the plane by the angle whose cosine is arc length / path length).
+    On flat arcs this never binds below LinuxCNC's own split."""
+    amax = np.array(machine.limit_vector("acceleration"))[:3]
+    plane = np.abs(arcs["normal"]) < 0.5
+    a_pl = np.where(plane, amax[None, :], np.inf).min(axis=1)
+    r = np.maximum(np.minimum(arcs["radius"], arcs["radius_end"]), _TINY)
+    sweep = np.maximum(np.abs(arcs["sweep"]), _TINY)
+    rise = arcs["axial"] / sweep
+    kappa = r / (r * r + rise * rise)
+    cos_tilt = np.clip(r * sweep / np.maximum(arcs["length"], _TINY), _TINY, 1.0)
+    a_n = speed * speed * kappa
+    return np.sqrt(np.maximum(a_pl * a_pl - a_n * a_n, 0.0)) / cos_tilt
+
+
 def _inscribed(binormal: np.ndarray, bounds: np.ndarray) -> np.ndarray:
     """blendmath.c ``calculateInscribedDiameter``: the smallest axis bound seen in the plane
     of ``binormal`` (rows), each axis' bound divided by the length of its projection."""
@@ -756,6 +779,10 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     consumed = (kinds == LINE) & arc_next & ~bprev & (length < GAP_CYCLES * period * v_next)
     maxvel = np.where(consumed, np.minimum(maxvel, v_next), capped)
     # circles: normal acceleration at the top speed, tangential share of the rest
+
+    def target_of(rows: np.ndarray) -> np.ndarray:
+        return np.minimum(reqvel[rows], maxvel[rows])
+
     acc_t = acc_all.copy()
     circle = (kinds == ARC) & ~is_blend_arc
     if circle.any():
@@ -767,7 +794,9 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
         over = a_n_vmax > cut
         ratio = np.where(over, ACC_RATIO_TAN, np.sqrt(np.clip(1 - (a_n_vmax / a_c) ** 2, 0, 1)))
         maxvel[circle] = np.where(over, np.sqrt(cut * r), v)
-        acc_t[circle] = a_c * ratio
+        acc_t[circle] = np.minimum(
+            a_c * ratio, _helix_tangential_cap(table[circle], machine, target_of(circle))
+        )
     acc_t = np.where(is_blend_arc, acc_all * ACC_RATIO_TAN, acc_t)
     acc_t = np.where(consumed, np.concatenate([acc_t[1:], [0.0]]), acc_t)
     target = np.minimum(reqvel, maxvel)
