@@ -57,3 +57,28 @@ class LoopGuard:
                 f"endless loop? {construct}: more than {self.max_blocks} blocks executed",
                 loc,
             )
+
+
+class RepeatGuard:
+    """The states a main program was in at its unconditional jumps back (Fanuc ``GOTO``,
+    Siemens ``GOTOB``/``ENDLOOP``): arriving again and again in a state seen before, nothing
+    can leave the loop, so the control would run it for ever (a production loop). At most
+    ``max_states`` states are kept (a memory bound); :meth:`endless` is true after more than
+    ``max_repeats`` such arrivals, and the reader then stops with its loop-limit error."""
+
+    __slots__ = ("max_repeats", "max_states", "repeats", "states")
+
+    def __init__(self, max_states: int, max_repeats: int) -> None:
+        self.max_states = max_states
+        self.max_repeats = max_repeats
+        self.states: set[tuple[object, ...]] = set()
+        self.repeats = 0  # arrivals at a jump back in a state seen before
+
+    def endless(self, state: tuple[object, ...]) -> bool:
+        """Record an arrival in ``state``; true once the loop has shown it never ends."""
+        if state not in self.states:
+            if len(self.states) < self.max_states:
+                self.states.add(state)
+            return False
+        self.repeats += 1
+        return self.repeats > self.max_repeats

@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 
+from gcode.core.loopguard import RepeatGuard
 from gcode.fanuc.executor import Action, Executor
 from gcode.fanuc.lathe import Lathe
 from gcode.fanuc.lexer import FBlock
@@ -72,8 +73,7 @@ class Reader:
         self.sysvars = SystemVariables(self)
         self.vars = Variables(self.sysvars, options.parameters)
         self._input_mark = 0  # input signal reads at the last jump back
-        self.seen_states: set[tuple[object, ...]] = set()  # at unconditional GOTOs back
-        self.repeats = 0  # arrivals at an unconditional GOTO back in a state seen before
+        self.repeat_guard = RepeatGuard(MAX_STATES, MAX_REPEATS)  # at unconditional GOTOs back
         self._waiting = 0  # jumps back in a row, each after reading an input signal
         self.main = src
         self.loaded: dict[int, tuple[Source, int]] = {}
@@ -267,12 +267,7 @@ class Reader:
             tuple(sorted(self.sysvars.outputs.items())),
             (self.ex.motion, s.absolute, s.feed_rate, s.origin_index),
         )
-        if state not in self.seen_states:
-            if len(self.seen_states) < MAX_STATES:
-                self.seen_states.add(state)
-            return
-        self.repeats += 1
-        if self.repeats > MAX_REPEATS:
+        if self.repeat_guard.endless(state):
             raise Diagnostic(
                 "FANUC-LOOP-LIMIT",
                 f"the program repeats itself for ever from this GOTO ({MAX_REPEATS} passes "

@@ -28,7 +28,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
-from gcode.core.loopguard import LoopGuard
+from gcode.core.loopguard import LoopGuard, RepeatGuard
 from gcode.siemens.blocks import Block, Word
 from gcode.siemens.cycles import check_cycle, run_cycle
 from gcode.siemens.executor import Executor
@@ -94,8 +94,7 @@ class Runner:
         self.loops = 0
         self.input_mark = 0  # PLC input reads at the last loop pass
         self.waiting = 0  # loop passes in a row, each after reading a PLC input
-        self.seen_states: set[tuple[object, ...]] = set()  # at unconditional jumps back
-        self.repeats = 0  # arrivals at an unconditional jump back in a state seen before
+        self.repeat_guard = RepeatGuard(MAX_STATES, MAX_REPEATS)  # at unconditional jumps back
         opts = ex.options
         self.guard = LoopGuard(opts.max_blocks, opts.max_idle_blocks)
 
@@ -443,12 +442,7 @@ class Runner:
             tuple(round(p, 9) for p in s.pos),
             (s.motion, s.absolute, s.feed, s.work, s.frame, s.tool),
         )
-        if state not in self.seen_states:
-            if len(self.seen_states) < MAX_STATES:
-                self.seen_states.add(state)
-            return
-        self.repeats += 1
-        if self.repeats > MAX_REPEATS:
+        if self.repeat_guard.endless(state):
             raise Diagnostic(
                 "SIEM-LOOP-LIMIT",
                 f"the program repeats itself for ever from here ({MAX_REPEATS} passes through "
