@@ -26,8 +26,18 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   a quarter of either), bounds the arc; the arc also takes at most half of either line; its
   speed is ``sqrt(0.866 a_plane R)``; its radius is no larger than an equivalent parabolic
   blend needs. Blend arcs run at half their plane acceleration tangentially.
+* **Blend arcs between two circles** (blendmath.c ``blendArcArcPostProcess``, tp.c
+  ``tpCreateArcArcBlend``): the exact blend circle tangent to both must stay within the
+  tolerance of the corner and take no more of either circle than ``phi_max``, or there is no
+  arc; the arc built runs between its two tangent points, and its speed is capped at that
+  length per servo period (tc.c ``tcClampVelocityByLength``). Between nearly tangent circles
+  (an arc-built spiral) that length is a few micrometres, far below the estimate
+  ``R * phi``, so LinuxCNC passes such joins slowly with a small G64 P.
 * **Blend choice** (tp.c ``tpChooseBestBlend``): the arc, the approximate tangent (kink
-  speed) or a parabolic blend, whichever is fastest (the parabolic estimate halved).
+  speed) or a parabolic blend, whichever is fastest (the parabolic estimate halved). The
+  parabolic blend's speed (``tpComputeBlendVelocity``) uses the angle between the directions
+  of acceleration, not the tangents: a circle's start direction leans toward its centre by
+  its centripetal share (tc.c ``tcCircleStartAccelUnitVector``).
 * **Parabolic blends and the half acceleration** (tc.c ``tcGetOverallMaxAccel``, tp.c
   ``tpComputeBlendVelocity``, ``tpUpdateBlend``): a segment that ends in a parabolic blend,
   or that starts with one, runs at half its acceleration, and so does a G64 segment with no
@@ -355,6 +365,119 @@ def _blend_velocity(
     return np.nan_to_num(b1), np.nan_to_num(b2)
 
 
+def _accel_half_angle(
+    u1: np.ndarray,
+    u2: np.ndarray,
+    arc2: np.ndarray,
+    inward2: np.ndarray,
+    radius2: np.ndarray,
+    acc2: np.ndarray,
+    reqvel2: np.ndarray,
+) -> np.ndarray:
+    """Half the angle between the directions of acceleration at a join (tp.c
+    ``tpComputeBlendVelocity``, tc.c ``tcCircleStartAccelUnitVector``): the end tangent of the
+    first move and, for a circle after it, its start tangent leaned toward the centre by the
+    centripetal share ``(v/2)^2 / r`` against the overall acceleration ``acc2``. The parabolic
+    blend's speed follows from it, not from the tangents' angle."""
+    v2 = u2.copy()
+    if arc2.any():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inward = inward2 / np.maximum(np.linalg.norm(inward2, axis=1), _TINY)[:, None]
+            lean = np.where(radius2 > _TINY, (0.5 * reqvel2) ** 2 / radius2, 0.0)
+            tilted = u2 * acc2[:, None] + inward * lean[:, None]
+            tilted /= np.maximum(np.linalg.norm(tilted, axis=1), _TINY)[:, None]
+        v2 = np.where(arc2[:, None], tilted, u2)
+    dot = np.clip(np.sum(u1 * v2, axis=1), -1.0, 1.0)
+    return np.arccos(-dot) / 2.0
+
+
+def _spiral_circle(
+    seg: np.ndarray, idx: np.ndarray, p: np.ndarray, u_tan: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """blendmath.c ``findSpiralApproximation``: the circle through ``p`` that approximates a
+    spiral there (the centre moved along the tangent by the radius change per radian)."""
+    sweep = np.abs(seg["sweep"][idx])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dr = np.where(sweep > 0, (seg["radius_end"][idx] - seg["radius"][idx]) / sweep, 0.0)
+    centre = seg["centre"][idx] + u_tan * dr[:, None]
+    return centre, np.linalg.norm(p - centre, axis=1)
+
+
+def _arc_arc_blend(
+    seg: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    u1: np.ndarray,
+    u2: np.ndarray,
+    binormal: np.ndarray,
+    r_plan: np.ndarray,
+    tolerance: np.ndarray,
+    theta_tan: np.ndarray,
+    which: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """blendmath.c ``blendArcArcPostProcess``: the blend circle of radius ``r_plan`` tangent
+    to both circles (inside a convex one, outside a concave one) must stay within the
+    tolerance of the corner, and take no more of either circle than the blend may
+    (``phi_max``); where it does not, LinuxCNC builds no arc between the two circles
+    (``fails``). Also the length of the arc it builds, between the two tangent points
+    (tp.c ``tpInitBlendArcFromPrev``: its speed is capped at that length per period; where
+    the circles are nearly tangent it is far shorter than the estimate ``R_plan * phi``)."""
+    fails = np.zeros(len(a), dtype=bool)
+    length = np.zeros(len(a))
+    ia, ib = a[which], b[which]
+    t1, t2 = u1[which], u2[which]
+    p = seg["end"][ia, :3]
+    c1, r1 = _spiral_circle(seg, ia, p, t1)
+    c2, r2 = _spiral_circle(seg, ib, p, t2)
+    convex1 = np.sum((p - c1) * t2, axis=1) < 0
+    convex2 = np.sum((p - c2) * t1, axis=1) >= 0
+    rp = r_plan[which]
+    d1 = np.where(convex1, -rp, rp) + r1
+    d2 = np.where(convex2, -rp, rp) + r2
+    c12 = c2 - c1
+    cx_len = np.linalg.norm(c12, axis=1)
+    good = cx_len > _TINY
+    with np.errstate(divide="ignore", invalid="ignore"):
+        uc = c12 / np.where(good, cx_len, 1.0)[:, None]
+        cx = (-(d1**2) + d2**2 - cx_len**2) / (-2.0 * np.where(good, cx_len, 1.0))
+        cy = np.sqrt(np.maximum(d1**2 - cx**2, 0.0))
+    normal = t2 - t1
+    normal /= np.maximum(np.linalg.norm(normal, axis=1), _TINY)[:, None]
+    nc = np.cross(binormal[which], uc)
+    nc = np.where((np.sum(normal * nc, axis=1) < 0)[:, None], -nc, nc)
+    nc /= np.maximum(np.linalg.norm(nc, axis=1), _TINY)[:, None]
+    base = c1 - p + uc * cx[:, None]
+    plus = np.linalg.norm(base + nc * cy[:, None], axis=1)
+    minus = np.linalg.norm(base - nc * cy[:, None], axis=1)
+    cy = np.where(minus < plus, -cy, cy)
+    centre = c1 + uc * cx[:, None] + nc * cy[:, None]
+    t_final = np.linalg.norm(centre - p, axis=1) - rp
+
+    def trim(c: np.ndarray) -> np.ndarray:
+        """blendmath.c ``findTrimAngle``: the angle the blend takes off a circle."""
+        up = (p - c) / np.maximum(np.linalg.norm(p - c, axis=1), _TINY)[:, None]
+        uq = (centre - c) / np.maximum(np.linalg.norm(centre - c, axis=1), _TINY)[:, None]
+        return np.arccos(np.clip(np.sum(up * uq, axis=1), -1.0, 1.0))
+
+    tt = theta_tan[which]
+    phi1_max = np.minimum(np.abs(seg["sweep"][ia]) * 2.0 / 3.0, np.where(convex1, tt, np.pi / 2))
+    phi2_max = np.minimum(np.abs(seg["sweep"][ib]) / 3.0, np.where(convex2, tt, np.pi / 2))
+    fails[which] = (
+        ~good | ~(t_final <= tolerance[which]) | (trim(c1) > phi1_max) | (trim(c2) > phi2_max)
+    )
+
+    def touch(c: np.ndarray, r: np.ndarray) -> np.ndarray:
+        """Where the blend circle touches the circle of centre ``c``: along the centres'
+        line, from the blend's centre (unit vector)."""
+        d = centre - c
+        t = c + d * (r / np.maximum(np.linalg.norm(d, axis=1), _TINY))[:, None] - centre
+        return t / np.maximum(np.linalg.norm(t, axis=1), _TINY)[:, None]
+
+    cos_arc = np.clip(np.sum(touch(c1, r1) * touch(c2, r2), axis=1), -1.0, 1.0)
+    length[which] = rp * np.arccos(cos_arc)
+    return fails, length
+
+
 def _joins(
     seg: np.ndarray,
     lim: _Limits,
@@ -489,16 +612,32 @@ def _joins(
         same = np.sum((binormal - nrm) ** 2, axis=1) < eps2
         opposite = np.sum((binormal + nrm) ** 2, axis=1) < eps2
         ok &= ~is_arc | same | opposite
+    both = ok & (seg["kind"][a] == ARC) & (seg["kind"][b] == ARC)
+    if both.any():
+        fails, s_exact = _arc_arc_blend(
+            seg, a, b, u1, u2, binormal, r_plan, tolerance, theta_tan, both
+        )
+        ok &= ~fails
+        s_arc = np.where(both, s_exact, s_arc)
     perf_arc = np.where(ok, np.minimum(v_plan, s_arc / period), 0.0)
     # parabolic estimate (segments not finalized yet: half their lengths, kink loss 0.1)
     acc1 = lim.maxacc[a] * (1.0 - KINK_RATIO) * 0.5
     acc2 = lim.maxacc[b] * (1.0 - KINK_RATIO) * 0.5
     acc1 = np.where(seg["kind"][a] == ARC, acc1 * ACC_RATIO_TAN, acc1)
     acc2 = np.where(seg["kind"][b] == ARC, acc2 * ACC_RATIO_TAN, acc2)
-    b1, b2 = _blend_velocity(
-        acc1, acc2, length[a] / 2, length[b] / 2, vt[a], vt[b], np.cos(theta), tol[a]
+    theta_acc = _accel_half_angle(
+        u1,
+        u2,
+        seg["kind"][b] == ARC,
+        seg["centre"][b] - seg["start"][b, :3],
+        seg["radius"][b],
+        lim.maxacc[b] * (1.0 - KINK_RATIO) * 0.5,
+        lim.reqvel[b],
     )
-    perf_par = np.sin(theta) * (b1 + b2) / 2.0 / 2.0
+    b1, b2 = _blend_velocity(
+        acc1, acc2, length[a] / 2, length[b] / 2, vt[a], vt[b], np.cos(theta_acc), tol[a]
+    )
+    perf_par = np.sin(theta_acc) * (b1 + b2) / 2.0 / 2.0
     perf = np.stack([perf_par, kink_vel, perf_arc], axis=1)
     best = np.argmax(perf, axis=1)
     use_par = blend & (best == 0)
@@ -814,8 +953,17 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
             p, q = par_at, par_at + 1
             u1 = table["u_end"][p, :3]
             u2 = table["u_start"][q, :3]
-            dot = np.clip(np.sum(u1 * u2, axis=1), -1.0, 1.0)
-            cos_half = np.cos(np.arccos(-dot) / 2.0)
+            cos_half = np.cos(
+                _accel_half_angle(
+                    u1,
+                    u2,
+                    circle[q],
+                    table["centre"][q] - table["start"][q, :3],
+                    table["radius"][q],
+                    acc_all[q] * 0.5,
+                    reqvel[q],
+                )
+            )
             src_t = np.clip(table["source"][p], 0, max(len(prepared.tolerance) - 1, 0))
             b1, b2 = _blend_velocity(
                 acc_t[p],
