@@ -20,6 +20,11 @@ copied) and checked against grbl-sim built from it (tests/data/grbl_sim):
   buffer (``BLOCK_BUFFER_SIZE``, one kept free): the last block in the buffer ends at rest.
 * **Stops** at every buffer synchronisation (dwell, spindle, coolant, program end): the
   path's holds.
+
+The program is taken as streamed by an ideal sender, so Grbl starts each cycle with its
+planner full (the goldens' lockstep harness, tests/data/grbl_sim/README.md). A real sender on
+a 115200-baud link makes Grbl start moving with one block in view, which slows the first
+moves of a program of tiny segments.
 """
 
 from __future__ import annotations
