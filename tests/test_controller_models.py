@@ -55,6 +55,8 @@ def _run(folder: str, name: str) -> tuple[float, tuple[float, ...], tuple[float,
     """Cycle time and peak |axis speed|, |axis acceleration| (x, y, z) of one variant (the
     grbl-sim programs are read as Grbl reads them)."""
     prog = Path(folder) / "ngc" / f"{name}.ngc"
+    if Path(folder) == GRBL and "file" in GRBL_GOLDENS[name]:
+        prog = GRBL / str(GRBL_GOLDENS[name]["file"])  # a real program of tests/realworld
     dialect = "grbl" if Path(folder) == GRBL else "rs274ngc"
     rep = simulate(list(read(prog, dialect)), _machine(folder), str(prog)).measure()
     vel = tuple(abs(rep.peak_velocity[a]) for a in "xyz")
