@@ -12,6 +12,8 @@ import importlib.util
 
 import click
 
+from cli.global_options import add_verbosity
+
 #: command name -> module defining ``command`` (a click command or group)
 SUBCOMMANDS: dict[str, str] = {
     "canon": "cli.canon",
@@ -36,7 +38,8 @@ class LazyGroup(click.Group):
         module = SUBCOMMANDS.get(cmd_name)
         if module is None or importlib.util.find_spec(module) is None:
             return None
-        return importlib.import_module(module).command
+        command: click.Command = importlib.import_module(module).command
+        return add_verbosity(command)
 
 
 EPILOG = """\b
