@@ -53,6 +53,7 @@ from cli.programs import (
     expand,
     jobs_option,
     load_tool_table,
+    output_stem,
     scheduler_option,
     timeout_option,
     tool_table_units,
@@ -244,7 +245,7 @@ class ResultStore:
     def path(self, program: str) -> str:
         """``DIR/<stem>-<hash of the absolute path>.json``: one name per program."""
         key = hashlib.sha1(os.path.abspath(program).encode()).hexdigest()[:16]
-        return os.path.join(self.directory, f"{Path(program).stem}-{key}.json")
+        return os.path.join(self.directory, f"{output_stem(program)}-{key}.json")
 
     def load(self, program: str) -> FileResult | None:
         """The stored result of ``program`` if newer than it and than the profile."""

@@ -193,9 +193,18 @@ def _open_text(path: str) -> io.TextIOBase:
 def inch_tool_table(tools: ToolTable, mm_per_unit: float) -> ToolTable:
     """The table with lengths in inches, the unit rs274 (and gcode.ngc.interpreter) reads tool
     tables in; ``mm_per_unit`` is the unit of ``tools`` (25.4: already inches)."""
-    if mm_per_unit == 25.4:
+    return _scaled(tools, mm_per_unit / 25.4)
+
+
+def metric_tool_table(tools: ToolTable, mm_per_unit: float) -> ToolTable:
+    """The table with lengths in millimetres (``mm_per_unit``: the unit of ``tools``)."""
+    return _scaled(tools, mm_per_unit)
+
+
+def _scaled(tools: ToolTable, k: float) -> ToolTable:
+    """``tools`` with every length (X Y Z U V W offsets, diameter) times ``k``."""
+    if k == 1.0:
         return tools
-    k = mm_per_unit / 25.4
     out = ToolTable()
     for n, t in tools.tools.items():
         off = tuple(v * k if i in (0, 1, 2, 6, 7, 8) else v for i, v in enumerate(t.offset))

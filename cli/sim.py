@@ -24,7 +24,14 @@ from cli.options import (
     tool_units_option,
 )
 from cli.outputs import refuse_output
-from cli.programs import dialect_option, load_machine, load_tools, output_stem, program_commands
+from cli.programs import (
+    dialect_option,
+    load_machine,
+    load_tools,
+    metric_tool_table,
+    output_stem,
+    program_commands,
+)
 from kernel.diagnostics import Diagnostic, Location
 from kernel.machine import Machine
 from kernel.stock import (
@@ -154,7 +161,9 @@ def command(
     if box is None:
         raise click.UsageError("no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or [stock] box")
     table, tool_mm = load_tools(tool_table, tool_units)
-    shapes: dict[int, ToolShape] = shapes_from_table(table) if table else {}
+    shapes: dict[int, ToolShape] = {}
+    if table:
+        shapes = shapes_from_table(metric_tool_table(table, tool_mm))
     for spec in tool_specs:
         number, shape = parse_tool_spec(spec)
         shapes[number] = shape
