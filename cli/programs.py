@@ -23,7 +23,8 @@ import click
 
 import kernel.limits as limits
 from cli.main import verbosity as current_verbosity
-from cli.options import STDIN_META, STDIN_NAME, dialect_option
+from cli.options import STDIN_META, STDIN_NAME
+from cli.options import dialect_option as dialect_option  # the commands import it from here
 from gcode.detect import Guess
 from gcode.readers import read, read_text, text_findings
 from gcode.registry import DEFAULT_INPUT, guess_dialect
@@ -31,8 +32,6 @@ from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
 from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
 from kernel.tooltable import ToolTable, header_units, read_tool_table
-
-__all__ = ["STDIN_NAME", "dialect_option"]  # re-exported: the commands import them from here
 
 KINDS = ("gcode", "canon", "jsonl", "part21")
 #: the files a folder given to ``cnc check`` or ``cnc convert`` contributes
@@ -115,14 +114,6 @@ def is_stdin(path: str) -> bool:
 def output_stem(path: str) -> str:
     """The stem output files of ``path`` are named after (``stdin`` for standard input)."""
     return "stdin" if is_stdin(path) else Path(path).stem
-
-
-def program_text(path: str) -> str:
-    """The whole text of the program at ``path`` (or of standard input)."""
-    if is_stdin(path):
-        return stdin_text()
-    with open(path, encoding="utf-8", errors="replace") as fh:
-        return fh.read()
 
 
 _PART21 = re.compile(r"^\s*ISO-10303-21\s*;", re.M)
