@@ -16,13 +16,34 @@ from typing import Any, TextIO
 import click
 
 from cli.errors import guarded
+from cli.options import (
+    force_option,
+    machine_option,
+    output_option,
+    program_argument,
+    tool_table_option,
+    tool_units_option,
+)
 from cli.outputs import open_output, refuse_output
-from cli.programs import detect_kind, dialect_option, load_tool_table, program_dialect, read_head
+from cli.programs import (
+    detect_kind,
+    dialect_option,
+    inch_tool_table,
+    is_stdin,
+    load_machine,
+    load_tool_table,
+    profile_tools,
+    program_dialect,
+    read_head,
+    stdin_text,
+    tool_table_units,
+)
 from gcode.core.loopguard import MAX_BLOCKS
 from gcode.core.params import read_var_text
 from gcode.ngc.interpreter import InterpreterOptions, interpret_chunks
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
+from kernel.tooltable import ToolTable
 
 _BATCH = 4096
 _WRITE_CHARS = 1 << 18  # text is written in blocks of about this size (fewer, larger writes)
@@ -30,18 +51,16 @@ _MOVE = "%5d N..... %s(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)"
 _RATE = "%5d N..... SET_FEED_RATE(%.4f)"
 _ARC = "%5d N..... ARC_FEED(%.4f, %.4f, %.4f, %.4f, %d, %.4f, %.4f, %.4f, %.4f)"
 _FLOATS = {float}
+INCH = 25.4  # mm: the unit rs274 reads a tool table in, canon's default (--tool-units)
 
 
 def _options(
-    tool_table: str | None,
+    tools: ToolTable | None,
     params: str | None,
     search: tuple[str, ...],
     nist: bool,
     max_blocks: int = MAX_BLOCKS,
 ) -> InterpreterOptions:
-    tools = None
-    if tool_table is not None:
-        tools = load_tool_table(tool_table)
     values = None
     if params is not None:
         values = read_var_text(Path(params).read_text().splitlines(), params)
@@ -206,13 +225,16 @@ def _write(chunks: Iterator[object], path: str, fmt: str, linuxcnc: bool, out: T
 
 
 @click.command(name="canon")
-@click.argument("program", type=click.Path(dir_okay=False))
-@click.option(
-    "--tool-table",
-    "tool_table",
-    type=click.Path(dir_okay=False),
-    help="Tool table: LinuxCNC .tbl (inch) or NIST tool file.",
+@program_argument()
+@machine_option(
+    help="Machine profile (TOML): its [tools] table and units when -t is not given, and a "
+    "lathe's dialect wins a close --dialect auto call."
 )
+@tool_table_option(
+    help="Tool table: LinuxCNC .tbl or NIST tool file (a STEP-NC program's tools).",
+    must_exist=False,
+)
+@tool_units_option(default="inch, as rs274 reads it")
 @click.option(
     "--params",
     type=click.Path(dir_okay=False),
@@ -240,13 +262,8 @@ def _write(chunks: Iterator[object], path: str, fmt: str, linuxcnc: bool, out: T
     is_flag=True,
     help="Only NISTIR 5970 commands (no LinuxCNC-only SET_G5X_OFFSET, ON_RESET, ...).",
 )
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(dir_okay=False),
-    help="Write to this file instead of standard output.",
-)
-@click.option("--force", is_flag=True, help="Overwrite an existing output file.")
+@output_option()
+@force_option(help="Overwrite an existing output file.")
 @click.option(
     "--max-blocks",
     type=click.IntRange(min=1),
@@ -258,7 +275,9 @@ def _write(chunks: Iterator[object], path: str, fmt: str, linuxcnc: bool, out: T
 @guarded
 def command(
     program: str,
+    machine_path: str | None,
     tool_table: str | None,
+    tool_units: str | None,
     params: str | None,
     search: tuple[str, ...],
     fmt: str,
@@ -277,13 +296,19 @@ def command(
     \b
     Examples:
       cnc canon part.ngc
-      cnc canon part.ngc --tool-table sim.tbl -o part.canon
-      cnc canon ex1.stp --tool-table iso14649.tool_ex1
+      cnc canon part.ngc -t sim.tbl -o part.canon
+      cnc canon ex1.stp -t iso14649.tool_ex1
       cnc canon part.ngc --format jsonl | head
-      cnc canon O1234.nc --dialect fanuc
+      cnc canon O1234.nc -d fanuc
+      generate.py | cnc canon -
     """
-    if not os.path.isfile(program):
+    if not is_stdin(program) and not os.path.isfile(program):
         raise Diagnostic("IO-OPEN", "cannot open program: no such file", Location(program))
+    machine = load_machine(machine_path) if machine_path else None
+    units = INCH
+    if machine is not None and machine_path is not None:
+        listed, units = profile_tools(machine, machine_path)
+        tool_table = tool_table or listed
     if output is not None:
         refuse_output(output, force, (program, tool_table or "", params or ""))
     chunks: Iterator[object]
@@ -295,15 +320,33 @@ def command(
     if stepnc:
         # ISO 14649 STEP-NC (content, not the extension, decides); --tool-table names the
         # NIST ISO 14649 tool file, and the workplan runs in NIST-compatible mode
-        from stepnc.to_canon import canon_from_file
+        from stepnc.model import load_text
+        from stepnc.to_canon import canon_from_file, canon_from_model
+        from stepnc.tooling import load_tool_file
 
-        chunks = iter(canon_from_file(program, tool_file=tool_table, mode="nist"))
-    elif (language := program_dialect(program, dialect)) != "rs274ngc":
-        from gcode.readers import read
-
-        chunks = iter(read(program, language, _options(tool_table, params, dirs, nist, max_blocks)))
+        if is_stdin(program):
+            tools = load_tool_file(tool_table) if tool_table else None
+            chunks = iter(canon_from_model(load_text(stdin_text(), program), tools, "nist"))
+        else:
+            chunks = iter(canon_from_file(program, tool_file=tool_table, mode="nist"))
     else:
-        chunks = interpret_chunks(program, _options(tool_table, params, dirs, nist, max_blocks))
+        table = None
+        if tool_table is not None:
+            table = load_tool_table(tool_table)
+            table = inch_tool_table(table, tool_table_units(tool_table, tool_units, units))
+        options = _options(table, params, dirs, nist, max_blocks)
+        lathe = machine is not None and machine.kind == "lathe"
+        language = program_dialect(program, dialect, lathe=lathe)
+        if is_stdin(program):
+            from gcode.readers import read_text
+
+            chunks = iter(read_text(stdin_text(), language, program, options))
+        elif language != "rs274ngc":
+            from gcode.readers import read
+
+            chunks = iter(read(program, language, options))
+        else:
+            chunks = interpret_chunks(program, options)
     if output is None:
         try:
             _write(chunks, program, fmt, linuxcnc, sys.stdout)

@@ -34,16 +34,29 @@ from cli.deadline import ProgramTimeout, deadline
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.main import verbosity
+from cli.options import (
+    fail_on_option,
+    failing,
+    force_option,
+    machine_option,
+    output_option,
+    program_argument,
+    tool_table_option,
+    tool_units_option,
+)
 from cli.outputs import refuse_output, write_output
 from cli.programs import (
+    STDIN_NAME,
     apply_limits,
     check_input,
     dialect_option,
     expand,
     jobs_option,
     load_tool_table,
+    output_stem,
     scheduler_option,
     timeout_option,
+    tool_table_units,
 )
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
@@ -70,12 +83,16 @@ def _read_toml(path: str) -> dict[str, Any]:
 
 
 def load_context(
-    machine_path: str | None, config_path: str | None, tool_table: str | None
+    machine_path: str | None,
+    config_path: str | None,
+    tool_table: str | None,
+    tool_units: str | None = None,
 ) -> CheckContext:
-    """Machine profile + ``[check]`` settings (+ ``[tool.cnc.check]``) + tool table."""
+    """Machine profile + ``[check]`` settings (+ ``[tool.cnc.check]``) + tool table (its
+    lengths in ``tool_units`` when given, else as cli.programs.tool_table_units says)."""
     machine: Machine = DEFAULT_MACHINE
     table: dict[str, Any] = {}
-    tools_file, tool_units = None, 1.0
+    tools_file, tool_units_mm = None, 1.0
     extra: dict[str, Any] = DEFAULT_MACHINE.extra  # its [spindle] range
     if machine_path:
         with open(machine_path, encoding="utf-8") as fh:
@@ -85,7 +102,7 @@ def load_context(
         table = dict(extra.get("check", {})) if isinstance(extra.get("check"), dict) else {}
         if "check" in extra and not isinstance(extra["check"], dict):
             raise Diagnostic("CHECK-CONFIG", "[check] must be a table", Location(machine_path))
-        tools_file, tool_units = tool_table_spec(extra, machine_path)
+        tools_file, tool_units_mm = tool_table_spec(extra, machine_path)
         if tools_file:
             tools_file = str(Path(machine_path).parent / tools_file)
     if config_path is None and Path("pyproject.toml").is_file():
@@ -107,11 +124,13 @@ def load_context(
     if tool_table:
         tools_file = tool_table
     tools = load_tool_table(tools_file) if tools_file else None
+    if tools_file:
+        tool_units_mm = tool_table_units(tools_file, tool_units, tool_units_mm)
     return CheckContext(
         machine=machine,
         config=config,
         tools=tools,
-        tool_mm_per_unit=tool_units,
+        tool_mm_per_unit=tool_units_mm,
         spindle_range=spindle_range(extra, machine_path),
         default_machine=not machine_path,
     )
@@ -226,7 +245,7 @@ class ResultStore:
     def path(self, program: str) -> str:
         """``DIR/<stem>-<hash of the absolute path>.json``: one name per program."""
         key = hashlib.sha1(os.path.abspath(program).encode()).hexdigest()[:16]
-        return os.path.join(self.directory, f"{Path(program).stem}-{key}.json")
+        return os.path.join(self.directory, f"{output_stem(program)}-{key}.json")
 
     def load(self, program: str) -> FileResult | None:
         """The stored result of ``program`` if newer than it and than the profile."""
@@ -304,14 +323,8 @@ def _list_rules(ctx: CheckContext) -> str:
 
 
 @click.command("check")
-@click.argument("files", nargs=-1, type=click.Path(dir_okay=True))
-@click.option(
-    "--machine",
-    "-m",
-    "machine_path",
-    type=click.Path(exists=True, dir_okay=False),
-    help="Machine profile (TOML); its [check], [spindle] and [tools] tables apply.",
-)
+@program_argument("files", nargs=-1, dir_okay=True)
+@machine_option(help="Machine profile (TOML); its [check], [spindle] and [tools] tables apply.")
 @click.option(
     "--config",
     "config_path",
@@ -319,12 +332,8 @@ def _list_rules(ctx: CheckContext) -> str:
     help="pyproject-style TOML with a [tool.cnc.check] table "
     "(default: ./pyproject.toml if present).",
 )
-@click.option(
-    "--tool-table",
-    "-t",
-    type=click.Path(exists=True, dir_okay=False),
-    help="Tool table (LinuxCNC .tbl or NIST tool file); overrides the profile's.",
-)
+@tool_table_option(help="Tool table (LinuxCNC .tbl or NIST tool file); overrides the profile's.")
+@tool_units_option()
 @click.option(
     "--format",
     "-f",
@@ -336,13 +345,9 @@ def _list_rules(ctx: CheckContext) -> str:
 )
 @dialect_option
 @jobs_option
-@click.option(
-    "--output",
-    "-o",
-    type=click.Path(dir_okay=False, writable=True),
-    help="Write the report to this file instead of standard output.",
-)
-@click.option("--force", is_flag=True, help="Replace the -o report file if it exists.")
+@output_option(help="Write the report to this file instead of standard output.")
+@force_option(help="Replace the -o report file if it exists.")
+@fail_on_option
 @scheduler_option
 @timeout_option
 @click.option(
@@ -364,6 +369,7 @@ def command(
     machine_path: str | None,
     config_path: str | None,
     tool_table: str | None,
+    tool_units: str | None,
     fmt: str,
     dialect: str,
     jobs: int,
@@ -374,6 +380,7 @@ def command(
     results_dir: str | None,
     resume: bool,
     list_rules: bool,
+    fail_on: str,
 ) -> None:
     """Lint and verify programs without simulating them.
 
@@ -388,7 +395,7 @@ def command(
       cnc check -j 4 -f junit -o check.xml *.ngc
       cnc check --scheduler local:2 --results res/ --resume programs/
     """
-    ctx = load_context(machine_path, config_path, tool_table)
+    ctx = load_context(machine_path, config_path, tool_table, tool_units)
     if list_rules:
         click.echo(_list_rules(ctx), nl=False)
         return
@@ -397,6 +404,10 @@ def command(
     if resume and not results_dir:
         raise click.UsageError("--resume needs --results DIR (where the results are kept)")
     paths = expand(files)
+    if STDIN_NAME in paths:  # standard input is read here, not by worker processes
+        if scheduler:
+            raise click.UsageError("a program on standard input (-) cannot go to --scheduler")
+        jobs = 1
     if output:
         inputs = (*paths, machine_path or "", config_path or "", tool_table or "")
         refuse_output(output, force, inputs, "report file")
@@ -423,4 +434,5 @@ def command(
         click.echo(text, nl=False)
     if report.io_errors:
         sys.exit(EXIT_USAGE)
-    sys.exit(EXIT_PROGRAM_ERROR if report.total(Severity.ERROR) else EXIT_OK)
+    failed = any(report.total(sev) for sev in Severity if failing(sev, fail_on))
+    sys.exit(EXIT_PROGRAM_ERROR if failed else EXIT_OK)

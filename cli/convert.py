@@ -27,8 +27,9 @@ import click
 
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.errors import report as report_error
+from cli.options import tool_table_option
 from cli.outputs import refuse_output, write_output
-from cli.programs import expand
+from cli.programs import expand, is_pattern
 from cli.verify import Recorder, Verification, reader_options, verified_output
 from gcode.registry import (
     ALIASES,
@@ -185,13 +186,16 @@ def _echo_groups(groups: list[Group], severity: Severity, prefix: str, source: s
 @click.argument("sources", nargs=-1, required=True, type=click.Path())
 @click.option(
     "--from",
+    "-d",
+    "--dialect",
     "src",
     default="auto",
     show_default=True,
     type=click.Choice(
         ["auto", "canon", "jsonl", "stepnc", *INPUTS, *ALIASES], case_sensitive=False
     ),
-    help="input language (auto: canonical text, JSON lines and STEP-NC by content, "
+    help="input language, also spelled -d/--dialect as in the other commands (auto: "
+    "canonical text, JSON lines and STEP-NC by content, "
     f"{suffix_summary()} by suffix, else {DEFAULT_INPUT})",
 )
 @click.option(
@@ -266,11 +270,7 @@ def _echo_groups(groups: list[Group], severity: Severity, prefix: str, source: s
     "(LinuxCNC by value, Fanuc/Haas with the radius set by G10 L12), or applied here",
 )
 @click.option("--no-comments", is_flag=True, help="drop comments")
-@click.option(
-    "--tool-table",
-    type=click.Path(exists=True, dir_okay=False),
-    help="LinuxCNC .tbl or NIST tool file for the interpreter",
-)
+@tool_table_option(help="LinuxCNC .tbl or NIST tool file for the interpreter")
 @click.option(
     "--write-tool-table",
     is_flag=True,
@@ -371,7 +371,7 @@ def command(
         not no_verify,
         force,
     )
-    if len(sources) == 1 and not os.path.isdir(sources[0]):
+    if len(sources) == 1 and not os.path.isdir(sources[0]) and not is_pattern(sources[0]):
         if report_path:
             refuse_output(report_path, force, (sources[0], tool_table or ""), "report")
         outcome = convert_file(sources[0], output, job)
@@ -499,7 +499,7 @@ def planned_outputs(sources: tuple[str, ...], folder: str, target: str) -> list[
     pairs: list[tuple[str, str]] = []
     for given in sources:
         base = Path(given)
-        found = expand((given,)) if base.is_dir() else [given]
+        found = expand((given,))  # a folder's programs, a quoted pattern's matches
         for program in found:
             rel = Path(program).relative_to(base) if base.is_dir() else Path(Path(program).name)
             pairs.append((program, str(Path(folder) / rel.with_suffix(suffix))))

@@ -23,6 +23,7 @@ from typing import Any
 import click
 
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.options import force_option, machine_option, output_option
 from cli.outputs import refuse_output, write_output
 from cli.programs import load_machine
 from kernel.diagnostics import Diagnostic, Location
@@ -188,18 +189,23 @@ def command() -> None:
 
 @command.command("show")
 @click.argument("profile", required=False, type=click.Path(exists=True, dir_okay=False))
+@machine_option(help="The profile to show, as in the other commands (same as PROFILE).")
 @click.option(
     "--format", "-f", "fmt", type=click.Choice(["toml", "json"]), default="toml", show_default=True
 )
 @guarded
-def show(profile: str | None, fmt: str) -> None:
+def show(profile: str | None, machine_path: str | None, fmt: str) -> None:
     """Print the effective profile: PROFILE (default: the built-in mill) with defaults filled.
 
     \b
     Examples:
       cnc machine show
       cnc machine show mill.toml -f json
+      cnc machine show -m mill.toml
     """
+    if profile and machine_path:
+        raise click.UsageError("give the profile once: PROFILE or -m PROFILE")
+    profile = profile or machine_path
     m = load_machine(profile) if profile else DEFAULT_MACHINE
     if fmt == "json":
         click.echo(json.dumps(machine_dict(m), indent=2, default=str))
@@ -250,14 +256,8 @@ def validate(profiles: tuple[str, ...]) -> None:
 
 
 @command.command("init")
-@click.option(
-    "--output",
-    "-o",
-    type=click.Path(dir_okay=False),
-    default=None,
-    help="File to write (default: standard output).",
-)
-@click.option("--force", is_flag=True, help="Overwrite an existing file.")
+@output_option(help="File to write (default: standard output).")
+@force_option(help="Overwrite an existing file.")
 @click.option(
     "--kind",
     "-k",

@@ -12,6 +12,8 @@ import importlib.util
 
 import click
 
+from cli.global_options import add_verbosity
+
 #: command name -> module defining ``command`` (a click command or group)
 SUBCOMMANDS: dict[str, str] = {
     "canon": "cli.canon",
@@ -36,19 +38,22 @@ class LazyGroup(click.Group):
         module = SUBCOMMANDS.get(cmd_name)
         if module is None or importlib.util.find_spec(module) is None:
             return None
-        return importlib.import_module(module).command
+        command: click.Command = importlib.import_module(module).command
+        return add_verbosity(command)
 
 
 EPILOG = """\b
 Examples:
   cnc canon part.ngc                     canonical machining commands
   cnc check *.ngc --format sarif -o r.sarif
-  cnc plan part.ngc --machine mill.toml  cycle time and limit hits
+  cnc plan part.ngc -m mill.toml         cycle time and limit hits
+  post.py | cnc check -d fanuc -         a program on standard input
   cnc stepnc info ex1.stp                workplan, features, tools
 
 \b
 Shell completion (bash): eval "$(_CNC_COMPLETE=bash_source cnc)"
 Colour is used only on a terminal; NO_COLOR=1 turns it off.
+Shared options (-m, -t, -d, -o, --force, -q/-v anywhere): docs/cli.md.
 Exit codes: 0 clean, 1 errors in the program(s), 2 usage or I/O error.
 """
 

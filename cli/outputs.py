@@ -30,6 +30,12 @@ def same_file(a: str, b: str) -> bool:
         return os.path.realpath(a) == os.path.realpath(b)
 
 
+def exists_message(what: str = "output file", detail: str = "") -> str:
+    """The one wording of ``IO-EXISTS`` in every command: ``<what> exists<detail>; use --force
+    to replace it``."""
+    return f"{what} exists{detail}; use --force to replace it"
+
+
 def refuse_output(
     output: str, force: bool, inputs: Iterable[str] = (), what: str = "output file"
 ) -> None:
@@ -44,9 +50,7 @@ def refuse_output(
             )
     if os.path.lexists(output) and not force:
         link = " (a symlink)" if os.path.islink(output) else ""
-        raise Diagnostic(
-            "IO-EXISTS", f"{what} exists{link}; use --force to replace it", Location(output)
-        )
+        raise Diagnostic("IO-EXISTS", exists_message(what, link), Location(output))
     if os.path.isdir(output):
         raise Diagnostic("IO-NOT-FILE", f"{what} is a directory", Location(output))
 

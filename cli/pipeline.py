@@ -19,7 +19,7 @@ from typing import Any
 from cli.budget import cpu_budget
 from cli.deadline import ProgramTimeout, deadline
 from cli.outputs import open_output, refuse_output, replacing
-from cli.programs import check_input
+from cli.programs import check_input, output_stem
 from kernel.check import CheckContext, Finding, check_stream
 from kernel.diagnostics import Diagnostic, Location, Severity
 from kernel.ir import canon
@@ -54,13 +54,14 @@ class RunResult:
     contour_error: float = 0.0  # mm
     errors: int = 0
     warnings: int = 0
+    notes: int = 0
     message: str = ""
     report: str = ""
     seconds: float = 0.0
 
 
 def _stem(path: str) -> str:
-    return os.path.splitext(os.path.basename(path))[0]
+    return output_stem(path)
 
 
 def report_names(programs: list[str]) -> dict[str, str]:
@@ -258,6 +259,7 @@ def _run_program(
     doc["findings"] = [f.to_dict() for f in findings]
     res.errors = sum(1 for f in findings if f.severity == Severity.ERROR)
     res.warnings = sum(1 for f in findings if f.severity == Severity.WARNING)
+    res.notes = sum(1 for f in findings if f.severity == Severity.NOTE)
     stop = next((f for f in findings if f.rule == "CNC001"), None)
     if stop is not None:  # the program cannot be interpreted to its end: nothing to run
         res.status, res.message = "error", stop.format()

@@ -13,21 +13,35 @@ from rich.console import Console
 from rich.table import Table
 
 from cli.errors import guarded
-from cli.programs import dialect_option, load_machine, program_commands
+from cli.options import machine_option, program_argument, tool_table_option, tool_units_option
+from cli.programs import dialect_option, machine_tools, program_commands
 from kernel.machine import CONTROLLER_MODELS, Machine, with_controller
 from kernel.report.compare import Stretch, differing_stretches, line_times
 from kernel.report.measure import Report
 from kernel.simulation import measure_program, simulate
+from kernel.tooltable import ToolTable
 
 
-def run(program: str, machine: Machine, dialect: str | None = None) -> Report:
-    """Plan, sample and measure ``program`` (the command's work, without printing)."""
-    commands = program_commands(program, dialect=dialect, machine=machine)
+def run(
+    program: str,
+    machine: Machine,
+    dialect: str | None = None,
+    tools: ToolTable | None = None,
+    tool_mm_per_unit: float = 1.0,
+) -> Report:
+    """Plan, sample and measure ``program`` (the command's work, without printing);
+    ``tools`` (lengths in units of ``tool_mm_per_unit`` mm) go to the G-code reader."""
+    commands = program_commands(program, tools, tool_mm_per_unit, dialect, machine=machine)
     return measure_program(commands, machine, program)
 
 
 def compare(
-    program: str, machine: Machine, models: list[str], dialect: str | None = None
+    program: str,
+    machine: Machine,
+    models: list[str],
+    dialect: str | None = None,
+    tools: ToolTable | None = None,
+    tool_mm_per_unit: float = 1.0,
 ) -> tuple[dict[str, Report], list[Stretch]]:
     """Plan ``program`` with each controller model: their reports and the stretches of
     source lines where their times differ most (kernel.report.compare)."""
@@ -35,7 +49,7 @@ def compare(
     times: dict[str, dict[int, float]] = {}
     for name in models:
         result = simulate(
-            program_commands(program, dialect=dialect),
+            program_commands(program, tools, tool_mm_per_unit, dialect),
             with_controller(machine, model=name),
             program,
         )
@@ -147,14 +161,10 @@ def _text(report: Report, program: str, console: Console) -> None:
 
 
 @click.command(name="plan")
-@click.argument("program", type=click.Path(exists=True, dir_okay=False))
-@click.option(
-    "--machine",
-    "machine_file",
-    type=click.Path(dir_okay=False),
-    default=None,
-    help="machine profile (TOML); default: built-in 3-axis mill",
-)
+@program_argument(exists=True)
+@machine_option("machine_file", help="machine profile (TOML); default: built-in 3-axis mill")
+@tool_table_option(help="tool table (LinuxCNC .tbl or NIST tool file); overrides the profile's")
+@tool_units_option()
 @click.option(
     "--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True
 )
@@ -170,7 +180,13 @@ def _text(report: Report, program: str, console: Console) -> None:
 @dialect_option
 @guarded
 def command(
-    program: str, machine_file: str | None, fmt: str, dialect: str, compare_models: str | None
+    program: str,
+    machine_file: str | None,
+    tool_table: str | None,
+    tool_units: str | None,
+    fmt: str,
+    dialect: str,
+    compare_models: str | None,
 ) -> None:
     """Plan PROGRAM: cycle-time breakdown, path lengths, peak axis values, limit hits.
 
@@ -183,9 +199,10 @@ def command(
       cnc plan ex1.stp
       cnc plan part.ngc --compare linuxcnc,grbl,book
     """
+    machine, tools, tool_mm = machine_tools(machine_file, tool_table, tool_units)
     if compare_models is not None:
         models = _models(compare_models)
-        reports, stretches = compare(program, load_machine(machine_file), models, dialect)
+        reports, stretches = compare(program, machine, models, dialect, tools, tool_mm)
         if fmt == "json":
             doc = {
                 "program": program,
@@ -199,7 +216,7 @@ def command(
         else:
             _compare_text(reports, stretches, program, Console())
         return
-    report = run(program, load_machine(machine_file), dialect)
+    report = run(program, machine, dialect, tools, tool_mm)
     if fmt == "json":
         click.echo(json.dumps({"program": program, **report.to_dict()}, indent=2))
     else:

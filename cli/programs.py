@@ -10,7 +10,9 @@ generator, after the commands before them (as rs274 stops at its first error).
 
 from __future__ import annotations
 
+import glob
 import importlib.util
+import io
 import json
 import re
 from collections.abc import Iterator
@@ -21,13 +23,15 @@ import click
 
 import kernel.limits as limits
 from cli.main import verbosity as current_verbosity
+from cli.options import STDIN_META, STDIN_NAME
+from cli.options import dialect_option as dialect_option  # the commands import it from here
 from gcode.detect import Guess
-from gcode.readers import text_findings
-from gcode.registry import ALIASES, DEFAULT_INPUT, INPUTS, guess_dialect, suffix_summary
+from gcode.readers import read, read_text, text_findings
+from gcode.registry import DEFAULT_INPUT, guess_dialect
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
 from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
-from kernel.tooltable import ToolTable, read_tool_table
+from kernel.tooltable import ToolTable, header_units, read_tool_table
 
 KINDS = ("gcode", "canon", "jsonl", "part21")
 #: the files a folder given to ``cnc check`` or ``cnc convert`` contributes
@@ -46,15 +50,70 @@ PROGRAM_SUFFIXES = (
 
 
 def expand(files: tuple[str, ...]) -> list[str]:
-    """Files as given; directories contribute their programs (sorted, recursively)."""
+    """The programs named by ``files``: files as given; a directory's programs (sorted,
+    recursively, by :data:`PROGRAM_SUFFIXES`); a pattern the shell did not expand (quoted,
+    ``*``, ``?``, ``[...]``, ``**`` recursive) expanded here. A directory without programs
+    and a pattern matching nothing are usage errors (exit 2): a batch that checks nothing
+    must not pass. A missing plain file stays in the list (its row says it cannot be read)."""
     out: list[str] = []
     for f in files:
         p = Path(f)
-        if p.is_dir():
-            out.extend(str(q) for q in sorted(p.rglob("*")) if q.suffix.lower() in PROGRAM_SUFFIXES)
+        if f == STDIN_NAME:
+            out.append(f)
+        elif p.is_dir():
+            found = _programs_in(p)
+            if not found:
+                raise click.UsageError(
+                    f"{f}: no programs in this directory (looked for {', '.join(PROGRAM_SUFFIXES)})"
+                )
+            out.extend(found)
+        elif is_pattern(f):
+            matches = sorted(glob.glob(f, recursive=True))
+            found = [
+                q for m in matches for q in (_programs_in(Path(m)) if Path(m).is_dir() else [m])
+            ]
+            if not found:
+                raise click.UsageError(f"{f}: no file matches this pattern")
+            out.extend(found)
         else:
             out.append(f)
     return out
+
+
+def is_pattern(given: str) -> bool:
+    """Whether ``given`` is a pattern for :func:`expand` to match (no file has that name)."""
+    return glob.has_magic(given) and not Path(given).exists()
+
+
+def _programs_in(folder: Path) -> list[str]:
+    """The programs below ``folder``, sorted."""
+    return [
+        str(q)
+        for q in sorted(folder.rglob("*"))
+        if q.suffix.lower() in PROGRAM_SUFFIXES and q.is_file()
+    ]
+
+
+def stdin_text() -> str:
+    """Standard input as text: what the program argument read for ``-`` in this invocation
+    (cli.options.program_argument), else read now, once per invocation."""
+    ctx = click.get_current_context(silent=True)
+    if ctx is not None and STDIN_META in ctx.meta:
+        return str(ctx.meta[STDIN_META])
+    text = click.get_text_stream("stdin").read()
+    if ctx is not None:
+        ctx.meta[STDIN_META] = text
+    return text
+
+
+def is_stdin(path: str) -> bool:
+    """Whether ``path`` is the program read from standard input."""
+    return path == STDIN_NAME
+
+
+def output_stem(path: str) -> str:
+    """The stem output files of ``path`` are named after (``stdin`` for standard input)."""
+    return "stdin" if is_stdin(path) else Path(path).stem
 
 
 _PART21 = re.compile(r"^\s*ISO-10303-21\s*;", re.M)
@@ -81,15 +140,18 @@ def detect_kind(head: str) -> str:
 
 def read_head(path: str, size: int = 16384) -> str:
     """The first ``size`` bytes as text; ``CHECK-BINARY`` if the file is not text."""
-    with open(path, "rb") as fh:
-        data = fh.read(size)
+    if is_stdin(path):
+        data = stdin_text()[:size].encode("utf-8", errors="replace")
+    else:
+        with open(path, "rb") as fh:
+            data = fh.read(size)
     if b"\0" in data:
         raise Diagnostic("CHECK-BINARY", "not a text file (NUL bytes)", Location(path))
     return data.decode("utf-8", errors="replace")
 
 
 def _jsonl(path: str) -> Iterator[canon.Command]:
-    with open(path, encoding="utf-8", errors="replace") as fh:
+    with _open_text(path) as fh:
         for n, line in enumerate(fh, 1):
             if not line.strip():
                 continue
@@ -108,16 +170,32 @@ def _with_source(cmd: canon.Command, loc: Location) -> canon.Command:
 
 
 def _canon_text(path: str) -> Iterator[canon.Command]:
-    with open(path, encoding="utf-8", errors="replace") as fh:
+    with _open_text(path) as fh:
         yield from canon.read_commands(fh, path, keep_linuxcnc=True)
+
+
+def _open_text(path: str) -> io.TextIOBase:
+    """The program at ``path`` (or standard input) open for reading text."""
+    if is_stdin(path):
+        return io.StringIO(stdin_text())
+    return open(path, encoding="utf-8", errors="replace")  # noqa: SIM115 - the caller closes
 
 
 def inch_tool_table(tools: ToolTable, mm_per_unit: float) -> ToolTable:
     """The table with lengths in inches, the unit rs274 (and gcode.ngc.interpreter) reads tool
     tables in; ``mm_per_unit`` is the unit of ``tools`` (25.4: already inches)."""
-    if mm_per_unit == 25.4:
+    return _scaled(tools, mm_per_unit / 25.4)
+
+
+def metric_tool_table(tools: ToolTable, mm_per_unit: float) -> ToolTable:
+    """The table with lengths in millimetres (``mm_per_unit``: the unit of ``tools``)."""
+    return _scaled(tools, mm_per_unit)
+
+
+def _scaled(tools: ToolTable, k: float) -> ToolTable:
+    """``tools`` with every length (X Y Z U V W offsets, diameter) times ``k``."""
+    if k == 1.0:
         return tools
-    k = mm_per_unit / 25.4
     out = ToolTable()
     for n, t in tools.tools.items():
         off = tuple(v * k if i in (0, 1, 2, 6, 7, 8) else v for i, v in enumerate(t.offset))
@@ -173,22 +251,28 @@ def _gcode(
     if tools is not None:
         tools = inch_tool_table(tools, mm_per_unit)
     from gcode.ngc.interpreter import InterpreterOptions
-    from gcode.readers import read
 
-    search = (str(Path(path).resolve().parent),)
+    search = (str(Path(path).resolve().parent),)  # standard input: the working directory
     options = InterpreterOptions(tool_table=tools, search_path=search)
-    yield from read(path, dialect, options)
+    if is_stdin(path):
+        yield from read_text(stdin_text(), dialect, path, options)
+    else:
+        yield from read(path, dialect, options)
 
 
 def _part21(path: str, machine: Machine | None) -> Iterator[canon.Command]:
     """ISO 14649 through :func:`stepnc.to_canon.canon_from_file` (standard start-up state,
     its retract height kept within ``machine``'s Z travel)."""
-    from stepnc.to_canon import canon_from_file
+    from stepnc.model import load_text
+    from stepnc.to_canon import canon_from_file, canon_from_model
 
     z_max = None
     if machine is not None and "z" in machine.axis_names:
         z_max = machine.axis("z").max
-    yield from canon_from_file(path, mode="default", z_max=z_max)
+    if is_stdin(path):
+        yield from canon_from_model(load_text(stdin_text(), path), mode="default", z_max=z_max)
+    else:
+        yield from canon_from_file(path, mode="default", z_max=z_max)
 
 
 def program_language(
@@ -242,7 +326,9 @@ def check_input(
     except Diagnostic as diag:
         return _failing(diag), []
     cmds = language_commands(path, language, tools, tool_mm_per_unit, machine)
-    return cmds, (text_findings(path, language) if language not in KINDS else [])
+    if language in KINDS:
+        return cmds, []
+    return cmds, text_findings(path, language, stdin_text() if is_stdin(path) else None)
 
 
 def _failing(diag: Diagnostic) -> Iterator[canon.Command]:
@@ -267,19 +353,6 @@ def language_commands(
         yield from _part21(path, machine)
     else:
         yield from _gcode(path, tools, tool_mm_per_unit, language)
-
-
-#: ``--dialect`` of the commands that read programs (canon, check, run, plan, trace)
-dialect_option = click.option(
-    "--dialect",
-    "-d",
-    default="auto",
-    show_default=True,
-    type=click.Choice(["auto", *INPUTS, *ALIASES], case_sensitive=False),
-    help=f"Language of G-code input: {', '.join(INPUTS)}; auto: by content and suffix "
-    f"({suffix_summary()}), else {DEFAULT_INPUT}; the guess is said on stderr. Canonical "
-    "text, JSON lines and Part 21 are recognised by content whatever this says.",
-)
 
 
 #: ``--jobs/-j`` of the batch commands (check, run)
@@ -361,3 +434,51 @@ def load_tool_table(path: str) -> ToolTable:
     """A tool table file: LinuxCNC ``.tbl`` or NIST tool file (``TOOL-*`` diagnostics)."""
     with open(path, encoding="utf-8", errors="replace") as fh:
         return read_tool_table(fh.readlines(), path)
+
+
+MM_PER_UNIT = {"mm": 1.0, "inch": 25.4}
+
+
+def tool_table_units(path: str, given: str | None, fallback: float) -> float:
+    """Millimetres per length unit of the tool table at ``path``: ``given`` (``--tool-units``)
+    when set, else its header comment (``; units: inch``), else ``fallback`` (the profile's
+    ``[tools] units``, or the command's default)."""
+    if given is not None:
+        return MM_PER_UNIT[given]
+    with open(path, encoding="utf-8", errors="replace") as fh:
+        declared = header_units(fh)
+    return MM_PER_UNIT[declared] if declared else fallback
+
+
+def load_tools(
+    path: str | None, given: str | None, fallback: float = 1.0
+) -> tuple[ToolTable | None, float]:
+    """``-t`` with ``--tool-units``: the table (None without ``path``) and mm per its unit."""
+    if path is None:
+        return None, fallback
+    return load_tool_table(path), tool_table_units(path, given, fallback)
+
+
+def profile_tools(machine: Machine, path: str) -> tuple[str | None, float]:
+    """The profile's ``[tools]`` table: its file (relative to the profile, made a path
+    here) and mm per its unit (kernel.check.config.tool_table_spec, imported only for a
+    profile: a plain ``cnc canon`` does not load the checker)."""
+    from kernel.check.config import tool_table_spec
+
+    file, mm_per_unit = tool_table_spec(machine.extra, path)
+    return (str(Path(path).parent / file) if file else None), mm_per_unit
+
+
+def machine_tools(
+    machine_path: str | None, tool_table: str | None, tool_units: str | None
+) -> tuple[Machine, ToolTable | None, float]:
+    """``-m``, ``-t`` and ``--tool-units`` as every command that plans a program reads
+    them: the machine (built-in mill without ``-m``), the tool table (``-t``, else the
+    profile's ``[tools]`` file, else none) and mm per its length unit."""
+    machine = load_machine(machine_path)
+    fallback = 1.0
+    if machine_path is not None:
+        listed, fallback = profile_tools(machine, machine_path)
+        tool_table = tool_table or listed
+    tools, mm_per_unit = load_tools(tool_table, tool_units, fallback)
+    return machine, tools, mm_per_unit

@@ -31,9 +31,25 @@ from rich.table import Table
 from cli.check import expand, load_context
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.main import verbosity
-from cli.outputs import refuse_output
+from cli.options import (
+    fail_on_option,
+    failing,
+    force_option,
+    machine_option,
+    output_option,
+    program_argument,
+    tool_table_option,
+    tool_units_option,
+)
+from cli.outputs import exists_message, refuse_output
 from cli.pipeline import RunOptions, RunResult, report_names, run_program, run_task
-from cli.programs import dialect_option, jobs_option, scheduler_option, timeout_option
+from cli.programs import (
+    STDIN_NAME,
+    dialect_option,
+    jobs_option,
+    scheduler_option,
+    timeout_option,
+)
 from kernel.check import CheckContext, Finding
 from kernel.diagnostics import Diagnostic, Location, Severity
 
@@ -87,6 +103,7 @@ def _resumed(path: str, report: str, newest_input: float) -> RunResult | None:
     res = RunResult(path, status=str(doc["status"]), report=report)
     res.errors = sum(1 for f in findings if f.severity == Severity.ERROR)
     res.warnings = sum(1 for f in findings if f.severity == Severity.WARNING)
+    res.notes = sum(1 for f in findings if f.severity == Severity.NOTE)
     measure, servo = doc.get("measure", {}), doc.get("servo", {})
     res.cycle_time = float(measure.get("cycle", {}).get("total", 0.0))
     res.samples = int(measure.get("samples", 0))
@@ -141,19 +158,14 @@ def _summary(results: list[RunResult], console: Console, seconds: float) -> None
 
 
 @click.command("run")
-@click.argument("files", nargs=-1, required=True, type=click.Path(dir_okay=True))
-@click.option(
-    "--machine",
-    "-m",
-    "machine_path",
-    type=click.Path(exists=True, dir_okay=False),
-    help="Machine profile (TOML); default: the built-in 3-axis mill.",
-)
-@click.option(
-    "--output",
-    "-o",
+@program_argument("files", nargs=-1, required=True, dir_okay=True)
+@machine_option()
+@tool_table_option(help="Tool table (LinuxCNC .tbl or NIST tool file); overrides the profile's.")
+@tool_units_option()
+@output_option(
     "out_dir",
-    type=click.Path(file_okay=False),
+    file_okay=False,
+    dir_okay=True,
     default="cnc-run",
     show_default=True,
     help="Directory for the reports (created if missing).",
@@ -170,7 +182,8 @@ def _summary(results: list[RunResult], console: Console, seconds: float) -> None
     default=None,
     help="Also write each program's per-axis servo trace in this format.",
 )
-@click.option("--force", is_flag=True, help="Replace reports and traces that already exist.")
+@force_option(help="Replace reports and traces that already exist.")
+@fail_on_option
 @scheduler_option
 @timeout_option
 @click.option(
@@ -183,6 +196,8 @@ def _summary(results: list[RunResult], console: Console, seconds: float) -> None
 def command(
     files: tuple[str, ...],
     machine_path: str | None,
+    tool_table: str | None,
+    tool_units: str | None,
     out_dir: str,
     jobs: int,
     html: bool,
@@ -192,6 +207,7 @@ def command(
     timeout: float,
     resume: bool,
     dialect: str,
+    fail_on: str,
 ) -> None:
     """Run programs through the whole pipeline and write a report per program.
 
@@ -205,7 +221,7 @@ def command(
       cnc run --html -o reports/ part.ngc
       cnc run --scheduler local:2 --resume -o reports/ programs/
     """
-    ctx = load_context(machine_path, None, None)
+    ctx = load_context(machine_path, None, tool_table, tool_units)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise Diagnostic("IO-NOT-DIR", "output path is not a directory", Location(out_dir))
     opts = RunOptions(
@@ -218,6 +234,10 @@ def command(
         timeout=timeout or None,
     )
     paths = list(dict.fromkeys(expand(files)))  # each program once
+    if STDIN_NAME in paths:  # standard input is read here, not by worker processes
+        if scheduler:
+            raise click.UsageError("a program on standard input (-) cannot go to --scheduler")
+        jobs = 1
     names = report_names(paths)
     results: dict[str, RunResult] = {}
     if resume:  # a stale or missing report runs again and is replaced
@@ -232,7 +252,7 @@ def command(
             more = f" and {len(taken) - 1} more" if len(taken) > 1 else ""
             raise Diagnostic(
                 "IO-EXISTS",
-                f"report exists{more}; use --force to replace, or another -o directory",
+                exists_message("report", more),
                 Location(taken[0]),
             )
     for p in paths:  # an output that is one of the programs is refused even with --force
@@ -280,7 +300,20 @@ def command(
     _summary(ordered, out, time.perf_counter() - t0)
     if any(r.status == "io-error" for r in ordered):
         sys.exit(EXIT_USAGE)
-    sys.exit(EXIT_PROGRAM_ERROR if any(r.status != "ok" for r in ordered) else EXIT_OK)
+    sys.exit(EXIT_PROGRAM_ERROR if any(_fails(r, fail_on) for r in ordered) else EXIT_OK)
+
+
+def _fails(result: RunResult, fail_on: str) -> bool:
+    """Whether ``result`` makes ``cnc run`` exit 1 under ``--fail-on``: a program that
+    stopped or has errors always; warnings and notes when ``fail_on`` reaches them."""
+    if result.status != "ok":
+        return True
+    counts = {
+        Severity.ERROR: result.errors,
+        Severity.WARNING: result.warnings,
+        Severity.NOTE: result.notes,
+    }
+    return any(n and failing(sev, fail_on) for sev, n in counts.items())
 
 
 def _outputs(out_dir: str, name: str, opts: RunOptions) -> list[str]:

@@ -15,10 +15,25 @@ import click
 import numpy as np
 
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, guarded
-from cli.programs import dialect_option, load_machine, load_tool_table, program_commands
+from cli.options import (
+    force_option,
+    machine_option,
+    output_option,
+    program_argument,
+    tool_table_option,
+    tool_units_option,
+)
+from cli.outputs import refuse_output
+from cli.programs import (
+    dialect_option,
+    load_machine,
+    load_tools,
+    metric_tool_table,
+    output_stem,
+    program_commands,
+)
 from kernel.diagnostics import Diagnostic, Location
 from kernel.machine import Machine
-from kernel.report.trace_writers import check_target
 from kernel.stock import (
     HeightField,
     SimResult,
@@ -78,15 +93,10 @@ def _text(program: str, res: SimResult, hf: HeightField) -> str:
 
 
 @click.command(name="sim")
-@click.argument("program", type=click.Path(exists=True, dir_okay=False))
+@program_argument(exists=True)
 @click.option("--stock", default=None, help="stock as box:X0,Y0,Z0,X1,Y1,Z1 (mm, machine)")
-@click.option(
-    "-t",
-    "--tool-table",
-    type=click.Path(exists=True, dir_okay=False),
-    default=None,
-    help="LinuxCNC .tbl or NIST tool file: flat end mills of its diameters",
-)
+@tool_table_option(help="LinuxCNC .tbl or NIST tool file: flat end mills of its diameters")
+@tool_units_option()
 @click.option(
     "--tool",
     "tool_specs",
@@ -107,31 +117,27 @@ def _text(program: str, res: SimResult, hf: HeightField) -> str:
     show_default=True,
     help="arcs are swept as chords within this (mm)",
 )
-@click.option(
-    "--machine",
-    "machine_file",
-    type=click.Path(dir_okay=False),
-    default=None,
-    help="machine profile (TOML); its [stock] box is used without --stock",
+@machine_option(
+    "machine_file", help="machine profile (TOML); its [stock] box is used without --stock"
 )
 @click.option(
     "--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True
 )
-@click.option(
-    "-o",
-    "--output",
+@output_option(
     "out_dir",
-    type=click.Path(file_okay=False),
+    file_okay=False,
+    dir_okay=True,
     default=None,
     help="write <name>_height.npy, <name>_height.png and <name>_stock.stl here",
 )
-@click.option("--force", is_flag=True, help="replace existing output files")
+@force_option(help="replace existing output files")
 @dialect_option
 @guarded
 def command(
     program: str,
     stock: str | None,
     tool_table: str | None,
+    tool_units: str | None,
     tool_specs: tuple[str, ...],
     resolution: float,
     chord_tol: float,
@@ -154,12 +160,14 @@ def command(
     box = parse_stock(stock, Location(None)) if stock else machine_stock(machine, machine_file)
     if box is None:
         raise click.UsageError("no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or [stock] box")
-    table = load_tool_table(tool_table) if tool_table else None
-    shapes: dict[int, ToolShape] = shapes_from_table(table) if table else {}
+    table, tool_mm = load_tools(tool_table, tool_units)
+    shapes: dict[int, ToolShape] = {}
+    if table:
+        shapes = shapes_from_table(metric_tool_table(table, tool_mm))
     for spec in tool_specs:
         number, shape = parse_tool_spec(spec)
         shapes[number] = shape
-    stem = os.path.splitext(os.path.basename(program))[0]
+    stem = output_stem(program)
     targets: list[str] = []
     if out_dir is not None:
         if os.path.exists(out_dir) and not os.path.isdir(out_dir):
@@ -168,9 +176,9 @@ def command(
             os.path.join(out_dir, f"{stem}_{s}") for s in ("height.npy", "height.png", "stock.stl")
         ]
         for t in targets:
-            check_target(t, force)
+            refuse_output(t, force, (program,))
     hf = HeightField(box, resolution)
-    commands = program_commands(program, table, dialect=dialect, machine=machine)
+    commands = program_commands(program, table, tool_mm, dialect, machine=machine)
     res = simulate_removal(commands, hf, shapes, chord_tol)
     if fmt == "json":
         out = {

@@ -4,23 +4,40 @@ commands, RS274/NGC or solids."""
 from __future__ import annotations
 
 import functools
-import os
 
 import click
 
 import kernel.limits as limits
 from cli.errors import EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.options import force_option, output_option, program_argument, tool_table_option
 from cli.outputs import refuse_output, replacing, write_output
+from cli.programs import is_stdin, stdin_text
 from kernel.diagnostics import Diagnostic, Location, Severity
+from stepnc.model import Model, load, load_text
+from stepnc.tooling import ToolEntry, load_tool_file
 
 MODES = click.Choice(["nist", "default"])
 
 
 def _write_guard(path: str, force: bool, inputs: tuple[str, ...] = ()) -> None:
     """Refuse an output that is an input (always) or exists (a symlink too) without --force."""
-    refuse_output(path, True, inputs)
-    if os.path.lexists(path) and not force:
-        raise click.UsageError(f"{path} exists; use --force to overwrite")
+    refuse_output(path, force, inputs)
+
+
+STEPNC_TOOLS = "NIST ISO 14649 tool file"
+
+
+def _model(file: str, diagnostics: list[Diagnostic] | None = None) -> Model:
+    """The program FILE (``<stdin>``: standard input), read and validated
+    (:func:`stepnc.model.load`; collect-all when ``diagnostics`` is a list)."""
+    if is_stdin(file):
+        return load_text(stdin_text(), file, diagnostics)
+    return load(file, diagnostics)
+
+
+def _tools(tool_file: str | None) -> dict[str, ToolEntry] | None:
+    """The ``-t`` tool file's tools, or None."""
+    return load_tool_file(tool_file) if tool_file else None
 
 
 def _raw(text: str | None) -> tuple[float, ...] | None:
@@ -69,7 +86,7 @@ def command() -> None:
 
 
 @command.command("info")
-@click.argument("file", type=click.Path(dir_okay=False))
+@program_argument("file")
 @guarded
 @_interpreting
 def info(file: str) -> None:
@@ -78,9 +95,9 @@ def info(file: str) -> None:
     from rich.markup import escape
     from rich.tree import Tree
 
-    from stepnc.model import Entity, load
+    from stepnc.model import Entity
 
-    model = load(file)
+    model = _model(file)
     project = model.project()
     root = Tree(f"[bold]PROJECT #{project.id}[/] {escape(repr(project.its_id))}")
     plan = project.main_workplan
@@ -127,15 +144,13 @@ def info(file: str) -> None:
 
 
 @command.command("check")
-@click.argument("file", type=click.Path(dir_okay=False))
+@program_argument("file")
 @guarded
 @_interpreting
 def check(file: str) -> None:
     """Report every problem in FILE (collect-all, salvaging what can be read)."""
-    from stepnc.model import load
-
     diags: list[Diagnostic] = []
-    load(file, diags)
+    _model(file, diags)
     for d in diags:
         click.echo(str(d), err=True)
     errors = sum(d.record.severity is Severity.ERROR for d in diags)
@@ -145,8 +160,8 @@ def check(file: str) -> None:
 
 
 @command.command("canon")
-@click.argument("file", type=click.Path(dir_okay=False))
-@click.option("--tool-file", type=click.Path(dir_okay=False), help="NIST ISO 14649 tool file")
+@program_argument("file")
+@tool_table_option("tool_file", STEPNC_TOOLS, ("--tool-file",), must_exist=False)
 @click.option("--mode", type=MODES, default="nist", show_default=True)
 @click.option("--json", "as_json", is_flag=True, help="JSON lines instead of text")
 @guarded
@@ -154,39 +169,40 @@ def check(file: str) -> None:
 def canon_cmd(file: str, tool_file: str | None, mode: str, as_json: bool) -> None:
     """Print the canonical machining commands of FILE."""
     from kernel.ir import canon
-    from stepnc.to_canon import canon_from_file
+    from stepnc.to_canon import canon_from_model
 
-    cmds = canon_from_file(file, tool_file, mode)
+    cmds = canon_from_model(_model(file), _tools(tool_file), mode)
     lines = canon.to_jsonl(cmds) if as_json else canon.write_text(cmds)
     for line in lines:
         click.echo(line)
 
 
 @command.command("to-gcode")
-@click.argument("file", type=click.Path(dir_okay=False))
-@click.option("--tool-file", type=click.Path(dir_okay=False))
+@program_argument("file")
+@tool_table_option("tool_file", STEPNC_TOOLS, ("--tool-file",), must_exist=False)
 @click.option("--mode", type=MODES, default="default", show_default=True)
 @click.option(
+    "-d",
     "--dialect",
     default="rs274ngc",
     show_default=True,
     help="target dialect (as cnc convert --to: rs274ngc, fanuc, grbl, ...)",
 )
-@click.option("-o", "--output", type=click.Path(dir_okay=False), help="file (default stdout)")
-@click.option("--force", is_flag=True, help="overwrite OUTPUT")
+@output_option(help="file (default stdout)")
+@force_option(help="overwrite OUTPUT")
 @guarded
 @_interpreting
 def to_gcode(
     file: str, tool_file: str | None, mode: str, dialect: str, output: str | None, force: bool
 ) -> None:
     """Write FILE as a G-code program (RS274/NGC by default)."""
-    from stepnc.to_canon import canon_from_file
+    from stepnc.to_canon import canon_from_model
 
     if output is not None:
         _write_guard(output, force, (file, tool_file or ""))
     from gcode.write.writer import write as emit_write
 
-    cmds = canon_from_file(file, tool_file, mode)
+    cmds = canon_from_model(_model(file), _tools(tool_file), mode)
     text = "".join(f"{line}\n" for line in emit_write(cmds, dialect))
     if output is None:
         click.echo(text, nl=False)
@@ -195,31 +211,28 @@ def to_gcode(
 
 
 @command.command("part")
-@click.argument("file", type=click.Path(dir_okay=False))
-@click.option(
-    "-o", "--output", required=True, type=click.Path(dir_okay=False), help=".step/.stp or .stl"
-)
+@program_argument("file")
+@output_option(required=True, help=".step/.stp or .stl")
 @click.option("--raw", help="raw block x0,y0,z0,x1,y1,z1 when the workpiece has none")
-@click.option("--force", is_flag=True, help="overwrite OUTPUT")
+@force_option(help="overwrite OUTPUT")
 @guarded
 @_interpreting
 def part(file: str, output: str, raw: str | None, force: bool) -> None:
     """Write the finished part (workpiece minus features) as STEP or STL."""
     from stepnc import geometry
-    from stepnc.model import load
 
     if not output.lower().endswith((".step", ".stp", ".stl")):
         raise click.UsageError("OUTPUT must end in .step, .stp or .stl")
     _write_guard(output, force, (file,))
-    shape = geometry.finished_part(load(file), _raw(raw))
+    shape = geometry.finished_part(_model(file), _raw(raw))
     with replacing(output) as tmp:
         geometry.export(shape, tmp)
     click.echo(f"{output}: finished part, volume {geometry.volume(shape):.3f} mm^3")
 
 
 @command.command("gouge")
-@click.argument("file", type=click.Path(dir_okay=False))
-@click.option("--tool-file", type=click.Path(dir_okay=False))
+@program_argument("file")
+@tool_table_option("tool_file", STEPNC_TOOLS, ("--tool-file",), must_exist=False)
 @click.option("--mode", type=MODES, default="nist", show_default=True)
 @click.option("--raw", help="raw block x0,y0,z0,x1,y1,z1 when the workpiece has none")
 @guarded
@@ -227,12 +240,10 @@ def part(file: str, output: str, raw: str | None, force: bool) -> None:
 def gouge_cmd(file: str, tool_file: str | None, mode: str, raw: str | None) -> None:
     """Check every cutting move against the finished part, per workingstep."""
     from stepnc import gouge
-    from stepnc.model import load
     from stepnc.to_canon import canon_from_model
-    from stepnc.tooling import load_tool_file
 
-    model = load(file)
-    tools = load_tool_file(tool_file) if tool_file else None
+    model = _model(file)
+    tools = _tools(tool_file)
     result = gouge.check(model, canon_from_model(model, tools, mode), _raw(raw))
     bad = 0
     for ws, found in result.items():

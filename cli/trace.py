@@ -14,28 +14,31 @@ import os
 import click
 
 from cli.errors import guarded
+from cli.options import (
+    force_option,
+    machine_option,
+    output_option,
+    program_argument,
+    tool_table_option,
+    tool_units_option,
+)
 from cli.outputs import open_output, refuse_output, replacing
-from cli.programs import dialect_option, load_machine, program_commands
+from cli.programs import dialect_option, machine_tools, output_stem, program_commands
 from kernel.diagnostics import Diagnostic, Location
 
 
 @click.command(name="trace")
-@click.argument("program", type=click.Path(exists=True, dir_okay=False))
-@click.option(
-    "-o",
-    "--output",
+@program_argument(exists=True)
+@output_option(
     "out_dir",
+    file_okay=False,
+    dir_okay=True,
     required=True,
-    type=click.Path(file_okay=False),
     help="directory for traces and plots (created if missing)",
 )
-@click.option(
-    "--machine",
-    "machine_file",
-    type=click.Path(dir_okay=False),
-    default=None,
-    help="machine profile (TOML); default: built-in 3-axis mill",
-)
+@machine_option("machine_file", help="machine profile (TOML); default: built-in 3-axis mill")
+@tool_table_option(help="tool table (LinuxCNC .tbl or NIST tool file); overrides the profile's")
+@tool_units_option()
 @click.option(
     "--format",
     "fmt",
@@ -45,7 +48,7 @@ from kernel.diagnostics import Diagnostic, Location
     help="trace file format",
 )
 @click.option("--plot", is_flag=True, help="also write PNG plots per axis and of the XY path")
-@click.option("--force", is_flag=True, help="replace existing output files")
+@force_option(help="replace existing output files")
 @click.option(
     "--chunk",
     type=click.IntRange(min=1),
@@ -59,6 +62,8 @@ def command(
     program: str,
     out_dir: str,
     machine_file: str | None,
+    tool_table: str | None,
+    tool_units: str | None,
     fmt: str,
     plot: bool,
     force: bool,
@@ -79,8 +84,8 @@ def command(
     from kernel.report.trace import column_dtypes, columns
     from kernel.report.trace_writers import open_writer
 
-    machine = load_machine(machine_file)
-    stem = os.path.splitext(os.path.basename(program))[0]
+    machine, tools, tool_mm = machine_tools(machine_file, tool_table, tool_units)
+    stem = output_stem(program)
     trace_path = os.path.join(out_dir, f"{stem}_trace.{fmt}")
     summary_path = os.path.join(out_dir, f"{stem}_summary.json")
     plot_paths = {a: os.path.join(out_dir, f"{stem}_{a}.png") for a in machine.axis_names}
@@ -91,7 +96,7 @@ def command(
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise Diagnostic("IO-NOT-DIR", "output path is not a directory", Location(out_dir))
     for t in targets:
-        refuse_output(t, force, (program, machine_file or ""))
+        refuse_output(t, force, (program, machine_file or "", tool_table or ""))
     if fmt == "parquet":  # fail before the simulation, not after it
         from importlib.util import find_spec
 
@@ -101,7 +106,7 @@ def command(
                 "Parquet output needs pyarrow, which is not installed; use --format csv or npz",
                 Location(trace_path),
             )
-    commands = program_commands(program, dialect=dialect, machine=machine)
+    commands = program_commands(program, tools, tool_mm, dialect, machine=machine)
     result = simulate(commands, machine, program)
     samples = result.samples
     trace = result.servo(chunk)

@@ -10,6 +10,7 @@ only when a program of their dialect is read.
 
 from __future__ import annotations
 
+import io
 import os
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
@@ -64,8 +65,11 @@ _INCREMENTS: dict[str, bool] = {
 }
 
 
-def text_findings(path: str | os.PathLike[str], dialect: str) -> list[tuple[str, str, Location]]:
-    """What ``cnc check``'s text rules find in the program at ``path`` read as ``dialect``:
+def text_findings(
+    path: str | os.PathLike[str], dialect: str, text: str | None = None
+) -> list[tuple[str, str, Location]]:
+    """What ``cnc check``'s text rules find in the program at ``path`` read as ``dialect``
+    (``text``: the program itself, when it is not a file, named ``path``):
     (rule, message, location) for kernel.check.check_stream. CNC050: the first length or
     angle without a decimal point of a Fanuc-family program, with the count of the others."""
     lathe = _INCREMENTS.get(reader_name(dialect))
@@ -74,7 +78,10 @@ def text_findings(path: str | os.PathLike[str], dialect: str) -> list[tuple[str,
     from gcode.fanuc.decimal_point import bare_numbers
 
     name = os.fspath(path)
-    with open(name, encoding="utf-8", errors="replace") as fh:
+    opened = open if text is None else None  # a file, or the text given
+    with (
+        io.StringIO(text) if opened is None else opened(name, encoding="utf-8", errors="replace")
+    ) as fh:
         found = bare_numbers(fh, lathe)
         first = next(found, None)
         if first is None:

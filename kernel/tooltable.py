@@ -8,6 +8,7 @@ the tool id and TLO the length offset.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
@@ -128,6 +129,25 @@ def read_nist_tool_file(lines: Iterable[str], file: str | None = None) -> ToolTa
             "TOOL-NO-BLANK", "tool file has no blank line before its data", Location(file, 1, 1)
         )
     return table
+
+
+_UNITS_HEADER = re.compile(r"^\s*[;(]\s*units\s*[:=]\s*(mm|inch)\b", re.I)
+
+
+def header_units(lines: Iterable[str]) -> str | None:
+    """The length unit a tool table declares in a comment before its first tool line
+    (``; units: inch`` or ``; units = mm``; a LinuxCNC ``.tbl`` has no unit of its own: its
+    lengths are in the machine's units), or None when it declares none."""
+    for line in lines:
+        s = line.strip()
+        if not s:
+            continue
+        m = _UNITS_HEADER.match(s)
+        if m:
+            return m.group(1).lower()
+        if not s.startswith((";", "(")):
+            return None
+    return None
 
 
 def read_tool_table(lines: list[str], file: str | None = None) -> ToolTable:

@@ -387,7 +387,19 @@ def load(path: str, diagnostics: list[Diagnostic] | None = None) -> Model:
     """Read and validate a program (strict unless ``diagnostics`` is a list)."""
     from stepnc.part21 import read_file
 
-    model = Model(read_file(path, diagnostics))
+    return _validated(Model(read_file(path, diagnostics)), path, diagnostics)
+
+
+def load_text(text: str, name: str, diagnostics: list[Diagnostic] | None = None) -> Model:
+    """:func:`load` of a program given as text (``name`` is used in locations: standard
+    input is ``<stdin>``)."""
+    from stepnc.part21 import parse
+
+    return _validated(Model(parse(text, name, diagnostics)), name, diagnostics)
+
+
+def _validated(model: Model, path: str, diagnostics: list[Diagnostic] | None) -> Model:
+    """``model`` after the AP238 and validity checks of :func:`load`."""
     schemas = file_schemas(model)
     if any(name in _AIM_SCHEMAS for name in schemas):
         # One message instead of one unknown-entity error per AIM instance.
