@@ -9,7 +9,7 @@ import os
 import click
 
 import kernel.limits as limits
-from cli.errors import EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.errors import EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded, report
 from cli.outputs import refuse_output, replacing, write_output
 from kernel.diagnostics import Diagnostic, Location, Severity
 
@@ -137,7 +137,7 @@ def check(file: str) -> None:
     diags: list[Diagnostic] = []
     load(file, diags)
     for d in diags:
-        click.echo(str(d), err=True)
+        report(d)
     errors = sum(d.record.severity is Severity.ERROR for d in diags)
     click.echo(f"{file}: {errors} error(s), {len(diags) - errors} warning(s)", err=True)
     if errors:

@@ -11,7 +11,7 @@ and exits non-zero. Codes are documented in ``docs/errors.md``; never reuse or r
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import Enum
 
 
@@ -51,6 +51,9 @@ class DiagnosticRecord:
     message: str
     location: Location = field(default_factory=Location)
     severity: Severity = Severity.ERROR
+    #: the text of the source line at ``location`` as the reader had it (original case,
+    #: tabs kept), when the front end attached it: the CLI shows it under the message
+    source_line: str | None = None
 
     def format(self) -> str:
         """Compiler-style one-line rendering: ``file:line:col: error[CODE]: message``."""
@@ -93,6 +96,13 @@ class Diagnostic(Exception):
     @property
     def location(self) -> Location:
         return self.record.location
+
+    def with_source_line(self, text: str) -> Diagnostic:
+        """This diagnostic with the text of its source line attached (a front end that has
+        the line in memory calls it as the diagnostic leaves it); returns ``self``."""
+        if self.record.source_line is None:
+            self.record = replace(self.record, source_line=text)
+        return self
 
     def __str__(self) -> str:
         return self.record.format()

@@ -8,6 +8,7 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
+from cli.excerpt import detail_lines
 from cli.formats.base import CheckReport
 from kernel.diagnostics import Severity
 
@@ -40,6 +41,8 @@ def render_text(report: CheckReport, color: bool = False, verbosity: int = 0) ->
             line.append(f"{f.severity.value}[{tag}]", style=_STYLE[f.severity])
             line.append(f": {f.message}")
             con.print(line)
+            for extra in detail_lines(f.location, f.code or f.rule, None, verbosity):
+                con.print(Text(extra))
     if verbosity <= -2:
         return buf.getvalue()
     flagged = [r for r in report.files if r.findings or r.io_error]
