@@ -18,22 +18,26 @@ ROOT = Path(__file__).resolve().parent.parent
 DOC = ROOT / "docs" / "errors.md"
 MODULE = ROOT / "cli" / "explanations.py"
 
-_ROW = re.compile(r"^\| `([A-Z][A-Z0-9]*(?:-[A-Z0-9.]+)+)` \| (.*?) \|\s*$")
+_ROW = re.compile(r"^\| (.+?) \| (.*) \|\s*$")
+_CODE = re.compile(r"`([A-Z][A-Z0-9]*(?:-[A-Z0-9.]+)+)`")
 
 
 def parse(text: str) -> dict[str, str]:
-    """Code -> meaning for every table row of ``docs/errors.md``; a code listed in several
-    sections gets its meanings joined in order (backquotes and table escapes removed)."""
+    """Code -> meaning for every table row of ``docs/errors.md`` (a row may name several
+    codes, as the G76 row does); a code listed in several sections gets its
+    meanings joined in order (backquotes and table escapes removed)."""
     out: dict[str, str] = {}
     for line in text.splitlines():
         m = _ROW.match(line)
         if m is None:
             continue
-        code, meaning = m.group(1), m.group(2).replace("\\|", "|").replace("`", "").strip()
-        if code in out and meaning not in out[code]:
-            out[code] = f"{out[code]}; also: {meaning}"
-        else:
-            out.setdefault(code, meaning)
+        codes = _CODE.findall(m.group(1))
+        meaning = m.group(2).replace("\\|", "|").replace("`", "").strip()
+        for code in codes:
+            if code in out and meaning not in out[code]:
+                out[code] = f"{out[code]}; also: {meaning}"
+            else:
+                out.setdefault(code, meaning)
     return out
 
 
