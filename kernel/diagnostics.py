@@ -2,9 +2,13 @@
 
 Every problem a user can cause (a malformed program, an impossible arc, a missing file, a
 broken Part 21 reference) is reported as a :class:`Diagnostic` carrying a stable code such as
-``NGC-ARC-RADIUS``, a message and where it happened. The CLI prints them like a compiler::
+``NGC-ARC-RADIUS``, a message and where it happened. The CLI prints them like a compiler
+(``cli.excerpt``), with the source line the front end attached (``source_line``)::
 
     prog.ngc:12:5: error[NGC-ARC-RADIUS]: radius to end of arc differs from radius to start
+       |
+    12 | g2 x10 y0 i3 j0
+       | ^~
 
 and exits non-zero. Codes are documented in ``docs/errors.md``; never reuse or rename one.
 """
