@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import os
 import re
+from array import array
 from collections import OrderedDict
 from typing import Protocol
 
@@ -35,6 +36,7 @@ _CACHE_FILES = 4
 
 _texts: dict[str, list[str]] = {}
 _files: OrderedDict[str, list[str]] = OrderedDict()
+_offsets: dict[str, array[int]] = {}
 
 _NUMBER = re.compile(r"[ \t]*[-+]?[ \t]*(?:\d+\.?\d*|\.\d+)")
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.]*")
@@ -54,10 +56,16 @@ class Reported(Protocol):
     def format(self) -> str: ...
 
 
+def _split(text: str) -> list[str]:
+    """Lines as the readers count them: at ``\\n`` only (``str.splitlines`` would also
+    split at form feeds and Unicode separators, and the numbers would drift)."""
+    return [line.rstrip("\r") for line in text.split("\n")]
+
+
 def remember(name: str, text: str) -> None:
     """Keep ``text`` as the program called ``name`` (a program read from standard input):
     its excerpts then come from this text, never from a file of that name."""
-    _texts[name] = text.splitlines()
+    _texts[name] = _split(text)
 
 
 def _lines(name: str) -> list[str] | None:
@@ -82,31 +90,51 @@ def _lines(name: str) -> list[str] | None:
         text = data.decode("utf-8")
     except UnicodeDecodeError:
         text = data.decode("latin-1")
-    lines = text.splitlines()
+    lines = _split(text)
     _files[name] = lines
     if len(_files) > _CACHE_FILES:
         _files.popitem(last=False)
     return lines
 
 
+def _line_starts(name: str) -> array[int] | None:
+    """Byte offsets of the line starts of a file too big to keep as text, found in one pass
+    and kept (a check of a large program may excerpt thousands of its lines)."""
+    if name in _offsets:
+        return _offsets[name]
+    starts = array("q", [0])
+    try:
+        with open(name, "rb") as fh:
+            for data in fh:
+                starts.append(starts[-1] + len(data))
+    except OSError:
+        return None
+    _offsets[name] = starts
+    if len(_offsets) > 2:
+        del _offsets[next(iter(_offsets))]
+    return starts
+
+
 def _line_of(name: str, number: int) -> str | None:
-    """Line ``number`` (1-based) of ``name``; a file too big to keep is read up to it."""
+    """Line ``number`` (1-based) of ``name``; a file too big to keep is read at that line."""
     lines = _lines(name)
     if lines is not None:
         return lines[number - 1] if 0 < number <= len(lines) else None
     if name in ("-", "<stdin>", "<input>") or name in _texts:
         return None
+    starts = _line_starts(name)
+    if starts is None or not 0 < number < len(starts):
+        return None
     try:
         with open(name, "rb") as fh:
-            for n, data in enumerate(fh, 1):
-                if n == number:
-                    try:
-                        return data.decode("utf-8").rstrip("\r\n")
-                    except UnicodeDecodeError:
-                        return data.decode("latin-1").rstrip("\r\n")
+            fh.seek(starts[number - 1])
+            data = fh.read(starts[number] - starts[number - 1])
     except OSError:
         return None
-    return None
+    try:
+        return data.decode("utf-8").rstrip("\r\n")
+    except UnicodeDecodeError:
+        return data.decode("latin-1").rstrip("\r\n")
 
 
 def _entity_place(name: str, entity: int) -> tuple[int, int, str] | None:

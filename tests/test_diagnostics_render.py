@@ -159,6 +159,16 @@ def test_a_remembered_text_wins_over_the_file(tmp_path: Path) -> None:
     assert out[2] == "2 | G1 X1 Q5" and out[3] == "  |       ^~"
 
 
+def test_a_large_file_is_read_at_the_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(excerpt, "_CACHE_BYTES", 16)  # too big to keep: read by offset
+    prog = tmp_path / "big.ngc"
+    lines = [f"G1 X{n} F100" for n in range(1, 40)] + ["G1 X1\fY2 Q5"]
+    prog.write_text("\r\n".join(lines) + "\r\n")
+    for number in (1, 17, 40):
+        out = excerpt.render("h", Location(str(prog), number, 1)).split("\n")
+        assert out[2] == f"{number} | {lines[number - 1]}"
+
+
 def test_explanations_module_matches_docs() -> None:
     assert (ROOT / "cli" / "explanations.py").read_text(encoding="utf-8") == explain.module_text(
         explain.parse(DOC)
