@@ -235,9 +235,11 @@ def detail_lines(
     code: str | None = None,
     source_line: str | None = None,
     verbosity: int = 0,
+    help_text: str | None = None,
 ) -> list[str]:
     """What :func:`render` prints under a diagnostic's header: the excerpt with its caret
-    (verbosity >= 0) and the code's explanation (verbosity >= 1)."""
+    (verbosity >= 0) and the code's explanation (verbosity >= 1; ``help_text`` where the
+    code has none in docs/errors.md, e.g. a check rule's summary)."""
     out: list[str] = []
     if verbosity >= 0 and location.file is not None:
         number, column, text = location.line, location.column, source_line
@@ -250,7 +252,7 @@ def detail_lines(
         if text is not None and number:
             out.extend(excerpt(number, column, text))
     if verbosity >= 1:
-        help_text = explanation(code)
+        help_text = explanation(code) or help_text
         if help_text:
             pad = " " * (len(str(location.line)) if location.line else 1)
             out.append(f"{pad} = help: {code.rpartition('/')[2] if code else ''}: {help_text}")

@@ -197,3 +197,17 @@ def test_every_code_the_code_base_raises_is_documented() -> None:
     assert len(raised) > 300
     missing = {c: p for c, p in raised.items() if f"`{c}`" not in DOC}
     assert missing == {}
+
+
+def test_check_text_shows_the_excerpt_and_with_v_the_meaning(tmp_path: Path) -> None:
+    text, column = _arc_radius_program()
+    prog = tmp_path / "p.ngc"
+    prog.write_text(text)
+    res = CliRunner().invoke(cli, ["-v", "check", str(prog)])
+    lines = res.output.splitlines()
+    head = next(i for i, line in enumerate(lines) if "CNC001/NGC-ARC-R-TOO-SMALL" in line)
+    assert f"p.ngc:3:{column}:" in lines[head]
+    start, length, shown = _caret(lines[head:], "g2 x2 y0 r0.1")
+    assert shown[start : start + length] == "r0.1"
+    meaning = _documented_meaning("NGC-ARC-R-TOO-SMALL")
+    assert f"= help: NGC-ARC-R-TOO-SMALL: {meaning}" in res.output

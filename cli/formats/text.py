@@ -27,6 +27,7 @@ def render_text(report: CheckReport, color: bool = False, verbosity: int = 0) ->
         highlight=False,
         soft_wrap=True,
     )
+    summaries = {rule.id: rule.summary for rule, _ in report.rules}
     for r in report.files:
         if r.io_error:
             line = Text(f"{r.file}: ")
@@ -41,7 +42,8 @@ def render_text(report: CheckReport, color: bool = False, verbosity: int = 0) ->
             line.append(f"{f.severity.value}[{tag}]", style=_STYLE[f.severity])
             line.append(f": {f.message}")
             con.print(line)
-            for extra in detail_lines(f.location, f.code or f.rule, None, verbosity):
+            code = f.code or f.rule
+            for extra in detail_lines(f.location, code, None, verbosity, summaries.get(f.rule)):
                 con.print(Text(extra))
     if verbosity <= -2:
         return buf.getvalue()
