@@ -5,7 +5,7 @@ number in a gutter and a caret under the column, spanning the word there::
 
     prog.ngc:3:10: error[NGC-ARC-R-TOO-SMALL]: arc radius too small to reach end point: ...
       |
-    3 | G2 X2 Y0 r0.1
+    3 | g2 x2 y0 r0.1
       |          ^~~~
 
 With ``-v`` a ``= help:`` line follows with the code's entry in ``docs/errors.md``
@@ -21,7 +21,6 @@ import os
 import re
 from array import array
 from collections import OrderedDict
-from typing import Protocol
 
 from cli.explanations import EXPLANATIONS
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location
@@ -45,15 +44,6 @@ _HEADER = re.compile(
     r"^(?P<file>.*?):(?:#(?P<entity>\d+):)?(?P<line>\d+):(?P<col>\d+): "
     r"(?:error|warning|note)\[(?P<tag>[^\]]+)\]: "
 )
-
-
-class Reported(Protocol):
-    """What the renderer needs of a diagnostic or a check finding."""
-
-    @property
-    def location(self) -> Location: ...
-
-    def format(self) -> str: ...
 
 
 def _split(text: str) -> list[str]:
