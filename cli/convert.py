@@ -27,6 +27,8 @@ import click
 
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.errors import report as report_error
+from cli.excerpt import render_record
+from cli.main import verbosity
 from cli.options import tool_table_option
 from cli.outputs import refuse_output, write_output
 from cli.programs import expand, is_pattern
@@ -170,7 +172,10 @@ def _usage(message: str, source: str) -> NoReturn:
 
 
 def _echo_groups(groups: list[Group], severity: Severity, prefix: str, source: str) -> None:
-    """One line per kind of entry: its first source line, and how many there are."""
+    """One line per kind of entry: its first source line, and how many there are (a summary:
+    the source excerpt under each only with ``-v``; errors that stop a conversion always
+    show theirs)."""
+    level = verbosity()
     for g in groups:
         more = f" ({g.count} times, first here)" if g.count > 1 else ""
         rec = DiagnosticRecord(
@@ -179,7 +184,7 @@ def _echo_groups(groups: list[Group], severity: Severity, prefix: str, source: s
             g.first.source or Location(source),
             severity,
         )
-        click.echo(rec.format(), err=True)
+        click.echo(render_record(rec, level) if level > 0 else rec.format(), err=True)
 
 
 @click.command("convert")

@@ -13,6 +13,8 @@ from typing import ParamSpec, TypeVar
 
 import click
 
+from cli.excerpt import render_diagnostic
+from cli.main import verbosity
 from kernel.diagnostics import Diagnostic
 
 EXIT_OK = 0
@@ -25,8 +27,9 @@ R = TypeVar("R")
 
 
 def report(diag: Diagnostic) -> None:
-    """Print one diagnostic to stderr as ``file:line:col: error[CODE]: message``."""
-    click.echo(str(diag), err=True)
+    """Print one diagnostic to stderr: ``file:line:col: error[CODE]: message``, then the
+    source line with a caret and, with ``-v``, the code's explanation (:mod:`cli.excerpt`)."""
+    click.echo(render_diagnostic(diag, verbosity()), err=True)
 
 
 def guarded(func: Callable[P, R]) -> Callable[P, R]:

@@ -22,7 +22,7 @@ from typing import Any
 
 import click
 
-from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded, report
 from cli.options import force_option, machine_option, output_option
 from cli.outputs import refuse_output, write_output
 from cli.programs import load_machine
@@ -243,7 +243,7 @@ def validate(profiles: tuple[str, ...]) -> None:
         try:
             m = validate_profile(p)
         except Diagnostic as diag:
-            click.echo(str(diag), err=True)
+            report(diag)
             code = max(code, EXIT_PROGRAM_ERROR)
             continue
         except OSError as exc:

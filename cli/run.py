@@ -30,6 +30,7 @@ from rich.table import Table
 
 from cli.check import expand, load_context
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.excerpt import render_line
 from cli.main import verbosity
 from cli.options import (
     fail_on_option,
@@ -152,7 +153,7 @@ def _summary(results: list[RunResult], console: Console, seconds: float) -> None
     console.print(t)
     for r in results:
         if r.message:
-            console.print(f"{r.message}", markup=False, highlight=False)
+            console.print(render_line(r.message, verbosity()), markup=False, highlight=False)
     bad = sum(1 for r in results if r.status != "ok")
     console.print(f"{len(results) - bad} ok, {bad} with problems, {seconds:.1f} s")
 

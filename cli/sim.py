@@ -15,6 +15,8 @@ import click
 import numpy as np
 
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, guarded
+from cli.excerpt import render
+from cli.main import verbosity
 from cli.options import (
     force_option,
     machine_option,
@@ -88,7 +90,8 @@ def _text(program: str, res: SimResult, hf: HeightField) -> str:
         f"({hf.nx} x {hf.ny} cells of {hf.dx:g} x {hf.dy:g} mm)"
     ]
     for f in res.findings:
-        lines.append(f"{f.location}: {f.severity.value}[{f.code}]: {f.message}")
+        header = f"{f.location}: {f.severity.value}[{f.code}]: {f.message}"
+        lines.append(render(header, f.location, f.code, None, verbosity()))
     return "\n".join(lines)
 
 

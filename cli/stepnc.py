@@ -8,7 +8,7 @@ import functools
 import click
 
 import kernel.limits as limits
-from cli.errors import EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.errors import EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded, report
 from cli.options import force_option, output_option, program_argument, tool_table_option
 from cli.outputs import refuse_output, replacing, write_output
 from cli.programs import is_stdin, stdin_text
@@ -152,7 +152,7 @@ def check(file: str) -> None:
     diags: list[Diagnostic] = []
     _model(file, diags)
     for d in diags:
-        click.echo(str(d), err=True)
+        report(d)
     errors = sum(d.record.severity is Severity.ERROR for d in diags)
     click.echo(f"{file}: {errors} error(s), {len(diags) - errors} warning(s)", err=True)
     if errors:

@@ -2,16 +2,20 @@
 
 Every problem a user can cause (a malformed program, an impossible arc, a missing file, a
 broken Part 21 reference) is reported as a :class:`Diagnostic` carrying a stable code such as
-``NGC-ARC-RADIUS``, a message and where it happened. The CLI prints them like a compiler::
+``NGC-ARC-RADIUS``, a message and where it happened. The CLI prints them like a compiler
+(``cli.excerpt``), with the source line the front end attached (``source_line``)::
 
     prog.ngc:12:5: error[NGC-ARC-RADIUS]: radius to end of arc differs from radius to start
+       |
+    12 | g2 x10 y0 i3 j0
+       | ^~
 
 and exits non-zero. Codes are documented in ``docs/errors.md``; never reuse or rename one.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import Enum
 
 
@@ -51,6 +55,9 @@ class DiagnosticRecord:
     message: str
     location: Location = field(default_factory=Location)
     severity: Severity = Severity.ERROR
+    #: the text of the source line at ``location`` as the reader had it (original case,
+    #: tabs kept), when the front end attached it: the CLI shows it under the message
+    source_line: str | None = None
 
     def format(self) -> str:
         """Compiler-style one-line rendering: ``file:line:col: error[CODE]: message``."""
@@ -93,6 +100,13 @@ class Diagnostic(Exception):
     @property
     def location(self) -> Location:
         return self.record.location
+
+    def with_source_line(self, text: str) -> Diagnostic:
+        """This diagnostic with the text of its source line attached (a front end that has
+        the line in memory calls it as the diagnostic leaves it); returns ``self``."""
+        if self.record.source_line is None:
+            self.record = replace(self.record, source_line=text)
+        return self
 
     def __str__(self) -> str:
         return self.record.format()

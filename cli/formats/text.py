@@ -8,6 +8,7 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
+from cli.excerpt import detail_lines
 from cli.formats.base import CheckReport
 from kernel.diagnostics import Severity
 
@@ -26,6 +27,7 @@ def render_text(report: CheckReport, color: bool = False, verbosity: int = 0) ->
         highlight=False,
         soft_wrap=True,
     )
+    summaries = {rule.id: rule.summary for rule, _ in report.rules}
     for r in report.files:
         if r.io_error:
             line = Text(f"{r.file}: ")
@@ -40,6 +42,9 @@ def render_text(report: CheckReport, color: bool = False, verbosity: int = 0) ->
             line.append(f"{f.severity.value}[{tag}]", style=_STYLE[f.severity])
             line.append(f": {f.message}")
             con.print(line)
+            code = f.code or f.rule
+            for extra in detail_lines(f.location, code, None, verbosity, summaries.get(f.rule)):
+                con.print(Text(extra))
     if verbosity <= -2:
         return buf.getvalue()
     flagged = [r for r in report.files if r.findings or r.io_error]

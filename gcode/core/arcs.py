@@ -65,7 +65,8 @@ def centre_format(
             "radius to end of arc differs from radius to start: "
             f"start=({a}{start[0]:.4f},{b}{start[1]:.4f}) centre=({a}{centre[0]:.4f},"
             f"{b}{centre[1]:.4f}) end=({a}{end[0]:.4f},{b}{end[1]:.4f}) r1={r1:.4f} "
-            f"r2={r2:.4f} abs_err={abs_err:.4g} rel_err={rel_err * 100:.4f}%",
+            f"r2={r2:.4f} abs_err={abs_err:.4g} rel_err={rel_err * 100:.4f}%: arc radius "
+            f"{r1:.4f} but end point is {r2:.4f} from the centre",
             loc,
         )
 
@@ -82,11 +83,12 @@ def radius_format(
     clockwise: bool,
     loc: Location,
     inches: bool = False,
+    r_loc: Location | None = None,
 ) -> tuple[float, float]:
     """Centre of an R arc (LinuxCNC ``arc_data_r``): negative R means more than 180°.
 
     Half the chord may exceed ``|R|`` by 0.00005 in (0.00127 mm); the arc is then a
-    semicircle.
+    semicircle. ``r_loc`` is where the R word stands (an R too small is reported there).
     """
     if start == end:
         raise Diagnostic("NGC-ARC-R-SAME-POINT", "current point same as end point of arc", loc)
@@ -95,7 +97,12 @@ def radius_format(
     half = math.hypot(mid[0] - end[0], mid[1] - end[1])
     reach = R_REACH_INCH if inches else R_REACH_MM
     if abs_r == 0.0 or half - abs_r > reach:
-        raise Diagnostic("NGC-ARC-R-TOO-SMALL", "arc radius too small to reach end point", loc)
+        raise Diagnostic(
+            "NGC-ARC-R-TOO-SMALL",
+            f"arc radius too small to reach end point: |R| is {abs_r:.4f} but half the chord "
+            f"is {half:.4f} (the end point is {2 * half:.4f} from the start)",
+            r_loc or loc,
+        )
     if half / abs_r > 1.0 - TINY:
         half = abs_r  # allow a small error for a semicircle
     theta = math.atan2(end[1] - start[1], end[0] - start[0])

@@ -102,9 +102,9 @@ def evaluate_block(
             v = evaluate(v, params, loc)
         letter = item.letter
         if letter == "g":
-            add_g(words, g_code(v, loc), loc)
+            add_g(words, g_code(v, loc, block.text), loc)
         elif letter == "m":
-            add_m(words, m_code(v, loc), loc)
+            add_m(words, m_code(v, loc, block.text), loc)
         else:
             add_value(words, letter, v, loc)
     return words, assigns

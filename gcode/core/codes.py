@@ -7,6 +7,7 @@ as extended by LinuxCNC; two codes of one group on a line is an error.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 from kernel.diagnostics import Diagnostic, Location
@@ -103,22 +104,36 @@ class Words:
         return any(a in v for a in AXIS_LETTERS) or "@" in v or "^" in v
 
 
-def g_code(value: float, loc: Location) -> int:
+_WRITTEN = re.compile(r"[A-Za-z][ \t]*[-+]?(?:\d+\.?\d*|\.\d+)")
+
+
+def as_written(letter: str, value: float, text: str | None, column: int) -> str:
+    """The word at ``column`` of the line ``text`` as the user wrote it (``g07.50``), or
+    ``G7.5`` made of its value when the text there is not that word (an expression)."""
+    if text is not None and column > 0:
+        m = _WRITTEN.match(text, column - 1)
+        if m is not None and m.group(0)[0].lower() == letter:
+            return m.group(0)
+    return f"{letter.upper()}{value:g}"
+
+
+def g_code(value: float, loc: Location, text: str | None = None) -> int:
+    """The G code of a G word's value (times ten); ``text``, the word's line, lets an unknown
+    code be quoted as written."""
     code = round(value * 10)
     if abs(value * 10 - code) > 1e-3 or code not in G_GROUPS:
-        raise Diagnostic("NGC-UNKNOWN-G", f"unknown G code used: G{value:g}", loc)
+        word = as_written("g", value, text, loc.column)
+        raise Diagnostic("NGC-UNKNOWN-G", f"unknown G code used: {word}", loc)
     return code
 
 
-def m_code(value: float, loc: Location) -> int:
+def m_code(value: float, loc: Location, text: str | None = None) -> int:
+    """The M code of an M word's value; ``text`` as for :func:`g_code`."""
     code = round(value)
-    if abs(value - code) > 1e-4:
-        raise Diagnostic("NGC-UNKNOWN-M", f"unknown M code used: M{value:g}", loc)
-    if code in M_GROUPS:
+    if abs(value - code) <= 1e-4 and (code in M_GROUPS or 100 <= code <= 199):
         return code
-    if 100 <= code <= 199:
-        return code
-    raise Diagnostic("NGC-UNKNOWN-M", f"unknown M code used: M{value:g}", loc)
+    word = as_written("m", value, text, loc.column)
+    raise Diagnostic("NGC-UNKNOWN-M", f"unknown M code used: {word}", loc)
 
 
 def add_g(words: Words, code: int, loc: Location) -> None:

@@ -385,7 +385,8 @@ def parse_line(raw: str, line: int, file: str | None = None) -> Block:
             sc.i += 1
             block.words.append(Word(c, sc.real_value(), col))
             continue
-        raise sc.error("NGC-BAD-CHARACTER", f"bad character '{c}' used")
+        written = raw[sc.col() - 1 : sc.col()] or c  # the character as the user typed it
+        raise sc.error("NGC-BAD-CHARACTER", f"bad character '{written}' used")
     _check_letters(block, file)
     return block
 
@@ -404,7 +405,7 @@ def _check_letters(block: Block, file: str | None) -> None:
                 )
             raise Diagnostic(
                 "NGC-UNKNOWN-WORD",
-                f"unknown word starting with '{w.letter.upper()}'",
+                f"unknown word starting with '{block.text[w.column - 1 : w.column] or w.letter}'",
                 Location(file, block.line, w.column),
             )
 

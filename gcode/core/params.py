@@ -34,7 +34,12 @@ def param_index(value: float, loc: Location) -> int:
             "NGC-PARAM-NOT-INTEGER", f"parameter number {value:g} is not an integer", loc
         )
     if idx < 1 or idx >= MAX_PARAMETER:
-        raise Diagnostic("NGC-PARAM-RANGE", f"parameter number {idx} out of range", loc)
+        raise Diagnostic(
+            "NGC-PARAM-RANGE",
+            f"parameter number {idx} out of range: numbered parameters are #1 to "
+            f"#{MAX_PARAMETER - 1}",
+            loc,
+        )
     return idx
 
 

@@ -88,6 +88,16 @@ class ProgramFile:
             self.last_nonblank = self.line
         return offset, data
 
+    def line_text(self, line: int) -> str | None:
+        """The text of line ``line`` if it is the line read last (a diagnostic's excerpt,
+        from the data this reader already has open: stdin and in-memory programs too)."""
+        if line != self.line or self._fh.closed:
+            return None
+        self._fh.seek(self.line_offset)
+        data = self._fh.readline()
+        self._fh.seek(self._offset)
+        return _decode(data, self.path, line)
+
     def next_block(self) -> Block | None:
         raw = self.next_raw()
         if raw is None:

@@ -95,6 +95,16 @@ def _lane_for(pf: ProgramFile) -> Lane | None:
     return Lane.for_file(pf)
 
 
+def _attach_line(diag: Diagnostic, pf: ProgramFile) -> None:
+    """Give ``diag`` the text of its line when it is the line ``pf`` read last (the CLI shows
+    it under the message, in the user's own case and spacing)."""
+    loc = diag.location
+    if diag.record.source_line is None and loc.file == pf.path and loc.line:
+        text = pf.line_text(loc.line)
+        if text is not None:
+            diag.with_source_line(text)
+
+
 class Interpreter(NgcContext):
     """One run of one program. Not reusable; create one per program."""
 
@@ -152,7 +162,8 @@ class Interpreter(NgcContext):
                     out.clear()
                 if self.execute_line(block):
                     break
-        except Diagnostic:
+        except Diagnostic as diag:
+            _attach_line(diag, self.flow.file)
             yield from out
             out.clear()
             raise

@@ -159,10 +159,18 @@ def _check_feed(ctx: NgcContext, w: Words, what: str) -> None:
     s = ctx.s
     if s.feed_mode == PER_MINUTE:
         if s.feed_rate == 0.0:
-            raise Diagnostic("NGC-ZERO-FEED", f"cannot do {what} with zero feed rate", ctx.loc)
+            raise Diagnostic(
+                "NGC-ZERO-FEED",
+                f"cannot do {what} with zero feed rate: F is 0 (no F word since the start, or F0)",
+                ctx.loc,
+            )
     elif s.feed_mode == PER_REV:
         if s.feed_rate == 0.0:
-            raise Diagnostic("NGC-ZERO-FEED", f"cannot do {what} with zero feed rate", ctx.loc)
+            raise Diagnostic(
+                "NGC-ZERO-FEED",
+                f"cannot do {what} with zero feed rate: F is 0 (no F word since the start, or F0)",
+                ctx.loc,
+            )
         if s.speed == 0.0:
             raise Diagnostic(
                 "NGC-ZERO-SPEED-FPR",
@@ -271,7 +279,8 @@ def arc(ctx: NgcContext, w: Words, clockwise: bool) -> None:
     en = (end[f1], end[f2])
     inches = s.units is Units.INCHES
     if "r" in v:
-        centre = arcs.radius_format(st, en, v["r"], clockwise, loc, inches)
+        at_r = Location(loc.file, loc.line, w.columns.get("r", loc.column))
+        centre = arcs.radius_format(st, en, v["r"], clockwise, loc, inches, at_r)
     else:
         if s.ijk_absolute:
             for letter in (ci, cj):
@@ -348,7 +357,12 @@ def probe(ctx: NgcContext, w: Words, code: int) -> None:
     distance = math.dist(end[:3], s.pos[:3])
     if distance < 1e-12 and code in (382, 384):
         # only the probes that fail when not tripped; rs274 2.9 runs a zero-length G38.3/G38.5
-        raise Diagnostic("NGC-PROBE-TOO-CLOSE", "start point too close to probe point", loc)
+        raise Diagnostic(
+            "NGC-PROBE-TOO-CLOSE",
+            "start point too close to probe point: the probe move is "
+            f"{distance:.4f} long (start and end are the same point)",
+            loc,
+        )
     ctx.emit(canon.TurnProbeOn(source=loc))
     ctx.emit(canon.StraightProbe(*end, source=loc))
     ctx.emit(canon.TurnProbeOff(source=loc))

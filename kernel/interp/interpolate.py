@@ -343,10 +343,16 @@ def check_moves(plan: Plan, period: float) -> None:
         rows = over.any(axis=1)
         if rows.any():
             i = int(np.argmax(rows))
-            names = ", ".join(n.upper() for n, o in zip(AXIS_NAMES, over[i], strict=True) if o)
+            axes = [k for k, o in enumerate(over[i]) if o]
+            names = ", ".join(AXIS_NAMES[k].upper() for k in axes)
+            values = "; ".join(
+                f"{AXIS_NAMES[k].upper()} moves {float(extent[i, k]):.3f} mm, its travel is "
+                f"{float(span[k]):.3f} mm"
+                for k in axes
+            )
             raise Diagnostic(
                 "PLAN-TRAVEL",
-                f"move longer along {names} than the machine's travel",
+                f"move longer along {names} than the machine's travel: {values}",
                 Location(file, int(seg["line"][i])),
             )
     steps = (plan.duration + plan.pause) / period

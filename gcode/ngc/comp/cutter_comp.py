@@ -307,10 +307,11 @@ class CutterCompensator:
     ) -> list[canon.Command]:
         c = (cur[0], cur[1])
         p = (end[0], end[1])
-        if math.hypot(p[0] - c[0], p[1] - c[1]) < self.radius:  # rs274 2.9 takes == radius
+        if (length := math.hypot(p[0] - c[0], p[1] - c[1])) < self.radius:  # rs274 takes ==
             raise Diagnostic(
                 "NGC-COMP-ENTRY-TOO-SHORT",
-                "Length of cutter compensation entry move is not greater than the tool radius",
+                "Length of cutter compensation entry move is not greater than the tool radius: "
+                f"the move is {length:.4f} long in the plane, the tool radius {self.radius:.4f}",
                 source,
             )
         comp_end, alpha = geo.entry_line_end(c, p, self.side, self.radius)
@@ -408,15 +409,16 @@ class CutterCompensator:
     ) -> list[canon.Command]:
         c = (cur[0], cur[1])
         e = (end[0], end[1])
-        if math.hypot(e[0] - c[0], e[1] - c[1]) < self.radius:  # rs274 2.9 takes == radius
+        if (length := math.hypot(e[0] - c[0], e[1] - c[1])) < self.radius:  # rs274 takes ==
             raise Diagnostic(
                 "NGC-COMP-ENTRY-TOO-SHORT",
-                "Radius of cutter compensation entry arc is not greater than the tool radius",
+                "Radius of cutter compensation entry arc is not greater than the tool radius: "
+                f"the arc ends {length:.4f} from its start, the tool radius {self.radius:.4f}",
                 source,
             )
         inside = geo.tool_inside_arc(self.side, turn)
-        if inside and math.hypot(centre[0] - c[0], centre[1] - c[1]) <= self.radius:
-            raise self._too_big(source)
+        if inside and (start_r := math.hypot(centre[0] - c[0], centre[1] - c[1])) <= self.radius:
+            raise self._too_big(source, start_r)
         if inside:
             gamma = math.atan2(centre[1] - e[1], centre[0] - e[0])
         else:
@@ -426,7 +428,7 @@ class CutterCompensator:
         comp_end = geo.offset_point(e, gamma, self.radius)
         new_centre = geo.arc_entry_centre(c, comp_end, centre)
         if new_centre is None:
-            raise self._too_big(source)
+            raise self._too_big(source, math.hypot(centre[0] - e[0], centre[1] - e[1]))
         r_end = math.hypot(new_centre[0] - comp_end[0], new_centre[1] - comp_end[1])
         r_start = math.hypot(new_centre[0] - c[0], new_centre[1] - c[1])
         if abs(r_end - r_start) > SPIRAL_TOLERANCE[self.inches]:
@@ -461,7 +463,7 @@ class CutterCompensator:
         if inside:
             gamma = math.atan2(centre[1] - e[1], centre[0] - e[0])
             if arc_radius <= r:
-                raise self._too_big(source)
+                raise self._too_big(source, arc_radius)
         else:
             gamma = math.atan2(e[1] - centre[1], e[0] - centre[0])
             delta = geo.plus_pi(delta, 1)
@@ -523,11 +525,12 @@ class CutterCompensator:
     def _not_g0_g1(source: Location | None) -> Diagnostic:
         return Diagnostic("NGC-COMP-G33", "Bug: code not g0 or g1", source)
 
-    @staticmethod
-    def _too_big(source: Location | None) -> Diagnostic:
+    def _too_big(self, source: Location | None, arc_radius: float) -> Diagnostic:
+        """NGC-COMP-TOOL-TOO-BIG with LinuxCNC's text, then the two radii compared."""
         return Diagnostic(
             "NGC-COMP-TOOL-TOO-BIG",
-            "Tool radius not less than arc radius with comp",
+            "Tool radius not less than arc radius with comp: tool radius "
+            f"{self.radius:.4f}, arc radius {arc_radius:.4f}",
             source,
         )
 

@@ -1,0 +1,275 @@
+"""The one renderer of diagnostics for people, used by every command's text output.
+
+A diagnostic prints like a modern compiler's: the header, then the source line with its
+number in a gutter and a caret under the column, spanning the word there::
+
+    prog.ngc:3:10: error[NGC-ARC-R-TOO-SMALL]: arc radius too small to reach end point: ...
+      |
+    3 | g2 x2 y0 r0.1
+      |          ^~~~
+
+With ``-v`` a ``= help:`` line follows with the code's entry in ``docs/errors.md``
+(:mod:`cli.explanations`); with ``-q`` only the header prints. The source line is the
+text the reader had (``DiagnosticRecord.source_line``, attached by the front end), else
+a text the CLI read into memory (:func:`remember`, e.g. standard input), else the line
+of the named file. Machine-readable formats (JSON, SARIF, JUnit) do not use this module.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from array import array
+from collections import OrderedDict
+
+from cli.explanations import EXPLANATIONS
+from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location
+
+#: source characters shown of a long line, around the column
+WIDTH = 100
+#: a tab shows as this many spaces (the caret line uses the same expansion)
+TAB = 4
+#: files up to this size are kept as lines for more excerpts of the same file
+_CACHE_BYTES = 8 << 20
+_CACHE_FILES = 4
+
+_texts: dict[str, list[str]] = {}
+_files: OrderedDict[str, list[str]] = OrderedDict()
+_offsets: dict[str, array[int]] = {}
+
+_NUMBER = re.compile(r"[ \t]*[-+]?[ \t]*(?:\d+\.?\d*|\.\d+)")
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.]*")
+_PARAM = re.compile(r"#(?:<[^>]*>?|[ \t]*\d+)")
+_HEADER = re.compile(
+    r"^(?P<file>.*?):(?:#(?P<entity>\d+):)?(?P<line>\d+):(?P<col>\d+): "
+    r"(?:error|warning|note)\[(?P<tag>[^\]]+)\]: "
+)
+
+
+def _split(text: str) -> list[str]:
+    """Lines as the readers count them: at ``\\n`` only (``str.splitlines`` would also
+    split at form feeds and Unicode separators, and the numbers would drift)."""
+    return [line.rstrip("\r") for line in text.split("\n")]
+
+
+def remember(name: str, text: str) -> None:
+    """Keep ``text`` as the program called ``name`` (a program read from standard input):
+    its excerpts then come from this text, never from a file of that name."""
+    _texts[name] = _split(text)
+
+
+def _lines(name: str) -> list[str] | None:
+    """The lines of ``name``: a remembered text, else the file (kept for later excerpts)."""
+    if name in _texts:
+        return _texts[name]
+    if name in _files:
+        _files.move_to_end(name)
+        return _files[name]
+    if name in ("-", "<stdin>", "<input>"):
+        return None
+    try:
+        if os.path.getsize(name) > _CACHE_BYTES:
+            return None
+        with open(name, "rb") as fh:
+            data = fh.read()
+    except OSError:
+        return None
+    if b"\0" in data:
+        return None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        text = data.decode("latin-1")
+    lines = _split(text)
+    _files[name] = lines
+    if len(_files) > _CACHE_FILES:
+        _files.popitem(last=False)
+    return lines
+
+
+def _line_starts(name: str) -> array[int] | None:
+    """Byte offsets of the line starts of a file too big to keep as text, found in one pass
+    and kept (a check of a large program may excerpt thousands of its lines)."""
+    if name in _offsets:
+        return _offsets[name]
+    starts = array("q", [0])
+    try:
+        with open(name, "rb") as fh:
+            for data in fh:
+                starts.append(starts[-1] + len(data))
+    except OSError:
+        return None
+    _offsets[name] = starts
+    if len(_offsets) > 2:
+        del _offsets[next(iter(_offsets))]
+    return starts
+
+
+def _line_of(name: str, number: int) -> str | None:
+    """Line ``number`` (1-based) of ``name``; a file too big to keep is read at that line."""
+    lines = _lines(name)
+    if lines is not None:
+        return lines[number - 1] if 0 < number <= len(lines) else None
+    if name in ("-", "<stdin>", "<input>") or name in _texts:
+        return None
+    starts = _line_starts(name)
+    if starts is None or not 0 < number < len(starts):
+        return None
+    try:
+        with open(name, "rb") as fh:
+            fh.seek(starts[number - 1])
+            data = fh.read(starts[number] - starts[number - 1])
+    except OSError:
+        return None
+    try:
+        return data.decode("utf-8").rstrip("\r\n")
+    except UnicodeDecodeError:
+        return data.decode("latin-1").rstrip("\r\n")
+
+
+def _entity_place(name: str, entity: int) -> tuple[int, int, str] | None:
+    """Line, column and text of the instance ``#entity =`` in the Part 21 file ``name``."""
+    lines = _lines(name)
+    if lines is None:
+        return None
+    pattern = re.compile(rf"#{entity}\s*=")
+    for n, text in enumerate(lines, 1):
+        m = pattern.search(text)
+        if m is not None:
+            return n, m.start() + 1, text
+    return None
+
+
+def word_span(text: str, index: int) -> int:
+    """How many characters from ``index`` the word there takes: a letter with its number
+    (``r0.1``), a parameter (``#5``, ``#<name>``), a bracketed expression, a name (``sub``,
+    a Part 21 ``#42``), else one character."""
+    if index >= len(text):
+        return 1
+    c = text[index]
+    if c == "#":
+        m = _PARAM.match(text, index)
+        return len(m.group(0)) if m else 1
+    if c == "[":
+        depth = 0
+        for j in range(index, len(text)):
+            depth += {"[": 1, "]": -1}.get(text[j], 0)
+            if depth == 0:
+                return j - index + 1
+        return len(text) - index
+    if c.isalpha():
+        after = index + 1
+        while after < len(text) and text[after] in " \t":
+            after += 1
+        if after < len(text) and text[after] in "#[":
+            return after - index + word_span(text, after)
+        m = _NUMBER.match(text, index + 1)
+        if m is not None:
+            return 1 + len(m.group(0))
+        m = _NAME.match(text, index)
+        return len(m.group(0)) if m else 1
+    return 1
+
+
+def excerpt(number: int, column: int, text: str, width: int = WIDTH) -> list[str]:
+    """The gutter, source and caret lines for ``text`` (line ``number``) with the caret at
+    1-based character ``column`` (0: no caret). Tabs become :data:`TAB` spaces; a line
+    longer than ``width`` is cut around the column, the cuts marked with ``…``."""
+    text = text.rstrip("\r\n")
+    index = max(column - 1, 0)
+    span = word_span(text, index) if column else 0
+    # display position of each character once tabs are TAB wide
+    disp = [0]
+    for ch in text:
+        disp.append(disp[-1] + (TAB if ch == "\t" else 1))
+    line = "".join(" " * TAB if ch == "\t" else ch for ch in text)
+    caret = disp[min(index, len(text))] if column else 0
+    end = disp[min(index + span, len(text))] if column else 0
+    length = max(end - caret, 1)
+    if len(line) > width:
+        start = max(0, min(caret - width // 3, len(line) - width))
+        stop = start + width
+        head = "…" if start > 0 else ""
+        line = head + line[start:stop] + ("…" if stop < len(line) else "")
+        length = max(1, min(end, stop) - caret)
+        caret = caret - start + len(head)
+    gutter = str(number)
+    pad = " " * len(gutter)
+    out = [f"{pad} |", f"{gutter} | {line}".rstrip()]
+    if column:
+        out.append(f"{pad} | {' ' * caret}^{'~' * (length - 1)}")
+    return out
+
+
+def explanation(code: str | None) -> str | None:
+    """The entry of ``code`` in ``docs/errors.md`` (or of a check rule's underlying code)."""
+    if not code:
+        return None
+    return EXPLANATIONS.get(code.rpartition("/")[2]) or EXPLANATIONS.get(code)
+
+
+def render(
+    header: str,
+    location: Location,
+    code: str | None = None,
+    source_line: str | None = None,
+    verbosity: int = 0,
+) -> str:
+    """``header`` with its excerpt (verbosity >= 0) and explanation (verbosity >= 1); one
+    string without a final newline."""
+    return "\n".join([header, *detail_lines(location, code, source_line, verbosity)])
+
+
+def detail_lines(
+    location: Location,
+    code: str | None = None,
+    source_line: str | None = None,
+    verbosity: int = 0,
+    help_text: str | None = None,
+) -> list[str]:
+    """What :func:`render` prints under a diagnostic's header: the excerpt with its caret
+    (verbosity >= 0) and the code's explanation (verbosity >= 1; ``help_text`` where the
+    code has none in docs/errors.md, e.g. a check rule's summary)."""
+    out: list[str] = []
+    if verbosity >= 0 and location.file is not None:
+        number, column, text = location.line, location.column, source_line
+        if text is None and number:
+            text = _line_of(location.file, number)
+        if text is None and location.entity is not None and not number:
+            place = _entity_place(location.file, location.entity)
+            if place is not None:
+                number, column, text = place
+        if text is not None and number:
+            out.extend(excerpt(number, column, text))
+    if verbosity >= 1:
+        help_text = explanation(code) or help_text
+        if help_text:
+            pad = " " * (len(str(location.line)) if location.line else 1)
+            out.append(f"{pad} = help: {code.rpartition('/')[2] if code else ''}: {help_text}")
+    return out
+
+
+def render_record(record: DiagnosticRecord, verbosity: int = 0) -> str:
+    """A diagnostic record for people (:func:`render`)."""
+    return render(record.format(), record.location, record.code, record.source_line, verbosity)
+
+
+def render_diagnostic(diag: Diagnostic, verbosity: int = 0) -> str:
+    """A raised diagnostic for people (:func:`render`)."""
+    return render_record(diag.record, verbosity)
+
+
+def render_line(text: str, verbosity: int = 0) -> str:
+    """A diagnostic already formatted as one header line (e.g. a batch row's message made in
+    a worker process) with its excerpt; other text comes back unchanged."""
+    m = _HEADER.match(text)
+    if m is None:
+        return text
+    entity = m.group("entity")
+    loc = Location(
+        m.group("file"),
+        int(m.group("line")),
+        int(m.group("col")),
+        int(entity) if entity else None,
+    )
+    return render(text, loc, m.group("tag"), None, verbosity)
