@@ -41,7 +41,8 @@ LARGE_BYTES = 80_000
 #: programs rs274 accepts that we knowingly do not run yet -> reason
 KNOWN: dict[str, str] = {
     # rs274 2.9.0 starts G70's compensated moves from the profile's end, where reading the
-    # profile left its position (fixed in later 2.9.x); we cut from the tool's point
+    # profile left its position (LinuxCNC issue #1785, fixed in v2.9.3 by b1f3e7d8b8 and
+    # f648d01c72); we cut from the tool's point
     "lcnc__lathe_g70_71_demo.ngc": "G70 with cutter compensation: rs274 2.9.0's start-point bug",
 }
 
