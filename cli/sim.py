@@ -10,6 +10,7 @@ from __future__ import annotations
 import io
 import json
 import os
+import tomllib
 
 import click
 import numpy as np
@@ -24,12 +25,14 @@ from kernel.stock import (
     SimResult,
     StockBox,
     ToolShape,
+    library_from_toml,
     parse_stock,
     parse_tool_spec,
     shapes_from_table,
     simulate_removal,
 )
 from kernel.stock.mesh import stl_bytes, stock_mesh
+from kernel.tooltable import ToolTable
 
 
 def machine_stock(machine: Machine, where: str | None) -> StockBox | None:
@@ -43,6 +46,30 @@ def machine_stock(machine: Machine, where: str | None) -> StockBox | None:
             "SIM-STOCK", "[stock] needs box = [X0, Y0, Z0, X1, Y1, Z1]", Location(where)
         )
     return parse_stock("box:" + ",".join(str(v) for v in box), Location(where))
+
+
+def load_tool_library(path: str) -> dict[int, ToolShape]:
+    """A TOML tool library (``SIM-TOOL`` located at the file when it is not one)."""
+    try:
+        with open(path, "rb") as fh:
+            doc = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise Diagnostic("SIM-TOOL", f"not valid TOML: {exc}", Location(path)) from None
+    return library_from_toml(doc, path)
+
+
+def tool_shapes(
+    table: ToolTable | None, library: str | None, specs: tuple[str, ...]
+) -> dict[int, ToolShape]:
+    """Tool shapes by number: flat end mills of the tool table's diameters, replaced by the
+    library's tools, replaced by ``--tool`` specs."""
+    shapes: dict[int, ToolShape] = shapes_from_table(table) if table else {}
+    if library:
+        shapes.update(load_tool_library(library))
+    for spec in specs:
+        number, shape = parse_tool_spec(spec)
+        shapes[number] = shape
+    return shapes
 
 
 def height_png(hf: HeightField, title: str) -> bytes:
@@ -88,10 +115,18 @@ def _text(program: str, res: SimResult, hf: HeightField) -> str:
     help="LinuxCNC .tbl or NIST tool file: flat end mills of its diameters",
 )
 @click.option(
+    "--tools",
+    "library",
+    type=click.Path(exists=True, dir_okay=False),
+    default=None,
+    help="tool library (TOML, docs/simulation.md): shapes, flutes, shank and holder",
+)
+@click.option(
     "--tool",
     "tool_specs",
     multiple=True,
-    help="tool shape N=flat|ball:DIAMETER[,flute=L][,nocentre] (repeatable; 0: the default)",
+    help="tool shape N=KIND:DIAMETER[,flute=L][,corner=R][,angle=A][,shank=D][,holder=D]"
+    "[,nocentre], KIND flat|ball|bull|drill|chamfer (repeatable; 0: the default)",
 )
 @click.option(
     "--resolution",
@@ -132,6 +167,7 @@ def command(
     program: str,
     stock: str | None,
     tool_table: str | None,
+    library: str | None,
     tool_specs: tuple[str, ...],
     resolution: float,
     chord_tol: float,
@@ -155,10 +191,7 @@ def command(
     if box is None:
         raise click.UsageError("no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or [stock] box")
     table = load_tool_table(tool_table) if tool_table else None
-    shapes: dict[int, ToolShape] = shapes_from_table(table) if table else {}
-    for spec in tool_specs:
-        number, shape = parse_tool_spec(spec)
-        shapes[number] = shape
+    shapes = tool_shapes(table, library, tool_specs)
     stem = os.path.splitext(os.path.basename(program))[0]
     targets: list[str] = []
     if out_dir is not None:
@@ -178,6 +211,7 @@ def command(
             "removed_volume": res.removed_volume,
             "moves": res.moves,
             "cells": [hf.nx, hf.ny],
+            "tools": {str(n): u.to_dict() for n, u in sorted(res.tools.items())},
             "findings": [f.to_dict() for f in res.findings],
         }
         click.echo(json.dumps(out, indent=2))
