@@ -256,3 +256,44 @@ def test_a_tool_library_file_through_the_cli(tmp_path: Path) -> None:
     prog = tmp_path / "p.ngc"
     res = CliRunner().invoke(cli, ["sim", str(prog), "--stock", STOCK, "--tools", str(lib)])
     assert res.exit_code == 1 and "SIM-TOOL" in res.output and "lib.toml" in res.output
+
+
+# ------------------------------------------------------------ the same through cnc check
+def check_rules(tmp_path: Path, text: str, *args: str) -> tuple[int, set[tuple[str, str, int]]]:
+    prog = tmp_path / "p.ngc"
+    prog.write_text(text)
+    res = CliRunner().invoke(cli, ["check", str(prog), "-f", "json", *args])
+    assert res.exit_code in (0, 1), res.output
+    doc = json.loads(res.stdout)
+    found = {
+        (f["rule"], f["code"] or "", int(f["line"])) for r in doc["files"] for f in r["findings"]
+    }
+    return res.exit_code, found
+
+
+def test_cnc_check_with_stock_reports_the_simulation_as_rules(tmp_path: Path) -> None:
+    spindle = POCKET.replace("G21 G90 G17", "G21 G90 G17 M3 S8000")
+    lib = tmp_path / "lib.toml"
+    lib.write_text(
+        '[tools.0]\ntype = "flat"\ndiameter = 6\nflute_length = 10\nshank_diameter = 6\n'
+        "shank_length = 5\nholder_diameter = 40\n"
+    )
+    rc, found = check_rules(tmp_path, spindle, "--stock", STOCK, "--tools", str(lib))
+    assert found == {("CNC902", "SIM-HOLDER", n) for n in (8, 9, 10)}
+    assert rc == 1
+    rc, found = check_rules(tmp_path, spindle)  # no stock: no simulation
+    assert rc == 0 and found == set()
+    lib.write_text(lib.read_text().replace("shank_length = 5", "shank_length = 20"))
+    rc, found = check_rules(tmp_path, spindle, "--stock", STOCK, "--tools", str(lib))
+    assert rc == 0 and found == set()
+    # the profile's [stock] and [check.rules] severities apply to the simulated rules too
+    profile = tmp_path / "m.toml"
+    here = Path(__file__).parent / "check"
+    shop = (here / "shop.toml").read_text()
+    (tmp_path / "shop.tbl").write_text((here / "shop.tbl").read_text())
+    profile.write_text(shop + "\n[stock]\nbox = [0, 0, -20, 100, 50, 0]\nresolution = 1.0\n")
+    text = spindle.replace("G1 X60\nG0 Z5\nM2", "G1 X60\nG0 Z5\nG0 X20 Y25 Z-1\nG0 Z5\nM2")
+    _, found = check_rules(tmp_path, text, "-m", str(profile))
+    assert ("CNC901", "SIM-RAPID-IN-STOCK", 11) in found
+    res = CliRunner().invoke(cli, ["check", "-m", str(profile), "--list-rules"])
+    assert any(line.startswith("CNC902") and " error " in line for line in res.output.splitlines())
