@@ -31,7 +31,8 @@ from kernel.stock import (
     shapes_from_table,
     simulate_removal,
 )
-from kernel.stock.mesh import stl_bytes, stock_mesh
+from kernel.stock.design import Deviation, compare_design
+from kernel.stock.mesh import read_stl, stl_bytes, stock_mesh, top_surface
 from kernel.tooltable import ToolTable
 
 
@@ -72,6 +73,61 @@ def tool_shapes(
     return shapes
 
 
+def design_triangles(path: str, tolerance: float) -> np.ndarray:
+    """Triangles (n, 3, 3) of a design model: STL (binary or ASCII) or STEP (tessellated
+    by cadquery, the ``geometry`` extra, within ``tolerance`` mm)."""
+    if os.path.splitext(path)[1].lower() in (".step", ".stp"):
+        try:
+            import cadquery as cq
+        except ImportError:
+            raise Diagnostic(
+                "SIM-DESIGN", "reading STEP needs cadquery (the geometry extra)", Location(path)
+            ) from None
+        try:
+            shape = cq.importers.importStep(path).val()
+        except Exception as exc:  # noqa: BLE001 - OCCT raises its own types
+            raise Diagnostic(
+                "SIM-DESIGN", f"not a readable STEP file: {exc}", Location(path)
+            ) from None
+        verts, faces = shape.tessellate(tolerance)
+        pts = np.array([[v.x, v.y, v.z] for v in verts], dtype=np.float64)
+        tris = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+        return pts[tris]
+    with open(path, "rb") as fh:
+        return read_stl(fh.read(), path)
+
+
+def deviation_png(hf: HeightField, dev: np.ndarray, tol: float, title: str) -> bytes:
+    """Stock minus design as a diverging colour map (blue: gouge, red: material left),
+    grey where the design has no surface; PNG bytes."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    b = hf.box
+    span = max(float(np.nanmax(np.abs(dev))) if np.isfinite(dev).any() else 0.0, 2 * tol)
+    fig, ax = plt.subplots(figsize=(7, 6))
+    ax.set_facecolor("0.85")
+    im = ax.imshow(
+        np.ma.masked_invalid(dev),
+        origin="lower",
+        extent=(b.x0, b.x1, b.y0, b.y1),
+        cmap="coolwarm",
+        vmin=-span,
+        vmax=span,
+        aspect="equal",
+    )
+    fig.colorbar(im, ax=ax, label="stock - design (mm)")
+    ax.set_xlabel("X (mm)")
+    ax.set_ylabel("Y (mm)")
+    ax.set_title(title)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=90)
+    plt.close(fig)
+    return buf.getvalue()
+
+
 def height_png(hf: HeightField, title: str) -> bytes:
     """The final height field as a colour map, PNG bytes."""
     import matplotlib
@@ -94,11 +150,20 @@ def height_png(hf: HeightField, title: str) -> bytes:
     return buf.getvalue()
 
 
-def _text(program: str, res: SimResult, hf: HeightField) -> str:
+def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) -> str:
     lines = [
         f"{program}: removed_volume {res.removed_volume:.3f} mm3 over {res.moves} moves "
         f"({hf.nx} x {hf.ny} cells of {hf.dx:g} x {hf.dy:g} mm)"
     ]
+    for n, use in sorted(res.tools.items()):
+        lines.append(
+            f"  tool {n}: removed {use.removed_volume:.3f} mm3, "
+            f"feed path {use.feed_length:.1f} mm, {100 * use.air_share:.0f} % in air"
+        )
+    if dev is not None:
+        lines.append(
+            f"  design: worst gouge {dev.gouge:.3f} mm, worst material left {dev.leftover:.3f} mm"
+        )
     for f in res.findings:
         lines.append(f"{f.location}: {f.severity.value}[{f.code}]: {f.message}")
     return "\n".join(lines)
@@ -150,6 +215,19 @@ def _text(program: str, res: SimResult, hf: HeightField) -> str:
     help="machine profile (TOML); its [stock] box is used without --stock",
 )
 @click.option(
+    "--design",
+    type=click.Path(exists=True, dir_okay=False),
+    default=None,
+    help="design model (STL, or STEP with cadquery): report gouges and material left",
+)
+@click.option(
+    "--design-tol",
+    type=click.FloatRange(min=0.0),
+    default=0.1,
+    show_default=True,
+    help="deviation from the design's top surface accepted (mm)",
+)
+@click.option(
     "--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True
 )
 @click.option(
@@ -158,7 +236,8 @@ def _text(program: str, res: SimResult, hf: HeightField) -> str:
     "out_dir",
     type=click.Path(file_okay=False),
     default=None,
-    help="write <name>_height.npy, <name>_height.png and <name>_stock.stl here",
+    help="write <name>_height.npy, <name>_height.png and <name>_stock.stl here (and "
+    "<name>_deviation.npy, <name>_deviation.png with --design)",
 )
 @click.option("--force", is_flag=True, help="replace existing output files")
 @dialect_option
@@ -172,6 +251,8 @@ def command(
     resolution: float,
     chord_tol: float,
     machine_file: str | None,
+    design: str | None,
+    design_tol: float,
     fmt: str,
     out_dir: str | None,
     force: bool,
@@ -198,13 +279,20 @@ def command(
         if os.path.exists(out_dir) and not os.path.isdir(out_dir):
             raise Diagnostic("IO-NOT-DIR", "output path is not a directory", Location(out_dir))
         targets = [
-            os.path.join(out_dir, f"{stem}_{s}") for s in ("height.npy", "height.png", "stock.stl")
+            os.path.join(out_dir, f"{stem}_{s}")
+            for s in ("height.npy", "height.png", "stock.stl", "deviation.npy", "deviation.png")
         ]
+        if design is None:
+            targets = targets[:3]
         for t in targets:
             check_target(t, force)
     hf = HeightField(box, resolution)
     commands = program_commands(program, table, dialect=dialect, machine=machine)
-    res = simulate_removal(commands, hf, shapes, chord_tol)
+    design_top = top_surface(design_triangles(design, 0.1 * resolution), hf) if design else None
+    res = simulate_removal(commands, hf, shapes, chord_tol, track_moves=design is not None)
+    deviation: Deviation | None = None
+    if design_top is not None:
+        deviation = compare_design(hf, design_top, res, design_tol, program)
     if fmt == "json":
         out = {
             "program": program,
@@ -212,11 +300,12 @@ def command(
             "moves": res.moves,
             "cells": [hf.nx, hf.ny],
             "tools": {str(n): u.to_dict() for n, u in sorted(res.tools.items())},
+            "design": deviation.to_dict() if deviation else None,
             "findings": [f.to_dict() for f in res.findings],
         }
         click.echo(json.dumps(out, indent=2))
     else:
-        click.echo(_text(program, res, hf))
+        click.echo(_text(program, res, hf, deviation))
     if out_dir is not None:
         os.makedirs(out_dir, exist_ok=True)
         np.save(targets[0], hf.h)
@@ -225,4 +314,8 @@ def command(
         verts, faces = stock_mesh(hf)
         with open(targets[2], "wb") as fh:
             fh.write(stl_bytes(verts, faces))
+        if deviation is not None:
+            np.save(targets[3], deviation.dev)
+            with open(targets[4], "wb") as fh:
+                fh.write(deviation_png(hf, deviation.dev, design_tol, f"{stem}: stock - design"))
     raise SystemExit(EXIT_PROGRAM_ERROR if res.errors else EXIT_OK)

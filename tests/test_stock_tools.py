@@ -297,3 +297,94 @@ def test_cnc_check_with_stock_reports_the_simulation_as_rules(tmp_path: Path) ->
     assert ("CNC901", "SIM-RAPID-IN-STOCK", 11) in found
     res = CliRunner().invoke(cli, ["check", "-m", str(profile), "--list-rules"])
     assert any(line.startswith("CNC902") and " error " in line for line in res.output.splitlines())
+
+
+# ------------------------------------------------------------ design comparison
+SLOT = "G21 G90 G17 M3 S8000\nG0 X20 Y25.03 Z5\nG1 Z-3 F100\nG1 X80\nG0 Z5\nM2\n"
+
+
+def ascii_stl(path: Path, triangles: list[tuple[tuple[float, float, float], ...]]) -> None:
+    """An ASCII STL written here, independently of kernel.stock.mesh."""
+    rows = ["solid design"]
+    for tri in triangles:
+        rows += ["facet normal 0 0 1", "outer loop"]
+        rows += [f"vertex {x} {y} {z}" for x, y, z in tri]
+        rows += ["endloop", "endfacet"]
+    path.write_text("\n".join([*rows, "endsolid design"]) + "\n")
+
+
+def plane(path: Path, x0: float, y0: float, x1: float, y1: float, z: tuple[float, float]) -> None:
+    """A rectangle whose Z goes linearly from z[0] at x0 to z[1] at x1, as two triangles."""
+    a, b, c, d = (x0, y0, z[0]), (x1, y0, z[1]), (x1, y1, z[1]), (x0, y1, z[0])
+    ascii_stl(path, [(a, b, c), (a, c, d)])
+
+
+def test_design_gouge_is_located_at_the_move_that_cut_the_worst_cell(tmp_path: Path) -> None:
+    """Design z = -3 + 0.01 (x - 20) over the whole stock, slot cut to -3: the stock is below
+    the design by 0.01 (x - 20) in the slot, worst at its far end (x < 85, line 4); material
+    left everywhere else (up to 3.2 mm at x = 0)."""
+    stl = tmp_path / "d.stl"
+    plane(stl, 0, 0, 100, 50, (-3.2, -2.2))
+    rc, out = sim(
+        tmp_path, SLOT, "--tool", "0=flat:10", "--design", str(stl), "--resolution", "0.25"
+    )
+    findings = {f["code"]: f for f in out["findings"]}
+    assert set(findings) == {"SIM-GOUGE", "SIM-LEFTOVER"} and rc == 1
+    g = findings["SIM-GOUGE"]
+    assert g["line"] == 4 and g["severity"] == "error"
+    assert 84.5 < g["x"] < 85 and (g["x"] - 80) ** 2 + (g["y"] - 25.03) ** 2 <= 25
+    assert g["value"] == pytest.approx(0.01 * (g["x"] - 20), abs=1e-9)
+    left = findings["SIM-LEFTOVER"]
+    # the worst is at the lowest x, a cell never cut: no line
+    assert not left["line"] and left["value"] == pytest.approx(3.2 - 0.01 * 0.125, abs=1e-9)
+
+
+def test_design_clean_and_leftover_alone(tmp_path: Path) -> None:
+    stl = tmp_path / "d.stl"
+    plane(stl, 20, 21, 80, 29, (-3.0, -3.0))  # inside the slot's straight part: exact
+    rc, out = sim(tmp_path, SLOT, "--tool", "0=flat:10", "--design", str(stl))
+    assert rc == 0 and out["findings"] == []
+    design = out["design"]
+    assert isinstance(design, dict) and design["gouge"] == 0 and design["leftover"] == 0
+    plane(stl, 10, 21, 90, 29, (-3.0, -3.0))  # beyond the slot's round ends: material left
+    rc, out = sim(tmp_path, SLOT, "--tool", "0=flat:10", "--design", str(stl))
+    assert rc == 0
+    assert [(f["code"], f["value"]) for f in out["findings"]] == [("SIM-LEFTOVER", 3.0)]
+
+
+def test_design_outputs_and_a_binary_stl(tmp_path: Path) -> None:
+    from kernel.stock.mesh import read_stl, stl_bytes
+
+    tri = np.array(
+        [[[0, 0, -1], [100, 0, -1], [100, 50, -1]], [[0, 0, -1], [100, 50, -1], [0, 50, -1]]]
+    )
+    verts, faces = tri.reshape(-1, 3), np.arange(6).reshape(2, 3)
+    data = stl_bytes(verts.astype(float), faces)
+    assert np.array_equal(read_stl(data), tri)
+    stl = tmp_path / "d.stl"
+    stl.write_bytes(data)
+    out_dir = tmp_path / "out"
+    rc, out = sim(
+        tmp_path,
+        SLOT,
+        "--design",
+        str(stl),
+        "--tool",
+        "0=flat:10",
+        "-o",
+        str(out_dir),
+        "--resolution",
+        "1",
+    )
+    assert rc == 1  # the slot is 2 mm below the design
+    dev = np.load(out_dir / "p_deviation.npy")
+    assert (
+        dev.shape == (50, 100) and np.nanmin(dev) == pytest.approx(-2.0) and np.nanmax(dev) == 1.0
+    )
+    assert (out_dir / "p_deviation.png").read_bytes()[:4] == b"\x89PNG"
+    (tmp_path / "bad.stl").write_text("hello")
+    prog = tmp_path / "p.ngc"
+    res = CliRunner().invoke(
+        cli, ["sim", str(prog), "--stock", STOCK, "--design", str(tmp_path / "bad.stl")]
+    )
+    assert res.exit_code == 1 and "SIM-DESIGN" in res.output

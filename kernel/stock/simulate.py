@@ -41,6 +41,8 @@ RULES: dict[str, Severity] = {
     "SIM-FLUTE-DEPTH": Severity.WARNING,
     "SIM-HOLDER": Severity.ERROR,
     "SIM-AIR-CUTTING": Severity.NOTE,
+    "SIM-GOUGE": Severity.ERROR,
+    "SIM-LEFTOVER": Severity.WARNING,
 }
 #: a tool whose feed path cuts nothing over more than this share of its length gets a note
 AIR_SHARE = 0.5
