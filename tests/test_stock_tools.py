@@ -388,3 +388,16 @@ def test_design_outputs_and_a_binary_stl(tmp_path: Path) -> None:
         cli, ["sim", str(prog), "--stock", STOCK, "--design", str(tmp_path / "bad.stl")]
     )
     assert res.exit_code == 1 and "SIM-DESIGN" in res.output
+
+
+@pytest.mark.slow
+def test_step_design_through_cadquery(tmp_path: Path) -> None:
+    """A STEP block whose top (Z-3) covers the slot's straight part, and one 1 mm higher."""
+    cq = pytest.importorskip("cadquery")
+    for top, codes in ((-3.0, []), (-2.0, ["SIM-GOUGE"])):
+        step = tmp_path / "d.step"
+        block = cq.Workplane("XY").box(60, 8, 2, centered=(False, False, False))
+        cq.exporters.export(block.translate((20, 21, top - 2)), str(step))
+        rc, out = sim(tmp_path, SLOT, "--tool", "0=flat:10", "--design", str(step))
+        assert [f["code"] for f in out["findings"]] == codes
+        assert rc == (1 if codes else 0)
