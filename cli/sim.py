@@ -37,14 +37,19 @@ from kernel.tooltable import ToolTable
 
 
 def machine_stock(machine: Machine, where: str | None) -> StockBox | None:
-    """``[stock] box = [X0, Y0, Z0, X1, Y1, Z1]`` of the machine profile, if any."""
+    """``[stock] box = [X0, Y0, Z0, X1, Y1, Z1]`` or ``cylinder = [CX, CY, R, Z0, Z1]`` of
+    the machine profile, if any."""
     table = machine.extra.get("stock")
     if table is None:
         return None
+    if isinstance(table, dict) and isinstance(table.get("cylinder"), list):
+        return parse_stock("cyl:" + ",".join(str(v) for v in table["cylinder"]), Location(where))
     box = table.get("box") if isinstance(table, dict) else None
     if not isinstance(box, list):
         raise Diagnostic(
-            "SIM-STOCK", "[stock] needs box = [X0, Y0, Z0, X1, Y1, Z1]", Location(where)
+            "SIM-STOCK",
+            "[stock] needs box = [X0, Y0, Z0, X1, Y1, Z1] or cylinder = [CX, CY, R, Z0, Z1]",
+            Location(where),
         )
     return parse_stock("box:" + ",".join(str(v) for v in box), Location(where))
 
@@ -171,7 +176,11 @@ def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) 
 
 @click.command(name="sim")
 @click.argument("program", type=click.Path(exists=True, dir_okay=False))
-@click.option("--stock", default=None, help="stock as box:X0,Y0,Z0,X1,Y1,Z1 (mm, machine)")
+@click.option(
+    "--stock",
+    default=None,
+    help="stock as box:X0,Y0,Z0,X1,Y1,Z1 or cyl:CX,CY,R,Z0,Z1 (mm, machine)",
+)
 @click.option(
     "-t",
     "--tool-table",

@@ -26,6 +26,7 @@ from cli.main import cli
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
 from kernel.stock import HeightField, StockBox, ToolShape, library_from_toml, simulate_removal
+from kernel.stock import parse_stock as parse_stock_text
 from kernel.stock.simulate import tool_envelope
 from kernel.stock.tools import make_tool, parse_tool_spec
 
@@ -401,3 +402,22 @@ def test_step_design_through_cadquery(tmp_path: Path) -> None:
         rc, out = sim(tmp_path, SLOT, "--tool", "0=flat:10", "--design", str(step))
         assert [f["code"] for f in out["findings"]] == codes
         assert rc == (1 if codes else 0)
+
+
+def test_cylinder_stock(tmp_path: Path) -> None:
+    """cyl:50,25,20,-10,0: a disc of material; a 50 mm face mill plunged 1 mm at its centre
+    takes pi r^2 x 1; a rapid down in the bounding box's corner (outside the disc) hits
+    nothing and one across the disc does (line 6)."""
+    prog = tmp_path / "p.ngc"
+    args = ["sim", str(prog), "--stock", "cyl:50,25,20,-10,0", "--format", "json"]
+    prog.write_text("G21 G90\nG0 X50 Y25 Z5\nG1 Z-1 F100\nG0 Z5\nM2\n")
+    res = CliRunner().invoke(cli, [*args, "--tool", "0=flat:50", "--resolution", "0.1"])
+    out = json.loads(res.stdout)
+    exact = math.pi * 20 * 20 * 1
+    assert abs(out["removed_volume"] - exact) <= 2 * math.pi * 20 * math.hypot(0.1, 0.1) * 1
+    prog.write_text("G21 G90\nG0 X31 Y6 Z5\nG0 Z-5\nG0 X32 Y7\nG0 Z5\nG0 X50 Y25 Z-1\nM2\n")
+    res = CliRunner().invoke(cli, [*args, "--tool", "0=flat:2"])
+    out = json.loads(res.stdout)
+    assert [(f["code"], f["line"]) for f in out["findings"]] == [("SIM-RAPID-IN-STOCK", 6)]
+    hf = HeightField(parse_stock_text("cyl:50,25,20,-10,0"), 0.1)
+    assert abs(hf.volume() - hf.box.volume) <= 2 * math.pi * 20 * math.hypot(0.1, 0.1) * 10
