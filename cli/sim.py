@@ -245,8 +245,9 @@ def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) 
     "out_dir",
     type=click.Path(file_okay=False),
     default=None,
-    help="write <name>_height.npy, <name>_height.png and <name>_stock.stl here (and "
-    "<name>_deviation.npy, <name>_deviation.png with --design)",
+    help="write <name>_height.npy, _height.png, _stock.stl and _sim.json (the summary and the "
+    "grid: cell (i, j) centre at x0 + (i + 0.5) dx, y0 + (j + 0.5) dy) here, and "
+    "_deviation.npy, _deviation.png with --design",
 )
 @click.option("--force", is_flag=True, help="replace existing output files")
 @dialect_option
@@ -289,10 +290,17 @@ def command(
             raise Diagnostic("IO-NOT-DIR", "output path is not a directory", Location(out_dir))
         targets = [
             os.path.join(out_dir, f"{stem}_{s}")
-            for s in ("height.npy", "height.png", "stock.stl", "deviation.npy", "deviation.png")
+            for s in (
+                "height.npy",
+                "height.png",
+                "stock.stl",
+                "sim.json",
+                "deviation.npy",
+                "deviation.png",
+            )
         ]
         if design is None:
-            targets = targets[:3]
+            targets = targets[:4]
         for t in targets:
             check_target(t, force)
     hf = HeightField(box, resolution)
@@ -302,16 +310,16 @@ def command(
     deviation: Deviation | None = None
     if design_top is not None:
         deviation = compare_design(hf, design_top, res, design_tol, program)
+    out = {
+        "program": program,
+        "removed_volume": res.removed_volume,
+        "moves": res.moves,
+        "cells": [hf.nx, hf.ny],
+        "tools": {str(n): u.to_dict() for n, u in sorted(res.tools.items())},
+        "design": deviation.to_dict() if deviation else None,
+        "findings": [f.to_dict() for f in res.findings],
+    }
     if fmt == "json":
-        out = {
-            "program": program,
-            "removed_volume": res.removed_volume,
-            "moves": res.moves,
-            "cells": [hf.nx, hf.ny],
-            "tools": {str(n): u.to_dict() for n, u in sorted(res.tools.items())},
-            "design": deviation.to_dict() if deviation else None,
-            "findings": [f.to_dict() for f in res.findings],
-        }
         click.echo(json.dumps(out, indent=2))
     else:
         click.echo(_text(program, res, hf, deviation))
@@ -323,8 +331,15 @@ def command(
         verts, faces = stock_mesh(hf)
         with open(targets[2], "wb") as fh:
             fh.write(stl_bytes(verts, faces))
+        b = hf.box
+        grid = {"x0": b.x0, "y0": b.y0, "z0": b.z0, "dx": hf.dx, "dy": hf.dy}
+        files = {"height": os.path.basename(targets[0])}
         if deviation is not None:
-            np.save(targets[3], deviation.dev)
-            with open(targets[4], "wb") as fh:
+            files["deviation"] = os.path.basename(targets[4])
+        with open(targets[3], "w", encoding="utf-8") as fh:
+            json.dump({**out, "grid": grid, "files": files}, fh, indent=2)
+        if deviation is not None:
+            np.save(targets[4], deviation.dev)
+            with open(targets[5], "wb") as fh:
                 fh.write(deviation_png(hf, deviation.dev, design_tol, f"{stem}: stock - design"))
     raise SystemExit(EXIT_PROGRAM_ERROR if res.errors else EXIT_OK)

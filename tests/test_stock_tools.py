@@ -383,6 +383,9 @@ def test_design_outputs_and_a_binary_stl(tmp_path: Path) -> None:
         dev.shape == (50, 100) and np.nanmin(dev) == pytest.approx(-2.0) and np.nanmax(dev) == 1.0
     )
     assert (out_dir / "p_deviation.png").read_bytes()[:4] == b"\x89PNG"
+    summary = json.loads((out_dir / "p_sim.json").read_text())
+    assert summary["grid"] == {"x0": 0.0, "y0": 0.0, "z0": -20.0, "dx": 1.0, "dy": 1.0}
+    assert summary["files"] == {"height": "p_height.npy", "deviation": "p_deviation.npy"}
     (tmp_path / "bad.stl").write_text("hello")
     prog = tmp_path / "p.ngc"
     res = CliRunner().invoke(
