@@ -272,6 +272,7 @@ def bull_envelope(
     z0: float,
     radius: float,
     corner: float,
+    ceiling: np.ndarray | None = None,
 ) -> np.ndarray:
     """Lowest point of a bull-nose end mill (flat end of radius a = radius - corner, a
     torus of tube radius ``corner`` around it) swept by ``d`` from tip height ``z0``; +inf
@@ -285,7 +286,11 @@ def bull_envelope(
     in sin(phi) with no stable closed form, so g' (monotone) is bisected instead
     (:data:`BULL_STEPS` times), for all cells at once. A level move (dz = 0) is exact: the
     lowest f is at the nearest point, t = q.d / L^2 clipped; a vertical move is the torus
-    at its lower end."""
+    at its lower end.
+
+    With ``ceiling`` (the material's top over the cells), cells the tool cannot reach below
+    it are not iterated: there g(t) >= z0 + min(t1 dz, t2 dz) + f(w), w the cell's distance
+    from the move's line, and the ends' value (returned) is no lower than that bound."""
     ddx, ddy, ddz = d
     a, rc = radius - corner, corner
     l2 = ddx * ddx + ddy * ddy
@@ -308,6 +313,9 @@ def bull_envelope(
     best = np.minimum(g(t1), g(t2))
     inner = ok & (_bull_slope(qx, qy, qd, t1, d, a, rc) < 0.0)
     inner &= _bull_slope(qx, qy, qd, t2, d, a, rc) > 0.0
+    if ceiling is not None:
+        w = np.abs(qx * ddy - qy * ddx) / math.sqrt(l2)
+        inner &= z0 + np.minimum(t1 * ddz, t2 * ddz) + end(w) < ceiling
     if inner.any():
         fx, fy = np.broadcast_arrays(qx, qy)
         sx, sy, sqd = fx[inner], fy[inner], qd[inner]

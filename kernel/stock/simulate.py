@@ -246,15 +246,22 @@ def _rotary(cmd: canon.Command, rot: tuple[float, ...], before: tuple[float, ...
 
 
 def tool_envelope(
-    qx: np.ndarray, qy: np.ndarray, d: tuple[float, float, float], z0: float, tool: ToolShape
+    qx: np.ndarray,
+    qy: np.ndarray,
+    d: tuple[float, float, float],
+    z0: float,
+    tool: ToolShape,
+    ceiling: np.ndarray | None = None,
 ) -> np.ndarray:
     """Lowest point of ``tool``'s cutting end swept by ``d`` from tip height ``z0`` over the
-    cells at (qx, qy) relative to the start (+inf where untouched)."""
+    cells at (qx, qy) relative to the start (+inf where untouched). Where the result is at
+    or above ``ceiling`` (the material's top, when given) it may be any such height: the
+    cell is not cut."""
     r = tool.radius
     if tool.kind == "ball" or (tool.kind == "bull" and tool.corner_radius >= r):
         return ball_envelope(qx, qy, d, z0, r)
     if tool.kind == "bull" and tool.corner_radius > 0:
-        return bull_envelope(qx, qy, d, z0, r, tool.corner_radius)
+        return bull_envelope(qx, qy, d, z0, r, tool.corner_radius, ceiling)
     if tool.kind in ("drill", "chamfer"):
         return cone_envelope(qx, qy, d, z0, r, tool.cone_slope, 0.5 * tool.tip_diameter)
     return flat_envelope(qx, qy, d, z0, r)
@@ -264,7 +271,8 @@ def sweep_line(
     hf: HeightField, tool: ToolShape, p0: np.ndarray, p1: np.ndarray
 ) -> tuple[tuple[slice, slice], np.ndarray] | None:
     """The window of cells a line move can touch and the lowest swept tool height over
-    each (+inf where untouched), or None when the move misses the grid."""
+    each (+inf where untouched; where it is not below the material's top it may be any
+    height not below it), or None when the move misses the grid."""
     return _sweep(hf, p0, p1, tool.radius, 0.0, tool)
 
 
@@ -291,7 +299,7 @@ def _sweep(
     z = float(p0[2]) + lift
     if tool is None:
         return win, flat_envelope(qx, qy, d, z, r)
-    return win, tool_envelope(qx, qy, d, z, tool)
+    return win, tool_envelope(qx, qy, d, z, tool, hf.h[win])
 
 
 def _worst(
