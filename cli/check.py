@@ -397,7 +397,8 @@ def _list_rules(ctx: CheckContext) -> str:
 @click.option(
     "--stock",
     default=None,
-    help="Also simulate material removal on this stock, box:X0,Y0,Z0,X1,Y1,Z1 (rules CNC9xx).",
+    help="Also simulate material removal on this stock, box:X0,Y0,Z0,X1,Y1,Z1 or "
+    "cyl:CX,CY,R,Z0,Z1 (rules CNC901-CNC905).",
 )
 @click.option(
     "--tools",

@@ -355,8 +355,21 @@ def simulate_removal(
         elif value > (result.findings[k].value or 0.0):
             result.findings[k] = f
 
+    current, mark = -1, start  # the tool in use and the volume when it came in
+
+    def settle() -> None:
+        """Book the volume removed since ``mark`` to the tool in use."""
+        nonlocal mark
+        if current >= 0:
+            now = hf.volume()
+            result.tools[current].removed_volume += mark - now
+            mark = now
+
     for cmd, rapid, number, pts in _moves(commands, chord_tol):
         tool = tools.get(number, fallback)
+        if number != current:
+            settle()
+            current = number
         use = result.tools.setdefault(number, ToolUse())
         first_use.setdefault(number, _located(cmd))
         result.moves += 1
@@ -421,12 +434,14 @@ def simulate_removal(
                             worst,
                             f"cut {worst[0]:.3f} mm deep with {tool.flute_length:g} mm of flutes",
                         )
-            new = np.minimum(h, np.maximum(env, z0))
-            use.removed_volume += float(np.sum(h - new)) * hf.cell_area
             if result.last_move is not None:
+                new = np.minimum(h, np.maximum(env, z0))
                 lm = result.last_move[win]
                 lm[new < h] = move_id
-            h[...] = new
+                h[...] = new
+            else:
+                np.minimum(h, np.maximum(env, z0), out=h)
+    settle()
     for number, use in result.tools.items():
         if use.feed_length > 0 and use.air_share > AIR_SHARE:
             result.findings.append(
