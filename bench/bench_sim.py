@@ -5,7 +5,9 @@ ball end mill, rapids between rows, fed to :func:`kernel.stock.simulate_removal`
 commands (the reader's time is not counted). Prints CPU seconds (the machine may be shared),
 moves per second and the peak memory for several move counts and grid sizes, so that time
 against moves and against cells can be read off.
-Usage: ``python bench/bench_sim.py [MOVES ...] [GRID_MM ...]`` (a grid size has a dot).
+Usage: ``python bench/bench_sim.py [MOVES ...] [GRID_MM ...] [--tool=KIND]`` (a grid size has
+a dot; KIND flat, ball (the default), bull (corner 1 mm), drill (118°) or chamfer (90°), all
+6 mm).
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import time
 
 from kernel.ir import canon
 from kernel.stock import HeightField, StockBox, ToolShape, simulate_removal
+from kernel.stock.tools import make_tool
 
 BOX = StockBox(0.0, 0.0, -30.0, 300.0, 300.0, 0.0)
 SEG = 1.5  # mm of each feed move
@@ -40,11 +43,17 @@ def program(moves: int) -> list[canon.Command]:
     return cmds
 
 
-def run(moves: int, res: float) -> tuple[float, int, int]:
+def bench_tool(kind: str) -> ToolShape:
+    """The 6 mm tool of the given kind."""
+    extra = {"bull": {"corner_radius": 1.0}}.get(kind, {})
+    return make_tool(kind, 6.0, f"--tool={kind}", **extra)
+
+
+def run(moves: int, res: float, tool: ToolShape) -> tuple[float, int, int]:
     cmds = program(moves)
     hf = HeightField(BOX, res)
     t0 = time.process_time()
-    result = simulate_removal(cmds, hf, {0: ToolShape("ball", 6.0)})
+    result = simulate_removal(cmds, hf, {0: tool})
     return time.process_time() - t0, result.moves, hf.nx * hf.ny
 
 
@@ -54,11 +63,14 @@ def main(argv: list[str]) -> None:
         10_000,
         20_000,
     ]
-    grids = [float(a) for a in argv if "." in a] or [0.2, 0.1]
+    grids = [float(a) for a in argv if "." in a and not a.startswith("--")] or [0.2, 0.1]
+    kinds = [a.split("=", 1)[1] for a in argv if a.startswith("--tool=")] or ["ball"]
+    tool = bench_tool(kinds[-1])
+    print(f"tool: {tool.kind} {tool.diameter:g} mm")
     print(f"{'moves':>8} {'grid mm':>8} {'cells':>10} {'seconds':>8} {'moves/s':>9}")
     for res in grids:
         for n in counts:
-            secs, moves, cells = run(n, res)
+            secs, moves, cells = run(n, res, tool)
             print(f"{moves:>8} {res:>8g} {cells:>10} {secs:>8.2f} {moves / secs:>9.0f}")
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"peak memory {peak:.0f} MB")

@@ -58,10 +58,14 @@ from cli.programs import (
     timeout_option,
     tool_table_units,
 )
+from cli.sim import load_tool_library, machine_stock
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
 from kernel.diagnostics import Diagnostic, Location, Severity
+from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
+from kernel.stock import parse_stock, shapes_from_table
+from kernel.stock.checkrules import SIM_RULES, SimSetup, sim_findings
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,6 +76,7 @@ class Setup:
     dialect: str | None = None  # --dialect of G-code input
     verbosity: int = 0  # -v/-q balance: whether a guessed dialect is told on stderr
     timeout: float | None = None  # per-program time limit in seconds (None: none)
+    sim: SimSetup | None = None  # --stock: also simulate material removal (CNC9xx)
 
 
 def _read_toml(path: str) -> dict[str, Any]:
@@ -120,7 +125,7 @@ def load_context(
                 )
             table = merge_tables(table, top)
             source = config_path
-    config = config_from_dict(table, set(RULES), source)
+    config = config_from_dict(table, set(RULES) | set(SIM_RULES), source)
     if tool_table:
         tools_file = tool_table
     tools = load_tool_table(tools_file) if tools_file else None
@@ -157,7 +162,10 @@ def check_file(path: str, setup: Setup | None = None) -> FileResult:
             cmds, text = check_input(
                 path, setup.dialect, setup.verbosity, ctx.tools, ctx.tool_mm_per_unit, ctx.machine
             )
-            findings = check_stream(cmds, ctx, path, text)
+            seen: list[canon.Command] = []
+            findings = check_stream(_kept(cmds, seen if setup.sim else None), ctx, path, text)
+            if setup.sim is not None:
+                findings = [*findings, *sim_findings(seen, setup.sim, ctx)]
     except ProgramTimeout:
         msg = f"stopped at the time limit of {setup.timeout:g} s (--timeout)"
         late = Finding("CNC001", Severity.ERROR, msg, Location(path), "CHECK-TIMEOUT")
@@ -172,6 +180,34 @@ def check_file(path: str, setup: Setup | None = None) -> FileResult:
         bug = Finding("CNC001", Severity.ERROR, msg, Location(path), "CHECK-INTERNAL")
         return FileResult(path, (bug,), None, time.perf_counter() - t0)
     return FileResult(path, tuple(findings), None, time.perf_counter() - t0)
+
+
+def _kept(
+    cmds: Iterator[canon.Command], into: list[canon.Command] | None
+) -> Iterator[canon.Command]:
+    """The commands, also kept in ``into`` (for the simulation after the rules)."""
+    for cmd in cmds:
+        if into is not None:
+            into.append(cmd)
+        yield cmd
+
+
+def sim_setup(
+    ctx: CheckContext, stock: str | None, library: str | None, machine_path: str | None
+) -> SimSetup | None:
+    """The stock (``--stock`` or the profile's ``[stock]``) and tool shapes (the tool
+    table's flat end mills, replaced by ``--tools``), or None: no simulation."""
+    box = parse_stock(stock, Location(None)) if stock else machine_stock(ctx.machine, machine_path)
+    if box is None:
+        return None
+    shapes = shapes_from_table(ctx.tools, ctx.tool_mm_per_unit) if ctx.tools else {}
+    if library:
+        shapes.update(load_tool_library(library))
+    table = ctx.machine.extra.get("stock")
+    res = table.get("resolution", 0.5) if isinstance(table, dict) else 0.5
+    if not isinstance(res, int | float) or not res > 0:
+        raise Diagnostic("SIM-GRID", "[stock] resolution must be > 0", Location(machine_path))
+    return SimSetup(box, shapes, float(res))
 
 
 def _check_one(path: str) -> FileResult:
@@ -315,7 +351,7 @@ def _version() -> str:
 
 def _list_rules(ctx: CheckContext) -> str:
     lines = []
-    for r in RULES.values():
+    for r in (*RULES.values(), *SIM_RULES.values()):
         sev = ctx.config.severity(r.id, r.severity, r.default_enabled)
         state = sev.value if sev else "off"
         lines.append(f"{r.id}  {r.name:32s} {state:8s} {r.summary}")
@@ -363,6 +399,19 @@ def _list_rules(ctx: CheckContext) -> str:
     help="Skip programs whose --results file is newer than the program and the profile.",
 )
 @click.option("--list-rules", is_flag=True, help="List the rules with their effective severity.")
+@click.option(
+    "--stock",
+    default=None,
+    help="Also simulate material removal on this stock, box:X0,Y0,Z0,X1,Y1,Z1 or "
+    "cyl:CX,CY,R,Z0,Z1 (rules CNC901-CNC905).",
+)
+@click.option(
+    "--tools",
+    "library",
+    type=click.Path(exists=True, dir_okay=False),
+    default=None,
+    help="Tool library (TOML) with the tools' shapes for the simulation.",
+)
 @guarded
 def command(
     files: tuple[str, ...],
@@ -381,6 +430,8 @@ def command(
     resume: bool,
     list_rules: bool,
     fail_on: str,
+    stock: str | None,
+    library: str | None,
 ) -> None:
     """Lint and verify programs without simulating them.
 
@@ -414,12 +465,14 @@ def command(
     if jobs == 0:
         jobs = os.cpu_count() or 1
     t0 = time.perf_counter()
-    setup = Setup(ctx, dialect, verbosity(), timeout or None)
+    sim = sim_setup(ctx, stock, library, machine_path)
+    setup = Setup(ctx, dialect, verbosity(), timeout or None, sim)
     results = _check_all(
         paths, setup, jobs, scheduler, results_dir, resume, machine_path, config_path, tool_table
     )
     rules = tuple(
-        (r, ctx.config.severity(r.id, r.severity, r.default_enabled)) for r in RULES.values()
+        (r, ctx.config.severity(r.id, r.severity, r.default_enabled))
+        for r in (*RULES.values(), *(SIM_RULES.values() if sim else ()))
     )
     report = CheckReport(
         tuple(results), rules, ctx.machine.name, _version(), time.perf_counter() - t0

@@ -10,6 +10,7 @@ from __future__ import annotations
 import io
 import json
 import os
+import tomllib
 
 import click
 import numpy as np
@@ -41,25 +42,112 @@ from kernel.stock import (
     SimResult,
     StockBox,
     ToolShape,
+    library_from_toml,
     parse_stock,
     parse_tool_spec,
     shapes_from_table,
     simulate_removal,
 )
-from kernel.stock.mesh import stl_bytes, stock_mesh
+from kernel.stock.design import Deviation, compare_design
+from kernel.stock.mesh import read_stl, stl_bytes, stock_mesh, top_surface
+from kernel.tooltable import ToolTable
 
 
 def machine_stock(machine: Machine, where: str | None) -> StockBox | None:
-    """``[stock] box = [X0, Y0, Z0, X1, Y1, Z1]`` of the machine profile, if any."""
+    """``[stock] box = [X0, Y0, Z0, X1, Y1, Z1]`` or ``cylinder = [CX, CY, R, Z0, Z1]`` of
+    the machine profile, if any."""
     table = machine.extra.get("stock")
     if table is None:
         return None
+    if isinstance(table, dict) and isinstance(table.get("cylinder"), list):
+        return parse_stock("cyl:" + ",".join(str(v) for v in table["cylinder"]), Location(where))
     box = table.get("box") if isinstance(table, dict) else None
     if not isinstance(box, list):
         raise Diagnostic(
-            "SIM-STOCK", "[stock] needs box = [X0, Y0, Z0, X1, Y1, Z1]", Location(where)
+            "SIM-STOCK",
+            "[stock] needs box = [X0, Y0, Z0, X1, Y1, Z1] or cylinder = [CX, CY, R, Z0, Z1]",
+            Location(where),
         )
     return parse_stock("box:" + ",".join(str(v) for v in box), Location(where))
+
+
+def load_tool_library(path: str) -> dict[int, ToolShape]:
+    """A TOML tool library (``SIM-TOOL`` located at the file when it is not one)."""
+    try:
+        with open(path, "rb") as fh:
+            doc = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise Diagnostic("SIM-TOOL", f"not valid TOML: {exc}", Location(path)) from None
+    return library_from_toml(doc, path)
+
+
+def tool_shapes(
+    table: ToolTable | None, library: str | None, specs: tuple[str, ...]
+) -> dict[int, ToolShape]:
+    """Tool shapes by number: flat end mills of the tool table's diameters, replaced by the
+    library's tools, replaced by ``--tool`` specs."""
+    shapes: dict[int, ToolShape] = shapes_from_table(table) if table else {}
+    if library:
+        shapes.update(load_tool_library(library))
+    for spec in specs:
+        number, shape = parse_tool_spec(spec)
+        shapes[number] = shape
+    return shapes
+
+
+def design_triangles(path: str, tolerance: float) -> np.ndarray:
+    """Triangles (n, 3, 3) of a design model: STL (binary or ASCII) or STEP (tessellated
+    by cadquery, the ``geometry`` extra, within ``tolerance`` mm)."""
+    if os.path.splitext(path)[1].lower() in (".step", ".stp"):
+        try:
+            import cadquery as cq
+        except ImportError:
+            raise Diagnostic(
+                "SIM-DESIGN", "reading STEP needs cadquery (the geometry extra)", Location(path)
+            ) from None
+        try:
+            shape = cq.importers.importStep(path).val()
+        except Exception as exc:  # noqa: BLE001 - OCCT raises its own types
+            raise Diagnostic(
+                "SIM-DESIGN", f"not a readable STEP file: {exc}", Location(path)
+            ) from None
+        verts, faces = shape.tessellate(tolerance)
+        pts = np.array([[v.x, v.y, v.z] for v in verts], dtype=np.float64)
+        tris = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+        return pts[tris]
+    with open(path, "rb") as fh:
+        return read_stl(fh.read(), path)
+
+
+def deviation_png(hf: HeightField, dev: np.ndarray, tol: float, title: str) -> bytes:
+    """Stock minus design as a diverging colour map (blue: gouge, red: material left),
+    grey where the design has no surface; PNG bytes."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    b = hf.box
+    span = max(float(np.nanmax(np.abs(dev))) if np.isfinite(dev).any() else 0.0, 2 * tol)
+    fig, ax = plt.subplots(figsize=(7, 6))
+    ax.set_facecolor("0.85")
+    im = ax.imshow(
+        np.ma.masked_invalid(dev),
+        origin="lower",
+        extent=(b.x0, b.x1, b.y0, b.y1),
+        cmap="coolwarm",
+        vmin=-span,
+        vmax=span,
+        aspect="equal",
+    )
+    fig.colorbar(im, ax=ax, label="stock - design (mm)")
+    ax.set_xlabel("X (mm)")
+    ax.set_ylabel("Y (mm)")
+    ax.set_title(title)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=90)
+    plt.close(fig)
+    return buf.getvalue()
 
 
 def height_png(hf: HeightField, title: str) -> bytes:
@@ -84,11 +172,20 @@ def height_png(hf: HeightField, title: str) -> bytes:
     return buf.getvalue()
 
 
-def _text(program: str, res: SimResult, hf: HeightField) -> str:
+def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) -> str:
     lines = [
         f"{program}: removed_volume {res.removed_volume:.3f} mm3 over {res.moves} moves "
         f"({hf.nx} x {hf.ny} cells of {hf.dx:g} x {hf.dy:g} mm)"
     ]
+    for n, use in sorted(res.tools.items()):
+        lines.append(
+            f"  tool {n}: removed {use.removed_volume:.3f} mm3, "
+            f"feed path {use.feed_length:.1f} mm, {100 * use.air_share:.0f} % in air"
+        )
+    if dev is not None:
+        lines.append(
+            f"  design: worst gouge {dev.gouge:.3f} mm, worst material left {dev.leftover:.3f} mm"
+        )
     for f in res.findings:
         header = f"{f.location}: {f.severity.value}[{f.code}]: {f.message}"
         lines.append(render(header, f.location, f.code, None, verbosity()))
@@ -97,14 +194,26 @@ def _text(program: str, res: SimResult, hf: HeightField) -> str:
 
 @click.command(name="sim")
 @program_argument(exists=True)
-@click.option("--stock", default=None, help="stock as box:X0,Y0,Z0,X1,Y1,Z1 (mm, machine)")
+@click.option(
+    "--stock",
+    default=None,
+    help="stock as box:X0,Y0,Z0,X1,Y1,Z1 or cyl:CX,CY,R,Z0,Z1 (mm, machine)",
+)
 @tool_table_option(help="LinuxCNC .tbl or NIST tool file: flat end mills of its diameters")
 @tool_units_option()
+@click.option(
+    "--tools",
+    "library",
+    type=click.Path(exists=True, dir_okay=False),
+    default=None,
+    help="tool library (TOML, docs/simulation.md): shapes, flutes, shank and holder",
+)
 @click.option(
     "--tool",
     "tool_specs",
     multiple=True,
-    help="tool shape N=flat|ball:DIAMETER[,flute=L][,nocentre] (repeatable; 0: the default)",
+    help="tool shape N=KIND:DIAMETER[,flute=L][,corner=R][,angle=A][,shank=D][,holder=D]"
+    "[,nocentre], KIND flat|ball|bull|drill|chamfer (repeatable; 0: the default)",
 )
 @click.option(
     "--resolution",
@@ -124,6 +233,19 @@ def _text(program: str, res: SimResult, hf: HeightField) -> str:
     "machine_file", help="machine profile (TOML); its [stock] box is used without --stock"
 )
 @click.option(
+    "--design",
+    type=click.Path(exists=True, dir_okay=False),
+    default=None,
+    help="design model (STL, or STEP with cadquery): report gouges and material left",
+)
+@click.option(
+    "--design-tol",
+    type=click.FloatRange(min=0.0),
+    default=0.1,
+    show_default=True,
+    help="deviation from the design's top surface accepted (mm)",
+)
+@click.option(
     "--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True
 )
 @output_option(
@@ -131,7 +253,9 @@ def _text(program: str, res: SimResult, hf: HeightField) -> str:
     file_okay=False,
     dir_okay=True,
     default=None,
-    help="write <name>_height.npy, <name>_height.png and <name>_stock.stl here",
+    help="write <name>_height.npy, _height.png, _stock.stl and _sim.json (the summary and the "
+    "grid: cell (i, j) centre at x0 + (i + 0.5) dx, y0 + (j + 0.5) dy) here, and "
+    "_deviation.npy, _deviation.png with --design",
 )
 @force_option(help="replace existing output files")
 @dialect_option
@@ -141,10 +265,13 @@ def command(
     stock: str | None,
     tool_table: str | None,
     tool_units: str | None,
+    library: str | None,
     tool_specs: tuple[str, ...],
     resolution: float,
     chord_tol: float,
     machine_file: str | None,
+    design: str | None,
+    design_tol: float,
     fmt: str,
     out_dir: str | None,
     force: bool,
@@ -164,36 +291,47 @@ def command(
     if box is None:
         raise click.UsageError("no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or [stock] box")
     table, tool_mm = load_tools(tool_table, tool_units)
-    shapes: dict[int, ToolShape] = {}
-    if table:
-        shapes = shapes_from_table(metric_tool_table(table, tool_mm))
-    for spec in tool_specs:
-        number, shape = parse_tool_spec(spec)
-        shapes[number] = shape
+    shapes = tool_shapes(metric_tool_table(table, tool_mm) if table else None, library, tool_specs)
     stem = output_stem(program)
     targets: list[str] = []
     if out_dir is not None:
         if os.path.exists(out_dir) and not os.path.isdir(out_dir):
             raise Diagnostic("IO-NOT-DIR", "output path is not a directory", Location(out_dir))
         targets = [
-            os.path.join(out_dir, f"{stem}_{s}") for s in ("height.npy", "height.png", "stock.stl")
+            os.path.join(out_dir, f"{stem}_{s}")
+            for s in (
+                "height.npy",
+                "height.png",
+                "stock.stl",
+                "sim.json",
+                "deviation.npy",
+                "deviation.png",
+            )
         ]
+        if design is None:
+            targets = targets[:4]
         for t in targets:
             refuse_output(t, force, (program,))
     hf = HeightField(box, resolution)
     commands = program_commands(program, table, tool_mm, dialect, machine=machine)
-    res = simulate_removal(commands, hf, shapes, chord_tol)
+    design_top = top_surface(design_triangles(design, 0.1 * resolution), hf) if design else None
+    res = simulate_removal(commands, hf, shapes, chord_tol, track_moves=design is not None)
+    deviation: Deviation | None = None
+    if design_top is not None:
+        deviation = compare_design(hf, design_top, res, design_tol, program)
+    out = {
+        "program": program,
+        "removed_volume": res.removed_volume,
+        "moves": res.moves,
+        "cells": [hf.nx, hf.ny],
+        "tools": {str(n): u.to_dict() for n, u in sorted(res.tools.items())},
+        "design": deviation.to_dict() if deviation else None,
+        "findings": [f.to_dict() for f in res.findings],
+    }
     if fmt == "json":
-        out = {
-            "program": program,
-            "removed_volume": res.removed_volume,
-            "moves": res.moves,
-            "cells": [hf.nx, hf.ny],
-            "findings": [f.to_dict() for f in res.findings],
-        }
         click.echo(json.dumps(out, indent=2))
     else:
-        click.echo(_text(program, res, hf))
+        click.echo(_text(program, res, hf, deviation))
     if out_dir is not None:
         os.makedirs(out_dir, exist_ok=True)
         np.save(targets[0], hf.h)
@@ -202,4 +340,15 @@ def command(
         verts, faces = stock_mesh(hf)
         with open(targets[2], "wb") as fh:
             fh.write(stl_bytes(verts, faces))
+        b = hf.box
+        grid = {"x0": b.x0, "y0": b.y0, "z0": b.z0, "dx": hf.dx, "dy": hf.dy}
+        files = {"height": os.path.basename(targets[0])}
+        if deviation is not None:
+            files["deviation"] = os.path.basename(targets[4])
+        with open(targets[3], "w", encoding="utf-8") as fh:
+            json.dump({**out, "grid": grid, "files": files}, fh, indent=2)
+        if deviation is not None:
+            np.save(targets[4], deviation.dev)
+            with open(targets[5], "wb") as fh:
+                fh.write(deviation_png(hf, deviation.dev, design_tol, f"{stem}: stock - design"))
     raise SystemExit(EXIT_PROGRAM_ERROR if res.errors else EXIT_OK)

@@ -9,7 +9,7 @@ into triangles for an STL file. Pure numpy: no file is read or written here.
 
 from kernel.stock.heightfield import HeightField, StockBox, parse_stock
 from kernel.stock.simulate import SimFinding, SimResult, simulate_removal
-from kernel.stock.tools import ToolShape, parse_tool_spec, shapes_from_table
+from kernel.stock.tools import ToolShape, library_from_toml, parse_tool_spec, shapes_from_table
 
 __all__ = [
     "HeightField",
@@ -17,6 +17,7 @@ __all__ = [
     "SimResult",
     "StockBox",
     "ToolShape",
+    "library_from_toml",
     "parse_stock",
     "parse_tool_spec",
     "shapes_from_table",

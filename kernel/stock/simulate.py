@@ -20,7 +20,13 @@ import numpy as np
 from kernel.diagnostics import Diagnostic, Location, Severity
 from kernel.ir import canon
 from kernel.ir.arcsweep import arc_sweep
-from kernel.stock.heightfield import HeightField, ball_envelope, flat_envelope
+from kernel.stock.heightfield import (
+    HeightField,
+    ball_envelope,
+    bull_envelope,
+    cone_envelope,
+    flat_envelope,
+)
 from kernel.stock.tools import DEFAULT_TOOL, ToolShape
 
 #: height (mm) material must stand above a rapid's swept tool to count as a collision
@@ -33,7 +39,13 @@ RULES: dict[str, Severity] = {
     "SIM-RAPID-IN-STOCK": Severity.ERROR,
     "SIM-PLUNGE-NON-CENTRE": Severity.WARNING,
     "SIM-FLUTE-DEPTH": Severity.WARNING,
+    "SIM-HOLDER": Severity.ERROR,
+    "SIM-AIR-CUTTING": Severity.NOTE,
+    "SIM-GOUGE": Severity.ERROR,
+    "SIM-LEFTOVER": Severity.WARNING,
 }
+#: a tool whose feed path cuts nothing over more than this share of its length gets a note
+AIR_SHARE = 0.5
 
 
 @dataclass(frozen=True, slots=True)
@@ -42,14 +54,45 @@ class SimFinding:
     severity: Severity
     message: str
     location: Location
+    #: the worst value (mm, or the air share) and where (machine X, Y), when it has one
+    value: float | None = None
+    x: float | None = None
+    y: float | None = None
 
     def to_dict(self) -> dict[str, object]:
-        return {
+        out: dict[str, object] = {
             "code": self.code,
             "severity": self.severity.value,
             "message": self.message,
             "file": self.location.file,
             "line": self.location.line,
+        }
+        if self.value is not None:
+            out["value"] = self.value
+        if self.x is not None and self.y is not None:
+            out["x"], out["y"] = self.x, self.y
+        return out
+
+
+@dataclass
+class ToolUse:
+    """What one tool did: material removed (mm³), feed path length and the part of it that
+    removed nothing (mm)."""
+
+    removed_volume: float = 0.0
+    feed_length: float = 0.0
+    air_length: float = 0.0
+
+    @property
+    def air_share(self) -> float:
+        return self.air_length / self.feed_length if self.feed_length > 0 else 0.0
+
+    def to_dict(self) -> dict[str, float]:
+        return {
+            "removed_volume": self.removed_volume,
+            "feed_length": self.feed_length,
+            "air_length": self.air_length,
+            "air_share": self.air_share,
         }
 
 
@@ -58,6 +101,12 @@ class SimResult:
     removed_volume: float
     moves: int
     findings: list[SimFinding] = field(default_factory=list)
+    #: per tool number
+    tools: dict[int, ToolUse] = field(default_factory=dict)
+    #: with ``track_moves``: per cell, the index into ``move_locations`` of the last move
+    #: that cut it (-1: never cut)
+    last_move: np.ndarray | None = None
+    move_locations: list[Location] = field(default_factory=list)
 
     @property
     def errors(self) -> int:
@@ -196,13 +245,48 @@ def _rotary(cmd: canon.Command, rot: tuple[float, ...], before: tuple[float, ...
         )
 
 
+def tool_envelope(
+    qx: np.ndarray,
+    qy: np.ndarray,
+    d: tuple[float, float, float],
+    z0: float,
+    tool: ToolShape,
+    ceiling: np.ndarray | None = None,
+) -> np.ndarray:
+    """Lowest point of ``tool``'s cutting end swept by ``d`` from tip height ``z0`` over the
+    cells at (qx, qy) relative to the start (+inf where untouched). Where the result is at
+    or above ``ceiling`` (the material's top, when given) it may be any such height: the
+    cell is not cut."""
+    r = tool.radius
+    if tool.kind == "ball" or (tool.kind == "bull" and tool.corner_radius >= r):
+        return ball_envelope(qx, qy, d, z0, r)
+    if tool.kind == "bull" and tool.corner_radius > 0:
+        return bull_envelope(qx, qy, d, z0, r, tool.corner_radius, ceiling)
+    if tool.kind in ("drill", "chamfer"):
+        return cone_envelope(qx, qy, d, z0, r, tool.cone_slope, 0.5 * tool.tip_diameter)
+    return flat_envelope(qx, qy, d, z0, r)
+
+
 def sweep_line(
     hf: HeightField, tool: ToolShape, p0: np.ndarray, p1: np.ndarray
 ) -> tuple[tuple[slice, slice], np.ndarray] | None:
     """The window of cells a line move can touch and the lowest swept tool height over
-    each (+inf where untouched), or None when the move misses the grid."""
-    r = tool.radius
-    if min(p0[2], p1[2]) >= hf.box.z1:
+    each (+inf where untouched; where it is not below the material's top it may be any
+    height not below it), or None when the move misses the grid."""
+    return _sweep(hf, p0, p1, tool.radius, 0.0, tool)
+
+
+def _sweep(
+    hf: HeightField,
+    p0: np.ndarray,
+    p1: np.ndarray,
+    r: float,
+    lift: float,
+    tool: ToolShape | None,
+) -> tuple[tuple[slice, slice], np.ndarray] | None:
+    """Like :func:`sweep_line` for ``tool``, or (``tool`` None) for a flat-bottomed
+    cylinder of radius ``r`` whose bottom is ``lift`` above the tip (a shank, a holder)."""
+    if min(p0[2], p1[2]) + lift >= hf.box.z1:
         return None  # wholly above the stock (whose top never rises)
     win = hf.window(
         min(p0[0], p1[0]) - r, max(p0[0], p1[0]) + r, min(p0[1], p1[1]) - r, max(p0[1], p1[1]) + r
@@ -212,8 +296,29 @@ def sweep_line(
     qx = hf.xs[win[1]][None, :] - p0[0]
     qy = hf.ys[win[0]][:, None] - p0[1]
     d = (float(p1[0] - p0[0]), float(p1[1] - p0[1]), float(p1[2] - p0[2]))
-    envelope = flat_envelope if tool.kind == "flat" else ball_envelope
-    return win, envelope(qx, qy, d, float(p0[2]), r)
+    z = float(p0[2]) + lift
+    if tool is None:
+        return win, flat_envelope(qx, qy, d, z, r)
+    return win, tool_envelope(qx, qy, d, z, tool, hf.h[win])
+
+
+def _worst(
+    hf: HeightField, win: tuple[slice, slice], depth: np.ndarray
+) -> tuple[float, float, float]:
+    """(largest depth, its cell's X, Y) of a window's depth array."""
+    k = int(np.argmax(depth))
+    j, i = divmod(k, depth.shape[1])
+    return float(depth.flat[k]), float(hf.xs[win[1]][i]), float(hf.ys[win[0]][j])
+
+
+def _guards(tool: ToolShape) -> list[tuple[str, float, float]]:
+    """(name, radius, bottom above the tip) of the tool's shank and holder, when known."""
+    parts = []
+    if tool.shank_bottom is not None:
+        parts.append(("shank", 0.5 * tool.shank_diameter, tool.shank_bottom))
+    if tool.holder_bottom is not None:
+        parts.append(("holder", 0.5 * tool.holder_diameter, tool.holder_bottom))
+    return parts
 
 
 def simulate_removal(
@@ -221,42 +326,94 @@ def simulate_removal(
     hf: HeightField,
     tools: dict[int, ToolShape],
     chord_tol: float = 0.005,
+    track_moves: bool = False,
 ) -> SimResult:
     """Sweep every move of ``commands`` through ``hf`` (changed in place) with the tools by
     number (a tool not in ``tools`` is tool 0's shape, or the default 6 mm flat end mill)
-    and report the removed volume and the findings (:data:`RULES`), one per rule and line."""
+    and report the removed volume, each tool's share and the findings (:data:`RULES`), one
+    per rule and line with the worst value found on that line. ``track_moves`` keeps, per
+    cell, the last move that cut it (``SimResult.last_move``)."""
     start = hf.volume()
     z0 = hf.box.z0
     result = SimResult(0.0, 0)
-    seen: set[tuple[str, int]] = set()
+    if track_moves:
+        result.last_move = np.full(hf.h.shape, -1, dtype=np.int32)
+    index: dict[tuple[str, int | None], int] = {}
     fallback = tools.get(0, DEFAULT_TOOL)
+    first_use: dict[int, Location] = {}
 
-    def find(code: str, message: str, cmd: canon.Command) -> None:
+    def find(
+        code: str, cmd: canon.Command, worst: tuple[float, float, float], message: str
+    ) -> None:
         loc = _located(cmd)
-        if (code, loc.line) not in seen:
-            seen.add((code, loc.line))
-            result.findings.append(SimFinding(code, RULES[code], message, loc))
+        value, x, y = worst
+        f = SimFinding(code, RULES[code], f"{message} at X{x:.3f} Y{y:.3f}", loc, value, x, y)
+        k = index.get((code, loc.line))
+        if k is None:
+            index[(code, loc.line)] = len(result.findings)
+            result.findings.append(f)
+        elif value > (result.findings[k].value or 0.0):
+            result.findings[k] = f
+
+    current, mark = -1, start  # the tool in use and the volume when it came in
+
+    def settle() -> None:
+        """Book the volume removed since ``mark`` to the tool in use."""
+        nonlocal mark
+        if current >= 0:
+            now = hf.volume()
+            result.tools[current].removed_volume += mark - now
+            mark = now
 
     for cmd, rapid, number, pts in _moves(commands, chord_tol):
         tool = tools.get(number, fallback)
+        if number != current:
+            settle()
+            current = number
+        use = result.tools.setdefault(number, ToolUse())
+        first_use.setdefault(number, _located(cmd))
         result.moves += 1
+        move_id = len(result.move_locations)
+        if track_moves:
+            result.move_locations.append(_located(cmd))
+        guards = _guards(tool)
         for k in range(len(pts) - 1):
             p0, p1 = pts[k], pts[k + 1]
-            swept = sweep_line(hf, tool, p0, p1)
+            seg = float(np.linalg.norm(p1 - p0))
+            if not rapid:
+                use.feed_length += seg
+            for name, radius, lift in guards:
+                touched = _sweep(hf, p0, p1, radius, lift, None)
+                if touched is None:
+                    continue
+                gwin, genv = touched
+                over = hf.h[gwin] - genv
+                if np.max(over) > RAPID_EPS:
+                    worst = _worst(hf, gwin, over)
+                    find(
+                        "SIM-HOLDER",
+                        cmd,
+                        worst,
+                        f"the {name} touches material {worst[0]:.3f} mm deep",
+                    )
+            swept = _sweep(hf, p0, p1, tool.radius, 0.0, tool)
             if swept is None:
+                use.air_length += 0.0 if rapid else seg
                 continue
             win, env = swept
             h = hf.h[win]
             cut = (env < h - RAPID_EPS) & (h > z0 + RAPID_EPS)
             if not cut.any():
+                use.air_length += 0.0 if rapid else seg
                 continue
-            deepest = float(np.max(np.where(cut, h - env, 0.0)))
+            depth = np.where(cut, h - env, 0.0)
             if rapid:
+                worst = _worst(hf, win, depth)
                 find(
                     "SIM-RAPID-IN-STOCK",
-                    f"rapid move into material: {deepest:.3f} mm deep at "
-                    f"X{p1[0]:.3f} Y{p1[1]:.3f} Z{p1[2]:.3f}",
                     cmd,
+                    worst,
+                    f"rapid move into material {worst[0]:.3f} mm deep",
                 )
             else:
                 dz = float(p1[2] - p0[2])
@@ -264,15 +421,38 @@ def simulate_removal(
                 if not tool.centre_cutting and dz < 0 and -dz > PLUNGE_SLOPE * xy:
                     find(
                         "SIM-PLUNGE-NON-CENTRE",
+                        cmd,
+                        (-dz, float(p1[0]), float(p1[1])),
                         f"plunge of {-dz:.3f} mm with a tool that does not cut at its centre",
-                        cmd,
                     )
-                if tool.flute_length > 0 and deepest > tool.flute_length + RAPID_EPS:
-                    find(
-                        "SIM-FLUTE-DEPTH",
-                        f"cut {deepest:.3f} mm deep with {tool.flute_length:g} mm of flutes",
-                        cmd,
-                    )
-            np.minimum(h, np.maximum(env, z0), out=h)
+                if tool.flute_length > 0:
+                    worst = _worst(hf, win, depth)
+                    if worst[0] > tool.flute_length + RAPID_EPS:
+                        find(
+                            "SIM-FLUTE-DEPTH",
+                            cmd,
+                            worst,
+                            f"cut {worst[0]:.3f} mm deep with {tool.flute_length:g} mm of flutes",
+                        )
+            if result.last_move is not None:
+                new = np.minimum(h, np.maximum(env, z0))
+                lm = result.last_move[win]
+                lm[new < h] = move_id
+                h[...] = new
+            else:
+                np.minimum(h, np.maximum(env, z0), out=h)
+    settle()
+    for number, use in result.tools.items():
+        if use.feed_length > 0 and use.air_share > AIR_SHARE:
+            result.findings.append(
+                SimFinding(
+                    "SIM-AIR-CUTTING",
+                    RULES["SIM-AIR-CUTTING"],
+                    f"tool {number}: {100 * use.air_share:.0f} % of its feed path "
+                    f"({use.air_length:.1f} of {use.feed_length:.1f} mm) removes nothing",
+                    first_use[number],
+                    use.air_share,
+                )
+            )
     result.removed_volume = start - hf.volume()
     return result
