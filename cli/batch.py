@@ -46,7 +46,7 @@ SUMMARY_SCHEMA = "cnc-run-summary"
 SUMMARY_VERSION = 1
 INDEX, SUMMARY, JUNIT = "index.html", "summary.json", "junit.xml"
 STATUSES = ("ok", "findings", "error", "io-error")
-_CODE = re.compile(r"\b(?:error|warning|note)\[([A-Za-z0-9_.-]+)\]")
+_CODE = re.compile(r"\b(?:error|warning|note)\[([A-Za-z0-9_./-]+)\]")
 
 
 def batch_files(out_dir: str) -> list[str]:
@@ -55,9 +55,10 @@ def batch_files(out_dir: str) -> list[str]:
 
 
 def error_code(message: str) -> str:
-    """The diagnostic code of a one-line diagnostic (``file:1:2: error[CODE]: ...``)."""
+    """The diagnostic code of a one-line diagnostic (``file:1:2: error[CODE]: ...``; of a
+    check finding ``error[RULE/CODE]``, the code)."""
     m = _CODE.search(message)
-    return m.group(1) if m else "error"
+    return m.group(1).rsplit("/", 1)[-1] if m else "error"
 
 
 def _cycle_known(r: RunResult) -> bool:
