@@ -10,6 +10,7 @@ import json
 from html.parser import HTMLParser
 from pathlib import Path
 
+import jsonschema
 import pytest
 import xmlschema
 from click.testing import CliRunner
@@ -20,6 +21,11 @@ from cli.main import cli
 from cli.pipeline import RunResult
 
 SCHEMAS = Path(__file__).parent / "schemas"
+DOC_SCHEMAS = Path(__file__).resolve().parents[1] / "docs" / "schemas"
+
+
+def _schema(name: str) -> dict:
+    return json.loads((DOC_SCHEMAS / f"{name}.schema.json").read_text())
 
 
 class _Index(HTMLParser):
@@ -119,6 +125,10 @@ def test_summary_totals_are_the_sums_of_the_rows(batch: tuple[Path, list[Path], 
     out, progs, _ = batch
     doc = json.loads((out / "summary.json").read_text())
     assert doc["schema"] == "cnc-run-summary" and doc["version"] == 1
+    jsonschema.Draft202012Validator(_schema("run-summary-1")).validate(doc)
+    report = json.loads((out / "clean.report.json").read_text())
+    jsonschema.Draft202012Validator(_schema("run-report-1")).validate(report)
+    assert report["times"]["tools"][0]["label"] == "(start)"  # no tool change in it
     rows, tot = doc["programs"], doc["totals"]
     assert [r["program"] for r in rows] == [str(p) for p in progs]
     assert tot["programs"] == len(rows) == 4
