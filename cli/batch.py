@@ -158,8 +158,12 @@ def print_summary(results: list[RunResult], console: Console, seconds: float) ->
         "errors",
         "warnings",
     )
-    for col in heads:
-        t.add_column(markup_escape(col), justify="left" if col in heads[:2] else "right")
+    for col in heads:  # names and codes fold rather than lose their end to an ellipsis
+        t.add_column(
+            markup_escape(col),
+            justify="left" if col in heads[:2] else "right",
+            overflow="fold",
+        )
     for r in results:
         known = _cycle_known(r)
         cycle = clock(r.cycle_time) if known else f"[red]{error_code(r.message)}[/]"
@@ -192,7 +196,9 @@ def print_summary(results: list[RunResult], console: Console, seconds: float) ->
         if r.message:
             console.print(f"{r.message}", markup=False, highlight=False)
     bad = sum(1 for r in results if r.status != "ok")
-    console.print(f"{len(results) - bad} ok, {bad} with problems, {seconds:.1f} s")
+    console.print(
+        f"{len(results) - bad} ok, {bad} with problems, in {clock(seconds)}", highlight=False
+    )
 
 
 # ---------------------------------------------------------------------- summary.json

@@ -8,6 +8,7 @@ and a tool change the profile's change time, so each tool's share is a sum done 
 
 from __future__ import annotations
 
+import json
 import math
 
 import pytest
@@ -192,3 +193,23 @@ def test_plan_text_units_clock_no_negative_zero_and_unbroken_title(tmp_path) -> 
     verbose = CliRunner().invoke(cli, ["-v", "plan", str(prog)])
     assert verbose.exit_code == 0 and "chord error" in verbose.output
     assert "samples" in verbose.output
+
+
+def test_plan_json_has_the_time_per_tool(tmp_path) -> None:
+    """``cnc plan --format json`` keeps its keys and adds ``times``: seconds and m:ss."""
+    from click.testing import CliRunner
+
+    from cli.main import cli
+
+    prog = tmp_path / "two_tools.canon"
+    prog.write_text("\n".join(c.to_text() for c in _program()) + "\n")
+    res = CliRunner().invoke(cli, ["plan", str(prog), "--format", "json"])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(res.output)
+    assert doc["cycle"]["total"] == pytest.approx(doc["times"]["cycle"])
+    tools = doc["times"]["tools"]
+    assert [t["label"] for t in tools] == ["T3", "T5", "T3"]
+    assert sum(t["total"] for t in tools) == pytest.approx(doc["cycle"]["total"])
+    assert doc["times"]["operations"] == [] and doc["times"]["cycle_hms"] == clock(
+        doc["cycle"]["total"]
+    )
