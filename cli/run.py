@@ -63,7 +63,7 @@ def _lost(item: tuple[str, str], exc: BaseException) -> RunResult:
         f"the cluster could not run it ({type(exc).__name__}: {exc})",
         Location(item[0]),
     )
-    return RunResult(item[0], status="error", message=str(diag))
+    return RunResult(item[0], status="error", message=str(diag), worst=str(diag))
 
 
 def _on_cluster(
