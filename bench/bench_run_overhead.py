@@ -109,7 +109,9 @@ def main() -> None:
             [*cnc, "check", "-j", "2", "-f", "json", "-o", f"{tmp}/check.json", *files]
         )
         print(f"cnc check -j 2: {wall_c:7.2f} s wall, {cpu_c:7.2f} s CPU (exit {code})")
-        runs = [("cnc run -j 2", [])] + ([("cnc run -j 2 --html", ["--html"])] if args.html else [])
+        runs: list[tuple[str, list[str]]] = [("cnc run -j 2", [])] + (
+            [("cnc run -j 2 --html", ["--html"])] if args.html else []
+        )
         for k, (label, extra) in enumerate(runs):
             out = f"{tmp}/run{k}"
             wall, cpu, code = timed([*cnc, "run", "-j", "2", "-o", out, *extra, *files])

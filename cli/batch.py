@@ -32,6 +32,7 @@ from rich.progress import (
     BarColumn,
     MofNCompleteColumn,
     Progress,
+    TaskID,
     TextColumn,
     TimeElapsedColumn,
     TimeRemainingColumn,
@@ -77,7 +78,7 @@ class BatchProgress:
         self.total, self.console, self.quiet = total, console, quiet
         self.done = 0
         self.bar: Progress | None = None
-        self.task = 0
+        self.task = TaskID(0)
 
     def __enter__(self) -> BatchProgress:
         if self.console.is_terminal and not self.quiet:

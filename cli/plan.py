@@ -241,10 +241,10 @@ def command(
         else:
             _compare_text(reports, stretches, program, Console())
         return
-    report, plan, stretches = run_with_times(program, load_machine(machine_file), dialect)
+    report, plan, marks = run_with_times(program, load_machine(machine_file), dialect)
     if fmt == "json":
-        times = times_doc(plan, stretches, program)
+        times = times_doc(plan, marks, program)
         click.echo(json.dumps({"program": program, **report.to_dict(), "times": times}, indent=2))
     else:
-        tools, ops = shares(plan, stretches, program)
+        tools, ops = shares(plan, marks, program)
         _text(report, program, Console(), tools, ops)
