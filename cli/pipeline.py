@@ -13,16 +13,18 @@ import os
 import time
 from collections.abc import Callable, Iterator
 from contextlib import ExitStack
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from cli.budget import cpu_budget
 from cli.deadline import ProgramTimeout, deadline
 from cli.outputs import open_output, refuse_output, replacing
 from cli.programs import check_input, output_stem
+from cli.times import times_doc
 from kernel.check import CheckContext, Finding, check_stream
 from kernel.diagnostics import Diagnostic, Location, Severity
 from kernel.ir import canon
+from kernel.report.breakdown import Stretches
 
 REPORT_SCHEMA = "cnc-run-report"
 REPORT_VERSION = 1
@@ -58,6 +60,19 @@ class RunResult:
     message: str = ""
     report: str = ""
     seconds: float = 0.0
+    notes: int = 0
+    worst: str = ""  # the most severe finding or diagnostic, one line ("" when clean)
+    measured: bool = False  # planned and measured: cycle_time is the program's
+    stages: dict[str, float] = field(default_factory=dict)  # wall seconds per stage
+
+
+def worst_finding(findings: list[Finding]) -> str:
+    """The first finding of the highest severity, formatted (``""`` when there is none)."""
+    for sev in (Severity.ERROR, Severity.WARNING, Severity.NOTE):
+        first = next((f for f in findings if f.severity == sev), None)
+        if first is not None:
+            return first.format()
+    return ""
 
 
 def _stem(path: str) -> str:
@@ -92,11 +107,16 @@ def _simulate(
     from kernel import simulate
     from kernel.report.trace import column_dtypes, columns
 
-    result = simulate(commands, ctx.machine, program)
+    t0 = time.perf_counter()
+    stretches = Stretches()
+    result = simulate(stretches.watch(commands), ctx.machine, program)
     samples = result.samples
     m = result.measure()
     doc["measure"] = m.to_dict()
-    res.cycle_time, res.samples = m.cycle.total, m.samples
+    doc["times"] = times_doc(result.plan, stretches, program)
+    res.cycle_time, res.samples, res.measured = m.cycle.total, m.samples, True
+    t1 = time.perf_counter()
+    res.stages["plan"] = t1 - t0
     trace = result.servo()
     with ExitStack() as stack:  # the trace is renamed into place once complete
         writer = None
@@ -137,8 +157,11 @@ def _simulate(
     fe = [abs(float(p.value)) for p in trace.errors.following.values()]
     res.following_error = max(fe, default=0.0)
     res.contour_error = abs(float(trace.errors.contour.value))
+    t2 = time.perf_counter()
+    res.stages["servo"] = t2 - t1
     if data is not None and len(data.column("t")):
         images.update(_plots(data, samples.axes, name))
+        res.stages["plots"] = time.perf_counter() - t2
 
 
 def _plots(data: Any, axes: tuple[str, ...], stem: str) -> dict[str, bytes]:
@@ -198,6 +221,7 @@ def run_program(
         )
         res = RunResult(program, report=os.path.join(opts.out_dir, f"{name}.report.json"))
         res.status, res.message = "error", str(diag)
+        res.worst = res.message
         res.seconds = time.perf_counter() - t0
         doc = {
             "schema": REPORT_SCHEMA,
@@ -213,7 +237,7 @@ def run_program(
             json.dump(doc, fh, indent=2)
         return res
     except Diagnostic as diag:  # LIMIT-TIME
-        return RunResult(program, status="error", message=str(diag))
+        return RunResult(program, status="error", message=str(diag), worst=str(diag))
 
 
 def _run_program(
@@ -251,15 +275,18 @@ def _run_program(
     except OSError as exc:
         code = "IO-OPEN" if isinstance(exc, (FileNotFoundError, PermissionError)) else "IO-ERROR"
         res.status, res.message = "io-error", f"{program}: error[{code}]: {exc.strerror or exc}"
+        res.worst = res.message
         res.seconds = time.perf_counter() - t0
         return res
     except Exception as exc:  # noqa: BLE001 - a bug must not take the rest of the batch down
         msg = f"internal error while checking ({type(exc).__name__}: {exc}); please report it"
         findings = [Finding("CNC001", Severity.ERROR, msg, Location(program), "CHECK-INTERNAL")]
     doc["findings"] = [f.to_dict() for f in findings]
+    res.stages["check"] = time.perf_counter() - t0
     res.errors = sum(1 for f in findings if f.severity == Severity.ERROR)
     res.warnings = sum(1 for f in findings if f.severity == Severity.WARNING)
     res.notes = sum(1 for f in findings if f.severity == Severity.NOTE)
+    res.worst = worst_finding(findings)
     stop = next((f for f in findings if f.rule == "CNC001"), None)
     if stop is not None:  # the program cannot be interpreted to its end: nothing to run
         res.status, res.message = "error", stop.format()
@@ -281,16 +308,22 @@ def _run_program(
             doc["diagnostics"].append(diag.record.to_dict())
             res.status, res.message = "error", str(diag)
     doc["status"] = res.status
+    if res.status == "error":
+        res.worst = res.message
     res.seconds = time.perf_counter() - t0
     doc["seconds"] = round(res.seconds, 6)
+    t1 = time.perf_counter()
     with open_output(res.report) as fh:
         json.dump(doc, fh, indent=2, default=_json_default)
+    t2 = time.perf_counter()
+    res.stages["report"] = t2 - t1
     if opts.html:
         from cli.formats.html_report import render_html
 
         page = json.loads(json.dumps(doc, default=_json_default))
         with open_output(os.path.join(opts.out_dir, f"{name}.report.html")) as fh:
             fh.write(render_html(page, images))
+        res.stages["html"] = time.perf_counter() - t2
     return res
 
 

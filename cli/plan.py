@@ -10,15 +10,21 @@ import json
 
 import click
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 from cli.errors import guarded
+from cli.main import verbosity
 from cli.options import machine_option, program_argument, tool_table_option, tool_units_option
 from cli.programs import dialect_option, machine_tools, program_commands
+from cli.times import print_shares, shares, times_doc
 from kernel.machine import CONTROLLER_MODELS, Machine, with_controller
+from kernel.plan.planner import Plan
+from kernel.report.breakdown import Share, Stretches
+from kernel.report.clock import clock, fixed
 from kernel.report.compare import Stretch, differing_stretches, line_times
 from kernel.report.measure import Report
-from kernel.simulation import measure_program, simulate
+from kernel.simulation import measure_program, plan_and_measure, simulate
 from kernel.tooltable import ToolTable
 
 
@@ -33,6 +39,21 @@ def run(
     ``tools`` (lengths in units of ``tool_mm_per_unit`` mm) go to the G-code reader."""
     commands = program_commands(program, tools, tool_mm_per_unit, dialect, machine=machine)
     return measure_program(commands, machine, program)
+
+
+def run_with_times(
+    program: str,
+    machine: Machine,
+    dialect: str | None = None,
+    tools: ToolTable | None = None,
+    tool_mm_per_unit: float = 1.0,
+) -> tuple[Report, Plan, Stretches]:
+    """:func:`run`, with the plan and the tool and workingstep marks the time per tool and
+    per operation is summed by (cli.times)."""
+    stretches = Stretches()
+    commands = program_commands(program, tools, tool_mm_per_unit, dialect, machine=machine)
+    plan, report = plan_and_measure(stretches.watch(commands), machine, program)
+    return report, plan, stretches
 
 
 def compare(
@@ -73,20 +94,23 @@ def _compare_text(
 ) -> None:
     names = list(reports)
     first = reports[names[0]].cycle.total
-    t = Table(title=f"cycle time by controller model: {program}")
+    _title(f"cycle time by controller model: {program}", console)
+    t = Table()
     t.add_column("model")
-    t.add_column("total (s)", justify="right")
+    t.add_column("total \\[m:s]", justify="right")
+    t.add_column("total \\[s]", justify="right")
     t.add_column(f"/ {names[0]}", justify="right")
-    t.add_column("cutting (s)", justify="right")
-    t.add_column("rapid (s)", justify="right")
+    t.add_column("cutting \\[s]", justify="right")
+    t.add_column("rapid \\[s]", justify="right")
     for name, rep in reports.items():
-        ratio = f"{rep.cycle.total / first:.3f}" if first > 0 else "-"
+        ratio = fixed(rep.cycle.total / first) if first > 0 else "-"
         t.add_row(
             name,
-            f"{rep.cycle.total:.3f}",
+            clock(rep.cycle.total),
+            fixed(rep.cycle.total),
             ratio,
-            f"{rep.cycle.cutting:.3f}",
-            f"{rep.cycle.rapid:.3f}",
+            fixed(rep.cycle.cutting),
+            fixed(rep.cycle.rapid),
         )
     console.print(t)
     if not stretches:
@@ -95,23 +119,37 @@ def _compare_text(
     d = Table(title="where they differ most")
     d.add_column("source lines")
     for name in names:
-        d.add_column(f"{name} (s)", justify="right")
-    d.add_column("spread (s)", justify="right")
+        d.add_column(f"{escape(name)} \\[s]", justify="right")
+    d.add_column("spread \\[s]", justify="right")
     for st in stretches:
         d.add_row(
             f"{st.first}-{st.last}",
-            *(f"{st.times[n]:.3f}" for n in names),
-            f"{st.spread:.3f}",
+            *(fixed(st.times[n]) for n in names),
+            fixed(st.spread),
         )
     console.print(d)
 
 
-def _text(report: Report, program: str, console: Console) -> None:
+_UNITS = {"velocity": "mm/s", "acceleration": "mm/s²", "jerk": "mm/s³", "travel": "mm"}
+
+
+def _title(text: str, console: Console) -> None:
+    """A heading printed as one line the terminal may wrap but rich never breaks (a table
+    title would wrap in the middle of a long file name)."""
+    console.print(escape(text), soft_wrap=True, highlight=False)
+
+
+def _text(
+    report: Report, program: str, console: Console, tools: list[Share], ops: list[Share]
+) -> None:
+    """The plan as text: times as m:ss, units in every header, detail under ``-v``."""
     c = report.cycle
-    t = Table(title=f"cycle time: {program}")
+    _title(f"cycle time of {program}: {clock(c.total)} ({fixed(c.total)} s)", console)
+    t = Table()
     t.add_column("activity")
-    t.add_column("time [s]", justify="right")
-    t.add_column("share", justify="right")
+    t.add_column("time \\[m:s]", justify="right")
+    t.add_column("time \\[s]", justify="right")
+    t.add_column("share \\[%]", justify="right")
     for name, val in (
         ("cutting", c.cutting),
         ("rapid", c.rapid),
@@ -120,41 +158,49 @@ def _text(report: Report, program: str, console: Console) -> None:
         ("other stops", c.other),
         ("total", c.total),
     ):
-        share = f"{100 * val / c.total:.1f} %" if c.total > 0 else "-"
-        t.add_row(name, f"{val:.3f}", share)
+        share = fixed(100 * val / c.total, 1) if c.total > 0 else "-"
+        t.add_row(name, clock(val), fixed(val), share)
     console.print(t)
+    print_shares(tools, ops, console)
     console.print(
-        f"path: feed {report.feed_length:.3f} mm, rapid {report.rapid_length:.3f} mm; "
-        f"{report.segments} segments, {report.samples} samples; "
-        f"chord error {report.chord_error * 1000:.3f} µm"
+        f"path: feed {fixed(report.feed_length)} mm, rapid {fixed(report.rapid_length)} mm; "
+        f"{report.segments} segments",
+        highlight=False,
     )
+    if verbosity() > 0:
+        console.print(
+            f"{report.samples} samples; chord error {fixed(report.chord_error * 1000)} µm",
+            highlight=False,
+        )
     p = Table(title="peak axis values")
     p.add_column("axis")
-    p.add_column("velocity [mm/s]", justify="right")
-    p.add_column("acceleration [mm/s²]", justify="right")
-    p.add_column("jerk [mm/s³]", justify="right")
+    p.add_column("velocity \\[mm/s]", justify="right")
+    p.add_column("acceleration \\[mm/s²]", justify="right")
+    p.add_column("jerk \\[mm/s³]", justify="right")
     for a in report.peak_velocity:
         p.add_row(
             a.upper(),
-            f"{report.peak_velocity[a]:.3f}",
-            f"{report.peak_acceleration[a]:.3f}",
-            f"{report.peak_jerk[a]:.1f}",
+            fixed(report.peak_velocity[a]),
+            fixed(report.peak_acceleration[a]),
+            fixed(report.peak_jerk[a], 1),
         )
     console.print(p)
     if not report.hits:
         console.print("no limit hits")
         return
-    h = Table(title=f"limit hits ({report.hits_total})")
-    for col in ("line", "time [s]", "axis", "limit", "value", "bound", "samples"):
-        h.add_column(col)
+    _title(f"limit hits ({report.hits_total}) of {program}", console)
+    h = Table()
+    for col in ("line", "time [s]", "axis", "limit", "value", "bound", "unit", "samples"):
+        h.add_column(escape(col))
     for hit in report.hits:
         h.add_row(
-            f"{program}:{hit.line}",
-            f"{hit.time:.3f}",
+            str(hit.line),
+            fixed(hit.time),
             hit.axis.upper(),
             hit.kind,
-            f"{hit.value:.4f}",
-            f"{hit.limit:.4f}",
+            fixed(hit.value, 4),
+            fixed(hit.limit, 4),
+            _UNITS.get(hit.kind, ""),
             str(hit.samples),
         )
     console.print(h)
@@ -216,8 +262,10 @@ def command(
         else:
             _compare_text(reports, stretches, program, Console())
         return
-    report = run(program, machine, dialect, tools, tool_mm)
+    report, plan, marks = run_with_times(program, machine, dialect, tools, tool_mm)
     if fmt == "json":
-        click.echo(json.dumps({"program": program, **report.to_dict()}, indent=2))
+        times = times_doc(plan, marks, program)
+        click.echo(json.dumps({"program": program, **report.to_dict(), "times": times}, indent=2))
     else:
-        _text(report, program, Console())
+        per_tool, ops = shares(plan, marks, program)
+        _text(report, program, Console(), per_tool, ops)

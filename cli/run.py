@@ -25,12 +25,10 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 
 import click
 from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-from rich.table import Table
 
+from cli.batch import BatchProgress, batch_files, print_summary, write_batch
 from cli.check import expand, load_context
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
-from cli.excerpt import render_line
 from cli.main import verbosity
 from cli.options import (
     fail_on_option,
@@ -43,7 +41,14 @@ from cli.options import (
     tool_units_option,
 )
 from cli.outputs import exists_message, refuse_output
-from cli.pipeline import RunOptions, RunResult, report_names, run_program, run_task
+from cli.pipeline import (
+    RunOptions,
+    RunResult,
+    report_names,
+    run_program,
+    run_task,
+    worst_finding,
+)
 from cli.programs import (
     STDIN_NAME,
     dialect_option,
@@ -74,7 +79,7 @@ def _lost(item: tuple[str, str], exc: BaseException) -> RunResult:
         f"the cluster could not run it ({type(exc).__name__}: {exc})",
         Location(item[0]),
     )
-    return RunResult(item[0], status="error", message=str(diag))
+    return RunResult(item[0], status="error", message=str(diag), worst=str(diag))
 
 
 def _on_cluster(
@@ -105,7 +110,9 @@ def _resumed(path: str, report: str, newest_input: float) -> RunResult | None:
     res.errors = sum(1 for f in findings if f.severity == Severity.ERROR)
     res.warnings = sum(1 for f in findings if f.severity == Severity.WARNING)
     res.notes = sum(1 for f in findings if f.severity == Severity.NOTE)
+    res.worst = worst_finding(findings)
     measure, servo = doc.get("measure", {}), doc.get("servo", {})
+    res.measured = "cycle" in measure
     res.cycle_time = float(measure.get("cycle", {}).get("total", 0.0))
     res.samples = int(measure.get("samples", 0))
     fe = [abs(float(p["value"])) for p in servo.get("following_error", {}).values()]
@@ -122,40 +129,9 @@ def _resumed(path: str, report: str, newest_input: float) -> RunResult | None:
             stop = next((f for f in findings if f.rule == "CNC001"), None)
             first = stop or next((f for f in findings if f.severity == Severity.ERROR), None)
             res.message = first.format() if first else ""
+        if res.status == "error" and res.message:
+            res.worst = res.message
     return res
-
-
-def _summary(results: list[RunResult], console: Console, seconds: float) -> None:
-    t = Table(title=f"cnc run: {len(results)} program{'s' * (len(results) != 1)}")
-    for col in (
-        "program",
-        "status",
-        "cycle [s]",
-        "samples",
-        "follow [µm]",
-        "contour [µm]",
-        "errors",
-        "warnings",
-    ):
-        t.add_column(col, justify="left" if col in ("program", "status") else "right")
-    style = {"ok": "green", "findings": "yellow", "error": "bold red", "io-error": "bold red"}
-    for r in results:
-        t.add_row(
-            os.path.basename(r.file),
-            f"[{style[r.status]}]{r.status}[/]",
-            f"{r.cycle_time:.3f}",
-            str(r.samples),
-            f"{r.following_error * 1000:.2f}",
-            f"{r.contour_error * 1000:.2f}",
-            str(r.errors),
-            str(r.warnings),
-        )
-    console.print(t)
-    for r in results:
-        if r.message:
-            console.print(render_line(r.message, verbosity()), markup=False, highlight=False)
-    bad = sum(1 for r in results if r.status != "ok")
-    console.print(f"{len(results) - bad} ok, {bad} with problems, {seconds:.1f} s")
 
 
 @click.command("run")
@@ -249,6 +225,7 @@ def command(
                 results[p] = old
     elif not force:  # refuse before any work, so nothing of an earlier run is lost
         taken = [t for p in paths for t in _outputs(out_dir, names[p], opts) if os.path.lexists(t)]
+        taken += [t for t in batch_files(out_dir) if os.path.lexists(t)]
         if taken:
             more = f" and {len(taken) - 1} more" if len(taken) > 1 else ""
             raise Diagnostic(
@@ -259,35 +236,25 @@ def command(
     for p in paths:  # an output that is one of the programs is refused even with --force
         for t in _outputs(out_dir, names[p], opts):
             refuse_output(t, True, paths)
+    for t in batch_files(out_dir):
+        refuse_output(t, True, paths)
     os.makedirs(out_dir, exist_ok=True)
     jobs = (os.cpu_count() or 1) if jobs == 0 else jobs
     console = Console(stderr=True)
     t0 = time.perf_counter()
     todo = [p for p in paths if p not in results]
-    columns = (
-        TextColumn("{task.description}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-    )
     quiet = verbosity() < 0
-    with Progress(*columns, console=console, transient=True, disable=quiet) as progress:
-        files_task = progress.add_task("programs", total=len(todo))
+    with BatchProgress(len(todo), console, quiet) as progress:
         if scheduler:
             items = [(p, names[p]) for p in todo]
             for i, res in _on_cluster(scheduler, items, ctx, opts):
                 results[todo[i]] = res
-                progress.advance(files_task)
+                progress.finished(res)
         elif jobs <= 1 or len(todo) <= 1:
             for p in todo:
-                sub = progress.add_task(f"  {os.path.basename(p)}: servo samples", total=None)
-
-                def tick(done: int, total: int, sub: int = sub) -> None:
-                    progress.update(sub, completed=done, total=total)
-
-                results[p] = run_program(p, ctx, opts, tick, names[p])
-                progress.remove_task(sub)
-                progress.advance(files_task)
+                with progress.servo(p) as tick:
+                    results[p] = run_program(p, ctx, opts, tick, names[p])
+                progress.finished(results[p])
         else:
             with ProcessPoolExecutor(
                 min(jobs, len(todo)), initializer=_init, initargs=(ctx, opts)
@@ -295,10 +262,12 @@ def command(
                 futures = {pool.submit(_run_one, p, names[p]): p for p in todo}
                 for fut in as_completed(futures):
                     results[futures[fut]] = fut.result()
-                    progress.advance(files_task)
+                    progress.finished(results[futures[fut]])
     ordered = [results[p] for p in paths]
+    seconds = time.perf_counter() - t0
+    write_batch(ordered, out_dir, ctx.machine.name, seconds, html)
     out = Console() if sys.stdout.isatty() else Console(width=160)
-    _summary(ordered, out, time.perf_counter() - t0)
+    print_summary(ordered, out, seconds)
     if any(r.status == "io-error" for r in ordered):
         sys.exit(EXIT_USAGE)
     sys.exit(EXIT_PROGRAM_ERROR if any(_fails(r, fail_on) for r in ordered) else EXIT_OK)

@@ -69,8 +69,18 @@ def measure_program(
     """What ``simulate(...).measure()`` reports, with the samples made and reduced window by
     window (:func:`kernel.report.measure.measure_windows`): memory holds the path and plan
     and one window of samples, however long the program runs."""
+    return plan_and_measure(commands, machine, file)[1]
+
+
+def plan_and_measure(
+    commands: Iterable[canon.Command],
+    machine: Machine,
+    file: str | None = None,
+) -> tuple[Plan, Report]:
+    """The plan and :func:`measure_program`'s report: the plan is what the time per tool
+    and per operation is summed over (kernel.report.breakdown)."""
     _path, pl = plan_program(commands, machine, planning_machine(machine), file)
-    return measure_windows(pl, sample_windows(pl))
+    return pl, measure_windows(pl, sample_windows(pl))
 
 
-__all__ = ["SimulationResult", "measure_program", "simulate"]
+__all__ = ["SimulationResult", "measure_program", "plan_and_measure", "simulate"]

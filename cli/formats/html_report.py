@@ -12,6 +12,8 @@ import base64
 from html import escape
 from typing import Any
 
+from kernel.report.clock import clock
+
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:2em;color:#222;
 max-width:1100px}
@@ -57,6 +59,37 @@ def _cycle(measure: dict[str, Any]) -> str:
         bar = f'<span class="bar" style="width:{width}px"></span>' if width else ""
         rows.append([escape(key.replace("_", " ")), _num(val), f"{100 * val / total:.1f} %", bar])
     return _table(["activity", "time [s]", "share", ""], rows, {1, 2})
+
+
+def _times(times: dict[str, Any]) -> str:
+    """Time per tool (tool change to tool change) and, for STEP-NC, per workingstep, as m:ss
+    (kernel.report.clock); seconds in the cells' titles."""
+    parts = []
+    if "cycle" in times:
+        total = float(times["cycle"])
+        parts.append(f"<p>cycle time {escape(clock(total))} ({total:.3f} s)</p>")
+    for key, title, first in (
+        ("tools", "Time per tool", "tool"),
+        ("operations", "Time per operation (workingstep)", "operation"),
+    ):
+        rows = []
+        for s in times.get(key) or []:
+            cells = [escape(str(s.get("label", "")))]
+            if first == "operation":
+                cells.append(escape(str(s.get("tool", ""))))
+            cells.append(escape(str(s.get("line") or "")))
+            for col in ("start", "cutting", "rapid", "dwell", "tool_change", "other", "total"):
+                v = float(s.get(col, 0.0))
+                cells.append(f'<span title="{v:.3f} s">{escape(clock(v))}</span>')
+            rows.append(cells)
+        if not rows:
+            continue
+        head = [first, *(["tool"] if first == "operation" else []), "line"]
+        head += ["start [m:s]", "cutting [m:s]", "rapid [m:s]", "dwell [m:s]"]
+        head += ["tool change [m:s]", "other [m:s]", "total [m:s]"]
+        skip = len(head) - 8
+        parts += [f"<h2>{title}</h2>", _table(head, rows, set(range(skip, len(head))))]
+    return "\n".join(parts)
 
 
 def _issues(doc: dict[str, Any]) -> str:
@@ -148,7 +181,7 @@ def render_html(doc: dict[str, Any], images: dict[str, bytes]) -> str:
             ["samples", escape(str(measure.get("samples", "")))],
         ]
         parts += ["<h2>Summary</h2>", _table(["", ""], summary, {1})]
-        parts += ["<h2>Cycle time</h2>", _cycle(measure)]
+        parts += ["<h2>Cycle time</h2>", _cycle(measure), _times(doc.get("times") or {})]
     parts += ["<h2>Findings and diagnostics</h2>", _issues(doc)]
     if doc.get("servo"):
         parts += ["<h2>Servo errors</h2>", _servo(doc["servo"])]
