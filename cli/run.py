@@ -22,6 +22,7 @@ import sys
 import time
 from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import replace
 
 import click
 from rich.console import Console
@@ -30,6 +31,7 @@ from rich.table import Table
 
 from cli.check import expand, load_context
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.formats.html_report import PLOTLY_FILE
 from cli.main import verbosity
 from cli.outputs import refuse_output
 from cli.pipeline import RunOptions, RunResult, report_names, run_program, run_task
@@ -162,7 +164,8 @@ def _summary(results: list[RunResult], console: Console, seconds: float) -> None
 @click.option(
     "--html",
     is_flag=True,
-    help="Also write DIR/<name>.report.html: plots, cycle time and findings, viewable offline.",
+    help="Also write DIR/<name>.report.html: 3-D backplot beside the listing, plots, cycle "
+    "time and findings, viewable offline (a batch shares DIR/plotly.min.js).",
 )
 @click.option(
     "--traces",
@@ -218,6 +221,8 @@ def command(
         timeout=timeout or None,
     )
     paths = list(dict.fromkeys(expand(files)))  # each program once
+    if html and len(paths) > 1:  # the pages of a batch share one plotly.js beside them
+        opts = replace(opts, html_library=PLOTLY_FILE)
     names = report_names(paths)
     results: dict[str, RunResult] = {}
     if resume:  # a stale or missing report runs again and is replaced
@@ -239,6 +244,10 @@ def command(
         for t in _outputs(out_dir, names[p], opts):
             refuse_output(t, True, paths)
     os.makedirs(out_dir, exist_ok=True)
+    if opts.html_library != "inline":
+        from cli.report_view import write_library
+
+        write_library(out_dir, force, paths)
     jobs = (os.cpu_count() or 1) if jobs == 0 else jobs
     console = Console(stderr=True)
     t0 = time.perf_counter()
