@@ -12,11 +12,20 @@ from typing import Any
 import numpy as np
 import pytest
 
-from cli.formats.html_report import view_data
+from cli.formats.html_report import PLOTLY_FILE, plotly_js, view_data
 from cli.programs import program_commands
+from cli.report_view import write_library
+from kernel.diagnostics import Diagnostic
 from kernel.machine import DEFAULT_MACHINE
 from kernel.path.build import build_path
-from kernel.report.backplot import Backplot, Box, build_backplot, is_lathe, tool_changes
+from kernel.report.backplot import (
+    Backplot,
+    Box,
+    build_backplot,
+    is_lathe,
+    surface_grid,
+    tool_changes,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 FANUC_TURN = ROOT / "tests" / "dialects" / "fanuc" / "114_turn_arcs_r_ik.nc"
@@ -176,3 +185,36 @@ def test_stock_and_travel_are_wire_boxes(tmp_path: Path) -> None:
     corners = {tuple(p) for p in edges if np.isfinite(p).all()}
     assert name == "stock" and len(corners) == 8
     assert corners == {(x, y, z) for x in (0, 80) for y in (0, 50) for z in (-10, 0)}
+
+
+def test_the_cut_part_surface_keeps_narrow_cuts_when_reduced() -> None:
+    h = np.zeros((500, 800))
+    h[:, 401] = -5.0  # a slot one cell wide
+    s = surface_grid(0.0, 0.0, 80.0, 50.0, h, cells=100)
+    assert max(s.z.shape) <= 100 and s.z.min() == -5.0
+    assert (s.z == -5.0).sum(axis=1).tolist() == [1] * s.z.shape[0]  # one column, every row
+    assert (s.x0, s.y0, s.x1, s.y1) == (0.0, 0.0, 80.0, 50.0)
+    data = view_data(_empty_plot(), s, [], "inline")
+    assert (data["surface"]["nx"], data["surface"]["ny"]) == (s.z.shape[1], s.z.shape[0])
+
+
+def _empty_plot() -> Backplot:
+    return Backplot((), False, False, (), 0, 0, 0)
+
+
+def test_a_batch_writes_plotly_once_and_keeps_a_different_file(tmp_path: Path) -> None:
+    lib = tmp_path / PLOTLY_FILE
+    assert write_library(str(tmp_path), False, []) == PLOTLY_FILE
+    assert lib.read_text() == plotly_js() and "plotly.js v3" in plotly_js()[:200]
+    stamp = lib.stat().st_mtime_ns
+    write_library(str(tmp_path), False, [])  # identical: left alone
+    assert lib.stat().st_mtime_ns == stamp
+    lib.write_text("mine")
+    with pytest.raises(Diagnostic) as err:
+        write_library(str(tmp_path), False, [])
+    assert err.value.code == "IO-EXISTS" and lib.read_text() == "mine"
+    with pytest.raises(Diagnostic) as err:  # a program of the batch is never overwritten
+        write_library(str(tmp_path), True, [str(lib)])
+    assert err.value.code == "IO-SAME-FILE" and lib.read_text() == "mine"
+    write_library(str(tmp_path), True, [])
+    assert lib.read_text() == plotly_js()

@@ -207,12 +207,21 @@ def _listing(source: str | None) -> tuple[list[str], str]:
     if source is None:
         return [], ""
     text = source[:LISTING_CHARS]
+    if text.endswith("\n"):
+        text = text[:-1]  # the last line's end makes no empty line
     lines = text.split("\n")[:LISTING_LINES]
     if len(text) < len(source) or len(lines) == LISTING_LINES:
-        total = source.count("\n") + 1
+        total = source.count("\n") + (not source.endswith("\n"))
         if len(lines) < total:
             return lines, f"The listing shows the first {len(lines)} of {total} lines."
     return lines, ""
+
+
+def _tool_name(tool: str) -> str:
+    """``T3 `` for tool 3, a STEP-NC tool by its name, nothing before the first change."""
+    if not tool:
+        return ""
+    return f"T{tool} " if tool.isdigit() else f"{tool} "
 
 
 def view_data(
@@ -229,7 +238,7 @@ def view_data(
     for tr in bp.traces:
         colour = colours.setdefault(tr.tool, _TOOL_COLOURS[len(colours) % len(_TOOL_COLOURS)])
         item: dict[str, Any] = {
-            "name": f"T{tr.tool} {'rapid' if tr.rapid else 'feed'}",
+            "name": _tool_name(tr.tool) + ("rapid" if tr.rapid else "feed"),
             "rapid": tr.rapid,
             "color": colour,
             "dash": "dash" if tr.rapid else "solid",

@@ -45,7 +45,8 @@ class Box:
 
 @dataclass(frozen=True, slots=True)
 class Polyline:
-    """One display trace: the moves of one tool of one kind (feed or rapid) in program order.
+    """One display trace: the moves of one tool of one kind (feed or rapid) in program order
+    (``tool`` empty before the program's first tool change).
 
     ``points`` is (n, 3) for a 3-D view (X, Y, Z) and (n, 2) for a lathe's (Z, X); a row of
     NaN breaks the line. ``lines[i]`` is the source line of the move ending at point i (the
@@ -164,9 +165,10 @@ def build_backplot(
         if box is not None:
             edges.append((name, _box_edges(box, lathe, diameter)))
     rapid = s["category"] == RAPID
-    labels = ["–"] + [t for _, t in changes]
+    labels = list(dict.fromkeys(["", *(t for _, t in changes)]))  # "": before any change
+    tool = np.asarray([0, *(labels.index(t) for _, t in changes)], np.int64)
     where = np.searchsorted(np.asarray([i for i, _ in changes], np.int64), s["source"])
-    key = where * 2 + rapid  # one trace per (tool, feed or rapid)
+    key = tool[where] * 2 + rapid  # one trace per (tool, feed or rapid)
     arc = s["kind"] == ARC
     n = _chords(s, arc, chord_tol)
     first = np.ones(len(s), bool)  # a segment that starts a new piece of its trace

@@ -162,6 +162,8 @@
     if (three) {
       layout.scene = {
         aspectmode: "data",
+        camera: { eye: { x: 0.7, y: -1.6, z: 1.1 } }, // from the front, right and above
+        dragmode: "orbit",
         xaxis: { title: { text: data.labels[0] } },
         yaxis: { title: { text: data.labels[1] } },
         zaxis: { title: { text: data.labels[2] } }
