@@ -158,15 +158,16 @@ class Browser:
             raise RuntimeError(f"{expr}: {res['exceptionDetails']}")
         return res.get("result", {}).get("value")
 
-    def open(self, url: str, ready: str = "true", timeout: float = 60) -> None:
-        """Load ``url`` and wait until ``ready`` (JavaScript) is true."""
+    def open(self, url: str, ready: str = "true", timeout: float = 400) -> None:
+        """Load ``url`` and wait until ``ready`` (JavaScript) is true (a page too busy to
+        answer is asked again until ``timeout``)."""
         self.send("Page.navigate", {"url": url})
         end = time.monotonic() + timeout
         while time.monotonic() < end:
             try:
-                if self.eval(f"document.readyState === 'complete' && !!({ready})"):
+                if self.eval(f"document.readyState === 'complete' && !!({ready})", 30):
                     return
-            except RuntimeError:
+            except (RuntimeError, TimeoutError):
                 pass
             time.sleep(0.1)
         raise TimeoutError(f"{url}: not ready after {timeout} s ({ready})")

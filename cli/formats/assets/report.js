@@ -151,7 +151,8 @@
       });
     }
     var hl = { type: kind, mode: "lines", name: "selected line", x: [], y: [],
-      line: { color: "#e4002b", width: 10 }, hoverinfo: "skip", connectgaps: false };
+      line: { color: "#e4002b", width: 10 }, hoverinfo: "skip", connectgaps: false,
+      showlegend: false };
     if (three) hl.z = [];
     highlightIndex = plot.length;
     plot.push(hl);
