@@ -14,7 +14,7 @@ import time
 from collections.abc import Callable, Iterator
 from contextlib import ExitStack
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from cli.budget import cpu_budget
 from cli.deadline import ProgramTimeout, deadline
@@ -25,6 +25,10 @@ from kernel.check import CheckContext, Finding, check_stream
 from kernel.diagnostics import Diagnostic, Location, Severity
 from kernel.ir import canon
 from kernel.report.breakdown import Stretches
+
+if TYPE_CHECKING:  # the page's types: the modules load only with --html
+    from kernel.path.segments import Path
+    from kernel.report.backplot import Backplot, Surface
 
 REPORT_SCHEMA = "cnc-run-report"
 REPORT_VERSION = 1
@@ -42,6 +46,19 @@ class RunOptions:
     dialect: str | None = None  # --dialect of G-code input
     verbosity: int = 0  # -v/-q balance: whether a guessed dialect is told on stderr
     timeout: float | None = None  # per-program time limit in seconds (None: none)
+    html_library: str = "inline"  # plotly.js in each page, or the relative file they load
+
+
+@dataclass(slots=True)
+class Page:
+    """What the HTML page shows beyond the JSON report: PNG plots by title, the backplot
+    and the cut part (kernel.report.backplot), and a note when the view could not be made."""
+
+    images: dict[str, bytes] = field(default_factory=dict)
+    backplot: Backplot | None = None
+    surface: Surface | None = None
+    source: str | None = None  # the program's text, for the listing
+    note: str = ""
 
 
 @dataclass(slots=True)
@@ -100,16 +117,18 @@ def _simulate(
     progress: Callable[[int, int], None] | None,
     res: RunResult,
     doc: dict[str, Any],
-    images: dict[str, bytes],
+    page: Page,
 ) -> None:
-    """Plan, interpolate, measure and servo-simulate; fill ``res``, ``doc`` (and ``images``
-    with plots when an HTML report is wanted)."""
+    """Plan, interpolate, measure and servo-simulate; fill ``res``, ``doc`` (and ``page``
+    with the backplot and plots when an HTML report is wanted)."""
     from kernel import simulate
     from kernel.report.trace import column_dtypes, columns
 
     t0 = time.perf_counter()
     stretches = Stretches()
     result = simulate(stretches.watch(commands), ctx.machine, program)
+    if opts.html:
+        _view(commands, result.path, ctx, program, opts, page)
     samples = result.samples
     m = result.measure()
     doc["measure"] = m.to_dict()
@@ -160,8 +179,30 @@ def _simulate(
     t2 = time.perf_counter()
     res.stages["servo"] = t2 - t1
     if data is not None and len(data.column("t")):
-        images.update(_plots(data, samples.axes, name))
+        page.images.update(_plots(data, samples.axes, name))
         res.stages["plots"] = time.perf_counter() - t2
+
+
+def _view(
+    commands: list[canon.Command],
+    path: Path,
+    ctx: CheckContext,
+    program: str,
+    opts: RunOptions,
+    page: Page,
+) -> None:
+    """The page's backplot and cut part (cli.report_view); a failure there is told on the
+    page and never changes the program's status."""
+    from cli.report_view import program_view
+
+    try:
+        page.backplot, page.surface = program_view(
+            commands, path, ctx, program, opts.dialect, page.source
+        )
+    except Diagnostic as diag:
+        page.note = f"No backplot: {diag}"
+    except Exception as exc:  # noqa: BLE001 - the report must still be written
+        page.note = f"No backplot: internal error ({type(exc).__name__}: {exc}); please report it"
 
 
 def _plots(data: Any, axes: tuple[str, ...], stem: str) -> dict[str, bytes]:
@@ -260,7 +301,11 @@ def _run_program(
         "findings": [],
     }
     commands: list[canon.Command] = []
-    images: dict[str, bytes] = {}
+    page = Page()
+    if opts.html:
+        from cli.report_view import read_source
+
+        page.source = read_source(program)
 
     def recording(stream: Iterator[canon.Command]) -> Iterator[canon.Command]:
         for cmd in stream:  # check the stream, keep it for the planner
@@ -295,7 +340,7 @@ def _run_program(
             res.status = "findings"
             res.message = next(f.format() for f in findings if f.severity == Severity.ERROR)
         try:
-            _simulate(commands, program, name, ctx, opts, progress, res, doc, images)
+            _simulate(commands, program, name, ctx, opts, progress, res, doc, page)
         except Diagnostic as diag:
             doc["diagnostics"].append(diag.record.to_dict())
             res.status, res.message = "error", str(diag)
@@ -320,9 +365,18 @@ def _run_program(
     if opts.html:
         from cli.formats.html_report import render_html
 
-        page = json.loads(json.dumps(doc, default=_json_default))
+        record = json.loads(json.dumps(doc, default=_json_default))
+        html = render_html(
+            record,
+            page.images,
+            page.backplot,
+            page.source,
+            page.surface,
+            opts.html_library,
+            page.note,
+        )
         with open_output(os.path.join(opts.out_dir, f"{name}.report.html")) as fh:
-            fh.write(render_html(page, images))
+            fh.write(html)
         res.stages["html"] = time.perf_counter() - t2
     return res
 

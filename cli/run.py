@@ -22,6 +22,7 @@ import sys
 import time
 from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import replace
 
 import click
 from rich.console import Console
@@ -29,6 +30,7 @@ from rich.console import Console
 from cli.batch import BatchProgress, batch_files, print_summary, write_batch
 from cli.check import expand, load_context
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
+from cli.formats.html_report import PLOTLY_FILE
 from cli.main import verbosity
 from cli.options import (
     fail_on_option,
@@ -151,7 +153,8 @@ def _resumed(path: str, report: str, newest_input: float) -> RunResult | None:
 @click.option(
     "--html",
     is_flag=True,
-    help="Also write DIR/<name>.report.html: plots, cycle time and findings, viewable offline.",
+    help="Also write DIR/<name>.report.html: 3-D backplot beside the listing, plots, cycle "
+    "time and findings, viewable offline (a batch shares DIR/plotly.min.js).",
 )
 @click.option(
     "--traces",
@@ -215,6 +218,8 @@ def command(
         if scheduler:
             raise click.UsageError("a program on standard input (-) cannot go to --scheduler")
         jobs = 1
+    if html and len(paths) > 1:  # the pages of a batch share one plotly.js beside them
+        opts = replace(opts, html_library=PLOTLY_FILE)
     names = report_names(paths)
     results: dict[str, RunResult] = {}
     if resume:  # a stale or missing report runs again and is replaced
@@ -239,6 +244,10 @@ def command(
     for t in batch_files(out_dir):
         refuse_output(t, True, paths)
     os.makedirs(out_dir, exist_ok=True)
+    if opts.html_library != "inline":
+        from cli.report_view import write_library
+
+        write_library(out_dir, force, paths)
     jobs = (os.cpu_count() or 1) if jobs == 0 else jobs
     console = Console(stderr=True)
     t0 = time.perf_counter()

@@ -108,9 +108,12 @@ def test_html_report_is_self_contained_and_well_formed(tmp_path: Path) -> None:
         p = _Tags()
         p.feed(page)
         assert p.errors == [] and p.stack == []
-        assert all(u.startswith("data:image/png;base64,") for u in p.urls)
-        assert len(p.urls) == plots  # XY path + one per axis for the simulated program
-        assert "<script" not in page
+        images = [u for u in p.urls if u != "plotly.min.js"]
+        assert all(u.startswith("data:image/png;base64,") for u in images)
+        assert len(images) == plots  # XY path + one per axis for the simulated program
+        # scripts: inline, or the batch's one plotly.js beside the pages; nothing fetched
+        assert p.urls.count("plotly.min.js") == 1 and (tmp_path / "plotly.min.js").is_file()
+        assert "http://" not in "".join(p.urls) and "https://" not in "".join(p.urls)
     clean = (tmp_path / "clean.report.html").read_text()
     assert "Cycle time" in clean and "No findings." in clean
     assert "CNC001/CANON-SYNTAX" in (tmp_path / "CNC001.report.html").read_text()

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import matplotlib
 
@@ -20,6 +21,17 @@ from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 _ROTARY = {"a", "b", "c"}
+#: commanded against actual in the axis plots: a wide dashed black line under a thin solid
+#: coloured one, so that both show where they coincide
+_COMMANDED: dict[str, Any] = {
+    "color": "black",
+    "ls": (0, (5, 3)),
+    "lw": 2.0,
+    "alpha": 0.75,
+    "zorder": 2,
+    "label": "commanded (dashed)",
+}
+_ACTUAL: dict[str, Any] = {"lw": 1.1, "zorder": 3, "label": "actual"}
 
 
 @dataclass
@@ -65,12 +77,13 @@ def axis_figure(data: PlotData, axis: str, title: str = "") -> Figure:
     fig, (ax_p, ax_v, ax_e) = plt.subplots(
         3, 1, sharex=True, figsize=(10, 8), dpi=110, constrained_layout=True
     )
-    ax_p.plot(t, data.column(f"{axis}_cmd_pos"), color="0.55", lw=2.2, label="commanded")
-    ax_p.plot(t, data.column(f"{axis}_act_pos"), color="tab:blue", lw=1.0, label="actual")
+    # commanded dashed black under the actual in colour: both stay visible where they agree
+    ax_p.plot(t, data.column(f"{axis}_cmd_pos"), **_COMMANDED)
+    ax_p.plot(t, data.column(f"{axis}_act_pos"), color="tab:blue", **_ACTUAL)
     ax_p.set_ylabel(f"position [{pu}]")
     ax_p.legend(loc="best", fontsize=9)
-    ax_v.plot(t, data.column(f"{axis}_cmd_vel"), color="0.55", lw=2.2, label="commanded")
-    ax_v.plot(t, data.column(f"{axis}_act_vel"), color="tab:orange", lw=1.0, label="actual")
+    ax_v.plot(t, data.column(f"{axis}_cmd_vel"), **_COMMANDED)
+    ax_v.plot(t, data.column(f"{axis}_act_vel"), color="tab:orange", **_ACTUAL)
     ax_v.set_ylabel(f"velocity [{vu}]")
     ax_v.legend(loc="best", fontsize=9)
     fe = data.column(f"{axis}_following_error")

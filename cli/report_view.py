@@ -1,0 +1,144 @@
+"""What ``cnc run --html`` adds to a program's page besides the JSON report: the backplot,
+the program's text for the listing, the cut part when the profile has a ``[stock]`` box, and
+plotly.js written once beside the pages of a batch.
+
+The drawing itself is kernel.report.backplot (pure); here the program's language, its text
+and the profile are read.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+
+from cli.formats.html_report import PLOTLY_FILE, plotly_js
+from cli.outputs import refuse_output, replacing
+from cli.programs import program_language
+from cli.sim import machine_stock
+from gcode.registry import REGISTRY, canonical_name
+from kernel.check import CheckContext
+from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
+from kernel.machine import Machine
+from kernel.path.segments import Path
+from kernel.report.backplot import (
+    Backplot,
+    Box,
+    Surface,
+    build_backplot,
+    is_lathe,
+    surface_grid,
+    tool_changes,
+)
+from kernel.stock import HeightField, shapes_from_table, simulate_removal
+
+#: the dialects whose X words are diameters (the IR's x is the radius)
+_DIAMETER_DIALECTS = frozenset(e.name for e in REGISTRY if e.lathe)
+#: G7 (RS274/NGC lathe diameter mode) as a word of the program
+_G7 = re.compile(r"(?<![A-Z0-9.#\[])G0*7(?![0-9.])", re.IGNORECASE)
+#: cells a side of the height field simulated for the page (the surface is drawn from it)
+STOCK_CELLS = 160
+#: the largest program text read for the listing (bytes)
+SOURCE_BYTES = 32_000_000
+
+
+def read_source(program: str) -> str | None:
+    """The program's text for the listing (None when it cannot be read)."""
+    try:
+        with open(program, "rb") as fh:
+            data = fh.read(SOURCE_BYTES)
+    except OSError:
+        return None
+    return data.decode("utf-8", errors="replace").replace("\r\n", "\n").replace("\r", "\n")
+
+
+def _diameter(language: str, source: str | None) -> bool:
+    """X words are diameters: a lathe dialect, or RS274/NGC's G7 in the program (outside
+    comments)."""
+    if language in _DIAMETER_DIALECTS:
+        return True
+    if source is None or language in ("canon", "jsonl", "part21"):
+        return False
+    text = re.sub(r"\([^)\n]*\)|;[^\n]*", "", source)
+    return _G7.search(text) is not None
+
+
+def _limits(machine: Machine) -> Box | None:
+    """The machine's X, Y, Z travel as a box, when all three are finite."""
+    try:
+        axes = [machine.axis(n) for n in ("x", "y", "z")]
+    except KeyError:
+        return None
+    lo = tuple(a.min for a in axes)
+    hi = tuple(a.max for a in axes)
+    if not all(math.isfinite(v) for v in (*lo, *hi)):
+        return None
+    return Box((lo[0], lo[1], lo[2]), (hi[0], hi[1], hi[2]))
+
+
+def program_view(
+    commands: list[canon.Command],
+    path: Path,
+    ctx: CheckContext,
+    program: str,
+    dialect: str | None,
+    source: str | None,
+) -> tuple[Backplot, Surface | None]:
+    """The backplot of ``program`` and, when the profile has a ``[stock]`` box, the cut part
+    (a height field of at most :data:`STOCK_CELLS` cells a side, tools as flat end mills of
+    the tool table's diameters)."""
+    machine = ctx.machine
+    try:
+        language = program_language(program, dialect, -1, machine.kind == "lathe")
+    except Diagnostic:
+        language = "rs274ngc"
+    language = (
+        canonical_name(language) if language not in ("canon", "jsonl", "part21") else language
+    )
+    lathe = language in _DIAMETER_DIALECTS or is_lathe(commands, path, machine.kind)
+    stock = machine_stock(machine, None)
+    box = Box((stock.x0, stock.y0, stock.z0), (stock.x1, stock.y1, stock.z1)) if stock else None
+    view = build_backplot(
+        path,
+        tool_changes(commands),
+        lathe=lathe,
+        diameter=lathe and _diameter(language, source),
+        stock=box,
+        limits=_limits(machine),
+    )
+    surface = None
+    if stock is not None and not lathe:
+        step = max(stock.x1 - stock.x0, stock.y1 - stock.y0) / STOCK_CELLS
+        hf = HeightField(stock, step)
+        shapes = shapes_from_table(ctx.tools, ctx.tool_mm_per_unit) if ctx.tools else {}
+        simulate_removal(commands, hf, shapes)
+        surface = surface_grid(stock.x0, stock.y0, stock.x1, stock.y1, hf.h)
+    return view, surface
+
+
+def write_library(out_dir: str, force: bool, inputs: list[str]) -> str:
+    """``DIR/plotly.min.js`` for the pages of a batch, written once: an identical file is
+    kept, a different one is replaced only with ``force`` (``IO-EXISTS`` otherwise), and a
+    program of the batch is never overwritten. Returns the name the pages load."""
+    target = os.path.join(out_dir, PLOTLY_FILE)
+    text = plotly_js()
+    refuse_output(target, True, inputs, "plotly.js")  # never a program of the batch
+    if os.path.lexists(target) and not os.path.islink(target) and os.path.isfile(target):
+        try:
+            with open(target, encoding="utf-8") as fh:
+                if fh.read() == text:
+                    return PLOTLY_FILE
+        except (OSError, UnicodeDecodeError):
+            pass
+    if os.path.lexists(target) and not force:
+        raise Diagnostic(
+            "IO-EXISTS",
+            "a different plotly.min.js is there; use --force to replace it, or another -o"
+            " directory",
+            Location(target),
+        )
+    os.makedirs(out_dir, exist_ok=True)
+    with replacing(target) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    return PLOTLY_FILE
