@@ -21,10 +21,10 @@ from html import escape
 from importlib import resources
 from typing import Any
 
-from kernel.report.clock import clock
 import numpy as np
 
 from kernel.report.backplot import Backplot, Surface
+from kernel.report.clock import clock
 
 #: the file name of plotly.js beside the reports of a batch
 PLOTLY_FILE = "plotly.min.js"
@@ -150,6 +150,8 @@ def _times(times: dict[str, Any]) -> str:
         skip = len(head) - 8
         parts += [f"<h2>{title}</h2>", _table(head, rows, set(range(skip, len(head))))]
     return "\n".join(parts)
+
+
 def _line(v: Any) -> int:
     """A record's source line as an int (0: none)."""
     try:
