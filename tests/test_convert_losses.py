@@ -45,6 +45,13 @@ LOSSES = [
     ),
     ("offset", "G21 G90\nG92 X1\nG0 X1\nM2\n", ".ngc", ["--to", "sandia"], "CONV-ORIGIN"),
     ("work offset", "G21 G90\nG59.1\nG0 X1\nM2\n", ".ngc", ["--to", "grbl"], "CONV-WORK-OFFSET"),
+    (
+        "work offset setting",
+        "G21 G90\nG10 L2 P2 X1\nG0 X1\nM2\n",
+        ".ngc",
+        ["--to", "siemens840d"],
+        "CONV-WORK-OFFSET",
+    ),
     ("units", UNITS_CANON, ".canon", ["--to", "fanuc", "--units", "inch"], "CONV-OPTION"),
     (
         "feed mode",

@@ -31,7 +31,7 @@ import pytest
 
 import tests.canon_equiv as canon_equiv
 from gcode.core import linuxcnc as lc
-from gcode.core.register_marks import ToolLengthRegister
+from gcode.core.register_marks import ToolLengthRegister, WorkOffsetRegister
 from gcode.ngc.interpreter import InterpreterOptions
 from gcode.readers import read, read_text
 from gcode.registry import NAMES, REGISTRY, SUFFIXES, get_dialect
@@ -129,22 +129,7 @@ CASES = [
 
 
 #: cases that show a converter defect not fixed yet -> what differs (strict: a fix shows)
-KNOWN: dict[str, str] = {
-    "golden/ngc/191_g10_l20_rotation_mm_tlo.ngc-rs274ngc-to-siemens840d-none": (
-        "the Siemens output does not carry a G10 L20 offset set under an XY rotation with a "
-        "tool length offset"
-    ),
-    "dialects/fanuc/012_lathe_diameter_u_w.nc-fanuc_lathe-to-sandia-none": (
-        "the Sandia output loses the lathe's XZ plane"
-    ),
-    "realworld/ngc/lcnc__daisy.ngc-rs274ngc-to-haas-none": (
-        "a feed rate differs in the 5th significant digit after the Haas writer's rounding"
-    ),
-    "realworld/shop/fanuc_lathe/gcodeworkshop_FANUC0T.nc-fanuc_lathe-to-siemens840d-table": (
-        "spindle and flood state are lost converting this Fanuc lathe program to Siemens "
-        "with a tool table"
-    ),
-}
+KNOWN: dict[str, str] = {}
 
 
 def _params() -> list[object]:
@@ -192,6 +177,7 @@ def states(commands: Iterable[canon.Command]) -> list[State]:
     register: tuple[str | None, int | None] = (None, None)
     length = 0.0
     work: tuple[object, ...] = (1,)
+    number: int | None = None  # the next work offset's number (its mark)
     spindle = (canon.Direction.STOPPED, 0.0)
     mist = flood = False
     mm = 1.0
@@ -205,8 +191,12 @@ def states(commands: Iterable[canon.Command]) -> list[State]:
             length = c.length * mm
         elif isinstance(c, lc.ToolLengthOffsets):
             length = c.offset[2] * mm
+        elif isinstance(c, WorkOffsetRegister):
+            number = c.number
         elif isinstance(c, canon.SetG5xOffset):
-            work = (c.index,)  # its number; its values are the machine's (see the module doc)
+            # its number (G54.1 P n and G510+ are marked: the IR's index holds nine); its
+            # values are the machine's (see the module doc)
+            work, number = (number or c.index,), None
         elif isinstance(c, canon.SetSpindleSpeed):
             spindle = (spindle[0], round(c.speed, 3))
         elif isinstance(c, canon.StartSpindleClockwise):
@@ -271,7 +261,14 @@ def test_round_trip_keeps_the_program(program: Program, target: str, table: bool
         diff = first_difference(ir, back, 0.001)
         assert diff is None, diff
     else:
-        assert canon_equiv.compare(fine_text(_plain(back)), fine_text(_plain(ir))) == []
+        found = canon_equiv.compare(fine_text(_plain(back)), fine_text(_plain(ir)))
+        if get_dialect(target).structure == "commands":
+            # a language without planes (Sandia: world-space MoveTo) reads every move back
+            # in XY; a straight move goes to the same point in any plane (kernel.ir.equivalence)
+            found = [f for f in found if not (" STRAIGHT_" in f and " sees plane " in f)]
+            diff = first_difference(ir, back, 0.001)  # the rest of what those moves see
+            assert diff is None, diff
+        assert found == []
 
 
 def _plain(commands: Iterable[canon.Command]) -> list[canon.Command]:

@@ -122,6 +122,9 @@ class Setup:
     blend_p: float = 0.0
     blend_q: float = 0.0
     origin_index: int = 1  # G54 .. G59.3 -> 1..9
+    #: the work offset number (gcode.core.register_marks) slot 9 holds: a Fanuc G54.1 P n
+    #: or Siemens G510-G599 is run in G59.3's slot
+    slot9_number: int = 9
     g5x: list[float] = field(default_factory=lambda: [0.0] * 6)
     g92: list[float] = field(default_factory=lambda: [0.0] * 6)
     #: work offsets of G54..G59.3 (index 1..9; 0 unused): x y z a b c and the XY rotation R

@@ -13,9 +13,11 @@ from __future__ import annotations
 from dataclasses import replace
 
 from gcode.core.codes import Words
+from gcode.core.register_marks import EXTENDED_WORK_OFFSETS, WorkOffsetValues
 from gcode.core.state import INCH_MM, CompCode
 from gcode.fanuc.state import ExecutorState
 from gcode.ngc.comp.cutter_comp import CutterCompensator
+from gcode.ngc.offsets import load_system
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir.canon import Units
 from kernel.tooltable import Tool
@@ -175,6 +177,11 @@ def extended_set(
     for i, a in enumerate(_AXES):
         if a in v:
             row[i] = v[a] if absolute else row[i] + v[a]
+    if ex.ip.options.register_marks:  # the setting itself, for a writer (register_marks)
+        given = [i for i, a in enumerate(_AXES) if a in v]
+        number = EXTENDED_WORK_OFFSETS + n
+        axes = "".join(_AXES[i] for i in given)
+        ex.ip.emit(WorkOffsetValues(number, axes, tuple(row[i] for i in given), source=loc))
     if ex.extended_selected == n:
         _load_extended(ex, n)
 
@@ -185,15 +192,15 @@ def extended_select(ex: ExecutorState, v: dict[str, float], loc: Location) -> No
         raise Diagnostic("FANUC-G54-1", "G54.1 needs P1-P48 (Haas G154: P1-P99)", loc)
     n = int(v.pop("P"))
     ex.extended_selected = n
+    ex.ip.s.slot9_number = EXTENDED_WORK_OFFSETS + n
     _load_extended(ex, n)
     ex.ip.execute(Words(g={12: 593}))
 
 
 def _load_extended(ex: ExecutorState, n: int) -> None:
-    row = ex.extended.get(n, [0.0] * 6)
-    values = {"l": 2.0, "p": float(EXTENDED_SLOT)}
-    values.update({a.lower(): row[i] for i, a in enumerate(_AXES)})
-    ex.ip.execute(Words(g={0: 100}, values=values))
+    if ex.ip.s.origin_index == EXTENDED_SLOT:
+        ex.ip.comp_off("active coordinate system")
+    load_system(ex.ip, EXTENDED_SLOT, ex.extended.get(n, [0.0] * 6)[:], None)
 
 
 def extended_value(ex: ExecutorState, n: int, axis: int) -> float:

@@ -16,8 +16,8 @@ from dataclasses import replace
 
 from gcode.core import linuxcnc as lc
 from gcode.core.codes import Words
-from gcode.core.register_marks import ToolLengthRegister
-from gcode.core.state import AXES, INCH_MM, ToolLengthCode
+from gcode.core.register_marks import ToolLengthRegister, WorkOffsetRegister, WorkOffsetValues
+from gcode.core.state import AXES, INCH_MM, Setup, ToolLengthCode
 from gcode.ngc.context import NgcContext
 from gcode.ngc.motion import find_ends, traverse
 from kernel.diagnostics import Diagnostic, Location
@@ -83,8 +83,15 @@ def parameter_written(ctx: NgcContext, index: int) -> None:
             s.coords[i + 1][6] = p[index]
 
 
+def work_number(s: Setup, index: int) -> int:
+    """The work offset number (gcode.core.register_marks) of slot ``index``."""
+    return s.slot9_number if index == 9 else index
+
+
 def emit_g5x(ctx: NgcContext) -> None:
     s = ctx.s
+    if ctx.options.register_marks:
+        ctx.emit(WorkOffsetRegister(work_number(s, s.origin_index), source=ctx.loc))
     ctx.emit(lc.SetG5xOffset(s.origin_index, *s.g5x, source=ctx.loc))
 
 
@@ -235,7 +242,6 @@ def g10(ctx: NgcContext, w: Words) -> None:
     if idx == s.origin_index:
         ctx.comp_off("active coordinate system")
     row = s.coords[idx]
-    base = _coord_base(idx)
     if lword == 20 and "r" in v:
         col = w.columns.get("r", loc.column)
         raise Diagnostic(
@@ -248,12 +254,31 @@ def g10(ctx: NgcContext, w: Words) -> None:
                 values[i] = v[a]
     else:
         values = _l20_offset(ctx, row, {i: v[a] for i, a in enumerate(AXES) if a in v})
+    if ctx.options.register_marks:  # the setting itself, for a writer (register_marks)
+        changed = [i for i, a in enumerate(AXES) if a in v or values[i] != row[i]]
+        ctx.emit(
+            WorkOffsetValues(
+                work_number(s, idx),
+                "".join(AXES[i].upper() for i in changed),
+                tuple(values[i] for i in changed),
+                source=loc,
+            )
+        )
+    load_system(ctx, idx, values, v.get("r"))
+
+
+def load_system(ctx: NgcContext, idx: int, values: list[float], rotation: float | None) -> None:
+    """Coordinate system ``idx`` takes ``values`` (and the XY ``rotation`` where given):
+    its parameters, and the offsets in force where it is the active system."""
+    s = ctx.s
+    row = s.coords[idx]
+    base = _coord_base(idx)
     for i in range(6):
         if values[i] != row[i]:
             row[i] = values[i]
             ctx.params.values[base + i] = _to_param(ctx, i, row[i])
-    if "r" in v:
-        row[6] = v["r"]
+    if rotation is not None:
+        row[6] = rotation
         ctx.params.values[base + 9] = row[6]
     if idx == s.origin_index:
         _set_g5x(ctx, row[:6], row[6])

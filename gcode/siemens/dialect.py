@@ -53,7 +53,9 @@ DIALECT = Dialect(
     speed_override=None,
     end="M30",
     pallet=None,
-    work_offsets=("G54", "G55", "G56", "G57", "G505", "G506", "G507", "G508", "G509"),
+    # settable frames 1-4 and 5-99 (G505-G599); their values are not set in a program
+    work_offsets=("G54", "G55", "G56", "G57", *(f"G5{n:02d}" for n in range(5, 100))),
+    work_offset_set=None,
     tool_table_set=None,
     tool_number=None,
     rigid_tap=None,

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from gcode.core import linuxcnc as lc
 from gcode.core.machine_functions import machine_function
-from gcode.core.register_marks import ToolLengthRegister
+from gcode.core.register_marks import ToolLengthRegister, WorkOffsetRegister
 from gcode.siemens import motion
 from gcode.siemens.blocks import DIAMETER, SUPPRESS, Assign, Block, Word
 from gcode.siemens.cycles import run_cycle
@@ -96,6 +96,8 @@ class Executor(Machine):
             if s.work == 0:
                 self.emit(canon.SetOriginOffsets(0.0, 0.0, 0.0, source=loc))
             else:
+                if self.options.register_marks:  # G510-G599 run in the ninth slot
+                    self.emit(WorkOffsetRegister(s.work, source=loc))
                 self.emit(lc.SetG5xOffset(min(s.work, G5X_SLOTS), *s.g5x, source=loc))
         self.emit(lc.SetG92Offset(*t, source=loc))
         if g5x and s.work != 0:

@@ -64,7 +64,8 @@ class WriterContext:
         self.pallet = False
         self.sync: float | None = None
         self.centre_abs_on = False
-        self.e_work = 1  # G54
+        self.e_work = 1  # G54 (a work offset number, gcode.core.register_marks)
+        self.work_register: int | None = None  # the next SET_G5X_OFFSET's number (its mark)
         self.e_rotation = 0.0
         self.e_local: tuple[float, ...] = (0.0,) * 6
         self.frame: tuple[str, ...] = ()  # the blocks of the last frame written (_frame)

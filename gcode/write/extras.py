@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from gcode.core import linuxcnc as lc
+from gcode.core.register_marks import EXTENDED_WORK_OFFSETS, WorkOffsetRegister, WorkOffsetValues
 from gcode.write.context import WriterContext
 from gcode.write.handlers import comp_active, ignore, tool_length
 from kernel.ir import canon
@@ -23,22 +24,76 @@ def _axis_list(w: WriterContext, values: tuple[float, ...], scale: bool = True) 
     return w.d.separator.join(words)
 
 
+def work_offset_register(w: WriterContext, c: WorkOffsetRegister) -> None:
+    w.work_register = c.number
+
+
+def work_offset_code(w: WriterContext, number: int) -> tuple[str, int] | None:
+    """Work offset ``number`` (gcode.core.register_marks) in the target's words: the code
+    selecting it and the P of its setting (G10 L2 P n, L20 P n); None where it has none."""
+    d = w.d
+    if 1 <= number <= len(d.work_offsets):
+        return d.work_offsets[number - 1], number
+    extra = number - EXTENDED_WORK_OFFSETS
+    if d.extended_offset is not None and 1 <= extra <= d.extended_offsets:
+        return d.extended_offset.format(register=extra), extra
+    return None
+
+
+def _offset_name(number: int) -> str:
+    """A work offset number as its own dialects name it."""
+    if number > EXTENDED_WORK_OFFSETS:
+        return f"G54.1 P{number - EXTENDED_WORK_OFFSETS}"
+    if number <= 6:
+        return f"G{53 + number}"
+    return f"G59.{number - 6}/G5{number:02d}" if number <= 9 else f"G5{number:02d}"
+
+
 def work_offset(w: WriterContext, c: canon.SetG5xOffset) -> None:
-    """SET_G5X_OFFSET: select the work offset; its values stay in the machine's table."""
-    index = int(c.index)
-    if index == w.e_work:
+    """SET_G5X_OFFSET: select the work offset (the number the reader marked, else the IR's
+    index); its values stay in the machine's table."""
+    number, w.work_register = w.work_register or int(c.index), None
+    if number == w.e_work:
         return
     comp_active(w, "work offset change")
     w.flush()
     w.invalidate()
-    w.e_work = index
-    if index > len(w.d.work_offsets):
-        code = f"G{53 + index}" if index <= 6 else f"G59.{index - 6}"
-        w.refuse(  # another offset's values would run the program somewhere else
+    w.e_work = number
+    code = work_offset_code(w, number)
+    if code is None:  # another offset's values would run the program somewhere else
+        w.lacking(
             "CONV-WORK-OFFSET",
-            f"{w.d.title} has no work offset {index} ({code}); work offsets keep their numbers",
+            f"work offset {_offset_name(number)} (work offsets keep their numbers)",
         )
-    w.block(w.d.work_offsets[index - 1])
+        return
+    w.block(code[0])
+
+
+def work_offset_values(w: WriterContext, c: WorkOffsetValues) -> None:
+    """G10 L2 / L20: the program sets a work offset's values in the machine's table, written
+    in the target's form for the same offset number, else a loss (CONV-WORK-OFFSET)."""
+    w.flush_units()
+    w.invalidate()
+    code = work_offset_code(w, c.number)
+    extended = c.number > EXTENDED_WORK_OFFSETS
+    form = w.d.extended_offset_set if extended else w.d.work_offset_set
+    if code is None or form is None:
+        w.lacking(
+            "CONV-WORK-OFFSET",
+            f"setting of work offset {_offset_name(c.number)}'s values (G10 L2/L20)",
+        )
+        return
+    s = w.fmt.scale
+    words = [
+        k + (w.fmt.angle(v) if k in "ABC" else w.fmt.length(v * s))
+        for k, v in zip(c.axes, c.values, strict=True)
+        if k in w.d.axes
+    ]
+    lost = [k for k in c.axes if k not in w.d.axes]
+    if lost:
+        w.lacking("CONV-WORK-OFFSET", f"axis {', '.join(lost)} of a work offset setting")
+    if words:
+        w.block(form.format(register=code[1], axes=w.d.separator.join(words)))
 
 
 def local_offset(w: WriterContext, c: canon.SetG92Offset) -> None:
@@ -182,6 +237,8 @@ _DIGITAL = {(True, True): "M62", (True, False): "M63", (False, True): "M64", (Fa
 
 BY_NAME: dict[str, Callable] = {
     "SET_G5X_OFFSET": work_offset,
+    "WORK_OFFSET_REGISTER": work_offset_register,
+    "WORK_OFFSET_VALUES": work_offset_values,
     "SET_G92_OFFSET": local_offset,
     "SET_XY_ROTATION": xy_rotation,
     "USE_TOOL_LENGTH_OFFSET": tool_offsets,

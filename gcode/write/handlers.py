@@ -191,8 +191,10 @@ def change_tool(w: WriterContext, c: canon.ChangeTool) -> None:
                 f"{w.d.title} takes only the active tool's own length ({keeping})",
             )
         w.block(w.d.tool_word.format(tool=tool), keeping)
-        return
-    w.block(w.d.tool_word.format(tool=tool), w.d.tool_change)
+    else:
+        w.block(w.d.tool_word.format(tool=tool), w.d.tool_change)
+    if w.d.tool_change:  # an M6 change cycle stops the spindle (every reader's M6 does)
+        w.e_direction = canon.Direction.STOPPED
 
 
 def tool_length_register(w: WriterContext, c: ToolLengthRegister) -> None:
@@ -408,7 +410,9 @@ def feed(w: WriterContext, c: canon.StraightFeed) -> None:
     inverse = w.feed_mode == canon.FeedMode.INVERSE_TIME
     start = [w.written(k) for k in "XYZ"] if inverse else None
     words = w.axis_words(w.target(c.x, c.y, c.z, c.a, c.b, c.c))
-    length = math.dist(start, [w.cur[k] for k in "XYZ"]) if start else None
+    # the length the target's reader works the rate out with: from written point to written
+    # point (the rounded words), so the read-back's per-minute rate is the source's
+    length = math.dist(start, [w.written(k) for k in "XYZ"]) if start else None
     if w.sync is not None:
         if w.d.thread is None:
             w.refuse("CONV-THREAD", f"{w.d.title} has no spindle-synchronised motion")

@@ -480,6 +480,7 @@ class SandiaWriter:
                 "CANNED_CYCLE_END",
                 "CUTTER_COMP_REGISTER",
                 "TOOL_LENGTH_REGISTER",
+                "WORK_OFFSET_REGISTER",
                 # G64 Q: the tolerance of LinuxCNC's naive-CAM merging of collinear moves,
                 # used only with G64 P (reported with SET_MOTION_CONTROL_MODE); nothing moves
                 "SET_NAIVECAM_TOLERANCE",

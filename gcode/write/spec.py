@@ -107,6 +107,14 @@ class Dialect:
         "G59.2",
         "G59.3",
     )
+    # additional work offsets (gcode.core.register_marks.EXTENDED_WORK_OFFSETS) as P words: Fanuc
+    # G54.1 P{register}, Haas G154 P{register}; how many there are
+    extended_offset: str | None = None
+    extended_offsets: int = 0
+    # setting a work offset's values in the machine's table (G10 L2 P n of the numbers in
+    # work_offsets, G10 L20 P n of the extended ones); None: the program cannot set them
+    work_offset_set: str | None = "G10 L2 P{register} {axes}"
+    extended_offset_set: str | None = None
     local_offset: str | None = "G52 {axes}"  # the G92/G52 offset, set by value
     xy_rotation: str | None = "G10 L2 P{index} R{angle}"  # rotated work offset; "|" = off
     # a rotation and an offset that share one frame (Siemens ROT/TRANS each replace the
