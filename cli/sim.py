@@ -119,28 +119,18 @@ def design_triangles(path: str, tolerance: float) -> np.ndarray:
         return read_stl(fh.read(), path)
 
 
-def deviation_png(hf: HeightField, dev: np.ndarray, tol: float, title: str) -> bytes:
-    """Stock minus design as a diverging colour map (blue: gouge, red: material left),
-    grey where the design has no surface; PNG bytes."""
+def _map_png(hf: HeightField, grid: np.ndarray, label: str, title: str, **style: object) -> bytes:
+    """A grid over the stock's XY rectangle as a colour map with a colour bar, PNG bytes."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     b = hf.box
-    span = max(float(np.nanmax(np.abs(dev))) if np.isfinite(dev).any() else 0.0, 2 * tol)
     fig, ax = plt.subplots(figsize=(7, 6))
     ax.set_facecolor("0.85")
-    im = ax.imshow(
-        np.ma.masked_invalid(dev),
-        origin="lower",
-        extent=(b.x0, b.x1, b.y0, b.y1),
-        cmap="coolwarm",
-        vmin=-span,
-        vmax=span,
-        aspect="equal",
-    )
-    fig.colorbar(im, ax=ax, label="stock - design (mm)")
+    im = ax.imshow(grid, origin="lower", extent=(b.x0, b.x1, b.y0, b.y1), aspect="equal", **style)
+    fig.colorbar(im, ax=ax, label=label)
     ax.set_xlabel("X (mm)")
     ax.set_ylabel("Y (mm)")
     ax.set_title(title)
@@ -148,28 +138,20 @@ def deviation_png(hf: HeightField, dev: np.ndarray, tol: float, title: str) -> b
     fig.savefig(buf, format="png", dpi=90)
     plt.close(fig)
     return buf.getvalue()
+
+
+def deviation_png(hf: HeightField, dev: np.ndarray, tol: float, title: str) -> bytes:
+    """Stock minus design as a diverging colour map (blue: gouge, red: material left),
+    grey where the design has no surface; PNG bytes."""
+    span = max(float(np.nanmax(np.abs(dev))) if np.isfinite(dev).any() else 0.0, 2 * tol)
+    grid = np.ma.masked_invalid(dev)
+    style = {"cmap": "coolwarm", "vmin": -span, "vmax": span}
+    return _map_png(hf, grid, "stock - design (mm)", title, **style)
 
 
 def height_png(hf: HeightField, title: str) -> bytes:
     """The final height field as a colour map, PNG bytes."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    b = hf.box
-    fig, ax = plt.subplots(figsize=(7, 6))
-    im = ax.imshow(
-        hf.h, origin="lower", extent=(b.x0, b.x1, b.y0, b.y1), cmap="viridis", aspect="equal"
-    )
-    fig.colorbar(im, ax=ax, label="Z (mm)")
-    ax.set_xlabel("X (mm)")
-    ax.set_ylabel("Y (mm)")
-    ax.set_title(title)
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=90)
-    plt.close(fig)
-    return buf.getvalue()
+    return _map_png(hf, hf.h, "Z (mm)", title, cmap="viridis")
 
 
 def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) -> str:
