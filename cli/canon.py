@@ -303,7 +303,9 @@ def command(
 
         chunks = iter(read(program, language, _options(tool_table, params, dirs, nist, max_blocks)))
     else:
-        chunks = interpret_chunks(program, _options(tool_table, params, dirs, nist, max_blocks))
+        chunks = interpret_chunks(
+            program, _options(tool_table, params, dirs, nist, max_blocks), arcs=True
+        )
     if output is None:
         try:
             _write(chunks, program, fmt, linuxcnc, sys.stdout)
