@@ -88,10 +88,10 @@ def test_lane_on_a_cam_program_is_identical(tmp_path: Path, lane_always: list[La
 
 
 def _arc_program(plane: str, units: str, distance: str, centres: str, n: int) -> str:
-    """Arcs in centre format among lines in one plane: half circles and quarter circles
-    (explicit and modal G2/G3), helices, arcs on the edge of LinuxCNC's radius tolerance,
-    a bare G1, feed changes and rotary words; the last arc is just outside the tolerance
-    (an error at its line)."""
+    """Arcs among lines in one plane: in centre format half circles (explicit and modal
+    G2/G3), helices, arcs on the edge of LinuxCNC's radius tolerance; in radius format
+    quarter, three-quarter (negative R) and half circles; a bare G1, feed changes and rotary
+    words; the last arc is just outside the tolerance (an error at its line)."""
     first, second, i, j = {
         "G17": ("X", "Y", "I", "J"),
         "G18": ("Z", "X", "K", "I"),
@@ -108,6 +108,14 @@ def _arc_program(plane: str, units: str, distance: str, centres: str, n: int) ->
         if k == n - 1:
             edge = max(tol / 2 * 1.001, 0.00051 * r)
         a0, b0 = pos[first], pos[second]
+        if k % 8 == 7 and k != n - 1:
+            shape = (k // 8) % 3
+            da, db, radius = (2 * r, 0.0, r) if shape == 2 else (r, r, r if shape else -r)
+            ea, eb = (da, db) if inc else (a0 + da, b0 + db)
+            code = "G2" if (k // 8) % 2 else "G3"
+            lines.append(f"{code} {first}{ea:.4f} {second}{eb:.4f} R{radius:.4f}")
+            pos[first], pos[second] = a0 + da, b0 + db
+            continue
         a1 = a0 + 2 * r
         ca, cb = (r + edge, 0.0) if centres == "G91.1" else (a0 + r + edge, b0)
         end = f"{first}{2 * r if inc else a1:.4f}"

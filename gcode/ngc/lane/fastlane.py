@@ -57,9 +57,9 @@ FEED_MOVE = 1  # STRAIGHT_FEED to ``position``
 SET_FEED = 2  # SET_FEED_RATE(``feed``)
 ARC = 3  # ARC_FEED: the row of ``Run.arc``, then ``position``'s A B C
 
-#: letter -> slot: 0-5 axes X Y Z A B C, 6 F, 7 G (0-3), 8 N, 9-11 I J K; -1 other
+#: letter -> slot: 0-5 axes X Y Z A B C, 6 F, 7 G (0-3), 8 N, 9-11 I J K, 12 R; -1 other
 _SLOT = np.full(256, -1, dtype=np.int64)
-for _k, _c in enumerate("XYZABCFGNIJK"):
+for _k, _c in enumerate("XYZABCFGNIJKR"):
     _SLOT[ord(_c)] = _k
     _SLOT[ord(_c.lower())] = _k
 _POW10 = 10.0 ** np.arange(23)
@@ -144,7 +144,7 @@ def scan(
     arcs: bool = False,
     bare: bool = False,
     plane: str = "XY",
-    arc_tolerance: tuple[float, float] = (0.0, 0.0),
+    arc_tolerance: tuple[float, float, float] = (0.0, 0.0, 0.0),
     ijk_absolute: bool = False,
 ) -> Run:
     """The run of plain lines that starts at byte ``start`` of ``buf`` (a uint8 array).
@@ -154,11 +154,13 @@ def scan(
     ends at the first line the lane cannot take, at the end of the buffer, or after about
     ``max_events`` events. ``buf`` must end at a line end or at the end of the file.
 
-    With ``arcs`` the run also takes centre-format G2/G3 lines in ``plane`` (helices and
-    G90.1 centres too; ``motion`` is then the modal motion code, 0, 10, 20 or 30, instead
-    of ``traverse``), checked with ``arc_tolerance`` (LinuxCNC's radius tolerance and
-    smallest radius in program units) as :func:`gcode.core.arcs.centre_format` checks them;
-    with ``bare`` it takes a G0/G1 with no axis word (a move to the current point).
+    With ``arcs`` the run also takes G2/G3 lines in ``plane`` in centre format (helices and
+    G90.1 centres too) and in radius format (R; no P); ``motion`` is then the modal motion
+    code, 0, 10, 20 or 30, instead of ``traverse``. ``arc_tolerance`` holds LinuxCNC's
+    radius tolerance, smallest radius and R reach in program units, which
+    :func:`gcode.core.arcs.centre_format` and :func:`gcode.core.arcs.radius_format` check
+    (an R arc's centre is computed by the same operations, with ``math.hypot`` to the last
+    bit). With ``bare`` it takes a G0/G1 with no axis word (a move to the current point).
     """
     start_pos = np.array(position, dtype=np.float64)
     if start_pos.shape != (6,) or start < 0:

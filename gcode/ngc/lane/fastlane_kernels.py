@@ -12,6 +12,7 @@ does not check types, so :mod:`gcode.ngc.lane.fastlane` converts every argument 
 
 from __future__ import annotations
 
+import math
 import sys
 
 import numpy as np
@@ -59,6 +60,78 @@ def _number(buf, j, e, pow10):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def _two_product(a, b):  # pragma: no cover - compiled
+    """``a * b`` as an exact sum hi + lo (Veltkamp split, Dekker's product)."""
+    p = a * b
+    c = 134217729.0 * a
+    a_hi = c - (c - a)
+    a_lo = a - a_hi
+    c = 134217729.0 * b
+    b_hi = c - (c - b)
+    b_lo = b - b_hi
+    return p, ((a_hi * b_hi - p) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo
+
+
+@njit(cache=True)
+def _py_hypot(x, y):  # pragma: no cover - compiled
+    """``math.hypot(x, y)`` to the last bit: CPython's algorithm (since 3.10) of a lossless
+    scaling by a power of two, exact squares summed around 1.0 with their rounding errors,
+    a square root and one differential correction. -1.0 for a value too small to scale
+    (the caller leaves the line to the general path)."""
+    x = abs(x)
+    y = abs(y)
+    m = x if x > y else y
+    if m == 0.0 or math.isinf(m):
+        return m
+    e = math.frexp(m)[1]
+    if e < -1000:
+        return -1.0
+    scale = math.ldexp(1.0, -e)
+    csum = 1.0
+    frac1 = 0.0
+    frac2 = 0.0
+    for v in (x * scale, y * scale):
+        hi, lo = _two_product(v, v)
+        total = csum + hi
+        frac2 += (csum - total) + hi
+        csum = total
+        frac1 += lo
+    h = math.sqrt(csum - 1.0 + (frac1 + frac2))
+    hi, lo = _two_product(-h, h)
+    total = csum + hi
+    frac2 += (csum - total) + hi
+    csum = total
+    frac1 += lo
+    h += (csum - 1.0 + (frac1 + frac2)) / (2.0 * h)
+    return h / scale
+
+
+@njit(cache=True)
+def _radius_centre(s1, s2, e1, e2, radius, clockwise, reach):  # pragma: no cover - compiled
+    """The centre of an R arc as gcode.core.arcs.radius_format computes it (LinuxCNC
+    ``arc_data_r``), with the same operations in the same order; ok False where that
+    function would raise, or near its limits (the general path decides those)."""
+    abs_r = abs(radius)
+    if (s1 == e1 and s2 == e2) or abs_r == 0.0:
+        return 0.0, 0.0, False
+    mid1 = (e1 + s1) / 2.0
+    mid2 = (e2 + s2) / 2.0
+    half = _py_hypot(mid1 - e1, mid2 - e2)
+    if half < 0.0 or half - abs_r > reach * (1.0 - 1e-6):
+        return 0.0, 0.0, False
+    if half / abs_r > 1.0 - 1e-12:
+        half = abs_r
+    theta = math.atan2(e2 - s2, e1 - s1)
+    if (clockwise and radius > 0) or (not clockwise and radius < 0):
+        theta += -math.pi / 2
+    else:
+        theta += math.pi / 2
+    turn2 = math.acos(max(-1.0, min(1.0, half / abs_r)))
+    offset = abs_r * math.sin(turn2)
+    return mid1 + offset * math.cos(theta), mid2 + offset * math.sin(theta), True
+
+
+@njit(cache=True)
 def _arc_radii_agree(r1, r2, tol, zero):  # pragma: no cover - compiled
     """The centre-format checks of gcode.core.arcs.centre_format, decided only where they
     hold with a margin far above the last-bit difference between ``sqrt(x*x + y*y)`` and
@@ -98,7 +171,7 @@ def _scan(
     out_arc = np.empty((max_events, 6), dtype=np.float64)
     cur = pos.copy()
     end = pos.copy()
-    words = np.zeros(12, dtype=np.float64)
+    words = np.zeros(13, dtype=np.float64)
     f1 = plane[0]
     f2 = plane[1]
     fn = plane[2]
@@ -153,7 +226,7 @@ def _scan(
                 ok = False
         moving = axes != 0 or (have & 128) != 0
         centre_words = have & 3584  # I J K
-        if ok and centre_words and (line_motion < 2 or not axes):
+        if ok and (centre_words or have & 4096) and (line_motion < 2 or not axes):
             ok = False
         if ok and have & 64 and words[6] <= 0.0:
             ok = False
@@ -167,11 +240,19 @@ def _scan(
                 else:
                     end[a] = cur[a]
         if ok and moving and line_motion >= 2:
-            # centre format in the run's plane (gcode.ngc.motion.arc); R, P and the plane's
+            # centre or radius format in the run's plane (gcode.ngc.motion.arc); P and the plane's
             # normal centre word are the general path's
             has_i = (have >> ci) & 1
             has_j = (have >> cj) & 1
-            if (have >> ck) & 1 or not (has_i or has_j):
+            if have & 4096:
+                # radius format: an in-plane axis word and no centre word
+                if centre_words or not ((axes >> f1) & 1 or (axes >> f2) & 1):
+                    ok = False
+                else:
+                    c1, c2, ok = _radius_centre(
+                        cur[f1], cur[f2], end[f1], end[f2], words[12], line_motion == 2, arc_tol[2]
+                    )
+            elif (have >> ck) & 1 or not (has_i or has_j):
                 ok = False
             elif ijk_absolute:
                 if not (has_i and has_j):
@@ -181,7 +262,7 @@ def _scan(
             else:
                 c1 = cur[f1] + (words[ci] if has_i else 0.0)
                 c2 = cur[f2] + (words[cj] if has_j else 0.0)
-            if ok:
+            if ok and not have & 4096:
                 r1 = np.sqrt((cur[f1] - c1) ** 2 + (cur[f2] - c2) ** 2)
                 r2 = np.sqrt((end[f1] - c1) ** 2 + (end[f2] - c2) ** 2)
                 if not _arc_radii_agree(r1, r2, arc_tol[0], arc_tol[1]):

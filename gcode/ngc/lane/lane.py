@@ -3,7 +3,7 @@
 Runs of plain CAM lines (axis words, F, G0/G1, N) are scanned straight from the file's
 bytes by compiled code while the modal state is simple (top level of the main file, G94,
 G0 or G1, no cutter compensation, no lathe diameter mode). A lane opened with ``arcs``
-also takes centre-format G2/G3 lines (and a bare G0/G1) for a consumer that reads
+also takes G2/G3 lines in centre and radius format (and a bare G0/G1) for a consumer that reads
 ``ARC_FEED`` events from a run (``Run.commands``, ``fastlane.events_text``). Everything else,
 and every diagnostic, stays with the general interpreter.
 """
@@ -13,6 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 from gcode.core.arcs import (
+    R_REACH_INCH,
+    R_REACH_MM,
     RADIUS_TOLERANCE_INCH,
     RADIUS_TOLERANCE_MM,
     ZERO_RADIUS_INCH,
@@ -114,9 +116,9 @@ class Lane:
             bare=self.arcs,
             plane=_PLANE_NAMES[s.plane],
             arc_tolerance=(
-                (RADIUS_TOLERANCE_INCH, ZERO_RADIUS_INCH)
+                (RADIUS_TOLERANCE_INCH, ZERO_RADIUS_INCH, R_REACH_INCH)
                 if inches
-                else (RADIUS_TOLERANCE_MM, ZERO_RADIUS_MM)
+                else (RADIUS_TOLERANCE_MM, ZERO_RADIUS_MM, R_REACH_MM)
             ),
             ijk_absolute=s.ijk_absolute,
         )
