@@ -346,7 +346,7 @@ def command(
 
             chunks = iter(read(program, language, options))
         else:
-            chunks = interpret_chunks(program, options)
+            chunks = interpret_chunks(program, options, arcs=True)
     if output is None:
         try:
             _write(chunks, program, fmt, linuxcnc, sys.stdout)

@@ -11,7 +11,9 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from gcode.core import arcs
 from gcode.ngc.lane import fastlane
+from kernel.diagnostics import Location
 from kernel.ir import canon
 
 AXES = "XYZABC"
@@ -156,3 +158,31 @@ def test_g0_or_g1_without_axis_words_is_left_to_the_interpreter() -> None:
     for bare in ("G1", "G1 F100", "G0", "N5 G00"):
         run = lane(f"X5\n{bare}\nX6\n", feed=10.0, traverse=False)
         assert run.lines == 1, bare
+
+
+def test_r_arcs_have_the_centres_the_general_interpreter_computes_to_the_last_bit() -> None:
+    """R-format arcs through the lane against gcode.core.arcs.radius_format (which uses
+    math.hypot, atan2, acos, sin and cos): the same doubles, semicircles included."""
+    rng = np.random.default_rng(22)
+    lines, expected = [], []
+    x = y = 0.0
+    for k in range(3000):
+        ex = round(x + float(rng.uniform(-20, 20)), 4)
+        ey = round(y + float(rng.uniform(-20, 20)), 4)
+        half = float(np.hypot(ex - x, ey - y)) / 2
+        r = round(half * float(rng.choice([1.0, 1.0, 1.2, 3.0])) + 0.0001, 4)
+        if k % 7 == 0:
+            r = -r
+        code = "G2" if k % 2 else "G3"
+        lines.append(f"{code} X{ex:.4f} Y{ey:.4f} R{r:.4f}")
+        centre = arcs.radius_format((x, y), (ex, ey), r, code == "G2", Location("t", k + 1))
+        expected.append([ex, ey, *centre, -1.0 if code == "G2" else 1.0, 0.0])
+        x, y = ex, ey
+    buf = np.frombuffer(("\n".join(lines) + "\n").encode(), dtype=np.uint8)
+    run = fastlane.scan(
+        buf, 0, (0.0,) * 6, 100.0, incremental=False, traverse=False, first_line=1,
+        arcs=True, arc_tolerance=(0.028, 0.002, 0.00127),
+    )  # fmt: skip
+    assert run.lines == len(lines)
+    assert run.kind.tolist() == [fastlane.ARC] * len(lines)
+    assert run.arc is not None and run.arc.tolist() == expected

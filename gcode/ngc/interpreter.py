@@ -59,12 +59,13 @@ def interpret(
 
 
 def interpret_chunks(
-    path: str | os.PathLike[str], options: InterpreterOptions | None = None
+    path: str | os.PathLike[str], options: InterpreterOptions | None = None, *, arcs: bool = False
 ) -> Iterator[canon.Command | Run]:
     """Like :func:`interpret`, but runs of plain CAM lines of a large file come as one
-    :class:`gcode.ngc.lane.fastlane.Run` each (for writers that format them in compiled code)."""
+    :class:`gcode.ngc.lane.fastlane.Run` each (for writers that format them in compiled code);
+    with ``arcs`` the runs may hold ``ARC_FEED`` events too (``fastlane.ARC``)."""
     interp = Interpreter(options or InterpreterOptions())
-    return interp.chunks(ProgramFile(os.fspath(path)))
+    return interp.chunks(ProgramFile(os.fspath(path)), arcs)
 
 
 def interpret_text(
@@ -82,9 +83,9 @@ _PLANES = {170: Plane.XY, 180: Plane.XZ, 190: Plane.YZ}
 LANE_MIN_BYTES = 1 << 18
 
 
-def _lane_for(pf: ProgramFile) -> Lane | None:
+def _lane_for(pf: ProgramFile, arcs: bool) -> Lane | None:
     """The compiled fast lane for a large program file (imported here: it needs numpy, which
-    a small program then never loads)."""
+    a small program then never loads); ``arcs``: its runs may hold arcs."""
     try:
         if os.path.getsize(pf.path) < LANE_MIN_BYTES:
             return None
@@ -92,7 +93,7 @@ def _lane_for(pf: ProgramFile) -> Lane | None:
         return None
     from gcode.ngc.lane.lane import Lane
 
-    return Lane.for_file(pf)
+    return Lane.for_file(pf, arcs)
 
 
 def _attach_line(diag: Diagnostic, pf: ProgramFile) -> None:
@@ -127,16 +128,16 @@ class Interpreter(NgcContext):
     # ------------------------------------------------------------------ run loop
     def run(self, main: ProgramFile) -> Iterator[canon.Command]:
         """The canonical commands of ``main`` (runs of the fast lane as commands)."""
-        for item in self.chunks(main):
+        for item in self.chunks(main, arcs=True):
             if isinstance(item, canon.Command):
                 yield item
             else:
                 yield from item.commands(main.path)
 
-    def chunks(self, main: ProgramFile) -> Iterator[canon.Command | Run]:
+    def chunks(self, main: ProgramFile, arcs: bool = False) -> Iterator[canon.Command | Run]:
         """Commands, and for large files runs of plain lines as :class:`gcode.ngc.lane.fastlane.Run`
-        (the CLI formats those in compiled code)."""
-        lane = _lane_for(main) if self.options.fast_lane else None
+        (the CLI formats those in compiled code); ``arcs``: runs may hold arcs."""
+        lane = _lane_for(main, arcs) if self.options.fast_lane else None
         self.flow.start(main)
         self.loc = Location(main.path, 0, 0)
         self._preamble()

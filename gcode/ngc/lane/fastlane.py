@@ -55,10 +55,11 @@ from kernel.ir import canon
 TRAVERSE = 0  # STRAIGHT_TRAVERSE to ``position``
 FEED_MOVE = 1  # STRAIGHT_FEED to ``position``
 SET_FEED = 2  # SET_FEED_RATE(``feed``)
+ARC = 3  # ARC_FEED: the row of ``Run.arc``, then ``position``'s A B C
 
-#: letter -> slot: 0-5 axes X Y Z A B C, 6 F, 7 G (0/1 only), 8 N; -1 other
+#: letter -> slot: 0-5 axes X Y Z A B C, 6 F, 7 G (0-3), 8 N, 9-11 I J K, 12 R; -1 other
 _SLOT = np.full(256, -1, dtype=np.int64)
-for _k, _c in enumerate("XYZABCFGN"):
+for _k, _c in enumerate("XYZABCFGNIJKR"):
     _SLOT[ord(_c)] = _k
     _SLOT[ord(_c.lower())] = _k
 _POW10 = 10.0 ** np.arange(23)
@@ -72,7 +73,11 @@ class Run:
     ``position[i]`` (x y z a b c, program coordinates) is the position after the event,
     ``feed[i]`` the feed rate in force, ``line[i]`` the 1-based program line. ``consumed``
     is the number of bytes and ``lines`` the number of program lines taken; the state after
-    the run is ``end_position``, ``end_feed`` and ``end_traverse`` (True in G0).
+    the run is ``end_position``, ``end_feed`` and ``end_traverse`` (True in G0), and
+    ``end_motion`` the motion code after it (0, 10, 20, 30; None where the run was not
+    scanned). A scan with ``arcs`` has :data:`ARC` events: ``arc[i]`` holds the in-plane end,
+    the centre, the signed turns and the end on the plane's normal axis, as ``ARC_FEED``
+    takes them (None when the run has no arc columns).
     """
 
     kind: np.ndarray
@@ -84,6 +89,8 @@ class Run:
     end_position: tuple[float, ...]
     end_feed: float
     end_traverse: bool
+    arc: np.ndarray | None = None
+    end_motion: int | None = None
 
     def __len__(self) -> int:
         return int(self.kind.shape[0])
@@ -92,11 +99,13 @@ class Run:
         """The events as IR command objects, each with its source line."""
         out: list[canon.Command] = []
         loc = canon.Location
-        for k, pos, fv, ln in zip(
+        arcs = self.arc.tolist() if self.arc is not None else [()] * len(self)
+        for k, pos, fv, ln, arc in zip(
             self.kind.tolist(),
             self.position.tolist(),
             self.feed.tolist(),
             self.line.tolist(),
+            arcs,
             strict=True,
         ):
             src = loc(file, ln, 1)
@@ -104,9 +113,21 @@ class Run:
                 out.append(canon.StraightTraverse(*pos, source=src))
             elif k == FEED_MOVE:
                 out.append(canon.StraightFeed(*pos, source=src))
+            elif k == ARC:
+                e1, e2, c1, c2, turns, normal = arc
+                out.append(canon.ArcFeed(e1, e2, c1, c2, int(turns), normal, *pos[3:], source=src))
             else:
                 out.append(canon.SetFeedRate(fv, source=src))
         return out
+
+
+#: scan's plane argument: the in-plane axes, the normal axis and the centre words' slots
+#: (gcode.core.state.PLANE_AXES and PLANE_CENTRE), by plane name
+PLANES = {
+    "XY": np.array([0, 1, 2, 9, 10, 11], dtype=np.int64),
+    "XZ": np.array([2, 0, 1, 11, 9, 10], dtype=np.int64),
+    "YZ": np.array([1, 2, 0, 10, 11, 9], dtype=np.int64),
+}
 
 
 def scan(
@@ -119,6 +140,12 @@ def scan(
     traverse: bool,
     first_line: int,
     max_events: int = 8192,
+    motion: int | None = None,
+    arcs: bool = False,
+    bare: bool = False,
+    plane: str = "XY",
+    arc_tolerance: tuple[float, float, float] = (0.0, 0.0, 0.0),
+    ijk_absolute: bool = False,
 ) -> Run:
     """The run of plain lines that starts at byte ``start`` of ``buf`` (a uint8 array).
 
@@ -126,11 +153,22 @@ def scan(
     state before the run, ``incremental`` is G91 and ``traverse`` G0 (else G1). The run
     ends at the first line the lane cannot take, at the end of the buffer, or after about
     ``max_events`` events. ``buf`` must end at a line end or at the end of the file.
+
+    With ``arcs`` the run also takes G2/G3 lines in ``plane`` in centre format (helices and
+    G90.1 centres too) and in radius format (R; no P); ``motion`` is then the modal motion
+    code, 0, 10, 20 or 30, instead of ``traverse``. ``arc_tolerance`` holds LinuxCNC's
+    radius tolerance, smallest radius and R reach in program units, which
+    :func:`gcode.core.arcs.centre_format` and :func:`gcode.core.arcs.radius_format` check
+    (an R arc's centre is computed by the same operations, with ``math.hypot`` to the last
+    bit). With ``bare`` it takes a G0/G1 with no axis word (a move to the current point).
     """
     start_pos = np.array(position, dtype=np.float64)
     if start_pos.shape != (6,) or start < 0:
         raise ValueError("position must hold 6 axes and start must be >= 0")
-    kind, pos, feed_arr, line, end, line_no, cur, end_feed, end_trav = _kernels().scan(
+    code = (0 if traverse else 10) if motion is None else motion
+    if code not in (0, 10, 20, 30) or (code >= 20 and not arcs):
+        raise ValueError("motion must be 0 or 10 (20 or 30 with arcs)")
+    kind, pos, feed_arr, line, arc, end, line_no, cur, end_feed, end_motion = _kernels().scan(
         np.ascontiguousarray(buf, dtype=np.uint8).reshape(-1),
         int(start),
         _SLOT,
@@ -138,9 +176,14 @@ def scan(
         start_pos,
         float(feed),
         bool(incremental),
-        bool(traverse),
+        code // 10,
         int(first_line),
         max(int(max_events), 2),
+        bool(arcs),
+        bool(bare),
+        PLANES[plane],
+        np.array(arc_tolerance, dtype=np.float64),
+        bool(ijk_absolute),
     )
     return Run(
         kind,
@@ -151,12 +194,14 @@ def scan(
         int(line_no - first_line),
         tuple(cur.tolist()),
         float(end_feed),
-        bool(end_trav),
+        end_motion == 0,
+        arc if arcs else None,
+        int(end_motion) * 10,
     )
 
 
-_NAMES = (b"STRAIGHT_TRAVERSE", b"STRAIGHT_FEED", b"SET_FEED_RATE")
-_NAME_TABLE = np.zeros((3, max(len(n) for n in _NAMES)), dtype=np.uint8)
+_NAMES = (b"STRAIGHT_TRAVERSE", b"STRAIGHT_FEED", b"SET_FEED_RATE", b"ARC_FEED")
+_NAME_TABLE = np.zeros((len(_NAMES), max(len(n) for n in _NAMES)), dtype=np.uint8)
 for _k, _n in enumerate(_NAMES):
     _NAME_TABLE[_k, : len(_n)] = np.frombuffer(_n, dtype=np.uint8)
 _NAME_LEN = np.array([len(n) for n in _NAMES], dtype=np.int64)
@@ -171,14 +216,16 @@ def events_text(run: Run, seq0: int) -> str:
     if len(run) == 0:
         return ""
     m = len(run)
-    raw, python, flagged = _kernels().format(
-        np.ascontiguousarray(run.kind, dtype=np.int8),
-        np.ascontiguousarray(run.position, dtype=np.float64).reshape(m, 6),
-        np.ascontiguousarray(run.feed, dtype=np.float64).reshape(m),
-        int(seq0),
-        _NAME_TABLE,
-        _NAME_LEN,
-    )
+    kind = np.ascontiguousarray(run.kind, dtype=np.int8)
+    pos = np.ascontiguousarray(run.position, dtype=np.float64).reshape(m, 6)
+    feed = np.ascontiguousarray(run.feed, dtype=np.float64).reshape(m)
+    if run.arc is None:
+        raw, python, flagged = _kernels().format(kind, pos, feed, int(seq0), _NAME_TABLE, _NAME_LEN)
+    else:
+        arc = np.ascontiguousarray(run.arc, dtype=np.float64).reshape(m, 6)
+        raw, python, flagged = _kernels().format_arcs(
+            kind, pos, feed, arc, int(seq0), _NAME_TABLE, _NAME_LEN
+        )
     text = raw.tobytes().decode("ascii")
     if not flagged:
         return text

@@ -12,6 +12,7 @@ does not check types, so :mod:`gcode.ngc.lane.fastlane` converts every argument 
 
 from __future__ import annotations
 
+import math
 import sys
 
 import numpy as np
@@ -59,15 +60,126 @@ def _number(buf, j, e, pow10):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _scan(buf, start, slot_of, pow10, pos, feed, incremental, traverse, first_line, max_events):
-    # pragma: no cover - compiled
+def _two_product(a, b):  # pragma: no cover - compiled
+    """``a * b`` as an exact sum hi + lo (Veltkamp split, Dekker's product)."""
+    p = a * b
+    c = 134217729.0 * a
+    a_hi = c - (c - a)
+    a_lo = a - a_hi
+    c = 134217729.0 * b
+    b_hi = c - (c - b)
+    b_lo = b - b_hi
+    return p, ((a_hi * b_hi - p) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo
+
+
+@njit(cache=True)
+def _py_hypot(x, y):  # pragma: no cover - compiled
+    """``math.hypot(x, y)`` to the last bit: CPython's algorithm (since 3.10) of a lossless
+    scaling by a power of two, exact squares summed around 1.0 with their rounding errors,
+    a square root and one differential correction. -1.0 for a value too small to scale
+    (the caller leaves the line to the general path)."""
+    x = abs(x)
+    y = abs(y)
+    m = x if x > y else y
+    if m == 0.0 or math.isinf(m):
+        return m
+    e = math.frexp(m)[1]
+    if e < -1000:
+        return -1.0
+    scale = math.ldexp(1.0, -e)
+    csum = 1.0
+    frac1 = 0.0
+    frac2 = 0.0
+    for v in (x * scale, y * scale):
+        hi, lo = _two_product(v, v)
+        total = csum + hi
+        frac2 += (csum - total) + hi
+        csum = total
+        frac1 += lo
+    h = math.sqrt(csum - 1.0 + (frac1 + frac2))
+    hi, lo = _two_product(-h, h)
+    total = csum + hi
+    frac2 += (csum - total) + hi
+    csum = total
+    frac1 += lo
+    h += (csum - 1.0 + (frac1 + frac2)) / (2.0 * h)
+    return h / scale
+
+
+@njit(cache=True)
+def _radius_centre(s1, s2, e1, e2, radius, clockwise, reach):  # pragma: no cover - compiled
+    """The centre of an R arc as gcode.core.arcs.radius_format computes it (LinuxCNC
+    ``arc_data_r``), with the same operations in the same order; ok False where that
+    function would raise, or near its limits (the general path decides those)."""
+    abs_r = abs(radius)
+    if (s1 == e1 and s2 == e2) or abs_r == 0.0:
+        return 0.0, 0.0, False
+    mid1 = (e1 + s1) / 2.0
+    mid2 = (e2 + s2) / 2.0
+    half = _py_hypot(mid1 - e1, mid2 - e2)
+    if half < 0.0 or half - abs_r > reach * (1.0 - 1e-6):
+        return 0.0, 0.0, False
+    if half / abs_r > 1.0 - 1e-12:
+        half = abs_r
+    theta = math.atan2(e2 - s2, e1 - s1)
+    if (clockwise and radius > 0) or (not clockwise and radius < 0):
+        theta += -math.pi / 2
+    else:
+        theta += math.pi / 2
+    turn2 = math.acos(max(-1.0, min(1.0, half / abs_r)))
+    offset = abs_r * math.sin(turn2)
+    return mid1 + offset * math.cos(theta), mid2 + offset * math.sin(theta), True
+
+
+@njit(cache=True)
+def _arc_radii_agree(r1, r2, tol, zero):  # pragma: no cover - compiled
+    """The centre-format checks of gcode.core.arcs.centre_format, decided only where they
+    hold with a margin far above the last-bit difference between ``sqrt(x*x + y*y)`` and
+    Python's ``math.hypot``: False sends the line to the general interpreter, which decides
+    (and owns the diagnostic)."""
+    big = r1 if r1 > r2 else r2
+    m = 1e-9 * (1.0 + big)
+    if r1 < zero + m or r2 < zero + m:
+        return False
+    err = abs(r1 - r2)
+    return err <= tol - m or err + m <= 0.001 * big
+
+
+@njit(cache=True)
+def _scan(
+    buf,
+    start,
+    slot_of,
+    pow10,
+    pos,
+    feed,
+    incremental,
+    motion,
+    first_line,
+    max_events,
+    arcs,
+    bare,
+    plane,
+    arc_tol,
+    ijk_absolute,
+):  # pragma: no cover - compiled
     n = buf.shape[0]
     kind = np.empty(max_events, dtype=np.int8)
     out_pos = np.empty((max_events, 6), dtype=np.float64)
     out_feed = np.empty(max_events, dtype=np.float64)
     out_line = np.empty(max_events, dtype=np.int64)
+    out_arc = np.empty((max_events, 6), dtype=np.float64)
     cur = pos.copy()
-    words = np.zeros(9, dtype=np.float64)
+    end = pos.copy()
+    words = np.zeros(13, dtype=np.float64)
+    f1 = plane[0]
+    f2 = plane[1]
+    fn = plane[2]
+    ci = plane[3]
+    cj = plane[4]
+    ck = plane[5]
+    c1 = 0.0
+    c2 = 0.0
     k = 0
     i = start
     line_no = first_line
@@ -89,6 +201,9 @@ def _scan(buf, start, slot_of, pow10, pos, feed, incremental, traverse, first_li
             if slot < 0 or (have >> slot) & 1 or (slot == 8 and not first):
                 ok = False
                 break
+            if slot >= 9 and not arcs:
+                ok = False
+                break
             first = False
             v, j, good, point = _number(buf, _skip_blanks(buf, j + 1, e), e, pow10)
             if not good or (slot == 8 and (point or v < 0.0)):
@@ -97,21 +212,61 @@ def _scan(buf, start, slot_of, pow10, pos, feed, incremental, traverse, first_li
             words[slot] = v
             have |= 1 << slot
             j = _skip_blanks(buf, j, e)
-        line_traverse = traverse
+        axes = have & 63
+        line_motion = motion
         if ok and have & 128:
-            # G0/G1 with no axis word still moves, to the current point (rs274): general path
-            if not have & 63:
-                ok = False
-            elif words[7] == 0.0 or words[7] == 1.0:
-                line_traverse = words[7] == 0.0
+            g = words[7]
+            if g == 0.0 or g == 1.0 or (arcs and (g == 2.0 or g == 3.0)):
+                line_motion = int(g)
             else:
                 ok = False
+            # G0/G1 with no axis word still moves, to the current point (rs274); a bare
+            # G2/G3 is the general path's
+            if not axes and (not bare or line_motion >= 2):
+                ok = False
+        moving = axes != 0 or (have & 128) != 0
+        centre_words = have & 3584  # I J K
+        if ok and (centre_words or have & 4096) and (line_motion < 2 or not axes):
+            ok = False
         if ok and have & 64 and words[6] <= 0.0:
             ok = False
         line_feed = words[6] if have & 64 else feed
-        axes = have & 63
-        if ok and axes and not line_traverse and line_feed <= 0.0:
+        if ok and moving and line_motion != 0 and line_feed <= 0.0:
             ok = False
+        if ok and moving:
+            for a in range(6):
+                if (axes >> a) & 1:
+                    end[a] = cur[a] + words[a] if incremental else words[a]
+                else:
+                    end[a] = cur[a]
+        if ok and moving and line_motion >= 2:
+            # centre or radius format in the run's plane (gcode.ngc.motion.arc); P and the plane's
+            # normal centre word are the general path's
+            has_i = (have >> ci) & 1
+            has_j = (have >> cj) & 1
+            if have & 4096:
+                # radius format: an in-plane axis word and no centre word
+                if centre_words or not ((axes >> f1) & 1 or (axes >> f2) & 1):
+                    ok = False
+                else:
+                    c1, c2, ok = _radius_centre(
+                        cur[f1], cur[f2], end[f1], end[f2], words[12], line_motion == 2, arc_tol[2]
+                    )
+            elif (have >> ck) & 1 or not (has_i or has_j):
+                ok = False
+            elif ijk_absolute:
+                if not (has_i and has_j):
+                    ok = False
+                c1 = words[ci]
+                c2 = words[cj]
+            else:
+                c1 = cur[f1] + (words[ci] if has_i else 0.0)
+                c2 = cur[f2] + (words[cj] if has_j else 0.0)
+            if ok and not have & 4096:
+                r1 = np.sqrt((cur[f1] - c1) ** 2 + (cur[f2] - c2) ** 2)
+                r2 = np.sqrt((end[f1] - c1) ** 2 + (end[f2] - c2) ** 2)
+                if not _arc_radii_agree(r1, r2, arc_tol[0], arc_tol[1]):
+                    ok = False
         if not ok:
             i = line_start
             break
@@ -123,23 +278,39 @@ def _scan(buf, start, slot_of, pow10, pos, feed, incremental, traverse, first_li
             for a in range(6):
                 out_pos[k, a] = cur[a]
             k += 1
-        if axes:
+        if moving:
             for a in range(6):
-                if (axes >> a) & 1:
-                    if incremental:
-                        cur[a] += words[a]
-                    else:
-                        cur[a] = words[a]
-            kind[k] = 0 if line_traverse else 1
+                cur[a] = end[a]
+            if line_motion >= 2:
+                kind[k] = 3
+                out_arc[k, 0] = end[f1]
+                out_arc[k, 1] = end[f2]
+                out_arc[k, 2] = c1
+                out_arc[k, 3] = c2
+                out_arc[k, 4] = -1.0 if line_motion == 2 else 1.0
+                out_arc[k, 5] = end[fn]
+            else:
+                kind[k] = line_motion
             for a in range(6):
                 out_pos[k, a] = cur[a]
             out_feed[k] = feed
             out_line[k] = line_no
             k += 1
-        traverse = line_traverse
+        motion = line_motion
         i = next_line
         line_no += 1
-    return kind[:k], out_pos[:k], out_feed[:k], out_line[:k], i, line_no, cur, feed, traverse
+    return (
+        kind[:k],
+        out_pos[:k],
+        out_feed[:k],
+        out_line[:k],
+        out_arc[:k],
+        i,
+        line_no,
+        cur,
+        feed,
+        motion,
+    )
 
 
 @njit(cache=True)
@@ -200,8 +371,16 @@ def _put_fixed4(out, o, v):  # pragma: no cover - compiled
 @njit(cache=True)
 def _format(kind, pos, feed, seq0, names, name_len):  # pragma: no cover - compiled
     """Canonical text of the events (bytes), which lines need Python formatting, how many."""
+    return _format_arcs(kind, pos, feed, np.zeros((0, 6), dtype=np.float64), seq0, names, name_len)
+
+
+@njit(cache=True)
+def _format_arcs(kind, pos, feed, arc, seq0, names, name_len):  # pragma: no cover - compiled
+    """:func:`_format` of events that may hold arcs: an ``ARC_FEED`` (kind 3) prints its row
+    of ``arc`` (in-plane end, centre, the signed turns as an integer, the end on the normal
+    axis), then A B C."""
     m = kind.shape[0]
-    out = np.empty(m * 200 + 16, dtype=np.uint8)
+    out = np.empty(m * 260 + 16, dtype=np.uint8)
     python = np.zeros(m, dtype=np.bool_)
     flagged = 0
     o = 0
@@ -219,6 +398,23 @@ def _format(kind, pos, feed, seq0, names, name_len):  # pragma: no cover - compi
         if kk == 2:
             o, flag = _put_fixed4(out, o, feed[k])
             python[k] |= flag
+        elif kk == 3:
+            for a in range(9):
+                if a:
+                    out[o] = 44
+                    out[o + 1] = 32
+                    o += 2
+                if a == 4:
+                    turns = int(arc[k, 4])
+                    if turns < 0:
+                        out[o] = 45
+                        o += 1
+                        turns = -turns
+                    o = _put_int(out, o, turns, 0, 32)
+                    continue
+                v = arc[k, a] if a < 4 else (arc[k, 5] if a == 5 else pos[k, a - 3])
+                o, flag = _put_fixed4(out, o, v)
+                python[k] |= flag
         else:
             for a in range(6):
                 if a:
@@ -519,7 +715,9 @@ _F64_2D = nt.Array(nt.float64, 2, "C")
 SIGNATURES = {
     "scan": (
         _scan,
-        nt.Tuple((_I8, _F64_2D, _F64, _I64, nt.int64, nt.int64, _F64, nt.float64, nt.boolean))(
+        nt.Tuple(
+            (_I8, _F64_2D, _F64, _I64, _F64_2D, nt.int64, nt.int64, _F64, nt.float64, nt.int64)
+        )(
             _U8_RO,
             nt.int64,
             _I64,
@@ -527,15 +725,26 @@ SIGNATURES = {
             _F64,
             nt.float64,
             nt.boolean,
+            nt.int64,
+            nt.int64,
+            nt.int64,
             nt.boolean,
-            nt.int64,
-            nt.int64,
+            nt.boolean,
+            _I64,
+            _F64,
+            nt.boolean,
         ),
     ),
     "format": (
         _format,
         nt.Tuple((_U8, nt.Array(nt.boolean, 1, "C"), nt.int64))(
             _I8, _F64_2D, _F64, nt.int64, nt.Array(nt.uint8, 2, "C"), _I64
+        ),
+    ),
+    "format_arcs": (
+        _format_arcs,
+        nt.Tuple((_U8, nt.Array(nt.boolean, 1, "C"), nt.int64))(
+            _I8, _F64_2D, _F64, _F64_2D, nt.int64, nt.Array(nt.uint8, 2, "C"), _I64
         ),
     ),
     "gcode": (
@@ -568,6 +777,7 @@ SIGNATURES = {
 #: the JIT forms under the exported names (the fallback when no AOT module can be built)
 scan = _scan
 format = _format  # noqa: A001 - the exported name
+format_arcs = _format_arcs
 gcode = _gcode
 sandia = _sandia
 

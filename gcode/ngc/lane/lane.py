@@ -2,22 +2,36 @@
 
 Runs of plain CAM lines (axis words, F, G0/G1, N) are scanned straight from the file's
 bytes by compiled code while the modal state is simple (top level of the main file, G94,
-G0 or G1, no cutter compensation, no lathe diameter mode). Everything else, and every
-diagnostic, stays with the general interpreter.
+G0 or G1, no cutter compensation, no lathe diameter mode). A lane opened with ``arcs``
+also takes G2/G3 lines in centre and radius format (and a bare G0/G1) for a consumer that reads
+``ARC_FEED`` events from a run (``Run.commands``, ``fastlane.events_text``). Everything else,
+and every diagnostic, stays with the general interpreter.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from gcode.core.arcs import (
+    R_REACH_INCH,
+    R_REACH_MM,
+    RADIUS_TOLERANCE_INCH,
+    RADIUS_TOLERANCE_MM,
+    ZERO_RADIUS_INCH,
+    ZERO_RADIUS_MM,
+)
 from gcode.core.program import ProgramFile
 from gcode.core.state import PER_MINUTE
 from gcode.ngc.context import NgcContext
 from gcode.ngc.lane import fastlane
 from kernel.diagnostics import Location
+from kernel.ir.canon import Plane, Units
 
 #: after a try that took no line, let the general path take this many lines first
 _BACKOFF = 8
+_PLANE_NAMES = {Plane.XY: "XY", Plane.XZ: "XZ", Plane.YZ: "YZ"}
+_LINES = (0, 10)
+_LINES_AND_ARCS = (0, 10, 20, 30)
 
 
 class Lane:
@@ -25,8 +39,9 @@ class Lane:
 
     WINDOW = 1 << 20
 
-    def __init__(self, pf: ProgramFile) -> None:
+    def __init__(self, pf: ProgramFile, arcs: bool = False) -> None:
         self.pf = pf
+        self.arcs = arcs
         self._fh = open(pf.path, "rb")  # noqa: SIM115 - closed by close()
         self._start = 0  # file offset of the window
         self._data = b""
@@ -35,11 +50,12 @@ class Lane:
         self._wait = 0
 
     @staticmethod
-    def for_file(pf: ProgramFile) -> Lane | None:
-        """A lane for ``pf`` (None if the file cannot be opened or no kernels can load)."""
+    def for_file(pf: ProgramFile, arcs: bool = False) -> Lane | None:
+        """A lane for ``pf`` (None if the file cannot be opened or no kernels can load);
+        ``arcs``: its runs may hold arcs and bare G0/G1 moves."""
         try:
             fastlane.kernel_mode()
-            return Lane(pf)
+            return Lane(pf, arcs)
         except (OSError, ImportError):
             return None
 
@@ -75,11 +91,16 @@ class Lane:
             or flow.controls
             or not flow.seen_line
             or s.feed_mode != PER_MINUTE
-            or s.motion_mode not in (0, 10)
+            or s.motion_mode not in (_LINES_AND_ARCS if self.arcs else _LINES)
             or s.diameter_mode
             or (comp is not None and (comp.on or comp.holding))
         ):
             return None
+        # the first move after G40 must be straight (comp.check_arc_allowed)
+        arcs = self.arcs and (comp is None or not comp.arc_not_allowed)
+        if s.motion_mode not in _LINES and not arcs:
+            return None
+        inches = s.units is Units.INCHES
         pf = self.pf
         start = self._window(pf._offset)
         run = fastlane.scan(
@@ -90,6 +111,16 @@ class Lane:
             incremental=not s.absolute,
             traverse=s.motion_mode == 0,
             first_line=pf.line + 1,
+            motion=s.motion_mode,
+            arcs=arcs,
+            bare=self.arcs,
+            plane=_PLANE_NAMES[s.plane],
+            arc_tolerance=(
+                (RADIUS_TOLERANCE_INCH, ZERO_RADIUS_INCH, R_REACH_INCH)
+                if inches
+                else (RADIUS_TOLERANCE_MM, ZERO_RADIUS_MM, R_REACH_MM)
+            ),
+            ijk_absolute=s.ijk_absolute,
         )
         if not run.lines:
             self._wait = _BACKOFF
@@ -97,8 +128,10 @@ class Lane:
         pf.seek_to(self._start + start + run.consumed, pf.line + run.lines)
         s.pos = list(run.end_position)
         s.feed_rate = run.end_feed
-        s.motion_mode = 0 if run.end_traverse else 10
+        s.motion_mode = run.end_motion
         if len(run):
             s.tlo_lag = None
+            if comp is not None and bool((run.kind != fastlane.SET_FEED).any()):
+                comp.arc_not_allowed = False  # a straight move was made (motion.feed)
         ctx.loc = Location(pf.path, pf.line, 1)
         return run
