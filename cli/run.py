@@ -34,6 +34,7 @@ from cli.main import verbosity
 from cli.outputs import refuse_output
 from cli.pipeline import RunOptions, RunResult, report_names, run_program, run_task
 from cli.programs import dialect_option, jobs_option, scheduler_option, timeout_option
+from cli.stream_out import LineProgress, progress_wanted
 from kernel.check import CheckContext, Finding
 from kernel.diagnostics import Diagnostic, Location, Severity
 
@@ -250,13 +251,20 @@ def command(
         TimeElapsedColumn(),
     )
     quiet = verbosity() < 0
-    with Progress(*columns, console=console, transient=True, disable=quiet) as progress:
+    live = console.is_terminal and not quiet  # else (a log): a line every N programs
+    lines = LineProgress(len(todo), enabled=not live and progress_wanted(len(todo), verbosity()))
+    with Progress(*columns, console=console, transient=True, disable=not live) as progress:
         files_task = progress.add_task("programs", total=len(todo))
+
+        def step() -> None:
+            progress.advance(files_task)
+            lines.advance()
+
         if scheduler:
             items = [(p, names[p]) for p in todo]
             for i, res in _on_cluster(scheduler, items, ctx, opts):
                 results[todo[i]] = res
-                progress.advance(files_task)
+                step()
         elif jobs <= 1 or len(todo) <= 1:
             for p in todo:
                 sub = progress.add_task(f"  {os.path.basename(p)}: servo samples", total=None)
@@ -266,7 +274,7 @@ def command(
 
                 results[p] = run_program(p, ctx, opts, tick, names[p])
                 progress.remove_task(sub)
-                progress.advance(files_task)
+                step()
         else:
             with ProcessPoolExecutor(
                 min(jobs, len(todo)), initializer=_init, initargs=(ctx, opts)
@@ -274,7 +282,7 @@ def command(
                 futures = {pool.submit(_run_one, p, names[p]): p for p in todo}
                 for fut in as_completed(futures):
                     results[futures[fut]] = fut.result()
-                    progress.advance(files_task)
+                    step()
     ordered = [results[p] for p in paths]
     out = Console() if sys.stdout.isatty() else Console(width=160)
     _summary(ordered, out, time.perf_counter() - t0)
