@@ -33,6 +33,7 @@ from cli.budget import cpu_budget
 from cli.deadline import ProgramTimeout, deadline
 from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats import FORMATS, CheckReport, FileResult, render
+from cli.inline import InlineProgram, materialised, renamed
 from cli.main import verbosity
 from cli.options import (
     fail_on_option,
@@ -59,6 +60,7 @@ from cli.programs import (
     tool_table_units,
 )
 from cli.sim import load_tool_library, machine_stock
+from cli.stream_out import LineProgress, ResultTable, need_pyarrow, progress_wanted
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
 from kernel.diagnostics import Diagnostic, Location, Severity
@@ -149,12 +151,16 @@ def _init_worker(setup: Setup) -> None:
     _SETUP = setup
 
 
-def check_file(path: str, setup: Setup | None = None) -> FileResult:
+def check_file(path: str | InlineProgram, setup: Setup | None = None) -> FileResult:
     """Check one file; program problems become findings, I/O problems ``io_error``, a
     program past ``setup.timeout`` the finding CNC001/CHECK-TIMEOUT. The one task function
-    of the local pool (``--jobs``) and of a Dask cluster (``--scheduler``)."""
+    of the local pool (``--jobs``) and of a Dask cluster (``--scheduler``). A program given
+    as bytes (:class:`~cli.inline.InlineProgram`) is checked from a scratch file."""
     setup = setup or _SETUP
     assert setup is not None
+    if isinstance(path, InlineProgram):
+        with materialised(path) as local:
+            return renamed(check_file(local, setup), local, path.name)
     t0 = time.perf_counter()
     ctx = setup.context
     try:
@@ -253,8 +259,9 @@ def iter_checks(
         yield from zip(order, done, strict=True)
 
 
-def _lost(path: str, exc: BaseException) -> FileResult:
+def _lost(path: str | InlineProgram, exc: BaseException) -> FileResult:
     """The row of a program the cluster gave up on (its workers kept dying)."""
+    path = path.name if isinstance(path, InlineProgram) else path
     msg = f"the cluster could not check it ({type(exc).__name__}: {exc})"
     bug = Finding("CNC001", Severity.ERROR, msg, Location(path), "CLUSTER-TASK")
     return FileResult(path, (bug,))
@@ -326,19 +333,34 @@ def _check_all(
     results_dir: str | None,
     resume: bool,
     *profile: str | None,
+    table: str | None = None,
 ) -> list[FileResult]:
     """Every program's result in input order: resumed ones from ``results_dir``, the others
-    checked (stored there as each arrives when ``results_dir`` is given)."""
+    checked (stored there as each arrives when ``results_dir`` is given). Each result, resumed
+    or not, is also a row of the Parquet ``table`` as it arrives; progress goes to stderr."""
     store = ResultStore(results_dir, list(profile)) if results_dir else None
     results: list[FileResult | None] = [None] * len(paths)
     if store is not None and resume:
         for i, p in enumerate(paths):
             results[i] = store.load(p)
+    rows = ResultTable(table) if table else None
+    for r in results:
+        if rows is not None and r is not None:
+            rows.add(r)
     todo = [i for i, r in enumerate(results) if r is None]
-    for j, res in iter_checks([paths[i] for i in todo], setup, jobs, scheduler):
-        results[todo[j]] = res
-        if store is not None:
-            store.save(res)
+    progress = LineProgress(len(todo), enabled=progress_wanted(len(todo), setup.verbosity))
+    try:
+        for j, res in iter_checks([paths[i] for i in todo], setup, jobs, scheduler):
+            results[todo[j]] = res
+            if store is not None:
+                store.save(res)
+            if rows is not None:
+                rows.add(res)
+            progress.advance()
+    finally:
+        progress.close()
+        if rows is not None:
+            rows.close()
     return [r for r in results if r is not None]
 
 
@@ -398,6 +420,13 @@ def _list_rules(ctx: CheckContext) -> str:
     is_flag=True,
     help="Skip programs whose --results file is newer than the program and the profile.",
 )
+@click.option(
+    "--table",
+    type=click.Path(dir_okay=False, writable=True),
+    default=None,
+    help="Also write every program's result as a row of this Parquet table, in row groups "
+    "as results arrive (needs pyarrow; for large batches).",
+)
 @click.option("--list-rules", is_flag=True, help="List the rules with their effective severity.")
 @click.option(
     "--stock",
@@ -428,6 +457,7 @@ def command(
     timeout: float,
     results_dir: str | None,
     resume: bool,
+    table: str | None,
     list_rules: bool,
     fail_on: str,
     stock: str | None,
@@ -462,13 +492,25 @@ def command(
     if output:
         inputs = (*paths, machine_path or "", config_path or "", tool_table or "")
         refuse_output(output, force, inputs, "report file")
+    if table:
+        need_pyarrow(table)
+        refuse_output(table, force, paths, "table")
     if jobs == 0:
         jobs = os.cpu_count() or 1
     t0 = time.perf_counter()
     sim = sim_setup(ctx, stock, library, machine_path)
     setup = Setup(ctx, dialect, verbosity(), timeout or None, sim)
     results = _check_all(
-        paths, setup, jobs, scheduler, results_dir, resume, machine_path, config_path, tool_table
+        paths,
+        setup,
+        jobs,
+        scheduler,
+        results_dir,
+        resume,
+        machine_path,
+        config_path,
+        tool_table,
+        table=table,
     )
     rules = tuple(
         (r, ctx.config.severity(r.id, r.severity, r.default_enabled))

@@ -2,13 +2,15 @@
 and ``cnc run``.
 
 The task function is the one the local ``--jobs`` pool runs, so a program gives the same
-result either way. Inputs are *paths*: each worker opens the program itself, so every worker
-must see the files at the same path as the client (a shared filesystem: NFS, SMB, a cluster
-file system). Results stream back as they finish; at most a bounded window of tasks is in
-flight, so the client's memory does not grow with the size of the library. A worker that
-dies loses nothing: the scheduler hands its tasks to another worker (Dask's
-``allowed-failures`` retries), and each program's result is taken once, from the future that
-finished.
+result either way. A Dask task is a *batch* of programs (:func:`run_batch`), sized so that
+Dask's cost per task is small beside the work (:class:`Sizer`). Inputs are *paths*: each
+worker opens the program itself, so every worker must see the files at the same path as the
+client (a shared filesystem: NFS, SMB, a cluster file system); programs the client holds as
+bytes (:class:`cli.inline.InlineProgram`) travel inside the task. Results stream back as
+batches finish; at most a bounded window of tasks is in flight, so the client's memory does
+not grow with the size of the library. A worker that dies loses nothing: the scheduler hands
+its batches to another worker (Dask's ``allowed-failures`` retries), and each program's
+result is taken once, from the one run of its batch that finished.
 
 Dask is imported by this module only; ``cli/check.py`` and ``cli/run.py`` import it when
 ``--scheduler`` is given, so a plain ``cnc check`` does not pay for it at start-up.
@@ -16,9 +18,13 @@ Dask is imported by this module only; ``cli/check.py`` and ``cli/run.py`` import
 
 from __future__ import annotations
 
+import pickle
+import time
 import uuid
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
+from dataclasses import dataclass
+from itertools import islice
 from typing import Any, TypeVar
 
 import dask
@@ -27,9 +33,9 @@ from distributed import Client, LocalCluster, as_completed
 from kernel.diagnostics import Diagnostic, Location
 
 R = TypeVar("R")
+T = TypeVar("T")
 
 LOCAL_PREFIX = "local:"
-WINDOW_PER_WORKER = 64  # tasks in flight per worker: keeps workers busy, bounds client memory
 
 
 def parse_local(address: str) -> int | None:
@@ -86,45 +92,134 @@ def workers(client: Client) -> int:
     return max(1, sum(int(w.get("nthreads", 1)) for w in info.values()))
 
 
+TARGET_SECONDS = 0.5  # work per task a batch is sized for: Dask's ~10 ms per task is then noise
+MAX_BATCH = 512  # programs per task at most (bounds a retry and the results in flight)
+TASKS_PER_WORKER = 4  # tasks in flight per worker thread: one running, the others queued
+
+
+@dataclass(slots=True)
+class Sizer:
+    """How many programs the next task gets: 1 at first, then what the measured time per
+    program says fills :data:`TARGET_SECONDS`, growing at most 2x a step and capped at
+    :data:`MAX_BATCH`, so a library of long programs stays one program a task and one of
+    tiny ones pays the per-task cost once per hundreds of programs."""
+
+    size: int = 1
+    per_program: float | None = None  # seconds, running mean over finished batches
+
+    def learn(self, count: int, seconds: float) -> None:
+        """Take a finished batch of ``count`` programs that took ``seconds`` on its worker."""
+        each = seconds / max(count, 1)
+        self.per_program = each if self.per_program is None else 0.7 * self.per_program + 0.3 * each
+        want = int(TARGET_SECONDS / max(self.per_program, 1e-6))
+        self.size = max(1, min(want, 2 * self.size, MAX_BATCH))
+
+
+#: per worker process: the last ``shared`` values unpickled, by batch tag
+_SHARED: dict[str, Any] = {}
+
+
+def _shared(tag: str, blob: bytes) -> Any:
+    """``shared`` of the stream ``tag``, unpickled once per worker process."""
+    if tag not in _SHARED:
+        if len(_SHARED) >= 4:
+            _SHARED.clear()
+        _SHARED[tag] = pickle.loads(blob)  # noqa: S301 - our own client's bytes
+    return _SHARED[tag]
+
+
+def run_batch(
+    task: Callable[[T, Any], R], batch: list[tuple[int, T]], tag: str, blob: bytes
+) -> tuple[list[tuple[int, R]], float]:
+    """The Dask task: ``task(item, shared)`` for each ``(index, item)`` of ``batch``, in
+    order (``shared`` is ``blob`` unpickled), and the seconds it took. The results come back
+    together, so a batch run again after its worker died cannot give a result twice."""
+    t0 = time.perf_counter()
+    shared = _shared(tag, blob)
+    out = [(i, task(item, shared)) for i, item in batch]
+    return out, time.perf_counter() - t0
+
+
 def map_stream(
     client: Client,
-    task: Callable[..., R],
-    items: Sequence[str],
+    task: Callable[[T, Any], R],
+    items: Sequence[T],
     shared: Any,
-    on_error: Callable[[str, BaseException], R],
+    on_error: Callable[[T, BaseException], R],
     order: Sequence[int] | None = None,
 ) -> Iterator[tuple[int, R]]:
     """Run ``task(items[i], shared)`` for every i on the cluster; yield ``(i, result)`` as
-    each finishes. ``shared`` is sent to every worker once; ``order`` is the submission
-    order (default: as given). A task the cluster gives up on (its workers died
-    ``allowed-failures`` times) becomes ``on_error(item, exception)``. At most
-    ``WINDOW_PER_WORKER`` tasks per worker
-    are in flight.
-    """
-    order = list(order) if order is not None else list(range(len(items)))
-    if not order:
-        return
-    [shared_f] = client.scatter([shared], broadcast=True, hash=False)
-    window = WINDOW_PER_WORKER * workers(client)
-    pending = iter(order)
-    index: dict[str, int] = {}
-    batch = uuid.uuid4().hex[:12]
+    each finishes, in ``order`` of submission (default: as given). See :func:`stream`."""
+    order = order if order is not None else range(len(items))
+    yield from stream(client, task, ((i, items[i]) for i in order), shared, on_error)
 
-    def submit(i: int) -> Any:
-        fut = client.submit(task, items[i], shared_f, pure=False, key=f"cnc-{batch}-{i}")
-        index[fut.key] = i
+
+def stream(
+    client: Client,
+    task: Callable[[T, Any], R],
+    pairs: Iterable[tuple[int, T]],
+    shared: Any,
+    on_error: Callable[[T, BaseException], R],
+) -> Iterator[tuple[int, R]]:
+    """Run ``task(item, shared)`` for every ``(index, item)`` of ``pairs`` (read lazily, so a
+    generated library need not exist as a list) on the cluster, in batches sized by
+    :class:`Sizer`; yield ``(index, result)`` as each batch finishes. ``shared`` goes into
+    every batch pickled once, and is unpickled once per worker process. A batch the cluster
+    gives up on (its workers died ``allowed-failures`` times) is split into one task per
+    program, so only a program that kills its worker every time becomes
+    ``on_error(item, exception)``. At most :data:`TASKS_PER_WORKER` tasks per worker thread
+    are in flight: the client holds a bounded number of items and results whatever the size
+    of the library.
+    """
+    source = iter(pairs)
+    first = list(islice(source, 1))
+    if not first:
+        return
+    window = TASKS_PER_WORKER * workers(client)
+    sizer = Sizer()
+    batches: dict[str, list[tuple[int, T]]] = {}
+    retry: list[list[tuple[int, T]]] = []  # singles of a batch the cluster gave up on
+    tag = uuid.uuid4().hex[:12]
+    count = 0
+    # ``shared`` travels pickled once, as bytes inside every batch (a few KiB), not as
+    # scattered data or a task the batches depend on: data held only by workers is lost
+    # when they die, and a dependency counts its workers' deaths against every batch
+    blob = pickle.dumps(shared, protocol=pickle.HIGHEST_PROTOCOL)
+
+    def submit(batch: list[tuple[int, T]]) -> Any:
+        nonlocal count
+        count += 1
+        fut = client.submit(run_batch, task, batch, tag, blob, pure=False, key=f"cnc-{tag}-{count}")
+        batches[fut.key] = batch
         return fut
 
-    first = [submit(i) for _, i in zip(range(window), pending, strict=False)]
-    stream = as_completed(first)
-    for fut in stream:
-        i = index.pop(fut.key)
+    def next_batch() -> list[tuple[int, T]]:
+        if retry:
+            return retry.pop()
+        return list(islice(source, sizer.size))
+
+    pending = as_completed([submit(first)])
+    for _ in range(window - 1):
+        batch = next_batch()
+        if not batch:
+            break
+        pending.add(submit(batch))
+    for fut in pending:
+        batch = batches.pop(fut.key)
         try:
-            result = fut.result()
-        except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker: one failed row, not a crash
-            result = on_error(items[i], exc)
-        fut.release()
-        nxt = next(pending, None)
-        if nxt is not None:
-            stream.add(submit(nxt))
-        yield i, result
+            results, seconds = fut.result()
+        except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker: retry alone, then one row each
+            fut.release()
+            if len(batch) > 1:
+                retry.extend([pair] for pair in batch)
+            else:
+                yield batch[0][0], on_error(batch[0][1], exc)
+        else:
+            fut.release()
+            sizer.learn(len(batch), seconds)
+            yield from results
+        while pending.count() < window:
+            nxt = next_batch()
+            if not nxt:
+                break
+            pending.add(submit(nxt))

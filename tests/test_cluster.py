@@ -9,6 +9,7 @@ optional extra (``cluster``); without it these tests skip.
 from __future__ import annotations
 
 import contextlib
+import io
 import json
 import os
 import signal
@@ -21,7 +22,9 @@ from click.testing import CliRunner
 
 from cli.check import Setup, check_file, load_context, run_checks
 from cli.deadline import ProgramTimeout, deadline
+from cli.inline import InlineProgram
 from cli.main import cli
+from cli.stream_out import LOG_PROGRESS_FROM, LineProgress, progress_wanted
 
 HERE = Path(__file__).parent
 PROGS = HERE / "check"
@@ -225,3 +228,144 @@ def test_cli_local_cluster_matches_jobs() -> None:
     _, dask = cnc("check", "-m", SHOP, "-f", "json", "--scheduler", "local:2", *paths)
     assert without_times(pool) == without_times(dask)
     assert run_checks(paths[:3], Setup(load_context(SHOP, None, None), verbosity=-1), 1)
+
+
+def test_batch_sizer_grows_to_the_target_and_shrinks_on_long_programs() -> None:
+    pytest.importorskip("distributed")
+    from cli.fleet import MAX_BATCH, TARGET_SECONDS, Sizer
+
+    sizer = Sizer()
+    assert sizer.size == 1  # the first task is one program: nothing is known yet
+    sizes = []
+    for _ in range(12):  # 1 ms programs: double each step up to the cap
+        sizer.learn(sizer.size, sizer.size * 0.001)
+        sizes.append(sizer.size)
+    assert sizes[:4] == [2, 4, 8, 16] and sizes[-1] == min(MAX_BATCH, int(TARGET_SECONDS / 0.001))
+    for _ in range(20):  # programs of 2 s each: one a task
+        sizer.learn(sizer.size, sizer.size * 2.0)
+    assert sizer.size == 1
+
+
+def test_progress_is_a_line_per_n_programs_in_a_log() -> None:
+    out = io.StringIO()
+    progress = LineProgress(5, stream=out, every=2)
+    for _ in range(5):
+        progress.advance()
+    progress.close()
+    lines = out.getvalue().splitlines()
+    assert [line.split(" ")[0] for line in lines] == ["2/5", "4/5", "5/5"]
+    assert lines[-1].startswith("5/5 programs (100 %), ")
+    assert not progress_wanted(5, 0, tty=False)  # a small batch in a script: quiet
+    assert progress_wanted(5, 0, tty=True) and progress_wanted(5, 1, tty=False)
+    assert progress_wanted(LOG_PROGRESS_FROM, 0, tty=False)
+    assert not progress_wanted(LOG_PROGRESS_FROM, -1, tty=True)
+    # the command: stderr is not a terminal here, -v asks for the lines
+    paths = [str(PROGS / "CNC010.ngc"), str(PROGS / "clean.canon")]
+    code, text = cnc("-v", "check", "-m", SHOP, *paths)
+    assert "2/2 programs (100 %)" in text
+
+
+def test_inline_program_gives_the_result_of_its_file(tmp_path: Path) -> None:
+    setup = Setup(load_context(SHOP, None, None), verbosity=-1)
+    src = PROGS / "CNC010.ngc"
+    copy = tmp_path / "CNC010.ngc"
+    copy.write_bytes(src.read_bytes())
+    want = check_file(str(copy), setup)
+    got = check_file(InlineProgram(str(copy), src.read_bytes()), setup)
+    assert want.findings and got.findings == want.findings and got.file == want.file
+    corrupt = check_file(InlineProgram("lib/bad.ngc", bytes(range(256)) * 4), setup)
+    assert [(f.code, f.location.file) for f in corrupt.findings] == [
+        ("CHECK-BINARY", "lib/bad.ngc")
+    ]
+
+
+def table_rows(path: Path) -> list[dict[str, object]]:
+    """The rows of a ``--table`` file without the timings, by program (rows are written in
+    the order results arrive)."""
+    pq = pytest.importorskip("pyarrow.parquet")
+    rows = pq.read_table(path).to_pylist()
+    for r in rows:
+        r.pop("seconds")
+    return sorted(rows, key=lambda r: str(r["program"]))
+
+
+def test_parquet_table_same_for_pool_and_cluster(cluster: str, tmp_path: Path) -> None:
+    pytest.importorskip("pyarrow")
+    corrupt = tmp_path / "corrupt.ngc"
+    corrupt.write_bytes(bytes(range(256)) * 8)
+    paths = [str(PROGS / "CNC010.ngc"), str(PROGS / "CNC001.ngc"), str(corrupt)]
+    paths.append(str(PROGS / "clean.canon"))
+    a, b = tmp_path / "pool.parquet", tmp_path / "dask.parquet"
+    code, out = cnc("check", "-m", SHOP, "-f", "json", "--table", str(a), *paths)
+    cnc("check", "-m", SHOP, "-f", "json", "--scheduler", cluster, "--table", str(b), *paths)
+    rows = table_rows(a)
+    assert rows == table_rows(b)
+    assert [r["program"] for r in rows] == sorted(paths)  # one row per program
+    report = {f["file"]: f for f in json.loads(out)["files"]}
+    for r in rows:  # the table says what the JSON report says
+        f = report[r["program"]]
+        assert r["rules"] == [x["rule"] for x in f["findings"]]
+        assert r["errors"] == sum(x["severity"] == "error" for x in f["findings"])
+    by_name = {Path(str(r["program"])).name: r for r in rows}
+    assert by_name["corrupt.ngc"]["status"] == "error"
+    assert by_name["clean.canon"]["status"] == "ok" and by_name["clean.canon"]["findings"] == []
+    code, out = cnc("check", "--table", str(a), *paths)  # an existing table is kept
+    assert code == 2 and "IO-EXISTS" in out
+
+
+def test_generated_library_streams_as_bytes_through_the_cluster(cluster: str) -> None:
+    distributed = pytest.importorskip("distributed")
+    from cli import fleet
+    from cli.check import _lost
+
+    setup = Setup(load_context(SHOP, None, None), verbosity=-1)
+    good = (PROGS / "CNC010.ngc").read_bytes()
+
+    def library() -> Iterator[tuple[int, InlineProgram]]:
+        for k in range(40):  # made on the fly: never a list, never a file on the client
+            data = bytes(range(256)) if k == 7 else good
+            yield k, InlineProgram(f"lib/p{k:03d}.ngc", data)
+
+    with distributed.Client(cluster) as client:
+        got = dict(fleet.stream(client, check_file, library(), setup, _lost))
+    assert sorted(got) == list(range(40))
+    assert [f.code for f in got[7].findings] == ["CHECK-BINARY"]
+    want = check_file(InlineProgram("lib/p000.ngc", good), setup).findings
+    assert got[0].findings == want and want
+    assert all(got[k].file == f"lib/p{k:03d}.ngc" for k in got)
+
+
+def kills_its_worker_on_13(item: int, shared: int) -> int:
+    """A task function whose program 13 kills the worker process running it, every time."""
+    if item == 13:
+        os._exit(1)
+    return item * shared
+
+
+@pytest.mark.slow
+def test_a_program_that_kills_every_worker_is_one_failed_row_not_its_batch() -> None:
+    distributed = pytest.importorskip("distributed")
+    import dask
+
+    from cli import fleet
+
+    with (
+        dask.config.set({"distributed.scheduler.allowed-failures": 2}),
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as lc,
+        distributed.Client(lc) as client,
+    ):
+        got: dict[int, object] = {}
+        pairs = ((k, k) for k in range(60))
+        for i, res in fleet.stream(
+            client, kills_its_worker_on_13, pairs, 3, lambda item, exc: f"lost {item}"
+        ):
+            assert i not in got  # each program once
+            got[i] = res
+    assert sorted(got) == list(range(60))
+    assert got[13] == "lost 13"
+    # the rest of its batch is not lost with it; Dask counts a death against the tasks
+    # queued on the dying worker too, so a program queued beside it each time may be
+    lost = [k for k in got if got[k] != 3 * k]
+    assert all(got[k] == f"lost {k}" for k in lost) and len(lost) <= 3, lost
