@@ -135,7 +135,7 @@ EXPLANATIONS: dict[str, str] = {
     "IO-NOT-DIR": "the -o output path exists and is not a directory",
     "IO-NOT-FILE": "an output names a directory",
     "IO-OPEN": "a file cannot be opened or read (missing, a directory, no permission)",
-    "IO-PARQUET": "Parquet output was asked for but pyarrow is not installed (use --format csv or npz)",
+    "IO-PARQUET": "cnc check --table FILE: a Parquet table needs pyarrow, which is not installed (pip install 'cnc-toolchain[parquet]'); also: Parquet output was asked for but pyarrow is not installed (use --format csv or npz)",
     "IO-SAME-FILE": "an output names one of the inputs (directly or through a link); refused even with --force",
     "LIMIT-CONFIG": "--limit or a profile's [limits] table names an unknown limit or an impossible value",
     "LIMIT-COUNT": "a block or operation would generate more cycle passes, toolpath lines, samples or NURBS points than its limit",
