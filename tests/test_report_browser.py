@@ -2,8 +2,8 @@
 the page loads without console errors, the view draws (pixels of the tool colours in the
 plot), hovering a move shows its source line and feed, and clicking a finding draws its move
 in red and selects its line in the listing. Lines, coordinates and feeds are checked
-against the program text. Skipped without Chromium; slow (a browser per module, WebGL in
-software)."""
+against the program text. Skipped without Chromium (.ci/run installs Debian's); about 15 s
+(a browser per module, WebGL in software)."""
 
 from __future__ import annotations
 
@@ -27,8 +27,6 @@ pytest.importorskip("tornado")  # the websocket client (Dask's distributed bring
 pytest.importorskip("PIL")  # reading the screenshots
 
 from tests.browser import Browser, find_browser  # noqa: E402
-
-pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[1]
 BRACKET = ROOT / "docs" / "examples" / "bracket.ngc"
