@@ -35,6 +35,10 @@ DIALECT = replace(
     cycles=frozenset(),
     comp_register=None,
     comp_radius_set=None,
+    # the lathe reader has G54-G59 only (no additional work offsets G54.1 P)
+    extended_offset=None,
+    extended_offsets=0,
+    extended_offset_set=None,
     notes=(
         "X as a diameter; arcs' I as a radius increment",
         "turning cycles: the reader's moves are written (no G70-G76 blocks)",

@@ -13,8 +13,8 @@ DIALECT = replace(
     title="Haas lathe (NGC control)",
     reference="Haas lathe operator's manual, G-code and M-code chapters",
     max_sequence_number=99999,
-    extended_offset="G154 P{register}",
-    extended_offsets=99,
+    # the Haas lathe has G154 P1-P99, but this project's lathe reader does not read it back
+    # yet: a conversion that needs one reports the loss CONV-WORK-OFFSET instead
     header=("%", "O00001"),
     footer=("%",),
     dwell=("G04", "P", 1.0),
