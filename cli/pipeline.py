@@ -51,10 +51,12 @@ class RunOptions:
 
 @dataclass(slots=True)
 class Page:
-    """What the HTML page shows beyond the JSON report: PNG plots by title, the backplot
+    """What the HTML page shows beyond the JSON report: the trace charts (PNG plots by title
+    where a caller still gives them), the backplot
     and the cut part (kernel.report.backplot), and a note when the view could not be made."""
 
     images: dict[str, bytes] = field(default_factory=dict)
+    charts: list[dict[str, Any]] = field(default_factory=list)  # kernel.report.charts
     backplot: Backplot | None = None
     surface: Surface | None = None
     source: str | None = None  # the program's text, for the listing
@@ -157,7 +159,7 @@ def _simulate(
         total, done = trace.rows, 0
         data = None
         if opts.html:
-            from kernel.report.plots import PlotData
+            from kernel.report.charts import PlotData
 
             data = PlotData(samples.axes, total_rows=total)
         try:
@@ -179,7 +181,9 @@ def _simulate(
     t2 = time.perf_counter()
     res.stages["servo"] = t2 - t1
     if data is not None and len(data.column("t")):
-        page.images.update(_plots(data, samples.axes, name))
+        from kernel.report.charts import chart_specs
+
+        page.charts = chart_specs(data)
         res.stages["plots"] = time.perf_counter() - t2
 
 
@@ -203,29 +207,6 @@ def _view(
         page.note = f"No backplot: {diag}"
     except Exception as exc:  # noqa: BLE001 - the report must still be written
         page.note = f"No backplot: internal error ({type(exc).__name__}: {exc}); please report it"
-
-
-def _plots(data: Any, axes: tuple[str, ...], stem: str) -> dict[str, bytes]:
-    """PNG images of the XY path and of each axis (kernel.report.plots), by title."""
-    import io
-
-    import matplotlib.pyplot as plt
-
-    from kernel.report.plots import axis_figure, path_figure
-
-    figs = []
-    if "x" in axes and "y" in axes:
-        figs.append((f"{stem}: XY path", path_figure(data, f"{stem}: XY path")))
-    for a in axes:
-        title = f"{stem}: axis {a.upper()}, commanded and actual"
-        figs.append((title, axis_figure(data, a, title)))
-    out = {}
-    for title, fig in figs:
-        buf = io.BytesIO()
-        fig.savefig(buf, format="png", dpi=80)
-        plt.close(fig)
-        out[title] = buf.getvalue()
-    return out
 
 
 def run_task(item: tuple[str, str], setup: tuple[CheckContext, RunOptions]) -> RunResult:
@@ -374,6 +355,7 @@ def _run_program(
             page.surface,
             opts.html_library,
             page.note,
+            page.charts,
         )
         with open_output(os.path.join(opts.out_dir, f"{name}.report.html")) as fh:
             fh.write(html)

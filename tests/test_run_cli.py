@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import shutil
 import subprocess
 from html.parser import HTMLParser
@@ -109,8 +110,11 @@ def test_html_report_is_self_contained_and_well_formed(tmp_path: Path) -> None:
         p.feed(page)
         assert p.errors == [] and p.stack == []
         images = [u for u in p.urls if u != "plotly.min.js"]
-        assert all(u.startswith("data:image/png;base64,") for u in images)
-        assert len(images) == plots  # XY path + one per axis for the simulated program
+        assert images == []  # the trace charts are data the page's plotly.js draws
+        charts = re.search(r'<script type="application/json" id="cnc-charts">(.*?)</script>', page)
+        specs = json.loads(charts.group(1)) if charts else []
+        assert len(specs) == plots  # XY path + one per axis for the simulated program
+        assert [c["kind"] for c in specs] == ["xy", "axis", "axis", "axis"][:plots]
         # scripts: inline, or the batch's one plotly.js beside the pages; nothing fetched
         assert p.urls.count("plotly.min.js") == 1 and (tmp_path / "plotly.min.js").is_file()
         assert "http://" not in "".join(p.urls) and "https://" not in "".join(p.urls)

@@ -58,6 +58,7 @@ font-variant-numeric:tabular-nums}
 .sev-error{color:#b42318;font-weight:bold}.sev-warning{color:#9a6700}.sev-note{color:#175cd3}
 .bar{background:#4e79a7;height:.9em;display:inline-block}
 img{max-width:100%;border:1px solid #ddd;margin:.4em 0}
+.chart{width:100%;height:520px;border:1px solid #ddd;margin:.4em 0}
 .bp{display:flex;gap:.8em;align-items:stretch}
 #cnc-plot{flex:3;min-width:0;height:620px;border:1px solid #ddd}
 #cnc-listing{flex:2;min-width:0;height:620px;overflow:auto;position:relative;
@@ -376,6 +377,7 @@ def render_html(
     surface: Surface | None = None,
     library: str = "inline",
     note: str = "",
+    charts: list[dict[str, Any]] | None = None,
 ) -> str:
     """The report page for one ``cnc run`` report ``doc`` and its PNG ``images`` by title,
     with the ``backplot`` of the program beside its ``source`` text, the cut part's
@@ -408,6 +410,12 @@ def render_html(
         parts += ["<h2>Servo errors</h2>", _servo(doc["servo"])]
     if measure:
         parts += ["<h2>Axis limits</h2>", _hits(measure)]
+    if charts:
+        parts.append("<h2>Plots</h2>")
+        parts += [f'<div class="chart" id="cnc-chart-{i}"></div>' for i in range(len(charts))]
+        spec = _script_json(charts)
+        parts.append(f'<script type="application/json" id="cnc-charts">{spec}</script>')
+        parts.append("<script>window.cncDrawCharts && window.cncDrawCharts();</script>")
     if images:
         parts.append("<h2>Plots</h2>")
         for title, png in images.items():

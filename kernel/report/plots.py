@@ -1,15 +1,14 @@
 """Trace plots (matplotlib, Agg): one figure per axis and the XY path coloured by contour error.
 
-:class:`PlotData` collects a decimated copy of the streamed trace tables (at most
-``max_points`` rows, every k-th row with the row of each chunk's largest error kept, so the
-peaks survive), then :func:`axis_figure` and :func:`path_figure` draw it. Figures are
+:class:`~kernel.report.charts.PlotData` collects a decimated copy of the streamed trace
+tables (the peaks survive), then :func:`axis_figure` and :func:`path_figure` draw it for
+``cnc trace --plot`` (the HTML report draws the same data in the browser,
+kernel.report.charts). Figures are
 returned, not shown or saved: the CLI saves them.
 """
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, field
 from typing import Any
 
 import matplotlib
@@ -20,7 +19,8 @@ import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
-_ROTARY = {"a", "b", "c"}
+from kernel.report.charts import PlotData, error_scale, units  # noqa: E402
+
 #: commanded against actual in the axis plots: a wide dashed black line under a thin solid
 #: coloured one, so that both show where they coincide
 _COMMANDED: dict[str, Any] = {
@@ -34,46 +34,10 @@ _COMMANDED: dict[str, Any] = {
 _ACTUAL: dict[str, Any] = {"lw": 1.1, "zorder": 3, "label": "actual"}
 
 
-@dataclass
-class PlotData:
-    """Decimated trace columns for plotting."""
-
-    axes: tuple[str, ...]
-    total_rows: int
-    max_points: int = 5_000
-    cols: dict[str, list[np.ndarray]] = field(default_factory=dict)
-
-    @property
-    def stride(self) -> int:
-        return max(1, math.ceil(self.total_rows / self.max_points))
-
-    def add(self, table: dict[str, np.ndarray]) -> None:
-        n = len(table["t"])
-        if n == 0:
-            return
-        t0 = int(round(table["t"][0] / (table["t"][1] - table["t"][0]))) if n > 1 else 0
-        keep = np.flatnonzero((np.arange(n) + t0) % self.stride == 0)
-        peaks = [int(np.nanargmax(np.abs(table[f"{a}_following_error"]))) for a in self.axes]
-        ce = table["contour_error"]
-        if np.isfinite(ce).any():
-            peaks.append(int(np.nanargmax(ce)))
-        keep = np.union1d(keep, peaks)
-        for name, col in table.items():
-            self.cols.setdefault(name, []).append(np.asarray(col)[keep])
-
-    def column(self, name: str) -> np.ndarray:
-        parts = self.cols.get(name)
-        return np.concatenate(parts) if parts else np.zeros(0)
-
-
-def _units(axis: str) -> tuple[str, str]:
-    return ("deg", "deg/s") if axis in _ROTARY else ("mm", "mm/s")
-
-
 def axis_figure(data: PlotData, axis: str, title: str = "") -> Figure:
     """Position, velocity and following error of one axis over time (commanded vs actual)."""
     t = data.column("t")
-    pu, vu = _units(axis)
+    pu, vu = units(axis)
     # fixed margins, not a constrained layout: the layout solver took a third of the time
     fig, (ax_p, ax_v, ax_e) = plt.subplots(3, 1, sharex=True, figsize=(10, 8), dpi=110)
     fig.subplots_adjust(left=0.09, right=0.98, top=0.94, bottom=0.07, hspace=0.28)
@@ -87,9 +51,7 @@ def axis_figure(data: PlotData, axis: str, title: str = "") -> Figure:
     ax_v.set_ylabel(f"velocity [{vu}]")
     ax_v.legend(loc="best", fontsize=9)
     fe = data.column(f"{axis}_following_error")
-    scale, eu = (1000.0, "µm") if np.nanmax(np.abs(fe), initial=0.0) < 1.0 else (1.0, pu)
-    if axis in _ROTARY:
-        scale, eu = 1.0, pu
+    scale, eu = error_scale(axis, fe)
     ax_e.plot(t, fe * scale, color="tab:red", lw=1.0)
     ax_e.axhline(0.0, color="0.3", lw=0.6)
     ax_e.set_ylabel(f"following error [{eu}]")

@@ -203,4 +203,56 @@
   });
   draw();
   window.cncReport = { select: select, traces: traces };
+
+  /* ---- the servo trace charts (kernel.report.charts), after the backplot ---- */
+  window.cncDrawCharts = function () {
+    var el = document.getElementById("cnc-charts");
+    if (!el) return;
+    var config = { responsive: true, displaylogo: false };
+    JSON.parse(el.textContent).forEach(function (c, i) {
+      var div = document.getElementById("cnc-chart-" + i);
+      if (!div) return;
+      if (c.kind === "xy") {
+        var plot = [
+          { type: "scattergl", mode: "lines", name: "commanded", x: floats(c.x_cmd),
+            y: floats(c.y_cmd), line: { color: "#bbb", width: 4 } },
+          { type: "scattergl", mode: "markers", name: "actual", x: floats(c.x_act),
+            y: floats(c.y_act),
+            marker: { size: 3, color: floats(c.error), colorscale: "Viridis", showscale: true,
+                      colorbar: { title: { text: c.error_label } } } }
+        ];
+        if (c.worst) {
+          plot.push({ type: "scatter", mode: "markers+text", name: "worst",
+            x: [c.worst[0]], y: [c.worst[1]], text: ["max " + c.worst[2].toPrecision(3) + " µm"],
+            textposition: "bottom right",
+            marker: { size: 16, color: "rgba(0,0,0,0)", line: { color: "#d62728", width: 2 } } });
+        }
+        Plotly.newPlot(div, plot, { title: { text: c.title }, margin: { t: 60, r: 20 },
+          legend: { orientation: "h", x: 0, y: 1.06 },
+          xaxis: { title: { text: "X [mm]" } },
+          yaxis: { title: { text: "Y [mm]" }, scaleanchor: "x" } }, config);
+        return;
+      }
+      var t = floats(c.t);
+      var traces = [];
+      var layout = { title: { text: c.title }, margin: { t: 40, r: 20 }, showlegend: true,
+                     xaxis: { title: { text: "time [s]" }, anchor: "y3" } };
+      var colours = ["#1f77b4", "#ff7f0e", "#d62728"];
+      c.rows.forEach(function (row, k) {
+        var axis = k === 0 ? "y" : "y" + (k + 1);
+        var top = 1 - k / 3;
+        layout[k === 0 ? "yaxis" : "yaxis" + (k + 1)] = {
+          title: { text: row.label }, domain: [top - 1 / 3 + 0.06, top], anchor: "x" };
+        if (row.cmd) {
+          traces.push({ type: "scattergl", mode: "lines", name: "commanded (dashed)",
+            legendgroup: "cmd", showlegend: k === 0, x: t, y: floats(row.cmd), yaxis: axis,
+            line: { color: "#222", dash: "dash", width: 2 } });
+        }
+        traces.push({ type: "scattergl", mode: "lines", name: k === 2 ? "error" : "actual",
+          legendgroup: k === 2 ? "err" : "act", showlegend: k !== 1, x: t, y: floats(row.act),
+          yaxis: axis, line: { color: colours[k], width: 1.2 } });
+      });
+      Plotly.newPlot(div, traces, layout, config);
+    });
+  };
 })();
