@@ -31,7 +31,7 @@ from cli.excerpt import render_record
 from cli.main import verbosity
 from cli.options import tool_table_option
 from cli.outputs import refuse_output, write_output
-from cli.programs import expand, is_pattern
+from cli.programs import expand, is_pattern, stdin_text
 from cli.verify import Recorder, Verification, reader_options, verified_output
 from gcode.registry import (
     ALIASES,
@@ -376,6 +376,10 @@ def command(
         not no_verify,
         force,
     )
+    if "-" in sources:
+        if len(sources) > 1:
+            _usage("a program on standard input (-) is converted on its own", "-")
+        sys.exit(_convert_stdin(output, report_path, job))
     if len(sources) == 1 and not os.path.isdir(sources[0]) and not is_pattern(sources[0]):
         if report_path:
             refuse_output(report_path, force, (sources[0], tool_table or ""), "report")
@@ -386,6 +390,23 @@ def command(
             sys.exit(EXIT_PROGRAM_ERROR)
         return
     sys.exit(convert_many(sources, output, report_path, job))
+
+
+def _convert_stdin(output: str | None, report_path: str | None, job: Job) -> int:
+    """Convert the program on standard input (``-``): it is read once into a scratch folder
+    (the reader and the read-back verification work on files) under the name ``stdin``, its
+    dialect told by ``--from`` or by its content; the exit code."""
+    text = stdin_text()
+    with tempfile.TemporaryDirectory(prefix="cnc-convert-") as scratch:
+        path = os.path.join(scratch, "stdin")
+        with open(path, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        if report_path:
+            refuse_output(report_path, job.force, (job.tool_table or "",), "report")
+        outcome = convert_file(path, output, job)
+        if report_path:
+            _write_json(report_path, outcome.data)
+    return EXIT_OK if outcome.converted else EXIT_PROGRAM_ERROR
 
 
 @dataclass(frozen=True)

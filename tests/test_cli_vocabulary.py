@@ -158,6 +158,21 @@ def test_stdin_is_a_program_slow(tmp_path: Path, name: str) -> None:
         assert any(p.name.startswith("stdin") for p in (tmp_path / "out").iterdir())
 
 
+def test_convert_reads_stdin_as_it_reads_the_file(tmp_path: Path) -> None:
+    """``cnc convert -`` writes what converting the same program from its file writes; a
+    bad program on standard input is refused with a located diagnostic."""
+    prog = tmp_path / "p.ngc"
+    prog.write_text(PROGRAM)
+    from_file = invoke("convert", str(prog), "--to", "fanuc")
+    from_stdin = invoke("convert", "-", "--to", "fanuc", stdin=PROGRAM)
+    assert from_stdin.exit_code == from_file.exit_code == 0
+    assert from_stdin.stdout == from_file.stdout
+    bad = invoke("convert", "-", "--to", "fanuc", stdin=BAD)
+    assert bad.exit_code == 1 and "stdin:2:" in bad.output
+    both = invoke("convert", "-", str(prog), "--to", "fanuc", "-o", str(tmp_path / "o"))
+    assert both.exit_code == 2
+
+
 def test_stdin_stepnc_and_dialect_by_content() -> None:
     """A STEP-NC program on standard input is told by content; G-code from -d."""
     text = EX1.read_text(encoding="latin-1")
