@@ -379,33 +379,26 @@ def command(
     if "-" in sources:
         if len(sources) > 1:
             _usage("a program on standard input (-) is converted on its own", "-")
-        sys.exit(_convert_stdin(output, report_path, job))
+        # the reader and the read-back verification work on files: a scratch copy of the
+        # program on standard input, named ``stdin``, its dialect from --from or its content
+        with tempfile.TemporaryDirectory(prefix="cnc-convert-") as scratch:
+            path = os.path.join(scratch, "stdin")
+            with open(path, "w", encoding="utf-8") as fh:
+                fh.write(stdin_text())
+            sys.exit(_convert_one(path, output, report_path, job))
     if len(sources) == 1 and not os.path.isdir(sources[0]) and not is_pattern(sources[0]):
-        if report_path:
-            refuse_output(report_path, force, (sources[0], tool_table or ""), "report")
-        outcome = convert_file(sources[0], output, job)
-        if report_path:
-            _write_json(report_path, outcome.data)
-        if not outcome.converted:
-            sys.exit(EXIT_PROGRAM_ERROR)
-        return
+        sys.exit(_convert_one(sources[0], output, report_path, job))
     sys.exit(convert_many(sources, output, report_path, job))
 
 
-def _convert_stdin(output: str | None, report_path: str | None, job: Job) -> int:
-    """Convert the program on standard input (``-``): it is read once into a scratch folder
-    (the reader and the read-back verification work on files) under the name ``stdin``, its
-    dialect told by ``--from`` or by its content; the exit code."""
-    text = stdin_text()
-    with tempfile.TemporaryDirectory(prefix="cnc-convert-") as scratch:
-        path = os.path.join(scratch, "stdin")
-        with open(path, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        if report_path:
-            refuse_output(report_path, job.force, (job.tool_table or "",), "report")
-        outcome = convert_file(path, output, job)
-        if report_path:
-            _write_json(report_path, outcome.data)
+def _convert_one(source: str, output: str | None, report_path: str | None, job: Job) -> int:
+    """Convert one program to ``output`` (None: standard output), with its JSON report at
+    ``report_path`` when asked; the exit code."""
+    if report_path:
+        refuse_output(report_path, job.force, (source, job.tool_table or ""), "report")
+    outcome = convert_file(source, output, job)
+    if report_path:
+        _write_json(report_path, outcome.data)
     return EXIT_OK if outcome.converted else EXIT_PROGRAM_ERROR
 
 
