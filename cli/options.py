@@ -167,6 +167,13 @@ def force_option(
     return click.option("--force", is_flag=True, help=help)
 
 
+def read_stdin() -> str:
+    """Standard input as text, as a program file is read (cli.programs.read_head): UTF-8, a
+    byte that is not UTF-8 replaced rather than a decoding traceback; NUL bytes stay, for
+    the readers to report as ``CHECK-BINARY``."""
+    return click.get_binary_stream("stdin").read().decode("utf-8", errors="replace")
+
+
 def _stdin_name(ctx: click.Context, param: click.Parameter, value: Any) -> Any:
     """``-`` as the program becomes :data:`STDIN_NAME`; standard input is read here, once
     per invocation, into ``ctx.meta`` (cli.programs.stdin_text hands it to the readers)."""
@@ -175,7 +182,7 @@ def _stdin_name(ctx: click.Context, param: click.Parameter, value: Any) -> Any:
         return value
     if given.count(STDIN_ARG) > 1:
         raise click.BadParameter("standard input (-) can be given once")
-    ctx.meta[STDIN_META] = click.get_text_stream("stdin").read()
+    ctx.meta[STDIN_META] = read_stdin()
     if isinstance(value, tuple):
         return tuple(STDIN_NAME if v == STDIN_ARG else v for v in value)
     return STDIN_NAME

@@ -23,7 +23,7 @@ import click
 
 import kernel.limits as limits
 from cli.main import verbosity as current_verbosity
-from cli.options import STDIN_META, STDIN_NAME
+from cli.options import STDIN_META, STDIN_NAME, read_stdin
 from cli.options import dialect_option as dialect_option  # the commands import it from here
 from gcode.detect import Guess
 from gcode.readers import read, read_text, text_findings
@@ -100,7 +100,7 @@ def stdin_text() -> str:
     ctx = click.get_current_context(silent=True)
     if ctx is not None and STDIN_META in ctx.meta:
         return str(ctx.meta[STDIN_META])
-    text = click.get_text_stream("stdin").read()
+    text = read_stdin()
     if ctx is not None:
         ctx.meta[STDIN_META] = text
     return text

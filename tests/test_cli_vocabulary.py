@@ -46,7 +46,7 @@ READERS: dict[str, tuple[str, ...]] = {
 SHARED = ("-m", "--machine", "-t", "--tool-table", "-d", "--dialect", "-q", "-v")
 
 
-def invoke(*args: str, stdin: str | None = None) -> Result:
+def invoke(*args: str, stdin: str | bytes | None = None) -> Result:
     """``cnc ARGS`` in this process (stderr kept apart from stdout)."""
     return CliRunner().invoke(cli, list(args), input=stdin, catch_exceptions=False)
 
@@ -171,6 +171,15 @@ def test_convert_reads_stdin_as_it_reads_the_file(tmp_path: Path) -> None:
     assert bad.exit_code == 1 and "stdin:2:" in bad.output
     both = invoke("convert", "-", str(prog), "--to", "fanuc", "-o", str(tmp_path / "o"))
     assert both.exit_code == 2
+
+
+@pytest.mark.parametrize("args", [("canon",), ("plan",), ("convert", "--to", "fanuc")])
+def test_binary_stdin_is_a_located_error(args: tuple[str, ...]) -> None:
+    """Bytes that are not text on standard input are CHECK-BINARY at the program, exit 1, as
+    for a file (catch_exceptions=False: a decoding traceback would fail the test)."""
+    result = invoke(*args[:1], "-", *args[1:], stdin=b"\xff\xfe\x00\x01G1")
+    assert result.exit_code == 1
+    assert "error[CHECK-BINARY]" in result.output
 
 
 def test_stdin_stepnc_and_dialect_by_content() -> None:
