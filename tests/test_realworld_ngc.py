@@ -39,12 +39,7 @@ PROGRAMS = sorted(p for p in SUITE.iterdir() if p.suffix.lower() in SUFFIXES)
 LARGE_BYTES = 80_000
 
 #: programs rs274 accepts that we knowingly do not run yet -> reason
-KNOWN: dict[str, str] = {
-    # rs274 2.9.0 starts G70's compensated moves from the profile's end, where reading the
-    # profile left its position (LinuxCNC issue #1785, fixed in v2.9.3 by b1f3e7d8b8 and
-    # f648d01c72); we cut from the tool's point
-    "lcnc__lathe_g70_71_demo.ngc": "G70 with cutter compensation: rs274 2.9.0's start-point bug",
-}
+KNOWN: dict[str, str] = {}
 
 #: programs of posts for Mach3 (CamBam's default post is Mach3's; Vectric's "G-code"
 #: and pcb2gcode's mach3 outputs; SketchUcam's); all are accepted by rs274

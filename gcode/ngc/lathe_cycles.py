@@ -103,8 +103,8 @@ def lathe_cycle(ctx: NgcContext, w: Words, code: int, run: RunMotion) -> None:
         z = v.get("z", z)
     s.absolute = s.ijk_absolute = True  # the cycle's moves are absolute (switch_settings)
     try:
-        axes = {k: v[k] for k in "xyzabc" if k in v}
-        run(ctx, Words(g={1: 0}, values=axes), 0)
+        before = list(s.pos)
+        _rapid_to_start(ctx, Words(g={1: 0}, values={k: v[k] for k in "xyzabc" if k in v}), run)
         s.diameter_mode = False  # the cycle works in radius (X read halved)
         q = v["q"]
         if abs(q - round(q)) > 1e-4:  # rs274 calls "O<q> CALL" and reads an integer
@@ -123,6 +123,10 @@ def lathe_cycle(ctx: NgcContext, w: Words, code: int, run: RunMotion) -> None:
         ctx.loc = loc
         if len(segments) <= 1:
             return
+        # the cycle's moves start from where the block began (LinuxCNC >= 2.9.3, commit
+        # b1f3e7d8b8): a compensated G70's entry move is made from there, not from the
+        # profile's end where reading the profile left the position
+        s.pos[0], s.pos[2] = before[0], before[2]
         i = v.get("i", 1.0)
         if i <= 0:
             raise Diagnostic("NGC-G7X-I", "G7X error: I must be greater than zero.", loc)
@@ -152,6 +156,18 @@ def lathe_cycle(ctx: NgcContext, w: Words, code: int, run: RunMotion) -> None:
         s.absolute = not incremental
         s.ijk_absolute = not ijk_incremental
         s.diameter_mode = diameter
+
+
+def _rapid_to_start(ctx: NgcContext, words: Words, run: RunMotion) -> None:
+    """The cycle block's rapid to its own X/Z, with cutter compensation suspended for that
+    move (LinuxCNC >= 2.9.3, commit f648d01c72): only the cycle's own moves are
+    compensated."""
+    comp = ctx.comp
+    if comp is None or not comp.engaged:
+        run(ctx, words, 0)
+        return
+    with comp.suspended():
+        run(ctx, words, 0)
 
 
 def _read_profile(

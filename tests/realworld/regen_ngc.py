@@ -11,6 +11,12 @@ as in tests/golden/regen.py: the shortest prefix of the program
 that fails with the same message (rs274 reads a program as a stream, so prefixes ending
 before that line fail with the end-of-file message instead); the prefixes are searched by
 bisection, which that monotonic property allows, and the answer is checked at both ends.
+
+The programs of :data:`FIXED` meet a bug of rs274 2.9.0 that LinuxCNC has fixed since: their
+goldens come from Debian's ``rs274`` running the interpreter library that
+``rs274_fixed/build.sh`` builds (2.9.0 plus LinuxCNC's fix), found through the environment
+variable ``RS274_FIXED_LIB`` (the folder holding that ``librs274.so.0``). Without it those
+goldens are left as they are.
 """
 
 from __future__ import annotations
@@ -29,6 +35,12 @@ TOOL_TABLE = NGC / "tools.tbl"
 SUFFIXES = (".ngc", ".nc", ".gcode", ".tap", ".cnc")
 EOF_MESSAGES = ("File ended with no percent sign",)
 
+#: programs whose golden needs the fixed interpreter library (module docstring) -> why
+FIXED = {
+    "lcnc__lathe_g70_71_demo.ngc": "G70 with cutter compensation: LinuxCNC issue #1785, "
+    "fixed by b1f3e7d8b8 and f648d01c72 (v2.9.3)",
+}
+
 
 def programs() -> list[Path]:
     """The suite's programs, in name order."""
@@ -42,6 +54,9 @@ def run_rs274(program: Path, out: Path, cwd: Path) -> tuple[int, str]:
     different tables read each other's tools. Each run gets a HOME of its own.
     """
     cmd = ["rs274", "-t", str(TOOL_TABLE), "-g", program.name, str(out)]
+    env = dict(os.environ)
+    if program.name in FIXED:
+        env["LD_LIBRARY_PATH"] = os.environ["RS274_FIXED_LIB"]
     with tempfile.TemporaryDirectory() as home:
         proc = subprocess.run(
             cmd,
@@ -50,7 +65,7 @@ def run_rs274(program: Path, out: Path, cwd: Path) -> tuple[int, str]:
             text=True,
             timeout=120,
             stdin=subprocess.DEVNULL,
-            env={**os.environ, "HOME": home},
+            env={**env, "HOME": home},
         )
     return proc.returncode, proc.stderr
 
@@ -123,7 +138,13 @@ def regen(program: Path) -> str | None:
 
 
 def main() -> int:
-    problems = [p for prog in programs() if (p := regen(prog))]
+    todo = programs()
+    if "RS274_FIXED_LIB" not in os.environ:
+        kept = [p for p in todo if p.name in FIXED]
+        todo = [p for p in todo if p.name not in FIXED]
+        for p in kept:
+            print(f"{p.name}: golden kept (set RS274_FIXED_LIB: {FIXED[p.name]})", file=sys.stderr)
+    problems = [p for prog in todo if (p := regen(prog))]
     for p in problems:
         print(p, file=sys.stderr)
     accepted = len(list(NGC.glob("*.canon.gz")))

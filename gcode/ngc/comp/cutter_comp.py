@@ -49,7 +49,8 @@ the run, as in rs274.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 
 from gcode.ngc import offset_geometry as geo
 from gcode.ngc.comp.queue import HeldMove, MotionQueue, motion_command
@@ -103,6 +104,18 @@ class CutterCompensator:
     def engaged(self) -> bool:
         """Motions must go through :meth:`straight` / :meth:`arc`."""
         return self.side != 0 and self.radius > 0.0
+
+    @contextmanager
+    def suspended(self) -> Iterator[None]:
+        """Moves made inside go uncompensated and leave the compensation state alone, as
+        LinuxCNC's ``convert_g7x`` makes a lathe cycle's rapid to its start point with
+        ``cutter_comp_side`` set to 0 for that move (since v2.9.3, commit f648d01c72)."""
+        side = self.side
+        self.side = 0
+        try:
+            yield
+        finally:
+            self.side = side
 
     @property
     def holding(self) -> bool:
