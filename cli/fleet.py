@@ -52,17 +52,31 @@ def parse_local(address: str) -> int | None:
     return int(text)
 
 
+#: Dask settings of a ``local:N`` cluster (its worker processes inherit them). Programs are
+#: independent tasks, so the scheduler hands each worker a queue of them instead of one per
+#: thread (root-task queuing off), and no worker waits a round trip between two programs.
+#: Dask's diagnostics cost CPU that the checks need on a small machine: the statistical
+#: profiler samples every worker's task thread every 10 ms, the memory and system monitors
+#: poll psutil many times a second, and the event-loop tick runs every 20 ms. They are off
+#: or slowed; docs/cluster.md gives the same settings for the workers of a real cluster.
+LOCAL_CONFIG: dict[str, object] = {
+    "distributed.scheduler.worker-saturation": "inf",
+    "distributed.worker.profile.enabled": False,
+    "distributed.worker.memory.monitor-interval": "2s",
+    "distributed.admin.system-monitor.interval": "5s",
+    "distributed.admin.tick.interval": "500ms",
+    "distributed.scheduler.work-stealing-interval": "1s",
+}
+
+
 @contextmanager
 def connect(address: str) -> Iterator[Client]:
     """A client of the scheduler at ``address``, or of a fresh ``LocalCluster`` for
     ``local:N`` (N worker processes of one thread each, no dashboard), closed on exit."""
     n = parse_local(address)
     if n is not None:
-        # programs are independent tasks: let the scheduler hand each worker a queue of them
-        # instead of one per thread (Dask's root-task queuing), so no worker waits a round
-        # trip to the scheduler between two programs
         with (
-            dask.config.set({"distributed.scheduler.worker-saturation": "inf"}),
+            dask.config.set(LOCAL_CONFIG),
             LocalCluster(
                 n_workers=n,
                 threads_per_worker=1,

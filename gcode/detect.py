@@ -24,7 +24,7 @@ Decision (:func:`guess`):
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from functools import cache
 
@@ -111,20 +111,38 @@ def _bounded(head: str) -> str:
     return "\n".join(line[:LINE_CHARS] for line in lines)
 
 
-def score(head: str, hints: Iterable[Hint]) -> tuple[int, tuple[Hint, ...]]:
-    """The score of ``head`` for one dialect's hints and the hints that matched."""
+def _searcher(head: str) -> Callable[[Hint], bool]:
+    """Whether a hint matches ``head``, each distinct (pattern, raw) searched once: the
+    Fanuc-family, mill and lathe groups are shared by several dialects' rows, and the
+    comments are blanked once for all of them."""
     head = _bounded(head)
     code = _COMMENTS.sub(lambda m: " " * len(m.group()), head)
-    matched = tuple(h for h in hints if _compiled(h.pattern).search(head if h.raw else code))
+    found: dict[tuple[str, bool], bool] = {}
+
+    def matches(h: Hint) -> bool:
+        key = (h.pattern, h.raw)
+        hit = found.get(key)
+        if hit is None:
+            hit = found[key] = _compiled(h.pattern).search(head if h.raw else code) is not None
+        return hit
+
+    return matches
+
+
+def score(head: str, hints: Iterable[Hint]) -> tuple[int, tuple[Hint, ...]]:
+    """The score of ``head`` for one dialect's hints and the hints that matched."""
+    matches = _searcher(head)
+    matched = tuple(h for h in hints if matches(h))
     return sum(h.weight for h in matched), matched
 
 
 def candidates(head: str, table: Sequence[tuple[str, Sequence[Hint]]]) -> list[Candidate]:
     """Every dialect of ``table`` (name, hints; in registry order) with its score."""
+    matches = _searcher(head)
     out = []
     for name, hints in table:
-        total, matched = score(head, hints)
-        out.append(Candidate(name, total, matched))
+        matched = tuple(h for h in hints if matches(h))
+        out.append(Candidate(name, sum(h.weight for h in matched), matched))
     return out
 
 

@@ -194,20 +194,27 @@ def _generated(tmp_path: Path, n: int, lines: int) -> list[str]:
 
 
 @pytest.mark.slow
+def _diagnostics_settings() -> tuple[object, ...]:
+    import dask
+
+    return (
+        dask.config.get("distributed.worker.profile.enabled"),
+        dask.config.get("distributed.admin.tick.interval"),
+    )
+
+
 def test_worker_killed_mid_batch_loses_nothing(tmp_path: Path) -> None:
-    distributed = pytest.importorskip("distributed")
+    """On ``local:2`` as ``--scheduler`` starts it; its workers (separate processes) also
+    got the cluster's settings: Dask's 10 ms stack sampler off, the tick slowed."""
+    pytest.importorskip("distributed")
     from cli import fleet
     from cli.check import _lost
 
     paths = _generated(tmp_path, 16, 400)
     setup = Setup(load_context(SHOP, None, None), verbosity=-1)
     expected = [check_file(p, setup) for p in paths]
-    with (
-        distributed.LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-        ) as lc,
-        distributed.Client(lc) as client,
-    ):
+    with fleet.connect("local:2") as client:
+        assert set(client.run(_diagnostics_settings).values()) == {(False, "500ms")}
         pids = list(client.run(os.getpid).values())
         seen: list[int] = []
         got = {}
