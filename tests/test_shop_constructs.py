@@ -284,3 +284,40 @@ def test_a_main_program_repeating_itself_for_ever_stops_soon(
     # a loop whose state changes (a counter) runs to its exit
     counted = "G21\n#1=0\nN1 #1=#1+1\nIF [#1 GT 9] GOTO 99\nG0 X#1\nGOTO 1\nN99 M30\n"
     assert len(_ends(counted, "fanuc")) == 9
+
+
+def test_siemens_setms_of_spindle_1_and_g290_change_nothing() -> None:
+    # SETMS / SETMS(1): spindle 1 is the master (the IR's only spindle); G290: Siemens mode
+    plain = "G0 X1 Y2\nS1000 M3\nG1 X5 F100\nM30\n"
+    marked = "G290\nSETMS(1)\nG0 X1 Y2\nSETMS\nS1000 M3\nG1 X5 F100\nM30\n"
+    assert _ends(marked, "siemens840d") == _ends(plain, "siemens840d")
+    err = _error("G0 X1\nSETMS(2)\nM30\n", "siemens840d")
+    assert (err.code, err.location.line) == ("SIEM-UNSUPPORTED", 2) and "SETMS(2)" in err.message
+    err = _error("G291\nG0 X1\n", "siemens840d")
+    assert (err.code, err.location.line) == ("SIEM-G-CODE", 1) and "ISO dialect" in err.message
+
+
+@pytest.mark.parametrize(
+    ("text", "code", "column", "named"),
+    [
+        ("ID=1 WHENEVER $A_IN[1] DO OVR=0\n", "SIEM-UNSUPPORTED", 6, "WHENEVER"),
+        ("N1 DO G0 X10 Y20\n", "SIEM-UNSUPPORTED", 4, "DO"),
+        ("SETINT(3) PRIO=1 LIFTFAST\n", "SIEM-UNSUPPORTED", 1, "SETINT"),
+        ("ISOCALL\n", "SIEM-UNSUPPORTED", 1, "ISOCALL"),
+        ("N100 MCALL L350\n", "SIEM-UNSUPPORTED", 12, "MCALL L350"),
+        ("G[1] = 1\n", "SIEM-UNSUPPORTED", 1, "G[...]"),
+        ("G0 X0 Y0\nG3 X70 Y10 R=R10\n", "SIEM-WORD", 12, "CR="),
+        ("PROC CYCLE32(REAL VELO, INT DIR)\nG0 X1\nRET\n", "SIEM-PROC", 1, "CYCLE32"),
+    ],
+)
+def test_siemens_constructs_the_reader_does_not_read_are_named(
+    text: str, code: str, column: int, named: str
+) -> None:
+    err = _error(text, "siemens840d")
+    assert (err.code, err.location.column) == (code, column)
+    assert named in err.message
+
+
+def test_siemens_machine_data_with_two_indexes_is_refused_by_name() -> None:
+    err = _error("R3 = ABS($MA_ACT_POS_ABS[0, AX1])\n", "siemens840d")
+    assert err.code == "SIEM-UNSUPPORTED" and "$MA_ACT_POS_ABS[0,AX1]" in err.message

@@ -318,6 +318,8 @@ class Runner:
             raise Diagnostic(
                 "SIEM-ALARM", f"the program sets alarm {number:g} (SETAL) and stops", ex.loc
             )
+        elif kind == "SETMS":
+            self.master_spindle(block, scope)
         elif kind == "CYCLE":
             run_cycle(ex, block.args[0], block.args[1], scope)
         elif kind == "MCALL":
@@ -342,6 +344,27 @@ class Runner:
             self._return(level, block)
         elif kind == "PROC" and index != _first_code_line(level.program, index):
             raise Diagnostic("SIEM-PROC", "PROC must be the first block of a subprogram", ex.loc)
+        elif kind == "PROC" and len(self.levels) == 1 and block.args[1]:
+            raise Diagnostic(
+                "SIEM-PROC",
+                f"PROC {block.args[0]} with parameters run as the main program: its "
+                "parameters get their values from a call, and nothing calls it",
+                ex.loc,
+            )
+
+    def master_spindle(self, block: Block, scope: Variables) -> None:
+        """``SETMS(n)`` declares spindle n the master spindle, ``SETMS`` the one of the
+        machine data (job planning, "Master spindle"). The IR has one spindle, spindle 1:
+        SETMS and SETMS(1) change nothing; another spindle is refused."""
+        args = block.args
+        number = evaluate(args[0], scope) if args and args[0] is not None else 1.0
+        if len(args) > 1 or number != 1:
+            raise Diagnostic(
+                "SIEM-UNSUPPORTED",
+                f"SETMS({number:g}): a master spindle other than spindle 1 (the IR has one "
+                "spindle)",
+                self.ex.loc,
+            )
 
     def frame(self, level: Level, block: Block) -> None:
         ex = self.ex
