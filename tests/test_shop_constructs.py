@@ -8,11 +8,13 @@ system variables, bit operators and SETAL.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from gcode.fanuc import flow as fanuc_flow
 from gcode.ngc.interpreter import InterpreterOptions
-from gcode.readers import read_text
+from gcode.readers import read, read_text
 from gcode.siemens import flow as siemens_flow
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
@@ -304,7 +306,7 @@ def test_siemens_setms_of_spindle_1_and_g290_change_nothing() -> None:
         ("N1 DO G0 X10 Y20\n", "SIEM-UNSUPPORTED", 4, "DO"),
         ("SETINT(3) PRIO=1 LIFTFAST\n", "SIEM-UNSUPPORTED", 1, "SETINT"),
         ("ISOCALL\n", "SIEM-UNSUPPORTED", 1, "ISOCALL"),
-        ("N100 MCALL L350\n", "SIEM-UNSUPPORTED", 12, "MCALL L350"),
+        ("N120 MCALL (10,20,30,50)\n", "SIEM-SYNTAX", 12, "name"),
         ("G[1] = 1\n", "SIEM-UNSUPPORTED", 1, "G[...]"),
         ("G0 X0 Y0\nG3 X70 Y10 R=R10\n", "SIEM-WORD", 12, "CR="),
         ("PROC CYCLE32(REAL VELO, INT DIR)\nG0 X1\nRET\n", "SIEM-PROC", 1, "CYCLE32"),
@@ -321,3 +323,36 @@ def test_siemens_constructs_the_reader_does_not_read_are_named(
 def test_siemens_machine_data_with_two_indexes_is_refused_by_name() -> None:
     err = _error("R3 = ABS($MA_ACT_POS_ABS[0, AX1])\n", "siemens840d")
     assert err.code == "SIEM-UNSUPPORTED" and "$MA_ACT_POS_ABS[0,AX1]" in err.message
+
+
+def test_siemens_modal_subprogram_call_after_each_motion_block(tmp_path: Path) -> None:
+    # job planning, "Modal subprogram call": MCALL L10 calls L10 after every block with
+    # path motion until MCALL alone; arguments are evaluated at each call; the moves of
+    # the called subprogram call nothing
+    (tmp_path / "L10.SPF").write_text("G1 Z-1 F100\nG0 Z1\nM17\n")
+    (tmp_path / "HOLE.SPF").write_text("PROC HOLE(REAL DD)\nG1 Z=-DD F50\nG0 Z2\nRET\n")
+    main = tmp_path / "main.mpf"
+    main.write_text(
+        "G0 X0 Y0 Z1\nMCALL L10\nG0 X10 Y10\nX20\nMCALL\nX30\n"
+        "R1=3\nMCALL HOLE(R1)\nX40\nR1=4\nY20\nMCALL\nM30\n"
+    )
+    ir = read(main, "siemens840d", InterpreterOptions(search_path=(str(tmp_path),)))
+    ends = [
+        (c.x, c.y, c.z) for c in ir if isinstance(c, canon.StraightFeed | canon.StraightTraverse)
+    ]
+    assert ends == [
+        (0.0, 0.0, 1.0),
+        (10.0, 10.0, 1.0),
+        (10.0, 10.0, -1.0),
+        (10.0, 10.0, 1.0),
+        (20.0, 10.0, 1.0),
+        (20.0, 10.0, -1.0),
+        (20.0, 10.0, 1.0),
+        (30.0, 10.0, 1.0),
+        (40.0, 10.0, 1.0),
+        (40.0, 10.0, -3.0),
+        (40.0, 10.0, 2.0),
+        (40.0, 20.0, 2.0),
+        (40.0, 20.0, -4.0),
+        (40.0, 20.0, 2.0),
+    ]

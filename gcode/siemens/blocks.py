@@ -564,16 +564,14 @@ class _Statement:
         if self.done():
             self.b.kind, self.b.args = "MCALL", (None, ())
             return
-        at = self.loc()
         head = self._program_name()
-        if not head.startswith("CYCLE"):
-            raise Diagnostic(
-                "SIEM-UNSUPPORTED",
-                f"MCALL {head}: a modal call of a subprogram is not read (only of the "
-                "drilling cycles)",
-                at,
-            )
-        self.b.kind, self.b.args = "MCALL", (head, self._arguments(head))
+        if head.startswith("CYCLE"):
+            args: tuple[Node | None, ...] | None = self._arguments(head)
+        else:  # a subprogram: MCALL L10, MCALL NAME(1, 2)
+            args = self._arguments(head) if self.is_op("(") else None
+            if args == (None,):
+                args = ()
+        self.b.kind, self.b.args = "MCALL", (head, args)
         self.end()
 
     def _frame(self, head: str) -> None:

@@ -299,7 +299,10 @@ class Executor(Machine):
             s.motion = g[1]
         moved = motion.execute(self, vals, g.get(11) == 9)
         if moved and s.mcall is not None:
-            run_cycle(self, s.mcall[0], s.mcall[1], scope)
+            if s.mcall[0].startswith("CYCLE"):
+                run_cycle(self, s.mcall[0], s.mcall[1] or (), scope)
+            else:
+                self.modal_call_due = True  # a subprogram: the runner calls it
         for code in (0, 1):
             if code in m:
                 cls = canon.ProgramStop if code == 0 else canon.OptionalProgramStop

@@ -84,6 +84,7 @@ class Level:
     #: VAR parameters: (parameter name, the caller's target) written back at the return
     results: tuple[tuple[str, tuple], ...] = ()
     sections: list[Section] = field(default_factory=list)
+    modal: bool = False  # called by MCALL: its own moves call nothing
 
 
 class Runner:
@@ -121,8 +122,12 @@ class Runner:
                 if words is not None:
                     if words:
                         ex.loc = Location(program.name, index + 1, words[0][2])
-                        if ex.execute_words(words, level.scope) and self._return(level, END):
-                            break
+                        if ex.execute_words(words, level.scope):
+                            ex.modal_call_due = False
+                            if self._return(level, END):
+                                break
+                        elif ex.modal_call_due:
+                            self._modal_call(level)
                         if out:
                             guard.output += len(out)
                             yield from out
@@ -136,8 +141,12 @@ class Runner:
                     out.append(canon.Comment(block.comment, source=ex.loc))
                 if block.kind == "nc":
                     ended = bool(block.items) and ex.execute(block, level.scope)
-                    if ended and self._return(level, block):
-                        break
+                    if ended:
+                        ex.modal_call_due = False
+                        if self._return(level, block):
+                            break
+                    elif ex.modal_call_due:
+                        self._modal_call(level)
                 else:
                     self.statement(level, block, index)
                 if level.sections and level.sections[-1].end == index:
@@ -185,6 +194,20 @@ class Runner:
         s.direction = canon.Direction.STOPPED
         ex.emit(canon.StopSpindleTurning(source=loc))
         ex.emit(canon.ProgramEnd(source=loc))
+
+    def _modal_call(self, level: Level) -> None:
+        """``MCALL NAME``: NAME is called after each block that moves (job planning, "Modal
+        subprogram call": the subprogram runs after every block with path motion until
+        MCALL alone), with the arguments evaluated at each call; not from the blocks of the
+        modally called subprogram itself."""
+        ex = self.ex
+        ex.modal_call_due = False
+        if ex.s.mcall is None or any(open_level.modal for open_level in self.levels):
+            return
+        name, args = ex.s.mcall
+        call = Block(ex.loc.line or 0, kind="CALL", args=(name, ("num", 1.0), args))
+        self.call(level, call)
+        self.levels[-1].modal = True
 
     def call(self, level: Level, block: Block) -> None:
         name, repeat_node, args = block.args
@@ -323,9 +346,10 @@ class Runner:
         elif kind == "CYCLE":
             run_cycle(ex, block.args[0], block.args[1], scope)
         elif kind == "MCALL":
-            if block.args[0] is not None:
-                check_cycle(ex, block.args[0], block.args[1])
-            ex.s.mcall = None if block.args[0] is None else (block.args[0], block.args[1])
+            head, args = block.args
+            if head is not None and head.startswith("CYCLE"):
+                check_cycle(ex, head, args)
+            ex.s.mcall = None if head is None else (head, args)
         elif kind == "CALL":
             self.call(level, block)
         elif kind == "CASE":
