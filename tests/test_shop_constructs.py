@@ -356,3 +356,44 @@ def test_siemens_modal_subprogram_call_after_each_motion_block(tmp_path: Path) -
         (40.0, 20.0, -4.0),
         (40.0, 20.0, 2.0),
     ]
+
+
+def test_siemens_cycle_with_a_program_file_beside_is_called_as_that_subprogram(
+    tmp_path: Path,
+) -> None:
+    # the 840D searches the program's own directory before its cycle directories: a
+    # CYCLE81.SPF there is the cycle called (with the arguments), also under MCALL
+    (tmp_path / "CYCLE81.SPF").write_text(
+        "PROC CYCLE81(REAL RTP, REAL RFP, REAL SDIS, REAL DP, REAL DPR)\n"
+        "G1 Z=DP F100\nG0 Z=RTP\nRET\n"
+    )
+    main = tmp_path / "main.mpf"
+    main.write_text(
+        "G0 X1 Y1 Z5\nCYCLE81(10, 0, 2, -3)\nMCALL CYCLE81(8, 0, 2, -4)\nG0 X2\nMCALL\nM30\n"
+    )
+    ir = read(main, "siemens840d", InterpreterOptions(search_path=(str(tmp_path),)))
+    ends = [
+        (c.x, c.y, c.z) for c in ir if isinstance(c, canon.StraightFeed | canon.StraightTraverse)
+    ]
+    assert ends == [
+        (1.0, 1.0, 5.0),
+        (1.0, 1.0, -3.0),
+        (1.0, 1.0, 10.0),
+        (2.0, 1.0, 10.0),
+        (2.0, 1.0, -4.0),
+        (2.0, 1.0, 8.0),
+    ]
+    # without the file the reader's own expansion: G0 to RFP + SDIS, G1 to DP, G0 to RTP
+    main.write_text("G0 X1 Y1 Z5\nF100\nCYCLE81(10, 0, 2, -3)\nM30\n")
+    (tmp_path / "CYCLE81.SPF").unlink()
+    ir = read(main, "siemens840d", InterpreterOptions(search_path=(str(tmp_path),)))
+    ends = [
+        (c.x, c.y, c.z) for c in ir if isinstance(c, canon.StraightFeed | canon.StraightTraverse)
+    ]
+    assert ends == [(1.0, 1.0, 5.0), (1.0, 1.0, 2.0), (1.0, 1.0, -3.0), (1.0, 1.0, 10.0)]
+
+
+def test_siemens_single_block_suppression_leaves_the_path() -> None:
+    plain = "G0 X1 Y2\nG1 X5 F100\nM30\n"
+    marked = "SBLOF\nG0 X1 Y2\nSBLON\nG1 X5 F100\nM30\n"
+    assert _ends(marked, "siemens840d") == _ends(plain, "siemens840d")

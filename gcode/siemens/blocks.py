@@ -95,12 +95,14 @@ SYNCHRONIZED = frozenset({"WHEN", "WHENEVER", "EVERY", "FROM", "DO"})
 #: orientation interpolation without a transformation, switching a transformation off while
 #: none is on) and not where it goes: read and ignored, the IR has no such setting
 #: (fundamentals and job planning: SOFT/BRISK/DRIVE, FFWON, COMPCAD, STOPRE, CFC, FNORM,
-#: UPATH/SPATH, DYNNORM..., ORIWKS, TRAFOOF)
+#: UPATH/SPATH, DYNNORM..., ORIWKS, TRAFOOF), and single-block suppression SBLOF/SBLON (job
+#: planning, "Single block suppression": the operator's single-block mode, not the path)
 NEUTRAL = frozenset(
     {"SOFT", "BRISK", "DRIVE", "SOFTA", "BRISKA", "FFWON", "FFWOF", "COMPON", "COMPCURV"}
     | {"COMPCAD", "COMPOF", "STOPRE", "CFC", "CFTCP", "CFIN", "FNORM", "UPATH", "SPATH"}
     | {"DYNNORM", "DYNPOS", "DYNROUGH", "DYNSEMIFIN", "DYNFINISH", "ORIWKS", "ORIMKS"}
     | {"ORIAXES", "ORIVECT", "TRAFOOF", "CPRECON", "CPRECOF"}
+    | {"SBLOF", "SBLON"}
 )
 #: axis-indexed dynamic settings (``ACC[X]=50``: acceleration, jerk and velocity limits in
 #: percent): like the NEUTRAL instructions they change how the path is run, not where

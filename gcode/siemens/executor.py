@@ -299,10 +299,10 @@ class Executor(Machine):
             s.motion = g[1]
         moved = motion.execute(self, vals, g.get(11) == 9)
         if moved and s.mcall is not None:
-            if s.mcall[0].startswith("CYCLE"):
-                run_cycle(self, s.mcall[0], s.mcall[1] or (), scope)
+            if s.mcall[2]:
+                self.modal_call_due = True  # a program file: the runner calls it
             else:
-                self.modal_call_due = True  # a subprogram: the runner calls it
+                run_cycle(self, s.mcall[0], s.mcall[1] or (), scope)
         for code in (0, 1):
             if code in m:
                 cls = canon.ProgramStop if code == 0 else canon.OptionalProgramStop

@@ -98,6 +98,8 @@ class Runner:
         self.repeat_guard = RepeatGuard(MAX_STATES, MAX_REPEATS)  # at unconditional jumps back
         opts = ex.options
         self.guard = LoopGuard(opts.max_blocks, opts.max_idle_blocks)
+        #: (cycle name, calling program) -> whether a program file of that name is found
+        self.cycle_files: dict[tuple[str, str], bool] = {}
 
     def run(self) -> Iterator[canon.Command]:
         ex = self.ex
@@ -195,6 +197,19 @@ class Runner:
         ex.emit(canon.StopSpindleTurning(source=loc))
         ex.emit(canon.ProgramEnd(source=loc))
 
+    def _cycle_file(self, name: str, level: Level) -> bool:
+        """Whether cycle ``name`` is a program file on the search path (or beside the
+        calling program). The 840D looks for a called name in the program's own
+        directories before its cycle directories (job planning, "Subprogram call", search
+        path), so a CYCLE81.SPF there is called as a subprogram with the arguments, and
+        only a name without such a file is the standard cycle this reader expands."""
+        key = (name, level.program.name)
+        found = self.cycle_files.get(key)
+        if found is None:
+            path = find_subprogram(name, self.ex.options.search_path, level.program.name)
+            found = self.cycle_files[key] = path is not None
+        return found
+
     def _modal_call(self, level: Level) -> None:
         """``MCALL NAME``: NAME is called after each block that moves (job planning, "Modal
         subprogram call": the subprogram runs after every block with path motion until
@@ -204,7 +219,7 @@ class Runner:
         ex.modal_call_due = False
         if ex.s.mcall is None or any(open_level.modal for open_level in self.levels):
             return
-        name, args = ex.s.mcall
+        name, args, _ = ex.s.mcall
         call = Block(ex.loc.line or 0, kind="CALL", args=(name, ("num", 1.0), args))
         self.call(level, call)
         self.levels[-1].modal = True
@@ -344,12 +359,24 @@ class Runner:
         elif kind == "SETMS":
             self.master_spindle(block, scope)
         elif kind == "CYCLE":
-            run_cycle(ex, block.args[0], block.args[1], scope)
+            if self._cycle_file(block.args[0], level):
+                self.call(
+                    level,
+                    Block(
+                        block.line, kind="CALL", args=(*block.args[:1], ("num", 1.0), block.args[1])
+                    ),
+                )
+            else:
+                run_cycle(ex, block.args[0], block.args[1], scope)
         elif kind == "MCALL":
             head, args = block.args
-            if head is not None and head.startswith("CYCLE"):
-                check_cycle(ex, head, args)
-            ex.s.mcall = None if head is None else (head, args)
+            if head is None:
+                ex.s.mcall = None
+            else:
+                by_program = not head.startswith("CYCLE") or self._cycle_file(head, level)
+                if not by_program:
+                    check_cycle(ex, head, args)
+                ex.s.mcall = (head, args, by_program)
         elif kind == "CALL":
             self.call(level, block)
         elif kind == "CASE":
