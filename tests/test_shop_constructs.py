@@ -8,11 +8,13 @@ system variables, bit operators and SETAL.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from gcode.fanuc import flow as fanuc_flow
 from gcode.ngc.interpreter import InterpreterOptions
-from gcode.readers import read_text
+from gcode.readers import read, read_text
 from gcode.siemens import flow as siemens_flow
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
@@ -284,3 +286,114 @@ def test_a_main_program_repeating_itself_for_ever_stops_soon(
     # a loop whose state changes (a counter) runs to its exit
     counted = "G21\n#1=0\nN1 #1=#1+1\nIF [#1 GT 9] GOTO 99\nG0 X#1\nGOTO 1\nN99 M30\n"
     assert len(_ends(counted, "fanuc")) == 9
+
+
+def test_siemens_setms_of_spindle_1_and_g290_change_nothing() -> None:
+    # SETMS / SETMS(1): spindle 1 is the master (the IR's only spindle); G290: Siemens mode
+    plain = "G0 X1 Y2\nS1000 M3\nG1 X5 F100\nM30\n"
+    marked = "G290\nSETMS(1)\nG0 X1 Y2\nSETMS\nS1000 M3\nG1 X5 F100\nM30\n"
+    assert _ends(marked, "siemens840d") == _ends(plain, "siemens840d")
+    err = _error("G0 X1\nSETMS(2)\nM30\n", "siemens840d")
+    assert (err.code, err.location.line) == ("SIEM-UNSUPPORTED", 2) and "SETMS(2)" in err.message
+    err = _error("G291\nG0 X1\n", "siemens840d")
+    assert (err.code, err.location.line) == ("SIEM-G-CODE", 1) and "ISO dialect" in err.message
+
+
+@pytest.mark.parametrize(
+    ("text", "code", "column", "named"),
+    [
+        ("ID=1 WHENEVER $A_IN[1] DO OVR=0\n", "SIEM-UNSUPPORTED", 6, "WHENEVER"),
+        ("N1 DO G0 X10 Y20\n", "SIEM-UNSUPPORTED", 4, "DO"),
+        ("SETINT(3) PRIO=1 LIFTFAST\n", "SIEM-UNSUPPORTED", 1, "SETINT"),
+        ("ISOCALL\n", "SIEM-UNSUPPORTED", 1, "ISOCALL"),
+        ("N120 MCALL (10,20,30,50)\n", "SIEM-SYNTAX", 12, "name"),
+        ("G[1] = 1\n", "SIEM-UNSUPPORTED", 1, "G[...]"),
+        ("G0 X0 Y0\nG3 X70 Y10 R=R10\n", "SIEM-WORD", 12, "CR="),
+        ("PROC CYCLE32(REAL VELO, INT DIR)\nG0 X1\nRET\n", "SIEM-PROC", 1, "CYCLE32"),
+    ],
+)
+def test_siemens_constructs_the_reader_does_not_read_are_named(
+    text: str, code: str, column: int, named: str
+) -> None:
+    err = _error(text, "siemens840d")
+    assert (err.code, err.location.column) == (code, column)
+    assert named in err.message
+
+
+def test_siemens_machine_data_with_two_indexes_is_refused_by_name() -> None:
+    err = _error("R3 = ABS($MA_ACT_POS_ABS[0, AX1])\n", "siemens840d")
+    assert err.code == "SIEM-UNSUPPORTED" and "$MA_ACT_POS_ABS[0,AX1]" in err.message
+
+
+def test_siemens_modal_subprogram_call_after_each_motion_block(tmp_path: Path) -> None:
+    # job planning, "Modal subprogram call": MCALL L10 calls L10 after every block with
+    # path motion until MCALL alone; arguments are evaluated at each call; the moves of
+    # the called subprogram call nothing
+    (tmp_path / "L10.SPF").write_text("G1 Z-1 F100\nG0 Z1\nM17\n")
+    (tmp_path / "HOLE.SPF").write_text("PROC HOLE(REAL DD)\nG1 Z=-DD F50\nG0 Z2\nRET\n")
+    main = tmp_path / "main.mpf"
+    main.write_text(
+        "G0 X0 Y0 Z1\nMCALL L10\nG0 X10 Y10\nX20\nMCALL\nX30\n"
+        "R1=3\nMCALL HOLE(R1)\nX40\nR1=4\nY20\nMCALL\nM30\n"
+    )
+    ir = read(main, "siemens840d", InterpreterOptions(search_path=(str(tmp_path),)))
+    ends = [
+        (c.x, c.y, c.z) for c in ir if isinstance(c, canon.StraightFeed | canon.StraightTraverse)
+    ]
+    assert ends == [
+        (0.0, 0.0, 1.0),
+        (10.0, 10.0, 1.0),
+        (10.0, 10.0, -1.0),
+        (10.0, 10.0, 1.0),
+        (20.0, 10.0, 1.0),
+        (20.0, 10.0, -1.0),
+        (20.0, 10.0, 1.0),
+        (30.0, 10.0, 1.0),
+        (40.0, 10.0, 1.0),
+        (40.0, 10.0, -3.0),
+        (40.0, 10.0, 2.0),
+        (40.0, 20.0, 2.0),
+        (40.0, 20.0, -4.0),
+        (40.0, 20.0, 2.0),
+    ]
+
+
+def test_siemens_cycle_with_a_program_file_beside_is_called_as_that_subprogram(
+    tmp_path: Path,
+) -> None:
+    # the 840D searches the program's own directory before its cycle directories: a
+    # CYCLE81.SPF there is the cycle called (with the arguments), also under MCALL
+    (tmp_path / "CYCLE81.SPF").write_text(
+        "PROC CYCLE81(REAL RTP, REAL RFP, REAL SDIS, REAL DP, REAL DPR)\n"
+        "G1 Z=DP F100\nG0 Z=RTP\nRET\n"
+    )
+    main = tmp_path / "main.mpf"
+    main.write_text(
+        "G0 X1 Y1 Z5\nCYCLE81(10, 0, 2, -3)\nMCALL CYCLE81(8, 0, 2, -4)\nG0 X2\nMCALL\nM30\n"
+    )
+    ir = read(main, "siemens840d", InterpreterOptions(search_path=(str(tmp_path),)))
+    ends = [
+        (c.x, c.y, c.z) for c in ir if isinstance(c, canon.StraightFeed | canon.StraightTraverse)
+    ]
+    assert ends == [
+        (1.0, 1.0, 5.0),
+        (1.0, 1.0, -3.0),
+        (1.0, 1.0, 10.0),
+        (2.0, 1.0, 10.0),
+        (2.0, 1.0, -4.0),
+        (2.0, 1.0, 8.0),
+    ]
+    # without the file the reader's own expansion: G0 to RFP + SDIS, G1 to DP, G0 to RTP
+    main.write_text("G0 X1 Y1 Z5\nF100\nCYCLE81(10, 0, 2, -3)\nM30\n")
+    (tmp_path / "CYCLE81.SPF").unlink()
+    ir = read(main, "siemens840d", InterpreterOptions(search_path=(str(tmp_path),)))
+    ends = [
+        (c.x, c.y, c.z) for c in ir if isinstance(c, canon.StraightFeed | canon.StraightTraverse)
+    ]
+    assert ends == [(1.0, 1.0, 5.0), (1.0, 1.0, 2.0), (1.0, 1.0, -3.0), (1.0, 1.0, 10.0)]
+
+
+def test_siemens_single_block_suppression_leaves_the_path() -> None:
+    plain = "G0 X1 Y2\nG1 X5 F100\nM30\n"
+    marked = "SBLOF\nG0 X1 Y2\nSBLON\nG1 X5 F100\nM30\n"
+    assert _ends(marked, "siemens840d") == _ends(plain, "siemens840d")

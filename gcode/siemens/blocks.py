@@ -50,7 +50,6 @@ UNSUPPORTED = frozenset(
         "CSPLINE",
         "POLY",
         "OFFN",
-        "SETMS",
         "SPCON",
         "SPCOF",
         "CTAB",
@@ -79,19 +78,31 @@ UNSUPPORTED = frozenset(
         "RELEASE",
         "DEFINE",
         "GOTOS",
+        "ISOCALL",
+        "SETINT",
+        "CLRINT",
+        "ENABLE",
+        "DISABLE",
+        "PROCESSING",
     ]
 )
+#: the conditions of synchronized actions (job planning, "Motion-synchronous actions":
+#: ``ID=1 WHENEVER $A_IN[1] DO ...``, ``DO ...``): run by the NC in the interpolation cycle,
+#: beside the program; the IR has no such actions, so the block is refused (naming them)
+SYNCHRONIZED = frozenset({"WHEN", "WHENEVER", "EVERY", "FROM", "DO"})
 #: 840D instructions that change how the path is run (jerk and acceleration profiles,
 #: feedforward, compressor, look-ahead stop, feed correction under radius compensation,
 #: orientation interpolation without a transformation, switching a transformation off while
 #: none is on) and not where it goes: read and ignored, the IR has no such setting
 #: (fundamentals and job planning: SOFT/BRISK/DRIVE, FFWON, COMPCAD, STOPRE, CFC, FNORM,
-#: UPATH/SPATH, DYNNORM..., ORIWKS, TRAFOOF)
+#: UPATH/SPATH, DYNNORM..., ORIWKS, TRAFOOF), and single-block suppression SBLOF/SBLON (job
+#: planning, "Single block suppression": the operator's single-block mode, not the path)
 NEUTRAL = frozenset(
     {"SOFT", "BRISK", "DRIVE", "SOFTA", "BRISKA", "FFWON", "FFWOF", "COMPON", "COMPCURV"}
     | {"COMPCAD", "COMPOF", "STOPRE", "CFC", "CFTCP", "CFIN", "FNORM", "UPATH", "SPATH"}
     | {"DYNNORM", "DYNPOS", "DYNROUGH", "DYNSEMIFIN", "DYNFINISH", "ORIWKS", "ORIMKS"}
     | {"ORIAXES", "ORIVECT", "TRAFOOF", "CPRECON", "CPRECOF"}
+    | {"SBLOF", "SBLON"}
 )
 #: axis-indexed dynamic settings (``ACC[X]=50``: acceleration, jerk and velocity limits in
 #: percent): like the NEUTRAL instructions they change how the path is run, not where
@@ -231,6 +242,7 @@ class _Statement:
             return
         tok = self.t[self.i]
         b = self.b
+        self._synchronized_action()
         if tok.kind == NAME and not self._assignment_ahead():
             head = tok.text
             if head == "REPEAT" and self.i + 1 < len(self.t):
@@ -270,6 +282,11 @@ class _Statement:
                 self._arguments(head)
                 self.end()
                 return
+            if head == "SETMS":
+                self.i += 1
+                b.kind, b.args = "SETMS", self._arguments(head) if self.is_op("(") else ()
+                self.end()
+                return
             if head == "SETAL" and self.i + 1 < len(self.t) and _op(self.t[self.i + 1], "("):
                 self.i += 1
                 b.kind, b.args = "ALARM", self._arguments(head)
@@ -288,6 +305,26 @@ class _Statement:
             self._call(tok.text)
             return
         self._nc()
+
+    def _synchronized_action(self) -> None:
+        """Refuse a synchronized action: a block beginning with ``WHEN``, ``WHENEVER``,
+        ``EVERY``, ``FROM`` or ``DO``, or with ``ID=n``/``IDS=n`` before one of them."""
+        t, i = self.t, self.i
+        if (
+            t[i].kind == NAME
+            and t[i].text in ("ID", "IDS")
+            and i + 2 < len(t)
+            and _op(t[i + 1], "=")
+        ):
+            i += 3
+        if i < len(t) and t[i].kind == NAME and t[i].text in SYNCHRONIZED:
+            self.i = i
+            form = "DO ..." if t[i].text == "DO" else f"{t[i].text} ... DO ..."
+            raise self.error(
+                "SIEM-UNSUPPORTED",
+                f"synchronized action ({form}): actions the NC runs beside the program in "
+                "the interpolation cycle are not read",
+            )
 
     def _assignment_ahead(self) -> bool:
         j = self.i + 1
@@ -529,12 +566,14 @@ class _Statement:
         if self.done():
             self.b.kind, self.b.args = "MCALL", (None, ())
             return
-        head = self.name()
-        if not head.startswith("CYCLE"):
-            raise self.error(
-                "SIEM-UNSUPPORTED", f"MCALL {head}: only drilling cycles are supported"
-            )
-        self.b.kind, self.b.args = "MCALL", (head, self._arguments(head))
+        head = self._program_name()
+        if head.startswith("CYCLE"):
+            args: tuple[Node | None, ...] | None = self._arguments(head)
+        else:  # a subprogram: MCALL L10, MCALL NAME(1, 2)
+            args = self._arguments(head) if self.is_op("(") else None
+            if args == (None,):
+                args = ()
+        self.b.kind, self.b.args = "MCALL", (head, args)
         self.end()
 
     def _frame(self, head: str) -> None:
@@ -644,6 +683,18 @@ class _Statement:
                 raise self.error("SIEM-UNSUPPORTED", f"{name}= is not supported by this reader")
             if name in ABSENT_AXES:
                 raise self.error("SIEM-AXIS", _no_axis(name))
+            if name in LETTERS and _op(t[self.i + 1], "["):
+                raise self.error(
+                    "SIEM-UNSUPPORTED",
+                    f"{name}[...]=: indirect programming (a G or M function by its group and "
+                    "number) is not read",
+                )
+            if name == "R" and _op(t[self.i + 1], "="):
+                raise self.error(
+                    "SIEM-WORD",
+                    "R=: an R parameter is written with its number (R10=...); a circle's "
+                    "radius is CR=",
+                )
             if name in LETTERS or name in EXTENDED:
                 self.i += 2
                 items.append(self._value(name, tok.col))

@@ -23,7 +23,9 @@ from kernel.ir import canon
 
 INCH_MM = 25.4
 #: G code -> modal group (840D groups: 1 motion, 2 non-modal, 6 plane, 8 settable frame,
-#: 10 path control, 13 units, 14 distance, 15 feed type, 11 exact stop non-modal)
+#: 10 path control, 13 units, 14 distance, 15 feed type, 11 exact stop non-modal, 47 the
+#: NC language: G290 Siemens mode, the mode this reader reads, so selecting it changes
+#: nothing; G291, the ISO dialect mode (Fanuc syntax), is refused)
 G_GROUPS: dict[int, int] = {
     0: 1, 1: 1, 2: 1, 3: 1, 33: 1,
     4: 2, 9: 11,
@@ -38,6 +40,7 @@ G_GROUPS: dict[int, int] = {
     53: 9, 153: 9,
     93: 15, 94: 15, 95: 15,
     96: 29, 97: 29,
+    290: 47,
 }  # fmt: skip
 G_GROUPS.update(dict.fromkeys(range(505, 600), 8))
 M_CODES = frozenset({0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 19, 30})
@@ -178,6 +181,13 @@ class Executor(Machine):
         if a == "G":
             code = int(value) if value == int(value) else -1
             group = G_GROUPS.get(code)
+            if code == 291:
+                raise Diagnostic(
+                    "SIEM-G-CODE",
+                    "G291 switches to the ISO dialect (Fanuc syntax), which this reader does "
+                    "not read (it reads Siemens mode, G290)",
+                    self._col(col),
+                )
             if group is None:
                 raise Diagnostic(
                     "SIEM-G-CODE", f"G{value:g} is not supported by this reader", self._col(col)
@@ -289,7 +299,10 @@ class Executor(Machine):
             s.motion = g[1]
         moved = motion.execute(self, vals, g.get(11) == 9)
         if moved and s.mcall is not None:
-            run_cycle(self, s.mcall[0], s.mcall[1], scope)
+            if s.mcall[2]:
+                self.modal_call_due = True  # a program file: the runner calls it
+            else:
+                run_cycle(self, s.mcall[0], s.mcall[1] or (), scope)
         for code in (0, 1):
             if code in m:
                 cls = canon.ProgramStop if code == 0 else canon.OptionalProgramStop

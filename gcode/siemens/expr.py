@@ -296,6 +296,13 @@ class Parser:
                 raise Diagnostic("SIEM-SYNTAX", f"index expected after {name}[", loc)
             index = tok.text
             self.pos += 1
+            while self._is(","):  # machine data: ``$MA_NAME[0, AX1]`` (element, axis)
+                self.pos += 1
+                tok = self.peek()
+                if tok is None or tok.kind not in (NAME, WORD, NUM):
+                    raise Diagnostic("SIEM-SYNTAX", f"index expected in {name}[", loc)
+                index += "," + tok.text
+                self.pos += 1
             self.expect("]")
         return ("sys", name, index, loc)
 

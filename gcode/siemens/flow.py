@@ -84,6 +84,7 @@ class Level:
     #: VAR parameters: (parameter name, the caller's target) written back at the return
     results: tuple[tuple[str, tuple], ...] = ()
     sections: list[Section] = field(default_factory=list)
+    modal: bool = False  # called by MCALL: its own moves call nothing
 
 
 class Runner:
@@ -97,6 +98,8 @@ class Runner:
         self.repeat_guard = RepeatGuard(MAX_STATES, MAX_REPEATS)  # at unconditional jumps back
         opts = ex.options
         self.guard = LoopGuard(opts.max_blocks, opts.max_idle_blocks)
+        #: (cycle name, calling program) -> whether a program file of that name is found
+        self.cycle_files: dict[tuple[str, str], bool] = {}
 
     def run(self) -> Iterator[canon.Command]:
         ex = self.ex
@@ -121,8 +124,12 @@ class Runner:
                 if words is not None:
                     if words:
                         ex.loc = Location(program.name, index + 1, words[0][2])
-                        if ex.execute_words(words, level.scope) and self._return(level, END):
-                            break
+                        if ex.execute_words(words, level.scope):
+                            ex.modal_call_due = False
+                            if self._return(level, END):
+                                break
+                        elif ex.modal_call_due:
+                            self._modal_call(level)
                         if out:
                             guard.output += len(out)
                             yield from out
@@ -136,8 +143,12 @@ class Runner:
                     out.append(canon.Comment(block.comment, source=ex.loc))
                 if block.kind == "nc":
                     ended = bool(block.items) and ex.execute(block, level.scope)
-                    if ended and self._return(level, block):
-                        break
+                    if ended:
+                        ex.modal_call_due = False
+                        if self._return(level, block):
+                            break
+                    elif ex.modal_call_due:
+                        self._modal_call(level)
                 else:
                     self.statement(level, block, index)
                 if level.sections and level.sections[-1].end == index:
@@ -185,6 +196,33 @@ class Runner:
         s.direction = canon.Direction.STOPPED
         ex.emit(canon.StopSpindleTurning(source=loc))
         ex.emit(canon.ProgramEnd(source=loc))
+
+    def _cycle_file(self, name: str, level: Level) -> bool:
+        """Whether cycle ``name`` is a program file on the search path (or beside the
+        calling program). The 840D looks for a called name in the program's own
+        directories before its cycle directories (job planning, "Subprogram call", search
+        path), so a CYCLE81.SPF there is called as a subprogram with the arguments, and
+        only a name without such a file is the standard cycle this reader expands."""
+        key = (name, level.program.name)
+        found = self.cycle_files.get(key)
+        if found is None:
+            path = find_subprogram(name, self.ex.options.search_path, level.program.name)
+            found = self.cycle_files[key] = path is not None
+        return found
+
+    def _modal_call(self, level: Level) -> None:
+        """``MCALL NAME``: NAME is called after each block that moves (job planning, "Modal
+        subprogram call": the subprogram runs after every block with path motion until
+        MCALL alone), with the arguments evaluated at each call; not from the blocks of the
+        modally called subprogram itself."""
+        ex = self.ex
+        ex.modal_call_due = False
+        if ex.s.mcall is None or any(open_level.modal for open_level in self.levels):
+            return
+        name, args, _ = ex.s.mcall
+        call = Block(ex.loc.line or 0, kind="CALL", args=(name, ("num", 1.0), args))
+        self.call(level, call)
+        self.levels[-1].modal = True
 
     def call(self, level: Level, block: Block) -> None:
         name, repeat_node, args = block.args
@@ -318,12 +356,27 @@ class Runner:
             raise Diagnostic(
                 "SIEM-ALARM", f"the program sets alarm {number:g} (SETAL) and stops", ex.loc
             )
+        elif kind == "SETMS":
+            self.master_spindle(block, scope)
         elif kind == "CYCLE":
-            run_cycle(ex, block.args[0], block.args[1], scope)
+            if self._cycle_file(block.args[0], level):
+                self.call(
+                    level,
+                    Block(
+                        block.line, kind="CALL", args=(*block.args[:1], ("num", 1.0), block.args[1])
+                    ),
+                )
+            else:
+                run_cycle(ex, block.args[0], block.args[1], scope)
         elif kind == "MCALL":
-            if block.args[0] is not None:
-                check_cycle(ex, block.args[0], block.args[1])
-            ex.s.mcall = None if block.args[0] is None else (block.args[0], block.args[1])
+            head, args = block.args
+            if head is None:
+                ex.s.mcall = None
+            else:
+                by_program = not head.startswith("CYCLE") or self._cycle_file(head, level)
+                if not by_program:
+                    check_cycle(ex, head, args)
+                ex.s.mcall = (head, args, by_program)
         elif kind == "CALL":
             self.call(level, block)
         elif kind == "CASE":
@@ -342,6 +395,27 @@ class Runner:
             self._return(level, block)
         elif kind == "PROC" and index != _first_code_line(level.program, index):
             raise Diagnostic("SIEM-PROC", "PROC must be the first block of a subprogram", ex.loc)
+        elif kind == "PROC" and len(self.levels) == 1 and block.args[1]:
+            raise Diagnostic(
+                "SIEM-PROC",
+                f"PROC {block.args[0]} with parameters run as the main program: its "
+                "parameters get their values from a call, and nothing calls it",
+                ex.loc,
+            )
+
+    def master_spindle(self, block: Block, scope: Variables) -> None:
+        """``SETMS(n)`` declares spindle n the master spindle, ``SETMS`` the one of the
+        machine data (job planning, "Master spindle"). The IR has one spindle, spindle 1:
+        SETMS and SETMS(1) change nothing; another spindle is refused."""
+        args = block.args
+        number = evaluate(args[0], scope) if args and args[0] is not None else 1.0
+        if len(args) > 1 or number != 1:
+            raise Diagnostic(
+                "SIEM-UNSUPPORTED",
+                f"SETMS({number:g}): a master spindle other than spindle 1 (the IR has one "
+                "spindle)",
+                self.ex.loc,
+            )
 
     def frame(self, level: Level, block: Block) -> None:
         ex = self.ex

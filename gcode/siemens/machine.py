@@ -42,6 +42,8 @@ class Machine:
         self.r: dict[int, float] = {}
         self.tool_names: dict[str, int] = {}  # T="NAME" -> the IR's tool number
         self.input_reads = 0  # reads of the PLC inputs $A_IN / $A_INA
+        #: a block moved under ``MCALL NAME``: the runner calls NAME after the block
+        self.modal_call_due = False
 
     def emit(self, cmd: canon.Command) -> None:
         """Append one IR command to the block's output."""

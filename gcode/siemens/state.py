@@ -45,6 +45,8 @@ class State:
     lead: float | None = None  # G33 K
     control: int = 60  # 60 exact stop, 64 continuous, 641 with ADIS= rounding
     adis: float = 0.0  # G641 rounding distance
-    mcall: tuple[str, tuple] | None = None  # modal cycle call (MCALL CYCLE81(...))
+    #: modal call (MCALL CYCLE81(...), MCALL L10): the cycle or subprogram, its arguments
+    #: (None: none written), and whether a program file is called (else a cycle expanded)
+    mcall: tuple[str, tuple | None, bool] | None = None
     probing: bool = False
     diameter: int = 0  # 0 DIAMOF, 1 DIAMON, 90 DIAM90 (X as a diameter)
