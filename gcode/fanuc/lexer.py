@@ -50,8 +50,9 @@ WordValue = int | float | tuple[Any, ...]
 
 @dataclass(slots=True)
 class FBlock:
-    """One parsed line. ``kind``: words, assign, if_goto, if_then, goto, while, do, end,
-    program (an ``O`` line), percent, empty."""
+    """One parsed line. ``kind``: words, assign, if_goto, if_then, if_block (Haas: IF [c]
+    then the block's assignment ``then`` and/or ``words``), goto, while, do, end, output
+    (POPEN, PCLOS, DPRNT, BPRNT), program (an ``O`` line), percent, empty."""
 
     line: int
     raw: str
@@ -214,8 +215,23 @@ class _Scanner:
             elif self.keyword("THEN", "TH"):
                 blk.kind = "if_then"
                 blk.then = self.assignment()
+            elif self.i < len(self.s):
+                # Haas: IF [c] <rest of the block>, without THEN (the Haas mill manual,
+                # "Macros", conditional execution: "IF [#1 NE #0] G1 X#24 Y#26 F#9",
+                # "IF [#1 GE 180] #101=0.0 M99"). Fanuc alarms: the flow refuses it there,
+                # at the column kept in ``label``.
+                blk.label = self.i
+                if self.peek() == "#":
+                    blk.then = self.assignment()
+                if self.i < len(self.s):
+                    self.words()
+                blk.kind = "if_block"
+                return
             else:
                 raise self.error("FANUC-SYNTAX", "GOTO or THEN expected after IF [...]")
+        elif self.output_command():
+            blk.kind = "output"
+            return
         elif self.at("GO") and not self.at("GO["):
             self.keyword("GOTO", "GO")
             blk.kind = "goto"
@@ -243,6 +259,27 @@ class _Scanner:
             return
         if self.i < len(self.s):
             raise self.error("FANUC-SYNTAX", f"unexpected '{self.s[self.i]}'")
+
+    def output_command(self) -> bool:
+        """Step over an external output command (custom macro manual, "External output
+        commands"; Haas alike): POPEN, PCLOS, DPRNT[...] or BPRNT[...]. They send text to a
+        device on the serial port and move nothing; the reader reads and ignores them."""
+        if self.s[self.i :] in ("POPEN", "PCLOS"):
+            self.i = len(self.s)
+            return True
+        if not (self.at("DPRNT[") or self.at("BPRNT[")):
+            return False
+        self.i += 5
+        depth = 0
+        for k in range(self.i, len(self.s)):
+            ch = self.s[k]
+            depth += (ch == "[") - (ch == "]")
+            if depth == 0:
+                if k + 1 != len(self.s):
+                    raise self.error("FANUC-SYNTAX", f"unexpected '{self.s[k + 1]}'", k + 1)
+                self.i = len(self.s)
+                return True
+        raise self.error("FANUC-SYNTAX", "']' expected", len(self.s))
 
     def label_value(self) -> Expr:
         if self.peek() in ("#", "["):
