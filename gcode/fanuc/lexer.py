@@ -264,6 +264,8 @@ class _Scanner:
         """Step over an external output command (custom macro manual, "External output
         commands"; Haas alike): POPEN, PCLOS, DPRNT[...] or BPRNT[...]. They send text to a
         device on the serial port and move nothing; the reader reads and ignores them."""
+        if self.peek() not in ("P", "D", "B"):  # the common case: one comparison
+            return False
         if self.s[self.i :] in ("POPEN", "PCLOS"):
             self.i = len(self.s)
             return True
