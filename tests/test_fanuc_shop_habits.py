@@ -123,3 +123,12 @@ def test_an_unclosed_dprnt_is_a_located_syntax_error() -> None:
     with pytest.raises(Diagnostic) as info:
         list(fanuc("%\nO00023\nDPRNT[X#5041[44]\nM30\n%\n"))
     assert (info.value.code, info.value.location.line) == ("FANUC-SYNTAX", 3)
+
+
+def test_a_program_name_after_o_is_a_located_syntax_error() -> None:
+    # a CAM system writing the program's name where the control wants its number
+    with pytest.raises(Diagnostic) as info:
+        list(fanuc_lathe("%\nOsample( cncsample.TXT )\nG0 X1.\nM30\n%\n"))
+    err = info.value
+    assert (err.code, err.location.line, err.location.column) == ("FANUC-SYNTAX", 2, 2)
+    assert "program number" in err.message

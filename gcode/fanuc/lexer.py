@@ -133,6 +133,10 @@ def parse_line(raw: str, line: int, file: str | None = None) -> FBlock:
         blk.kind = "program"
         blk.label = int(m.group(1))
         return blk
+    if sc.peek() == "O" and s[sc.i + 1 : sc.i + 2].isalpha():
+        # "Osample": a CAM system wrote the program's name where the control wants its
+        # number (O and up to 4 digits, 8 on the 30i); the control refuses the block
+        raise sc.error("FANUC-SYNTAX", "program number (digits) expected after O", sc.i + 1)
     m = _SEQ_RE.match(s, sc.i)
     if m is not None:
         blk.seq = int(m.group(1))
