@@ -144,6 +144,11 @@ class Reader:
             if kind == "words":
                 if self._words(blk, fr):
                     break
+            elif kind == "if_block":
+                if self._if_block(blk, fr):
+                    break
+            elif kind == "output":
+                continue
             else:
                 self._statement(blk, fr, idx)
         yield from out
@@ -184,6 +189,22 @@ class Reader:
         self.ex.depth = self.vars.depth
         self.ex.last_comment = blk.comment
         return any(self._act(action, fr, loc) for action in self.ex.block(items, loc))
+
+    def _if_block(self, blk: FBlock, fr: Frame) -> bool:
+        """Haas ``IF [c] <block>``: when c holds, the block's assignment and words run as a
+        block of their own; else the rest of the block is ignored (Haas mill manual,
+        "Macros", conditional execution). A Fanuc control wants GOTO or THEN there."""
+        path = fr.src.path
+        if not self.fl.if_without_then:
+            loc = Location(path, blk.line, blk.column(blk.label))
+            raise Diagnostic("FANUC-SYNTAX", "GOTO or THEN expected after IF [...]", loc)
+        loc = Location(path, blk.line, 1)
+        if not truth(blk.expr, self.vars, loc):
+            return False
+        if blk.then is not None:
+            target = evaluate(blk.then[0], self.vars, loc)
+            self.vars.write(target or 0.0, evaluate(blk.then[1], self.vars, loc), loc)
+        return bool(blk.words) and self._words(blk, fr)
 
     def _statement(self, blk: FBlock, fr: Frame, idx: int) -> None:
         loc = Location(fr.src.path, blk.line, 1)

@@ -50,8 +50,9 @@ WordValue = int | float | tuple[Any, ...]
 
 @dataclass(slots=True)
 class FBlock:
-    """One parsed line. ``kind``: words, assign, if_goto, if_then, goto, while, do, end,
-    program (an ``O`` line), percent, empty."""
+    """One parsed line. ``kind``: words, assign, if_goto, if_then, if_block (Haas: IF [c]
+    then the block's assignment ``then`` and/or ``words``), goto, while, do, end, output
+    (POPEN, PCLOS, DPRNT, BPRNT), program (an ``O`` line), percent, empty."""
 
     line: int
     raw: str
@@ -132,6 +133,10 @@ def parse_line(raw: str, line: int, file: str | None = None) -> FBlock:
         blk.kind = "program"
         blk.label = int(m.group(1))
         return blk
+    if sc.peek() == "O" and s[sc.i + 1 : sc.i + 2].isalpha():
+        # "Osample": a CAM system wrote the program's name where the control wants its
+        # number (O and up to 4 digits, 8 on the 30i); the control refuses the block
+        raise sc.error("FANUC-SYNTAX", "program number (digits) expected after O", sc.i + 1)
     m = _SEQ_RE.match(s, sc.i)
     if m is not None:
         blk.seq = int(m.group(1))
@@ -214,8 +219,23 @@ class _Scanner:
             elif self.keyword("THEN", "TH"):
                 blk.kind = "if_then"
                 blk.then = self.assignment()
+            elif self.i < len(self.s):
+                # Haas: IF [c] <rest of the block>, without THEN (the Haas mill manual,
+                # "Macros", conditional execution: "IF [#1 NE #0] G1 X#24 Y#26 F#9",
+                # "IF [#1 GE 180] #101=0.0 M99"). Fanuc alarms: the flow refuses it there,
+                # at the column kept in ``label``.
+                blk.label = self.i
+                if self.peek() == "#":
+                    blk.then = self.assignment()
+                if self.i < len(self.s):
+                    self.words()
+                blk.kind = "if_block"
+                return
             else:
                 raise self.error("FANUC-SYNTAX", "GOTO or THEN expected after IF [...]")
+        elif self.output_command():
+            blk.kind = "output"
+            return
         elif self.at("GO") and not self.at("GO["):
             self.keyword("GOTO", "GO")
             blk.kind = "goto"
@@ -243,6 +263,29 @@ class _Scanner:
             return
         if self.i < len(self.s):
             raise self.error("FANUC-SYNTAX", f"unexpected '{self.s[self.i]}'")
+
+    def output_command(self) -> bool:
+        """Step over an external output command (custom macro manual, "External output
+        commands"; Haas alike): POPEN, PCLOS, DPRNT[...] or BPRNT[...]. They send text to a
+        device on the serial port and move nothing; the reader reads and ignores them."""
+        if self.peek() not in ("P", "D", "B"):  # the common case: one comparison
+            return False
+        if self.s[self.i :] in ("POPEN", "PCLOS"):
+            self.i = len(self.s)
+            return True
+        if not (self.at("DPRNT[") or self.at("BPRNT[")):
+            return False
+        self.i += 5
+        depth = 0
+        for k in range(self.i, len(self.s)):
+            ch = self.s[k]
+            depth += (ch == "[") - (ch == "]")
+            if depth == 0:
+                if k + 1 != len(self.s):
+                    raise self.error("FANUC-SYNTAX", f"unexpected '{self.s[k + 1]}'", k + 1)
+                self.i = len(self.s)
+                return True
+        raise self.error("FANUC-SYNTAX", "']' expected", len(self.s))
 
     def label_value(self) -> Expr:
         if self.peek() in ("#", "["):

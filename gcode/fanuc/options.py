@@ -28,6 +28,8 @@ class Flavour:
     #: Haas lathe: one-block G71/G72 (D depth of cut) and G73 (I K relief, D passes), and
     #: the machine-function M codes of gcode/fanuc/haas_lathe_m.py
     haas_lathe: bool = False
+    #: IF [c] followed by the rest of the block, no THEN or GOTO (Haas)
+    if_without_then: bool = False
     max_loops: int = 2_000_000  # backward jumps before FANUC-LOOP-LIMIT
 
 
@@ -42,6 +44,7 @@ HAAS = Flavour(
     haas_g_codes=True,
     m19_p_angle=True,
     extended_offsets=99,
+    if_without_then=True,
 )
 #: Haas lathe (NGC control): Haas's program and call conventions, Fanuc lathe mode, and the
 #: Haas lathe cycle forms and M codes

@@ -79,9 +79,24 @@ class Segment:
         tol = 1e-9
         return tol < rel < abs(delta) - tol
 
+    def turns_at(self, phi: float) -> bool:
+        """Whether the arc reverses at angle ``phi`` (0 or pi: b turns; +-pi/2: a turns) by
+        more than EPS beyond its end points. An arc tangent to the axis at an end, whose
+        centre the program's rounded numbers put a few least increments off, passes the
+        extreme by far less than one increment: the control, working in its increments,
+        sees no reversal there, and neither does this check."""
+        if not self.contains_angle(phi):
+            return False
+        r = self.radius
+        if abs(math.sin(phi)) > 0.5:  # a turns
+            peak, ends = self.ca + r * math.sin(phi), (self.a0, self.a1)
+        else:  # b turns
+            peak, ends = self.cb + r * math.cos(phi), (self.b0, self.b1)
+        return min(abs(peak - e) for e in ends) > EPS
+
     def monotone_b(self) -> bool:
         """b never increases from start to end (type II: only the cutting axis)."""
-        if self.kind == "arc" and any(self.contains_angle(p) for p in (0.0, math.pi)):
+        if self.kind == "arc" and any(self.turns_at(p) for p in (0.0, math.pi)):
             return False
         return self.b1 <= self.b0 + EPS
 
@@ -89,7 +104,7 @@ class Segment:
         """a never decreases and b never increases from start to end."""
         if self.kind == "arc":
             extremes = (0.0, math.pi / 2, math.pi, -math.pi / 2)
-            if any(self.contains_angle(phi) for phi in extremes):
+            if any(self.turns_at(phi) for phi in extremes):
                 return False
         return self.a1 >= self.a0 - EPS and self.b1 <= self.b0 + EPS
 
