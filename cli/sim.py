@@ -50,25 +50,104 @@ from kernel.stock import (
 )
 from kernel.stock.design import Deviation, compare_design
 from kernel.stock.mesh import read_stl, stl_bytes, stock_mesh, top_surface
+from kernel.stock.solids import (
+    Fixture,
+    fixture_from_box,
+    fixture_from_mesh,
+    mesh_box,
+    mesh_field,
+)
 from kernel.tooltable import ToolTable
+
+#: file suffixes of a stock, fixture or design given as a mesh
+MESH_SUFFIXES = (".stl", ".step", ".stp")
+
+
+def is_mesh(spec: str) -> bool:
+    """A stock or fixture spec naming an STL or STEP file (not box:/cyl:)."""
+    return os.path.splitext(spec)[1].lower() in MESH_SUFFIXES
+
+
+def _profile_table(machine: Machine, key: str) -> object:
+    return machine.extra.get(key)
+
+
+def _spec_of(table: object, what: str, where: str | None, code: str) -> str:
+    """A profile table's ``box = [...]``, ``cylinder = [...]`` or ``file = "..."`` (relative
+    to the profile) as a ``--stock``/``--fixture`` spec."""
+    if isinstance(table, dict):
+        if isinstance(table.get("cylinder"), list):
+            return "cyl:" + ",".join(str(v) for v in table["cylinder"])
+        if isinstance(table.get("box"), list):
+            return "box:" + ",".join(str(v) for v in table["box"])
+        if isinstance(table.get("file"), str):
+            base = os.path.dirname(where) if where else ""
+            return os.path.join(base, table["file"])
+    raise Diagnostic(
+        code,
+        f"{what} needs box = [X0, Y0, Z0, X1, Y1, Z1], cylinder = [CX, CY, R, Z0, Z1] "
+        'or file = "part.stl|part.step"',
+        Location(where),
+    )
+
+
+def machine_stock_spec(machine: Machine, where: str | None) -> str | None:
+    """The machine profile's ``[stock]`` as a ``--stock`` spec, if it has one."""
+    table = _profile_table(machine, "stock")
+    if table is None:
+        return None
+    return _spec_of(table, "[stock]", where, "SIM-STOCK")
 
 
 def machine_stock(machine: Machine, where: str | None) -> StockBox | None:
     """``[stock] box = [X0, Y0, Z0, X1, Y1, Z1]`` or ``cylinder = [CX, CY, R, Z0, Z1]`` of
-    the machine profile, if any."""
-    table = machine.extra.get("stock")
-    if table is None:
+    the machine profile, if any (a mesh stock: its bounding box)."""
+    spec = machine_stock_spec(machine, where)
+    if spec is None:
         return None
-    if isinstance(table, dict) and isinstance(table.get("cylinder"), list):
-        return parse_stock("cyl:" + ",".join(str(v) for v in table["cylinder"]), Location(where))
-    box = table.get("box") if isinstance(table, dict) else None
-    if not isinstance(box, list):
-        raise Diagnostic(
-            "SIM-STOCK",
-            "[stock] needs box = [X0, Y0, Z0, X1, Y1, Z1] or cylinder = [CX, CY, R, Z0, Z1]",
-            Location(where),
+    if is_mesh(spec):
+        return mesh_box(mesh_triangles(spec, 0.01, "SIM-STOCK"), "SIM-STOCK", spec)
+    return parse_stock(spec, Location(where))
+
+
+def stock_field(spec: str, resolution: float, where: str | None = None) -> HeightField:
+    """The stock's height field: a box or cylinder (``box:``/``cyl:``) or an STL/STEP file
+    whose top surface sets each cell's column (docs/simulation.md)."""
+    if is_mesh(spec):
+        return mesh_field(
+            mesh_triangles(spec, 0.1 * resolution, "SIM-STOCK"), resolution, "SIM-STOCK", spec
         )
-    return parse_stock("box:" + ",".join(str(v) for v in box), Location(where))
+    return HeightField(parse_stock(spec, Location(where)), resolution)
+
+
+def fixtures_of(
+    specs: tuple[str, ...], machine: Machine, where: str | None, resolution: float
+) -> tuple[Fixture, ...]:
+    """The profile's ``[[fixture]]`` tables and the ``--fixture`` specs (box:, cyl: or an
+    STL/STEP file) as obstacles on grids of ``resolution``."""
+    table = _profile_table(machine, "fixture")
+    entries: list[tuple[str, str | None]] = []
+    if table is not None:
+        if not isinstance(table, list):
+            raise Diagnostic("SIM-FIXTURE-SPEC", "fixtures are [[fixture]] tables", Location(where))
+        for k, t in enumerate(table):
+            spec = _spec_of(t, "[[fixture]]", where, "SIM-FIXTURE-SPEC")
+            name = t.get("name") if isinstance(t, dict) else None
+            entries.append((spec, str(name) if name else f"#{k + 1}"))
+    entries += [(spec, None) for spec in specs]
+    out = []
+    for spec, name in entries:
+        label = name or os.path.basename(spec)
+        if is_mesh(spec):
+            tri = mesh_triangles(spec, 0.1 * resolution, "SIM-FIXTURE-SPEC")
+            out.append(fixture_from_mesh(tri, resolution, label))
+            continue
+        try:
+            box = parse_stock(spec, Location(where))
+        except Diagnostic as exc:
+            raise Diagnostic("SIM-FIXTURE-SPEC", f"fixture: {exc.message}", exc.location) from None
+        out.append(fixture_from_box(box, resolution, label))
+    return tuple(out)
 
 
 def load_tool_library(path: str) -> dict[int, ToolShape]:
@@ -96,27 +175,35 @@ def tool_shapes(
 
 
 def design_triangles(path: str, tolerance: float) -> np.ndarray:
-    """Triangles (n, 3, 3) of a design model: STL (binary or ASCII) or STEP (tessellated
-    by cadquery, the ``geometry`` extra, within ``tolerance`` mm)."""
+    """Triangles (n, 3, 3) of a design model (:func:`mesh_triangles`)."""
+    return mesh_triangles(path, tolerance, "SIM-DESIGN")
+
+
+def mesh_triangles(path: str, tolerance: float, code: str) -> np.ndarray:
+    """Triangles (n, 3, 3) of an STL (binary or ASCII) or STEP file (tessellated by
+    cadquery, the ``geometry`` extra, within ``tolerance`` mm); ``code`` when it is
+    neither or cannot be read."""
     if os.path.splitext(path)[1].lower() in (".step", ".stp"):
         try:
             import cadquery as cq
         except ImportError:
             raise Diagnostic(
-                "SIM-DESIGN", "reading STEP needs cadquery (the geometry extra)", Location(path)
+                code, "reading STEP needs cadquery (the geometry extra)", Location(path)
             ) from None
         try:
             shape = cq.importers.importStep(path).val()
         except Exception as exc:  # noqa: BLE001 - OCCT raises its own types
-            raise Diagnostic(
-                "SIM-DESIGN", f"not a readable STEP file: {exc}", Location(path)
-            ) from None
+            raise Diagnostic(code, f"not a readable STEP file: {exc}", Location(path)) from None
         verts, faces = shape.tessellate(tolerance)
         pts = np.array([[v.x, v.y, v.z] for v in verts], dtype=np.float64)
         tris = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
         return pts[tris]
-    with open(path, "rb") as fh:
-        return read_stl(fh.read(), path)
+    with open(path, "rb") as fh:  # OSError: an I/O error (exit 2)
+        data = fh.read()
+    try:
+        return read_stl(data, path)
+    except Diagnostic as exc:
+        raise Diagnostic(code, exc.message, exc.location) from None
 
 
 def _map_png(hf: HeightField, grid: np.ndarray, label: str, title: str, **style: object) -> bytes:
@@ -179,7 +266,14 @@ def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) 
 @click.option(
     "--stock",
     default=None,
-    help="stock as box:X0,Y0,Z0,X1,Y1,Z1 or cyl:CX,CY,R,Z0,Z1 (mm, machine)",
+    help="stock as box:X0,Y0,Z0,X1,Y1,Z1, cyl:CX,CY,R,Z0,Z1 (mm, machine) or an STL/STEP file",
+)
+@click.option(
+    "--fixture",
+    "fixture_specs",
+    multiple=True,
+    help="a fixture (obstacle): box:..., cyl:... or an STL/STEP file (repeatable; "
+    "also the profile's [[fixture]] tables)",
 )
 @tool_table_option(help="LinuxCNC .tbl or NIST tool file: flat end mills of its diameters")
 @tool_units_option()
@@ -245,6 +339,7 @@ def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) 
 def command(
     program: str,
     stock: str | None,
+    fixture_specs: tuple[str, ...],
     tool_table: str | None,
     tool_units: str | None,
     library: str | None,
@@ -269,8 +364,8 @@ def command(
       cnc sim part.ngc --machine mill.toml -t tools.tbl --tool 2=ball:6 -o out
     """
     machine = load_machine(machine_file)
-    box = parse_stock(stock, Location(None)) if stock else machine_stock(machine, machine_file)
-    if box is None:
+    spec = stock or machine_stock_spec(machine, machine_file)
+    if spec is None:
         raise click.UsageError("no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or [stock] box")
     table, tool_mm = load_tools(tool_table, tool_units)
     shapes = tool_shapes(metric_tool_table(table, tool_mm) if table else None, library, tool_specs)
@@ -294,10 +389,13 @@ def command(
             targets = targets[:4]
         for t in targets:
             refuse_output(t, force, (program,))
-    hf = HeightField(box, resolution)
+    hf = stock_field(spec, resolution, None if stock else machine_file)
+    fixtures = fixtures_of(fixture_specs, machine, machine_file, resolution)
     commands = program_commands(program, table, tool_mm, dialect, machine=machine)
     design_top = top_surface(design_triangles(design, 0.1 * resolution), hf) if design else None
-    res = simulate_removal(commands, hf, shapes, chord_tol, track_moves=design is not None)
+    res = simulate_removal(
+        commands, hf, shapes, chord_tol, track_moves=design is not None, fixtures=fixtures
+    )
     deviation: Deviation | None = None
     if design_top is not None:
         deviation = compare_design(hf, design_top, res, design_tol, program)

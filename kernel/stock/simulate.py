@@ -12,7 +12,7 @@ system, or a NURBS/ellipse move is refused with a located ``SIM-NOT-3AXIS`` /
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -27,6 +27,7 @@ from kernel.stock.heightfield import (
     cone_envelope,
     flat_envelope,
 )
+from kernel.stock.solids import Fixture
 from kernel.stock.tools import DEFAULT_TOOL, ToolShape
 
 #: height (mm) material must stand above a rapid's swept tool to count as a collision
@@ -43,6 +44,7 @@ RULES: dict[str, Severity] = {
     "SIM-AIR-CUTTING": Severity.NOTE,
     "SIM-GOUGE": Severity.ERROR,
     "SIM-LEFTOVER": Severity.WARNING,
+    "SIM-FIXTURE": Severity.ERROR,
 }
 #: a tool whose feed path cuts nothing over more than this share of its length gets a note
 AIR_SHARE = 0.5
@@ -321,18 +323,62 @@ def _guards(tool: ToolShape) -> list[tuple[str, float, float]]:
     return parts
 
 
+#: records a finding: (code, command, (worst value, x, y), message)
+Recorder = Callable[[str, canon.Command, tuple[float, float, float], str], None]
+
+
+def _fixture_contact(
+    fixture: Fixture,
+    tool: ToolShape,
+    bodies: list[tuple[str, float, float]],
+    p0: np.ndarray,
+    p1: np.ndarray,
+    rapid: bool,
+    cmd: canon.Command,
+    find: Recorder,
+) -> None:
+    """Record ``SIM-FIXTURE`` when the tool's cutting end, shank or holder (``bodies``:
+    name, radius, bottom above the tip) swept from ``p0`` to ``p1`` goes below the
+    fixture's top: the worst depth over the bodies, naming the one that reaches deepest."""
+    grid = fixture.grid
+    worst: tuple[float, float, float] | None = None
+    what = ""
+    for name, radius, lift in bodies:
+        touched = _sweep(grid, p0, p1, radius, lift, tool if name == "tool" else None)
+        if touched is None:
+            continue
+        win, env = touched
+        over = grid.h[win] - env
+        if np.max(over) > RAPID_EPS:
+            here = _worst(grid, win, over)
+            if worst is None or here[0] > worst[0]:
+                worst, what = here, name
+    if worst is None:
+        return
+    move = "rapid move" if rapid else "move"
+    part = "tool" if what == "tool" else f"tool's {what}"
+    find(
+        "SIM-FIXTURE",
+        cmd,
+        worst,
+        f"{move}: the {part} enters fixture {fixture.name} {worst[0]:.3f} mm deep",
+    )
+
+
 def simulate_removal(
     commands: Iterable[canon.Command],
     hf: HeightField,
     tools: dict[int, ToolShape],
     chord_tol: float = 0.005,
     track_moves: bool = False,
+    fixtures: Sequence[Fixture] = (),
 ) -> SimResult:
     """Sweep every move of ``commands`` through ``hf`` (changed in place) with the tools by
     number (a tool not in ``tools`` is tool 0's shape, or the default 6 mm flat end mill)
     and report the removed volume, each tool's share and the findings (:data:`RULES`), one
     per rule and line with the worst value found on that line. ``track_moves`` keeps, per
-    cell, the last move that cut it (``SimResult.last_move``)."""
+    cell, the last move that cut it (``SimResult.last_move``). Any move whose swept tool,
+    shank or holder goes below the top of one of ``fixtures`` is ``SIM-FIXTURE``."""
     start = hf.volume()
     z0 = hf.box.z0
     result = SimResult(0.0, 0)
@@ -377,11 +423,14 @@ def simulate_removal(
         if track_moves:
             result.move_locations.append(_located(cmd))
         guards = _guards(tool)
+        bodies = [("tool", tool.radius, 0.0), *guards]
         for k in range(len(pts) - 1):
             p0, p1 = pts[k], pts[k + 1]
             seg = float(np.linalg.norm(p1 - p0))
             if not rapid:
                 use.feed_length += seg
+            for fixture in fixtures:
+                _fixture_contact(fixture, tool, bodies, p0, p1, rapid, cmd, find)
             for name, radius, lift in guards:
                 touched = _sweep(hf, p0, p1, radius, lift, None)
                 if touched is None:
