@@ -76,6 +76,7 @@ from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
 from kernel.stock import shapes_from_table
 from kernel.stock.checkrules import SIM_RULES, SimSetup, sim_findings
 from kernel.stock.mesh import top_surface
+from kernel.stock.turning import is_bar, parse_bar
 
 
 @dataclass(frozen=True, slots=True)
@@ -227,13 +228,24 @@ def sim_setup(ctx: CheckContext, opts: SimOptions, machine_path: str | None) -> 
         if opts.design or opts.fixtures:
             raise click.UsageError("--design and --fixture need a stock (--stock or [stock])")
         return None
-    shapes = shapes_from_table(ctx.tools, ctx.tool_mm_per_unit) if ctx.tools else {}
+    lathe = is_bar(spec) or ctx.machine.kind == "lathe"
+    tools = ctx.tools
+    shapes = shapes_from_table(tools, ctx.tool_mm_per_unit, lathe) if tools else {}
     if opts.library:
         shapes.update(load_tool_library(opts.library))
     table = ctx.machine.extra.get("stock")
     res = table.get("resolution", 0.5) if isinstance(table, dict) else 0.5
     if not isinstance(res, int | float) or not res > 0:
         raise Diagnostic("SIM-GRID", "[stock] resolution must be > 0", Location(machine_path))
+    if lathe:
+        where = Location(None if opts.stock else machine_path)
+        if not is_bar(spec):
+            raise Diagnostic(
+                "SIM-STOCK", "a lathe's programs are simulated on a bar: bar:R,Z0,Z1", where
+            )
+        if opts.design or opts.fixtures:
+            raise click.UsageError("--design and --fixture are for milling (a box stock)")
+        return SimSetup(parse_bar(spec, where), shapes, float(res))
     hf = stock_field(spec, float(res), None if opts.stock else machine_path)
     design_top = None
     if opts.design:

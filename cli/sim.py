@@ -11,6 +11,8 @@ import io
 import json
 import os
 import tomllib
+from collections.abc import Iterable
+from dataclasses import dataclass
 
 import click
 import numpy as np
@@ -34,8 +36,11 @@ from cli.programs import (
     metric_tool_table,
     output_stem,
     program_commands,
+    program_language,
 )
+from gcode.registry import REGISTRY
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
 from kernel.machine import Machine
 from kernel.stock import (
     HeightField,
@@ -57,6 +62,14 @@ from kernel.stock.solids import (
     mesh_box,
     mesh_field,
 )
+from kernel.stock.turning import (
+    TurnedProfile,
+    is_bar,
+    parse_bar,
+    profile_csv,
+    revolved_mesh,
+    simulate_turning,
+)
 from kernel.tooltable import ToolTable
 
 #: file suffixes of a stock, fixture or design given as a mesh
@@ -76,6 +89,8 @@ def _spec_of(table: object, what: str, where: str | None, code: str) -> str:
     """A profile table's ``box = [...]``, ``cylinder = [...]`` or ``file = "..."`` (relative
     to the profile) as a ``--stock``/``--fixture`` spec."""
     if isinstance(table, dict):
+        if isinstance(table.get("bar"), list):
+            return "bar:" + ",".join(str(v) for v in table["bar"])
         if isinstance(table.get("cylinder"), list):
             return "cyl:" + ",".join(str(v) for v in table["cylinder"])
         if isinstance(table.get("box"), list):
@@ -85,8 +100,8 @@ def _spec_of(table: object, what: str, where: str | None, code: str) -> str:
             return os.path.join(base, table["file"])
     raise Diagnostic(
         code,
-        f"{what} needs box = [X0, Y0, Z0, X1, Y1, Z1], cylinder = [CX, CY, R, Z0, Z1] "
-        'or file = "part.stl|part.step"',
+        f"{what} needs box = [X0, Y0, Z0, X1, Y1, Z1], cylinder = [CX, CY, R, Z0, Z1], "
+        'bar = [R, Z0, Z1] or file = "part.stl|part.step"',
         Location(where),
     )
 
@@ -101,9 +116,9 @@ def machine_stock_spec(machine: Machine, where: str | None) -> str | None:
 
 def machine_stock(machine: Machine, where: str | None) -> StockBox | None:
     """``[stock] box = [X0, Y0, Z0, X1, Y1, Z1]`` or ``cylinder = [CX, CY, R, Z0, Z1]`` of
-    the machine profile, if any (a mesh stock: its bounding box)."""
+    the machine profile, if any (a mesh stock: its bounding box; a lathe's bar: None)."""
     spec = machine_stock_spec(machine, where)
-    if spec is None:
+    if spec is None or is_bar(spec):
         return None
     if is_mesh(spec):
         return mesh_box(mesh_triangles(spec, 0.01, "SIM-STOCK"), "SIM-STOCK", spec)
@@ -161,11 +176,12 @@ def load_tool_library(path: str) -> dict[int, ToolShape]:
 
 
 def tool_shapes(
-    table: ToolTable | None, library: str | None, specs: tuple[str, ...]
+    table: ToolTable | None, library: str | None, specs: tuple[str, ...], lathe: bool = False
 ) -> dict[int, ToolShape]:
-    """Tool shapes by number: flat end mills of the tool table's diameters, replaced by the
-    library's tools, replaced by ``--tool`` specs."""
-    shapes: dict[int, ToolShape] = shapes_from_table(table) if table else {}
+    """Tool shapes by number: flat end mills of the tool table's diameters (``lathe``:
+    inserts of half those as nose radius), replaced by the library's tools, replaced by
+    ``--tool`` specs."""
+    shapes: dict[int, ToolShape] = shapes_from_table(table, lathe=lathe) if table else {}
     if library:
         shapes.update(load_tool_library(library))
     for spec in specs:
@@ -241,10 +257,80 @@ def height_png(hf: HeightField, title: str) -> bytes:
     return _map_png(hf, hf.h, "Z (mm)", title, cmap="viridis")
 
 
-def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) -> str:
+def lathe_program(program: str, dialect: str | None, machine: Machine) -> bool:
+    """The machine profile is a lathe's, or the program is read in a lathe's dialect."""
+    if machine.kind == "lathe":
+        return True
+    name = program_language(program, dialect, -1)
+    return any(e.lathe and e.name == name for e in REGISTRY)
+
+
+@dataclass(frozen=True, slots=True)
+class Turning:
+    """``cnc sim`` on a bar (the turning profile): what to simulate and where to write."""
+
+    program: str
+    spec: str
+    resolution: float
+    chord_tol: float
+    fmt: str
+    out_dir: str | None
+    force: bool
+    stem: str
+
+    def run(self, commands: Iterable[canon.Command], shapes: dict[int, ToolShape]) -> None:
+        """Simulate, print, write ``<stem>_profile.csv``, ``_stock.stl`` (the profile
+        revolved) and ``_sim.json`` with ``-o``, and exit as ``cnc check`` does."""
+        targets: list[str] = []
+        if self.out_dir is not None:
+            if os.path.exists(self.out_dir) and not os.path.isdir(self.out_dir):
+                raise Diagnostic(
+                    "IO-NOT-DIR", "output path is not a directory", Location(self.out_dir)
+                )
+            targets = [
+                os.path.join(self.out_dir, f"{self.stem}_{s}")
+                for s in ("profile.csv", "stock.stl", "sim.json")
+            ]
+            for t in targets:
+                refuse_output(t, self.force, (self.program,))
+        prof = TurnedProfile(parse_bar(self.spec), self.resolution)
+        res = simulate_turning(commands, prof, shapes, self.chord_tol)
+        out = {
+            "program": self.program,
+            "turning": True,
+            "removed_volume": res.removed_volume,
+            "moves": res.moves,
+            "cells": [prof.nz],
+            "tools": {str(n): u.to_dict() for n, u in sorted(res.tools.items())},
+            "design": None,
+            "findings": [f.to_dict() for f in res.findings],
+        }
+        if self.fmt == "json":
+            click.echo(json.dumps(out, indent=2))
+        else:
+            click.echo(_text(self.program, res, prof, None))
+        if self.out_dir is not None:
+            os.makedirs(self.out_dir, exist_ok=True)
+            with open(targets[0], "w", encoding="utf-8") as fh:
+                fh.write(profile_csv(prof))
+            with open(targets[1], "wb") as fh:
+                fh.write(stl_bytes(*revolved_mesh(prof), name=b"cnc sim turned part"))
+            grid = {"z0": prof.bar.z0, "dz": prof.dz}
+            files = {"profile": os.path.basename(targets[0])}
+            with open(targets[2], "w", encoding="utf-8") as fh:
+                json.dump({**out, "grid": grid, "files": files}, fh, indent=2)
+        raise SystemExit(EXIT_PROGRAM_ERROR if res.errors else EXIT_OK)
+
+
+def _text(
+    program: str, res: SimResult, hf: HeightField | TurnedProfile, dev: Deviation | None
+) -> str:
+    if isinstance(hf, TurnedProfile):
+        grid = f"turning: {hf.nz} cells of {hf.dz:g} mm along Z"
+    else:
+        grid = f"{hf.nx} x {hf.ny} cells of {hf.dx:g} x {hf.dy:g} mm"
     lines = [
-        f"{program}: removed_volume {res.removed_volume:.3f} mm3 over {res.moves} moves "
-        f"({hf.nx} x {hf.ny} cells of {hf.dx:g} x {hf.dy:g} mm)"
+        f"{program}: removed_volume {res.removed_volume:.3f} mm3 over {res.moves} moves ({grid})"
     ]
     for n, use in sorted(res.tools.items()):
         lines.append(
@@ -266,7 +352,8 @@ def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) 
 @click.option(
     "--stock",
     default=None,
-    help="stock as box:X0,Y0,Z0,X1,Y1,Z1, cyl:CX,CY,R,Z0,Z1 (mm, machine) or an STL/STEP file",
+    help="stock as box:X0,Y0,Z0,X1,Y1,Z1, cyl:CX,CY,R,Z0,Z1 (mm, machine), an STL/STEP file, "
+    "or bar:R,Z0,Z1 for turning (a lathe profile or dialect needs a bar)",
 )
 @click.option(
     "--fixture",
@@ -289,7 +376,8 @@ def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) 
     "tool_specs",
     multiple=True,
     help="tool shape N=KIND:DIAMETER[,flute=L][,corner=R][,angle=A][,shank=D][,holder=D]"
-    "[,nocentre], KIND flat|ball|bull|drill|chamfer (repeatable; 0: the default)",
+    "[,nocentre], KIND flat|ball|bull|drill|chamfer, or a lathe insert N=insert:NOSE_RADIUS"
+    "[,width=W] (repeatable; 0: the default)",
 )
 @click.option(
     "--resolution",
@@ -354,7 +442,8 @@ def command(
     force: bool,
     dialect: str | None,
 ) -> None:
-    """Simulate 3-axis material removal of PROGRAM on a height field.
+    """Simulate 3-axis material removal of PROGRAM on a height field, or turning on a
+    bar's radius profile (a bar stock, a lathe profile or a lathe dialect).
 
     Prints the removed volume (mm³) and the findings; exits 1 on an error finding.
 
@@ -362,14 +451,30 @@ def command(
     Examples:
       cnc sim part.ngc --stock box:0,0,-20,100,80,0 --resolution 0.2
       cnc sim part.ngc --machine mill.toml -t tools.tbl --tool 2=ball:6 -o out
+      cnc sim shaft.ngc --stock bar:25,-80,1 --tool 1=insert:0.8 -o out
     """
     machine = load_machine(machine_file)
     spec = stock or machine_stock_spec(machine, machine_file)
     if spec is None:
         raise click.UsageError("no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or [stock] box")
+    lathe = is_bar(spec) or lathe_program(program, dialect, machine)
     table, tool_mm = load_tools(tool_table, tool_units)
-    shapes = tool_shapes(metric_tool_table(table, tool_mm) if table else None, library, tool_specs)
+    metric = metric_tool_table(table, tool_mm) if table else None
+    shapes = tool_shapes(metric, library, tool_specs, lathe)
     stem = output_stem(program)
+    if lathe:
+        if not is_bar(spec):
+            raise Diagnostic(
+                "SIM-STOCK",
+                "a lathe program is simulated on a bar: --stock bar:R,Z0,Z1 "
+                "(or [stock] bar = [R, Z0, Z1])",
+                Location(None if stock else machine_file),
+            )
+        if design or fixture_specs:
+            raise click.UsageError("--design and --fixture are for milling (a box stock)")
+        turn = Turning(program, spec, resolution, chord_tol, fmt, out_dir, force, stem)
+        turn.run(program_commands(program, table, tool_mm, dialect, machine=machine), shapes)
+        return
     targets: list[str] = []
     if out_dir is not None:
         if os.path.exists(out_dir) and not os.path.isdir(out_dir):

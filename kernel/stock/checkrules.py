@@ -22,9 +22,10 @@ from kernel.ir import canon
 from kernel.stock.design import compare_design
 from kernel.stock.heightfield import HeightField, StockBox
 from kernel.stock.simulate import RULES as SIM_SEVERITY
-from kernel.stock.simulate import simulate_removal
+from kernel.stock.simulate import SimResult, simulate_removal
 from kernel.stock.solids import Fixture
 from kernel.stock.tools import ToolShape
+from kernel.stock.turning import Bar, TurnedProfile, simulate_turning
 
 #: SIM finding code -> (check rule id, name, summary)
 _IDS: dict[str, tuple[str, str, str]] = {
@@ -82,9 +83,10 @@ RULE_OF: dict[str, str] = {code: ids[0] for code, ids in _IDS.items()}
 class SimSetup:
     """What ``cnc check`` needs to simulate a program (picklable): the stock box, and the
     stock's initial top (a mesh stock, on the box's grid at ``resolution``), the design's
-    top surface on that grid (``--design``) and the fixtures, where given."""
+    top surface on that grid (``--design``) and the fixtures, where given. A :class:`Bar`
+    is a lathe's stock: the turning profile (kernel.stock.turning)."""
 
-    box: StockBox
+    box: StockBox | Bar
     tools: dict[int, ToolShape] = field(default_factory=dict)
     resolution: float = 0.5
     chord_tol: float = 0.005
@@ -105,6 +107,9 @@ def sim_findings(
     refuses (a rotary axis, a NURBS move) is a CNC001 finding with its ``SIM-*`` code.
     ``program`` locates a design finding at a cell no move cut."""
     try:
+        if isinstance(setup.box, Bar):
+            prof = TurnedProfile(setup.box, setup.resolution)
+            return _as_check(simulate_turning(commands, prof, setup.tools, setup.chord_tol), ctx)
         hf = HeightField(setup.box, setup.resolution)
         if setup.stock_top is not None:
             hf.h[...] = setup.stock_top
@@ -120,6 +125,12 @@ def sim_findings(
         return [Finding("CNC001", Severity.ERROR, exc.message, exc.location, exc.code)]
     if setup.design_top is not None:
         compare_design(hf, setup.design_top, result, setup.design_tol, program)
+    return _as_check(result, ctx)
+
+
+def _as_check(result: SimResult, ctx: CheckContext) -> list[Finding]:
+    """The simulation's findings at their configured severities (a rule switched off
+    gives none)."""
     out = []
     for f in result.findings:
         rule = SIM_RULES[RULE_OF[f.code]]

@@ -56,10 +56,12 @@ class SimFinding:
     severity: Severity
     message: str
     location: Location
-    #: the worst value (mm, or the air share) and where (machine X, Y), when it has one
+    #: the worst value (mm, or the air share) and where (machine X, Y; a lathe's X, Z),
+    #: when it has one
     value: float | None = None
     x: float | None = None
     y: float | None = None
+    z: float | None = None
 
     def to_dict(self) -> dict[str, object]:
         out: dict[str, object] = {
@@ -71,8 +73,9 @@ class SimFinding:
         }
         if self.value is not None:
             out["value"] = self.value
-        if self.x is not None and self.y is not None:
-            out["x"], out["y"] = self.x, self.y
+        for key, where in (("x", self.x), ("y", self.y), ("z", self.z)):
+            if where is not None:
+                out[key] = where
         return out
 
 
@@ -173,7 +176,7 @@ def arc_points(
     return pts
 
 
-def _moves(
+def machine_moves(
     commands: Iterable[canon.Command], chord_tol: float
 ) -> Iterator[tuple[canon.Command, bool, int, np.ndarray]]:
     """(command, is_rapid, tool number, points (n, 3)) for every motion, in machine mm; the
@@ -411,8 +414,15 @@ def simulate_removal(
             result.tools[current].removed_volume += mark - now
             mark = now
 
-    for cmd, rapid, number, pts in _moves(commands, chord_tol):
+    for cmd, rapid, number, pts in machine_moves(commands, chord_tol):
         tool = tools.get(number, fallback)
+        if tool.kind == "insert":
+            raise Diagnostic(
+                "SIM-UNSUPPORTED",
+                f"tool {number} is a lathe insert: turning is simulated on a bar stock "
+                "(--stock bar:R,Z0,Z1)",
+                _located(cmd),
+            )
         if number != current:
             settle()
             current = number
