@@ -5,9 +5,10 @@ ball end mill, rapids between rows, fed to :func:`kernel.stock.simulate_removal`
 commands (the reader's time is not counted). Prints CPU seconds (the machine may be shared),
 moves per second and the peak memory for several move counts and grid sizes, so that time
 against moves and against cells can be read off.
-Usage: ``python bench/bench_sim.py [MOVES ...] [GRID_MM ...] [--tool=KIND]`` (a grid size has
-a dot; KIND flat, ball (the default), bull (corner 1 mm), drill (118°) or chamfer (90°), all
-6 mm).
+Usage: ``python bench/bench_sim.py [MOVES ...] [GRID_MM ...] [--tool=KIND ...]`` (a grid size
+has a dot; KIND flat, ball (the default), bull (corner 1 mm), drill (118°) or chamfer (90°),
+all 6 mm; with several tools each row's ``ratio`` is its time over the first tool's, measured
+in the same run, since the machine may be shared).
 """
 
 from __future__ import annotations
@@ -65,13 +66,22 @@ def main(argv: list[str]) -> None:
     ]
     grids = [float(a) for a in argv if "." in a and not a.startswith("--")] or [0.2, 0.1]
     kinds = [a.split("=", 1)[1] for a in argv if a.startswith("--tool=")] or ["ball"]
-    tool = bench_tool(kinds[-1])
-    print(f"tool: {tool.kind} {tool.diameter:g} mm")
-    print(f"{'moves':>8} {'grid mm':>8} {'cells':>10} {'seconds':>8} {'moves/s':>9}")
-    for res in grids:
-        for n in counts:
-            secs, moves, cells = run(n, res, tool)
-            print(f"{moves:>8} {res:>8g} {cells:>10} {secs:>8.2f} {moves / secs:>9.0f}")
+    first: dict[tuple[int, float], float] = {}
+    print(
+        f"{'tool':>8} {'moves':>8} {'grid mm':>8} {'cells':>10} {'seconds':>8} {'moves/s':>9}"
+        f" {'ratio':>6}"
+    )
+    for kind in kinds:
+        tool = bench_tool(kind)
+        run(200, grids[0], tool)  # the compiled kernels load (or compile) outside the timing
+        for res in grids:
+            for n in counts:
+                secs, moves, cells = run(n, res, tool)
+                ratio = secs / first.setdefault((n, res), secs)
+                print(
+                    f"{kind:>8} {moves:>8} {res:>8g} {cells:>10} {secs:>8.2f} "
+                    f"{moves / secs:>9.0f} {ratio:>6.2f}"
+                )
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"peak memory {peak:.0f} MB")
 
