@@ -187,3 +187,26 @@ def test_check_with_a_design_reports_gouge_and_leftover_as_rules(tmp_path: Path)
     prog = tmp_path / "p.ngc"
     res = CliRunner().invoke(cli, ["check", str(prog), "--design", str(stl)])
     assert res.exit_code == 2  # a design needs a stock
+
+
+@pytest.mark.slow
+def test_step_stock_and_fixture_through_cadquery(tmp_path: Path) -> None:
+    """A STEP box is the box stock (same grid, same result); a STEP clamp is hit as the
+    box: fixture is (line 4, 3 mm)."""
+    cq = pytest.importorskip("cadquery")
+    stock = tmp_path / "s.step"
+    block = cq.Workplane("XY").box(100, 50, 20, centered=(False, False, False))
+    cq.exporters.export(block.translate((0, 0, -20)), str(stock))
+    clamp = tmp_path / "c.step"
+    cq.exporters.export(
+        cq.Workplane("XY").box(40, 10, 25, centered=False).translate((30, 0, -20)), str(clamp)
+    )
+    args = ("--tool", "0=flat:10")
+    _, box = sim(tmp_path, SLOT, "--stock", STOCK, *args)
+    _, step = sim(tmp_path, SLOT, "--stock", str(stock), *args)
+    assert step["removed_volume"] == pytest.approx(box["removed_volume"], rel=1e-9)
+    text = "G21 G90\nG0 X10 Y5 Z10\nG0 Z2\nG0 X90 Y5\nG0 Z10\nM2\n"
+    rc, out = sim(tmp_path, text, "--stock", str(stock), "--fixture", str(clamp), *args)
+    assert rc == 1
+    assert [(f["code"], f["line"]) for f in out["findings"]] == [("SIM-FIXTURE", 4)]
+    assert out["findings"][0]["value"] == pytest.approx(3.0)

@@ -249,25 +249,21 @@ def cone_envelope(
 BULL_STEPS = 16
 
 
-#: numba options: cached on disk; IEEE division (inf, not an exception, past the rim)
-_JIT = {"cache": True, "error_model": "numpy"}
-
-
-@njit(**_JIT)
+@njit(cache=True, error_model="numpy")  # IEEE division: inf past the rim
 def _bull_end(rho: float, a: float, rc: float) -> float:
     """Height of the bull nose's end above its tip at ``rho`` from the axis."""
     e = min(max(rho - a, 0.0), rc)
     return rc - math.sqrt(rc * rc - e * e)
 
 
-@njit(**_JIT)
+@njit(cache=True, error_model="numpy")  # IEEE division: inf past the rim
 def _bull_slope(rho: float, rp: float, ddz: float, a: float, rc: float) -> float:
     """g'(t) from the distance ``rho`` to the axis and its rate ``rp`` = rho'(t)."""
     e = min(max(rho - a, 0.0), rc)
     return ddz + e / math.sqrt(max(rc * rc - e * e, 1e-300)) * rp
 
 
-@njit(**_JIT)
+@njit(cache=True, error_model="numpy")  # IEEE division: inf past the rim
 def _bull_root(
     x: float,
     y: float,
@@ -320,7 +316,7 @@ def _bull_root(
     return t
 
 
-@njit(**_JIT)
+@njit(cache=True, error_model="numpy")  # IEEE division: inf past the rim
 def _bull_kernel(
     qx: np.ndarray,
     qy: np.ndarray,
