@@ -193,3 +193,33 @@ def test_turning_outputs_and_refusals(tmp_path: Path) -> None:
         tmp_path, mill, "m.ngc", "--stock", "box:-10,-10,-10,10,10,0", "--tool", "1=insert:0.4"
     )
     assert rc == 1 and "SIM-UNSUPPORTED" in text
+
+
+G71 = (
+    "G21 G18 G40\nT0101\nG97 S1000 M3\nG0 X54. Z2.\nG71 U2. R0.5\n"
+    "G71 P10 Q20 U{u}. W0. F0.2\nN10 G0 X40.\nG1 Z-30.\nN20 X54.\nG0 X60. Z5.\nM30\n"
+)
+
+
+@pytest.mark.parametrize("allowance", [0, 1])
+def test_a_fanuc_g71_roughing_cycle_turns_its_contour(tmp_path: Path, allowance: int) -> None:
+    """G71 roughs the bar down to the contour (diameter 40 over Z0..-30) plus the finishing
+    allowance U (on the diameter), in 2 mm passes that retract at 45°, then follows the
+    contour offset by U: a sharp insert leaves exactly the cylinder of radius 20 + U/2, and
+    no rapid of the cycle enters material."""
+    rc, out, _ = sim(
+        tmp_path,
+        G71.format(u=allowance),
+        "p.nc",
+        "--stock",
+        BAR,
+        "--dialect",
+        "fanuc_lathe",
+        "--tool",
+        "1=insert:0",
+        "--resolution",
+        "0.1",
+    )
+    r1 = 20 + allowance / 2
+    assert rc == 0 and out["findings"] == []
+    assert out["removed_volume"] == pytest.approx(math.pi * (25**2 - r1**2) * 30, rel=1e-9)
