@@ -223,3 +223,20 @@ def test_a_fanuc_g71_roughing_cycle_turns_its_contour(tmp_path: Path, allowance:
     r1 = 20 + allowance / 2
     assert rc == 0 and out["findings"] == []
     assert out["removed_volume"] == pytest.approx(math.pi * (25**2 - r1**2) * 30, rel=1e-9)
+
+
+def test_a_lathe_profile_picks_the_turning_profile(tmp_path: Path) -> None:
+    axes = "".join(
+        f"[axes.{a}]\nmin = -200.0\nmax = 200.0\nvelocity = 100.0\n" for a in ("x", "y", "z")
+    )
+    profile = tmp_path / "lathe.toml"
+    profile.write_text(f'name = "lathe"\nkind = "lathe"\n{axes}[stock]\nbar = [25, -60, 0]\n')
+    args = ("-m", str(profile), "--tool", "1=insert:0", "--resolution", "0.1")
+    rc, out, _ = sim(tmp_path, NGC, "p.ngc", *args)
+    assert rc == 0 and out["turning"]
+    assert out["removed_volume"] == pytest.approx(PASS, rel=1e-9)
+    profile.write_text(
+        profile.read_text().replace("bar = [25, -60, 0]", "box = [0, 0, 0, 1, 1, 1]")
+    )
+    rc, _, text = sim(tmp_path, NGC, "p.ngc", *args)
+    assert rc == 1 and "SIM-STOCK" in text
