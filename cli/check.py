@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 import click
+import numpy as np
 
 from cli.budget import cpu_budget
 from cli.deadline import ProgramTimeout, deadline
@@ -59,15 +60,23 @@ from cli.programs import (
     timeout_option,
     tool_table_units,
 )
-from cli.sim import load_tool_library, machine_stock
+from cli.sim import (
+    design_triangles,
+    fixtures_of,
+    load_tool_library,
+    machine_stock_spec,
+    stock_field,
+)
 from cli.stream_out import LineProgress, ResultTable, need_pyarrow, progress_wanted
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
 from kernel.check.config import merge_tables, spindle_range, tool_table_spec
 from kernel.diagnostics import Diagnostic, Location, Severity
 from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
-from kernel.stock import parse_stock, shapes_from_table
+from kernel.stock import shapes_from_table
 from kernel.stock.checkrules import SIM_RULES, SimSetup, sim_findings
+from kernel.stock.mesh import top_surface
+from kernel.stock.turning import is_bar, parse_bar
 
 
 @dataclass(frozen=True, slots=True)
@@ -171,7 +180,7 @@ def check_file(path: str | InlineProgram, setup: Setup | None = None) -> FileRes
             seen: list[canon.Command] = []
             findings = check_stream(_kept(cmds, seen if setup.sim else None), ctx, path, text)
             if setup.sim is not None:
-                findings = [*findings, *sim_findings(seen, setup.sim, ctx)]
+                findings = [*findings, *sim_findings(seen, setup.sim, ctx, path)]
     except ProgramTimeout:
         msg = f"stopped at the time limit of {setup.timeout:g} s (--timeout)"
         late = Finding("CNC001", Severity.ERROR, msg, Location(path), "CHECK-TIMEOUT")
@@ -198,22 +207,58 @@ def _kept(
         yield cmd
 
 
-def sim_setup(
-    ctx: CheckContext, stock: str | None, library: str | None, machine_path: str | None
-) -> SimSetup | None:
-    """The stock (``--stock`` or the profile's ``[stock]``) and tool shapes (the tool
-    table's flat end mills, replaced by ``--tools``), or None: no simulation."""
-    box = parse_stock(stock, Location(None)) if stock else machine_stock(ctx.machine, machine_path)
-    if box is None:
+@dataclass(frozen=True, slots=True)
+class SimOptions:
+    """``cnc check``'s simulation options: ``--stock``, ``--tools``, ``--design``,
+    ``--design-tol`` and ``--fixture``."""
+
+    stock: str | None = None
+    library: str | None = None
+    design: str | None = None
+    design_tol: float = 0.1
+    fixtures: tuple[str, ...] = ()
+
+
+def sim_setup(ctx: CheckContext, opts: SimOptions, machine_path: str | None) -> SimSetup | None:
+    """The stock (``--stock`` or the profile's ``[stock]``: a box, a cylinder or a mesh),
+    tool shapes (the tool table's flat end mills, replaced by ``--tools``), the design's
+    top surface and the fixtures, or None: no simulation."""
+    spec = opts.stock or machine_stock_spec(ctx.machine, machine_path)
+    if spec is None:
+        if opts.design or opts.fixtures:
+            raise click.UsageError("--design and --fixture need a stock (--stock or [stock])")
         return None
-    shapes = shapes_from_table(ctx.tools, ctx.tool_mm_per_unit) if ctx.tools else {}
-    if library:
-        shapes.update(load_tool_library(library))
+    lathe = is_bar(spec) or ctx.machine.kind == "lathe"
+    tools = ctx.tools
+    shapes = shapes_from_table(tools, ctx.tool_mm_per_unit, lathe) if tools else {}
+    if opts.library:
+        shapes.update(load_tool_library(opts.library))
     table = ctx.machine.extra.get("stock")
     res = table.get("resolution", 0.5) if isinstance(table, dict) else 0.5
     if not isinstance(res, int | float) or not res > 0:
         raise Diagnostic("SIM-GRID", "[stock] resolution must be > 0", Location(machine_path))
-    return SimSetup(box, shapes, float(res))
+    if lathe:
+        where = Location(None if opts.stock else machine_path)
+        if not is_bar(spec):
+            raise Diagnostic(
+                "SIM-STOCK", "a lathe's programs are simulated on a bar: bar:R,Z0,Z1", where
+            )
+        if opts.design or opts.fixtures:
+            raise click.UsageError("--design and --fixture are for milling (a box stock)")
+        return SimSetup(parse_bar(spec, where), shapes, float(res))
+    hf = stock_field(spec, float(res), None if opts.stock else machine_path)
+    design_top = None
+    if opts.design:
+        design_top = top_surface(design_triangles(opts.design, 0.1 * float(res)), hf)
+    return SimSetup(
+        hf.box,
+        shapes,
+        float(res),
+        stock_top=hf.h if not np.all(hf.h == hf.box.z1) else None,
+        design_top=design_top,
+        design_tol=opts.design_tol,
+        fixtures=fixtures_of(opts.fixtures, ctx.machine, machine_path, float(res)),
+    )
 
 
 def _check_one(path: str) -> FileResult:
@@ -431,8 +476,8 @@ def _list_rules(ctx: CheckContext) -> str:
 @click.option(
     "--stock",
     default=None,
-    help="Also simulate material removal on this stock, box:X0,Y0,Z0,X1,Y1,Z1 or "
-    "cyl:CX,CY,R,Z0,Z1 (rules CNC901-CNC905).",
+    help="Also simulate material removal on this stock, box:X0,Y0,Z0,X1,Y1,Z1, "
+    "cyl:CX,CY,R,Z0,Z1 or an STL/STEP file (rules CNC901-CNC908).",
 )
 @click.option(
     "--tools",
@@ -440,6 +485,26 @@ def _list_rules(ctx: CheckContext) -> str:
     type=click.Path(exists=True, dir_okay=False),
     default=None,
     help="Tool library (TOML) with the tools' shapes for the simulation.",
+)
+@click.option(
+    "--design",
+    type=click.Path(exists=True, dir_okay=False),
+    default=None,
+    help="Design model (STL, or STEP with cadquery): with --stock, report gouges and "
+    "material left (CNC906, CNC907).",
+)
+@click.option(
+    "--design-tol",
+    type=click.FloatRange(min=0.0),
+    default=0.1,
+    show_default=True,
+    help="Deviation from the design's top surface accepted (mm).",
+)
+@click.option(
+    "--fixture",
+    "fixture_specs",
+    multiple=True,
+    help="A fixture for the simulation: box:..., cyl:... or an STL/STEP file (repeatable; CNC908).",
 )
 @guarded
 def command(
@@ -462,6 +527,9 @@ def command(
     fail_on: str,
     stock: str | None,
     library: str | None,
+    design: str | None,
+    design_tol: float,
+    fixture_specs: tuple[str, ...],
 ) -> None:
     """Lint and verify programs without simulating them.
 
@@ -498,7 +566,8 @@ def command(
     if jobs == 0:
         jobs = os.cpu_count() or 1
     t0 = time.perf_counter()
-    sim = sim_setup(ctx, stock, library, machine_path)
+    opts = SimOptions(stock, library, design, design_tol, fixture_specs)
+    sim = sim_setup(ctx, opts, machine_path)
     setup = Setup(ctx, dialect, verbosity(), timeout or None, sim)
     results = _check_all(
         paths,

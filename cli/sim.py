@@ -11,6 +11,8 @@ import io
 import json
 import os
 import tomllib
+from collections.abc import Iterable
+from dataclasses import dataclass
 
 import click
 import numpy as np
@@ -34,8 +36,11 @@ from cli.programs import (
     metric_tool_table,
     output_stem,
     program_commands,
+    program_language,
 )
+from gcode.registry import REGISTRY
 from kernel.diagnostics import Diagnostic, Location
+from kernel.ir import canon
 from kernel.machine import Machine
 from kernel.stock import (
     HeightField,
@@ -50,25 +55,114 @@ from kernel.stock import (
 )
 from kernel.stock.design import Deviation, compare_design
 from kernel.stock.mesh import read_stl, stl_bytes, stock_mesh, top_surface
+from kernel.stock.solids import (
+    Fixture,
+    fixture_from_box,
+    fixture_from_mesh,
+    mesh_box,
+    mesh_field,
+)
+from kernel.stock.turning import (
+    TurnedProfile,
+    is_bar,
+    parse_bar,
+    profile_csv,
+    revolved_mesh,
+    simulate_turning,
+)
 from kernel.tooltable import ToolTable
+
+#: file suffixes of a stock, fixture or design given as a mesh
+MESH_SUFFIXES = (".stl", ".step", ".stp")
+
+
+def is_mesh(spec: str) -> bool:
+    """A stock or fixture spec naming an STL or STEP file (not box:/cyl:)."""
+    return os.path.splitext(spec)[1].lower() in MESH_SUFFIXES
+
+
+def _profile_table(machine: Machine, key: str) -> object:
+    return machine.extra.get(key)
+
+
+def _spec_of(table: object, what: str, where: str | None, code: str) -> str:
+    """A profile table's ``box = [...]``, ``cylinder = [...]`` or ``file = "..."`` (relative
+    to the profile) as a ``--stock``/``--fixture`` spec."""
+    if isinstance(table, dict):
+        if isinstance(table.get("bar"), list):
+            return "bar:" + ",".join(str(v) for v in table["bar"])
+        if isinstance(table.get("cylinder"), list):
+            return "cyl:" + ",".join(str(v) for v in table["cylinder"])
+        if isinstance(table.get("box"), list):
+            return "box:" + ",".join(str(v) for v in table["box"])
+        if isinstance(table.get("file"), str):
+            base = os.path.dirname(where) if where else ""
+            return os.path.join(base, table["file"])
+    raise Diagnostic(
+        code,
+        f"{what} needs box = [X0, Y0, Z0, X1, Y1, Z1], cylinder = [CX, CY, R, Z0, Z1], "
+        'bar = [R, Z0, Z1] or file = "part.stl|part.step"',
+        Location(where),
+    )
+
+
+def machine_stock_spec(machine: Machine, where: str | None) -> str | None:
+    """The machine profile's ``[stock]`` as a ``--stock`` spec, if it has one."""
+    table = _profile_table(machine, "stock")
+    if table is None:
+        return None
+    return _spec_of(table, "[stock]", where, "SIM-STOCK")
 
 
 def machine_stock(machine: Machine, where: str | None) -> StockBox | None:
     """``[stock] box = [X0, Y0, Z0, X1, Y1, Z1]`` or ``cylinder = [CX, CY, R, Z0, Z1]`` of
-    the machine profile, if any."""
-    table = machine.extra.get("stock")
-    if table is None:
+    the machine profile, if any (a mesh stock: its bounding box; a lathe's bar: None)."""
+    spec = machine_stock_spec(machine, where)
+    if spec is None or is_bar(spec):
         return None
-    if isinstance(table, dict) and isinstance(table.get("cylinder"), list):
-        return parse_stock("cyl:" + ",".join(str(v) for v in table["cylinder"]), Location(where))
-    box = table.get("box") if isinstance(table, dict) else None
-    if not isinstance(box, list):
-        raise Diagnostic(
-            "SIM-STOCK",
-            "[stock] needs box = [X0, Y0, Z0, X1, Y1, Z1] or cylinder = [CX, CY, R, Z0, Z1]",
-            Location(where),
+    if is_mesh(spec):
+        return mesh_box(mesh_triangles(spec, 0.01, "SIM-STOCK"), "SIM-STOCK", spec)
+    return parse_stock(spec, Location(where))
+
+
+def stock_field(spec: str, resolution: float, where: str | None = None) -> HeightField:
+    """The stock's height field: a box or cylinder (``box:``/``cyl:``) or an STL/STEP file
+    whose top surface sets each cell's column (docs/simulation.md)."""
+    if is_mesh(spec):
+        return mesh_field(
+            mesh_triangles(spec, 0.1 * resolution, "SIM-STOCK"), resolution, "SIM-STOCK", spec
         )
-    return parse_stock("box:" + ",".join(str(v) for v in box), Location(where))
+    return HeightField(parse_stock(spec, Location(where)), resolution)
+
+
+def fixtures_of(
+    specs: tuple[str, ...], machine: Machine, where: str | None, resolution: float
+) -> tuple[Fixture, ...]:
+    """The profile's ``[[fixture]]`` tables and the ``--fixture`` specs (box:, cyl: or an
+    STL/STEP file) as obstacles on grids of ``resolution``."""
+    table = _profile_table(machine, "fixture")
+    entries: list[tuple[str, str | None]] = []
+    if table is not None:
+        if not isinstance(table, list):
+            raise Diagnostic("SIM-FIXTURE-SPEC", "fixtures are [[fixture]] tables", Location(where))
+        for k, t in enumerate(table):
+            spec = _spec_of(t, "[[fixture]]", where, "SIM-FIXTURE-SPEC")
+            name = t.get("name") if isinstance(t, dict) else None
+            entries.append((spec, str(name) if name else f"#{k + 1}"))
+    entries += [(spec, None) for spec in specs]
+    out = []
+    for spec, name in entries:
+        label = name or os.path.basename(spec)
+        if is_mesh(spec):
+            tri = mesh_triangles(spec, 0.1 * resolution, "SIM-FIXTURE-SPEC")
+            out.append(fixture_from_mesh(tri, resolution, label))
+            continue
+        try:
+            box = parse_stock(spec, Location(where))
+        except Diagnostic as exc:
+            raise Diagnostic("SIM-FIXTURE-SPEC", f"fixture: {exc.message}", exc.location) from None
+        out.append(fixture_from_box(box, resolution, label))
+    return tuple(out)
 
 
 def load_tool_library(path: str) -> dict[int, ToolShape]:
@@ -82,11 +176,12 @@ def load_tool_library(path: str) -> dict[int, ToolShape]:
 
 
 def tool_shapes(
-    table: ToolTable | None, library: str | None, specs: tuple[str, ...]
+    table: ToolTable | None, library: str | None, specs: tuple[str, ...], lathe: bool = False
 ) -> dict[int, ToolShape]:
-    """Tool shapes by number: flat end mills of the tool table's diameters, replaced by the
-    library's tools, replaced by ``--tool`` specs."""
-    shapes: dict[int, ToolShape] = shapes_from_table(table) if table else {}
+    """Tool shapes by number: flat end mills of the tool table's diameters (``lathe``:
+    inserts of half those as nose radius), replaced by the library's tools, replaced by
+    ``--tool`` specs."""
+    shapes: dict[int, ToolShape] = shapes_from_table(table, lathe=lathe) if table else {}
     if library:
         shapes.update(load_tool_library(library))
     for spec in specs:
@@ -96,27 +191,35 @@ def tool_shapes(
 
 
 def design_triangles(path: str, tolerance: float) -> np.ndarray:
-    """Triangles (n, 3, 3) of a design model: STL (binary or ASCII) or STEP (tessellated
-    by cadquery, the ``geometry`` extra, within ``tolerance`` mm)."""
+    """Triangles (n, 3, 3) of a design model (:func:`mesh_triangles`)."""
+    return mesh_triangles(path, tolerance, "SIM-DESIGN")
+
+
+def mesh_triangles(path: str, tolerance: float, code: str) -> np.ndarray:
+    """Triangles (n, 3, 3) of an STL (binary or ASCII) or STEP file (tessellated by
+    cadquery, the ``geometry`` extra, within ``tolerance`` mm); ``code`` when it is
+    neither or cannot be read."""
     if os.path.splitext(path)[1].lower() in (".step", ".stp"):
         try:
             import cadquery as cq
         except ImportError:
             raise Diagnostic(
-                "SIM-DESIGN", "reading STEP needs cadquery (the geometry extra)", Location(path)
+                code, "reading STEP needs cadquery (the geometry extra)", Location(path)
             ) from None
         try:
             shape = cq.importers.importStep(path).val()
         except Exception as exc:  # noqa: BLE001 - OCCT raises its own types
-            raise Diagnostic(
-                "SIM-DESIGN", f"not a readable STEP file: {exc}", Location(path)
-            ) from None
+            raise Diagnostic(code, f"not a readable STEP file: {exc}", Location(path)) from None
         verts, faces = shape.tessellate(tolerance)
         pts = np.array([[v.x, v.y, v.z] for v in verts], dtype=np.float64)
         tris = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
         return pts[tris]
-    with open(path, "rb") as fh:
-        return read_stl(fh.read(), path)
+    with open(path, "rb") as fh:  # OSError: an I/O error (exit 2)
+        data = fh.read()
+    try:
+        return read_stl(data, path)
+    except Diagnostic as exc:
+        raise Diagnostic(code, exc.message, exc.location) from None
 
 
 def _map_png(hf: HeightField, grid: np.ndarray, label: str, title: str, **style: object) -> bytes:
@@ -154,10 +257,80 @@ def height_png(hf: HeightField, title: str) -> bytes:
     return _map_png(hf, hf.h, "Z (mm)", title, cmap="viridis")
 
 
-def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) -> str:
+def lathe_program(program: str, dialect: str | None, machine: Machine) -> bool:
+    """The machine profile is a lathe's, or the program is read in a lathe's dialect."""
+    if machine.kind == "lathe":
+        return True
+    name = program_language(program, dialect, -1)
+    return any(e.lathe and e.name == name for e in REGISTRY)
+
+
+@dataclass(frozen=True, slots=True)
+class Turning:
+    """``cnc sim`` on a bar (the turning profile): what to simulate and where to write."""
+
+    program: str
+    spec: str
+    resolution: float
+    chord_tol: float
+    fmt: str
+    out_dir: str | None
+    force: bool
+    stem: str
+
+    def run(self, commands: Iterable[canon.Command], shapes: dict[int, ToolShape]) -> None:
+        """Simulate, print, write ``<stem>_profile.csv``, ``_stock.stl`` (the profile
+        revolved) and ``_sim.json`` with ``-o``, and exit as ``cnc check`` does."""
+        targets: list[str] = []
+        if self.out_dir is not None:
+            if os.path.exists(self.out_dir) and not os.path.isdir(self.out_dir):
+                raise Diagnostic(
+                    "IO-NOT-DIR", "output path is not a directory", Location(self.out_dir)
+                )
+            targets = [
+                os.path.join(self.out_dir, f"{self.stem}_{s}")
+                for s in ("profile.csv", "stock.stl", "sim.json")
+            ]
+            for t in targets:
+                refuse_output(t, self.force, (self.program,))
+        prof = TurnedProfile(parse_bar(self.spec), self.resolution)
+        res = simulate_turning(commands, prof, shapes, self.chord_tol)
+        out = {
+            "program": self.program,
+            "turning": True,
+            "removed_volume": res.removed_volume,
+            "moves": res.moves,
+            "cells": [prof.nz],
+            "tools": {str(n): u.to_dict() for n, u in sorted(res.tools.items())},
+            "design": None,
+            "findings": [f.to_dict() for f in res.findings],
+        }
+        if self.fmt == "json":
+            click.echo(json.dumps(out, indent=2))
+        else:
+            click.echo(_text(self.program, res, prof, None))
+        if self.out_dir is not None:
+            os.makedirs(self.out_dir, exist_ok=True)
+            with open(targets[0], "w", encoding="utf-8") as fh:
+                fh.write(profile_csv(prof))
+            with open(targets[1], "wb") as fh:
+                fh.write(stl_bytes(*revolved_mesh(prof), name=b"cnc sim turned part"))
+            grid = {"z0": prof.bar.z0, "dz": prof.dz}
+            files = {"profile": os.path.basename(targets[0])}
+            with open(targets[2], "w", encoding="utf-8") as fh:
+                json.dump({**out, "grid": grid, "files": files}, fh, indent=2)
+        raise SystemExit(EXIT_PROGRAM_ERROR if res.errors else EXIT_OK)
+
+
+def _text(
+    program: str, res: SimResult, hf: HeightField | TurnedProfile, dev: Deviation | None
+) -> str:
+    if isinstance(hf, TurnedProfile):
+        grid = f"turning: {hf.nz} cells of {hf.dz:g} mm along Z"
+    else:
+        grid = f"{hf.nx} x {hf.ny} cells of {hf.dx:g} x {hf.dy:g} mm"
     lines = [
-        f"{program}: removed_volume {res.removed_volume:.3f} mm3 over {res.moves} moves "
-        f"({hf.nx} x {hf.ny} cells of {hf.dx:g} x {hf.dy:g} mm)"
+        f"{program}: removed_volume {res.removed_volume:.3f} mm3 over {res.moves} moves ({grid})"
     ]
     for n, use in sorted(res.tools.items()):
         lines.append(
@@ -179,7 +352,15 @@ def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) 
 @click.option(
     "--stock",
     default=None,
-    help="stock as box:X0,Y0,Z0,X1,Y1,Z1 or cyl:CX,CY,R,Z0,Z1 (mm, machine)",
+    help="stock as box:X0,Y0,Z0,X1,Y1,Z1, cyl:CX,CY,R,Z0,Z1 (mm, machine), an STL/STEP file, "
+    "or bar:R,Z0,Z1 for turning (a lathe profile or dialect needs a bar)",
+)
+@click.option(
+    "--fixture",
+    "fixture_specs",
+    multiple=True,
+    help="a fixture (obstacle): box:..., cyl:... or an STL/STEP file (repeatable; "
+    "also the profile's [[fixture]] tables)",
 )
 @tool_table_option(help="LinuxCNC .tbl or NIST tool file: flat end mills of its diameters")
 @tool_units_option()
@@ -195,7 +376,8 @@ def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) 
     "tool_specs",
     multiple=True,
     help="tool shape N=KIND:DIAMETER[,flute=L][,corner=R][,angle=A][,shank=D][,holder=D]"
-    "[,nocentre], KIND flat|ball|bull|drill|chamfer (repeatable; 0: the default)",
+    "[,nocentre], KIND flat|ball|bull|drill|chamfer, or a lathe insert N=insert:NOSE_RADIUS"
+    "[,width=W] (repeatable; 0: the default)",
 )
 @click.option(
     "--resolution",
@@ -245,6 +427,7 @@ def _text(program: str, res: SimResult, hf: HeightField, dev: Deviation | None) 
 def command(
     program: str,
     stock: str | None,
+    fixture_specs: tuple[str, ...],
     tool_table: str | None,
     tool_units: str | None,
     library: str | None,
@@ -259,7 +442,8 @@ def command(
     force: bool,
     dialect: str | None,
 ) -> None:
-    """Simulate 3-axis material removal of PROGRAM on a height field.
+    """Simulate 3-axis material removal of PROGRAM on a height field, or turning on a
+    bar's radius profile (a bar stock, a lathe profile or a lathe dialect).
 
     Prints the removed volume (mm³) and the findings; exits 1 on an error finding.
 
@@ -267,14 +451,30 @@ def command(
     Examples:
       cnc sim part.ngc --stock box:0,0,-20,100,80,0 --resolution 0.2
       cnc sim part.ngc --machine mill.toml -t tools.tbl --tool 2=ball:6 -o out
+      cnc sim shaft.ngc --stock bar:25,-80,1 --tool 1=insert:0.8 -o out
     """
     machine = load_machine(machine_file)
-    box = parse_stock(stock, Location(None)) if stock else machine_stock(machine, machine_file)
-    if box is None:
+    spec = stock or machine_stock_spec(machine, machine_file)
+    if spec is None:
         raise click.UsageError("no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or [stock] box")
+    lathe = is_bar(spec) or lathe_program(program, dialect, machine)
     table, tool_mm = load_tools(tool_table, tool_units)
-    shapes = tool_shapes(metric_tool_table(table, tool_mm) if table else None, library, tool_specs)
+    metric = metric_tool_table(table, tool_mm) if table else None
+    shapes = tool_shapes(metric, library, tool_specs, lathe)
     stem = output_stem(program)
+    if lathe:
+        if not is_bar(spec):
+            raise Diagnostic(
+                "SIM-STOCK",
+                "a lathe program is simulated on a bar: --stock bar:R,Z0,Z1 "
+                "(or [stock] bar = [R, Z0, Z1])",
+                Location(None if stock else machine_file),
+            )
+        if design or fixture_specs:
+            raise click.UsageError("--design and --fixture are for milling (a box stock)")
+        turn = Turning(program, spec, resolution, chord_tol, fmt, out_dir, force, stem)
+        turn.run(program_commands(program, table, tool_mm, dialect, machine=machine), shapes)
+        return
     targets: list[str] = []
     if out_dir is not None:
         if os.path.exists(out_dir) and not os.path.isdir(out_dir):
@@ -294,10 +494,13 @@ def command(
             targets = targets[:4]
         for t in targets:
             refuse_output(t, force, (program,))
-    hf = HeightField(box, resolution)
+    hf = stock_field(spec, resolution, None if stock else machine_file)
+    fixtures = fixtures_of(fixture_specs, machine, machine_file, resolution)
     commands = program_commands(program, table, tool_mm, dialect, machine=machine)
     design_top = top_surface(design_triangles(design, 0.1 * resolution), hf) if design else None
-    res = simulate_removal(commands, hf, shapes, chord_tol, track_moves=design is not None)
+    res = simulate_removal(
+        commands, hf, shapes, chord_tol, track_moves=design is not None, fixtures=fixtures
+    )
     deviation: Deviation | None = None
     if design_top is not None:
         deviation = compare_design(hf, design_top, res, design_tol, program)

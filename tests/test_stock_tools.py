@@ -424,3 +424,36 @@ def test_cylinder_stock(tmp_path: Path) -> None:
     assert [(f["code"], f["line"]) for f in out["findings"]] == [("SIM-RAPID-IN-STOCK", 6)]
     hf = HeightField(parse_stock_text("cyl:50,25,20,-10,0"), 0.1)
     assert abs(hf.volume() - hf.box.volume) <= 2 * math.pi * 20 * math.hypot(0.1, 0.1) * 10
+
+
+def test_bull_nose_with_the_material_ceiling_against_dense_placement() -> None:
+    """The compiled bull-nose sweep (Newton's method in a bracket) over random moves, many
+    nearly level (the stationary point near the flat end's edge, where g'' jumps) and some
+    steep: never above the tool placed at 2,001 points along the move, below it only by
+    the sampling's step; with a random material top, a cell it leaves is never cut below
+    that top (the pruning bounds hold)."""
+    rng = np.random.default_rng(5)
+    gx, gy = np.meshgrid(np.linspace(-8, 8, 21), np.linspace(-8, 8, 21))
+    tool = make_tool("bull", 6.0, "t", corner_radius=1.0)
+
+    def bull(rho: np.ndarray) -> np.ndarray:
+        e = np.clip(rho - 2.0, 0.0, 1.0)
+        return 1.0 - np.sqrt(1.0 - e * e)
+
+    ts = np.linspace(0.0, 1.0, 1_001)[:, None, None]
+    for k in range(12):
+        d = rng.uniform(-5, 5, 3) * ((1, 1, 0.01), (1, 1, 1), (0.2, 0.2, 1))[k % 3]
+        z0 = float(rng.uniform(-2, 2))
+        rho = np.hypot(gx - ts * d[0], gy - ts * d[1])
+        z = np.where(rho <= 3.0, z0 + ts * d[2] + bull(np.minimum(rho, 3.0)), np.inf)
+        ref = z.min(axis=0)
+        ceiling = ref + rng.uniform(-0.3, 0.3, ref.shape)
+        step = float(np.abs(d).sum()) / 1_000 + 1e-9
+        for top in (None, ceiling):
+            got = tool_envelope(gx, gy, tuple(float(v) for v in d), z0, tool, top)
+            cut = np.isfinite(ref) if top is None else ref < ceiling - step
+            assert np.all(got[cut] <= ref[cut] + 1e-9)
+            assert np.all(got[cut] >= ref[cut] - step)
+            if top is not None:
+                kept = np.isfinite(ref) & (ref >= ceiling)
+                assert np.all(got[kept] >= ceiling[kept] - 1e-9)

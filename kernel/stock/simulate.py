@@ -12,7 +12,7 @@ system, or a NURBS/ellipse move is refused with a located ``SIM-NOT-3AXIS`` /
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -27,6 +27,7 @@ from kernel.stock.heightfield import (
     cone_envelope,
     flat_envelope,
 )
+from kernel.stock.solids import Fixture
 from kernel.stock.tools import DEFAULT_TOOL, ToolShape
 
 #: height (mm) material must stand above a rapid's swept tool to count as a collision
@@ -43,6 +44,7 @@ RULES: dict[str, Severity] = {
     "SIM-AIR-CUTTING": Severity.NOTE,
     "SIM-GOUGE": Severity.ERROR,
     "SIM-LEFTOVER": Severity.WARNING,
+    "SIM-FIXTURE": Severity.ERROR,
 }
 #: a tool whose feed path cuts nothing over more than this share of its length gets a note
 AIR_SHARE = 0.5
@@ -54,10 +56,12 @@ class SimFinding:
     severity: Severity
     message: str
     location: Location
-    #: the worst value (mm, or the air share) and where (machine X, Y), when it has one
+    #: the worst value (mm, or the air share) and where (machine X, Y; a lathe's X, Z),
+    #: when it has one
     value: float | None = None
     x: float | None = None
     y: float | None = None
+    z: float | None = None
 
     def to_dict(self) -> dict[str, object]:
         out: dict[str, object] = {
@@ -69,8 +73,9 @@ class SimFinding:
         }
         if self.value is not None:
             out["value"] = self.value
-        if self.x is not None and self.y is not None:
-            out["x"], out["y"] = self.x, self.y
+        for key, where in (("x", self.x), ("y", self.y), ("z", self.z)):
+            if where is not None:
+                out[key] = where
         return out
 
 
@@ -171,7 +176,7 @@ def arc_points(
     return pts
 
 
-def _moves(
+def machine_moves(
     commands: Iterable[canon.Command], chord_tol: float
 ) -> Iterator[tuple[canon.Command, bool, int, np.ndarray]]:
     """(command, is_rapid, tool number, points (n, 3)) for every motion, in machine mm; the
@@ -321,18 +326,62 @@ def _guards(tool: ToolShape) -> list[tuple[str, float, float]]:
     return parts
 
 
+#: records a finding: (code, command, (worst value, x, y), message)
+Recorder = Callable[[str, canon.Command, tuple[float, float, float], str], None]
+
+
+def _fixture_contact(
+    fixture: Fixture,
+    tool: ToolShape,
+    bodies: list[tuple[str, float, float]],
+    p0: np.ndarray,
+    p1: np.ndarray,
+    rapid: bool,
+    cmd: canon.Command,
+    find: Recorder,
+) -> None:
+    """Record ``SIM-FIXTURE`` when the tool's cutting end, shank or holder (``bodies``:
+    name, radius, bottom above the tip) swept from ``p0`` to ``p1`` goes below the
+    fixture's top: the worst depth over the bodies, naming the one that reaches deepest."""
+    grid = fixture.grid
+    worst: tuple[float, float, float] | None = None
+    what = ""
+    for name, radius, lift in bodies:
+        touched = _sweep(grid, p0, p1, radius, lift, tool if name == "tool" else None)
+        if touched is None:
+            continue
+        win, env = touched
+        over = grid.h[win] - env
+        if np.max(over) > RAPID_EPS:
+            here = _worst(grid, win, over)
+            if worst is None or here[0] > worst[0]:
+                worst, what = here, name
+    if worst is None:
+        return
+    move = "rapid move" if rapid else "move"
+    part = "tool" if what == "tool" else f"tool's {what}"
+    find(
+        "SIM-FIXTURE",
+        cmd,
+        worst,
+        f"{move}: the {part} enters fixture {fixture.name} {worst[0]:.3f} mm deep",
+    )
+
+
 def simulate_removal(
     commands: Iterable[canon.Command],
     hf: HeightField,
     tools: dict[int, ToolShape],
     chord_tol: float = 0.005,
     track_moves: bool = False,
+    fixtures: Sequence[Fixture] = (),
 ) -> SimResult:
     """Sweep every move of ``commands`` through ``hf`` (changed in place) with the tools by
     number (a tool not in ``tools`` is tool 0's shape, or the default 6 mm flat end mill)
     and report the removed volume, each tool's share and the findings (:data:`RULES`), one
     per rule and line with the worst value found on that line. ``track_moves`` keeps, per
-    cell, the last move that cut it (``SimResult.last_move``)."""
+    cell, the last move that cut it (``SimResult.last_move``). Any move whose swept tool,
+    shank or holder goes below the top of one of ``fixtures`` is ``SIM-FIXTURE``."""
     start = hf.volume()
     z0 = hf.box.z0
     result = SimResult(0.0, 0)
@@ -365,8 +414,15 @@ def simulate_removal(
             result.tools[current].removed_volume += mark - now
             mark = now
 
-    for cmd, rapid, number, pts in _moves(commands, chord_tol):
+    for cmd, rapid, number, pts in machine_moves(commands, chord_tol):
         tool = tools.get(number, fallback)
+        if tool.kind == "insert":
+            raise Diagnostic(
+                "SIM-UNSUPPORTED",
+                f"tool {number} is a lathe insert: turning is simulated on a bar stock "
+                "(--stock bar:R,Z0,Z1)",
+                _located(cmd),
+            )
         if number != current:
             settle()
             current = number
@@ -377,11 +433,14 @@ def simulate_removal(
         if track_moves:
             result.move_locations.append(_located(cmd))
         guards = _guards(tool)
+        bodies = [("tool", tool.radius, 0.0), *guards]
         for k in range(len(pts) - 1):
             p0, p1 = pts[k], pts[k + 1]
             seg = float(np.linalg.norm(p1 - p0))
             if not rapid:
                 use.feed_length += seg
+            for fixture in fixtures:
+                _fixture_contact(fixture, tool, bodies, p0, p1, rapid, cmd, find)
             for name, radius, lift in guards:
                 touched = _sweep(hf, p0, p1, radius, lift, None)
                 if touched is None:

@@ -13,15 +13,25 @@ table has no shape column, :func:`shapes_from_table`). Nothing here reads a file
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
 from kernel.diagnostics import Diagnostic, Location
 from kernel.tooltable import ToolTable
 
-KINDS = ("flat", "ball", "bull", "drill", "chamfer")
+KINDS = ("flat", "ball", "bull", "drill", "chamfer", "insert")
 #: other names of a kind (``v`` is a V-bit, a chamfer tool with a sharp tip)
-ALIASES = {"v": "chamfer", "vbit": "chamfer", "endmill": "flat", "bullnose": "bull"}
+ALIASES = {
+    "v": "chamfer",
+    "vbit": "chamfer",
+    "endmill": "flat",
+    "bullnose": "bull",
+    "lathe": "insert",
+    "turning": "insert",
+}
+#: an insert's width along Z when none is given (mm)
+INSERT_WIDTH = 6.0
 #: point angle of a drill and included angle of a V-bit when none is given (degrees)
 DEFAULT_ANGLE = {"drill": 118.0, "chamfer": 90.0}
 
@@ -36,7 +46,9 @@ class ToolShape:
     angle from a flat tip of ``tip_diameter``). The programmed point is the lowest point.
     ``flute_length`` 0 means unknown; ``centre_cutting`` False marks a tool that must not
     plunge. The shank (``shank_diameter``, 0: none given) stands from the flutes' top up to
-    ``shank_length`` above it, then the holder (``holder_diameter`` x ``holder_length``)."""
+    ``shank_length`` above it, then the holder (``holder_diameter`` x ``holder_length``).
+    ``insert`` is a lathe insert (kernel.stock.turning): ``corner_radius`` its nose radius,
+    ``width`` its extent along Z, ``diameter`` twice the nose radius."""
 
     kind: str = "flat"
     diameter: float = 6.0
@@ -49,6 +61,7 @@ class ToolShape:
     shank_length: float = 0.0
     holder_diameter: float = 0.0
     holder_length: float = 0.0
+    width: float = 0.0
 
     @property
     def radius(self) -> float:
@@ -110,6 +123,9 @@ _NUMBERS = {
     "holder": "holder_diameter",
     "holder_diameter": "holder_diameter",
     "holder_length": "holder_length",
+    "nose_radius": "corner_radius",
+    "nose": "corner_radius",
+    "width": "width",
 }
 
 
@@ -125,11 +141,13 @@ def make_tool(
     kind = ALIASES.get(kind.strip().lower(), kind.strip().lower())
     if kind not in KINDS:
         raise bad(f"type must be one of {', '.join(KINDS)}")
-    if not (math.isfinite(diameter) and diameter > 0):
-        raise bad("diameter must be > 0")
     for key, value in kw.items():
         if key != "centre_cutting" and not (math.isfinite(value) and value >= 0):
             raise bad(f"{key} must be a number >= 0")
+    if kind == "insert":
+        return _insert(diameter, kw, bad)
+    if not (math.isfinite(diameter) and diameter > 0):
+        raise bad("diameter must be > 0")
     if kind in DEFAULT_ANGLE and not kw.get("angle"):
         kw["angle"] = DEFAULT_ANGLE[kind]
     tool = ToolShape(kind, float(diameter), **kw)
@@ -142,6 +160,22 @@ def make_tool(
     if kind == "flat" and tool.corner_radius > 0:
         tool = replace(tool, kind="bull")
     return tool
+
+
+def _insert(nose: float, kw: dict[str, Any], bad: Callable[[str], Diagnostic]) -> ToolShape:
+    """A lathe insert of nose radius ``nose`` (>= 0) and ``kw``'s ``width`` (along Z, at
+    least twice the nose radius; :data:`INSERT_WIDTH` when absent)."""
+    kw = dict(kw)
+    nose = kw.pop("corner_radius", nose)
+    width = kw.pop("width", 0.0) or max(INSERT_WIDTH, 2.0 * nose)
+    if not (math.isfinite(nose) and nose >= 0):
+        raise bad("an insert's nose radius must be >= 0")
+    if not (math.isfinite(width) and width >= 2.0 * nose and width > 0):
+        raise bad("an insert's width must be > 0 and at least twice its nose radius")
+    for key in ("angle", "tip_diameter", "shank_diameter", "holder_diameter"):
+        if kw.get(key):
+            raise bad(f"{key} does not apply to a lathe insert")
+    return ToolShape("insert", 2.0 * nose, corner_radius=nose, width=width, **kw)
 
 
 def parse_tool_spec(text: str, where: Location | None = None) -> tuple[int, ToolShape]:
@@ -229,14 +263,28 @@ def library_from_toml(doc: dict[str, Any], where: str | None = None) -> dict[int
             else:
                 raise Diagnostic("SIM-TOOL", f"{what}: unknown or bad key {name!r}", loc)
         kind, dia = table.get("type"), table.get("diameter")
+        if isinstance(kind, str) and ALIASES.get(kind, kind) == "insert" and dia is None:
+            dia = 0.0  # an insert: its nose_radius is its size
         if not isinstance(kind, str) or not isinstance(dia, int | float):
             raise Diagnostic("SIM-TOOL", f"{what}: needs type and diameter", loc)
-        out[number] = make_tool(kind, float(dia) * scale, what, loc, **kw)
+        size = float(dia) * scale
+        if ALIASES.get(kind, kind) == "insert":
+            size *= 0.5  # an insert is sized by its nose radius
+        out[number] = make_tool(kind, size, what, loc, **kw)
     return out
 
 
-def shapes_from_table(table: ToolTable, mm_per_unit: float = 1.0) -> dict[int, ToolShape]:
-    """Flat end mills of a tool table's diameters (tools with no diameter are left out)."""
+def shapes_from_table(
+    table: ToolTable, mm_per_unit: float = 1.0, lathe: bool = False
+) -> dict[int, ToolShape]:
+    """Flat end mills of a tool table's diameters (tools with no diameter are left out),
+    or for a lathe inserts whose nose radius is half the diameter (LinuxCNC's lathe tool
+    table gives the nose's diameter in D)."""
+    if lathe:
+        return {
+            n: _insert(0.5 * t.diameter * mm_per_unit, {}, lambda m: Diagnostic("SIM-TOOL", m))
+            for n, t in table.tools.items()
+        }
     return {
         n: ToolShape("flat", t.diameter * mm_per_unit)
         for n, t in table.tools.items()
