@@ -19,7 +19,7 @@ import numpy as np
 from cli.formats.html_report import PLOTLY_FILE, plotly_js
 from cli.outputs import refuse_output, replacing
 from cli.programs import program_language
-from cli.sim import machine_stock
+from cli.sim import machine_stock, machine_stock_spec, stock_field
 from gcode.registry import REGISTRY, canonical_name
 from kernel.check import CheckContext, Finding
 from kernel.diagnostics import Diagnostic, Location
@@ -40,6 +40,7 @@ from kernel.stock import HeightField, SimResult, shapes_from_table, simulate_rem
 from kernel.stock.checkrules import as_check
 from kernel.stock.design import Deviation, compare_design
 from kernel.stock.mesh import top_surface
+from kernel.stock.turning import is_bar
 
 #: the dialects whose X words are diameters (the IR's x is the radius)
 _DIAMETER_DIALECTS = frozenset(e.name for e in REGISTRY if e.lathe)
@@ -132,14 +133,14 @@ class DesignedPart:
 def design_part(
     commands: list[canon.Command], ctx: CheckContext, program: str, design: Design
 ) -> DesignedPart | None:
-    """Simulate ``commands`` on the profile's ``[stock]`` box at ``design.resolution`` (tools
+    """Simulate ``commands`` on the profile's ``[stock]`` at ``design.resolution`` (tools
     as flat end mills of the tool table's diameters) and compare the result with the design
     (kernel.stock.design: the same rules as ``cnc check --design``); None without a
-    ``[stock]`` box or on a lathe."""
-    stock = machine_stock(ctx.machine, None)
-    if stock is None or ctx.machine.kind == "lathe":
+    ``[stock]`` or on a lathe."""
+    spec = machine_stock_spec(ctx.machine, None)
+    if spec is None or is_bar(spec) or ctx.machine.kind == "lathe":
         return None
-    hf = HeightField(stock, design.resolution)
+    hf = stock_field(spec, design.resolution)  # a mesh stock: its top surface, as cnc check
     shapes = shapes_from_table(ctx.tools, ctx.tool_mm_per_unit) if ctx.tools else {}
     result = simulate_removal(commands, hf, shapes, track_moves=True)
     deviation = compare_design(hf, top_surface(design.triangles, hf), result, design.tol, program)
@@ -180,12 +181,12 @@ def program_view(
     )
     surface = None
     if stock is not None and not lathe and part is not None:
-        dev = part.deviation
+        dev, b = part.deviation, part.hf.box
         surface = surface_grid(
-            stock.x0,
-            stock.y0,
-            stock.x1,
-            stock.y1,
+            b.x0,
+            b.y0,
+            b.x1,
+            b.y1,
             part.hf.h,
             STOCK_CELLS,
             dev.dev,
