@@ -37,6 +37,8 @@ from cli.formats import FORMATS, CheckReport, FileResult, render
 from cli.inline import InlineProgram, materialised, renamed
 from cli.main import verbosity
 from cli.options import (
+    design_option,
+    design_tol_option,
     fail_on_option,
     failing,
     force_option,
@@ -66,6 +68,7 @@ from cli.sim import (
     load_tool_library,
     machine_stock_spec,
     stock_field,
+    stock_resolution,
 )
 from cli.stream_out import LineProgress, ResultTable, need_pyarrow, progress_wanted
 from kernel.check import RULES, CheckContext, Finding, check_stream, config_from_dict
@@ -233,10 +236,7 @@ def sim_setup(ctx: CheckContext, opts: SimOptions, machine_path: str | None) -> 
     shapes = shapes_from_table(tools, ctx.tool_mm_per_unit, lathe) if tools else {}
     if opts.library:
         shapes.update(load_tool_library(opts.library))
-    table = ctx.machine.extra.get("stock")
-    res = table.get("resolution", 0.5) if isinstance(table, dict) else 0.5
-    if not isinstance(res, int | float) or not res > 0:
-        raise Diagnostic("SIM-GRID", "[stock] resolution must be > 0", Location(machine_path))
+    res = stock_resolution(ctx.machine, machine_path)
     if lathe:
         where = Location(None if opts.stock else machine_path)
         if not is_bar(spec):
@@ -486,20 +486,11 @@ def _list_rules(ctx: CheckContext) -> str:
     default=None,
     help="Tool library (TOML) with the tools' shapes for the simulation.",
 )
-@click.option(
-    "--design",
-    type=click.Path(exists=True, dir_okay=False),
-    default=None,
+@design_option(
     help="Design model (STL, or STEP with cadquery): with --stock, report gouges and "
-    "material left (CNC906, CNC907).",
+    "material left (CNC906, CNC907)."
 )
-@click.option(
-    "--design-tol",
-    type=click.FloatRange(min=0.0),
-    default=0.1,
-    show_default=True,
-    help="Deviation from the design's top surface accepted (mm).",
-)
+@design_tol_option()
 @click.option(
     "--fixture",
     "fixture_specs",

@@ -6,6 +6,8 @@ same everywhere (issue 18, docs/cli.md):
 - ``-q/-v``, accepted after the subcommand as well as before it (cli.global_options, which
   ``cli.main`` applies to each command as it loads it: ``cnc --version`` loads no reader);
 - ``--fail-on error|warning|note`` of the batch commands, ``-o/--output`` and ``--force``;
+- ``--design`` and ``--design-tol`` of the commands that compare the simulated stock with a
+  design model (``cnc sim``, ``cnc check``, ``cnc run``);
 - a program argument that takes ``-`` for standard input (:func:`program_argument`).
 
 Old spellings stay accepted as hidden aliases (``--tool-file`` of ``cnc stepnc``), so
@@ -165,6 +167,29 @@ def force_option(
 ) -> Callable[[F], F]:
     """``--force``: replace existing outputs (cli.outputs.refuse_output)."""
     return click.option("--force", is_flag=True, help=help)
+
+
+def design_option(
+    help: str = "Design model (STL, or STEP with cadquery): report gouges and material left.",  # noqa: A002
+) -> Callable[[F], F]:
+    """``--design part.stl|part.step``: the design model the simulated stock is compared
+    with (docs/simulation.md)."""
+    return click.option(
+        "--design", type=click.Path(exists=True, dir_okay=False), default=None, help=help
+    )
+
+
+def design_tol_option(
+    help: str = "Deviation from the design's top surface accepted (mm).",  # noqa: A002
+) -> Callable[[F], F]:
+    """``--design-tol MM``: the deviation from the design accepted (default 0.1 mm)."""
+    return click.option(
+        "--design-tol",
+        type=click.FloatRange(min=0.0),
+        default=0.1,
+        show_default=True,
+        help=help,
+    )
 
 
 def read_stdin() -> str:

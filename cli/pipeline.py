@@ -26,7 +26,8 @@ from kernel.diagnostics import Diagnostic, Location, Severity
 from kernel.ir import canon
 from kernel.report.breakdown import Stretches
 
-if TYPE_CHECKING:  # the page's types: the modules load only with --html
+if TYPE_CHECKING:  # the page's types: the modules load only with --html or --design
+    from cli.report_view import Design, DesignedPart
     from kernel.path.segments import Path
     from kernel.report.backplot import Backplot, Surface
 
@@ -47,6 +48,7 @@ class RunOptions:
     verbosity: int = 0  # -v/-q balance: whether a guessed dialect is told on stderr
     timeout: float | None = None  # per-program time limit in seconds (None: none)
     html_library: str = "inline"  # plotly.js in each page, or the relative file they load
+    design: Design | None = None  # --design: compare the cut part with it (needs [stock])
 
 
 @dataclass(slots=True)
@@ -61,6 +63,7 @@ class Page:
     surface: Surface | None = None
     source: str | None = None  # the program's text, for the listing
     note: str = ""
+    part: DesignedPart | None = None  # --design: the cut part against the design
 
 
 @dataclass(slots=True)
@@ -187,6 +190,30 @@ def _simulate(
         res.stages["plots"] = time.perf_counter() - t2
 
 
+def _design_findings(
+    commands: list[canon.Command],
+    program: str,
+    ctx: CheckContext,
+    design: Design,
+    doc: dict[str, Any],
+    page: Page,
+) -> list[Finding]:
+    """``--design``: the cut part against the design (cli.report_view.design_part), its
+    worst values in ``doc["design"]`` and its findings (CNC906, CNC907) to list with the
+    check's; a program the simulation refuses is a CNC001 finding, as in ``cnc check``."""
+    from cli.report_view import design_part
+
+    try:
+        part = design_part(commands, ctx, program, design)
+    except Diagnostic as exc:
+        return [Finding("CNC001", Severity.ERROR, exc.message, exc.location, exc.code)]
+    if part is None:
+        return []
+    page.part = part
+    doc["design"] = part.deviation.to_dict()
+    return part.findings(ctx)
+
+
 def _view(
     commands: list[canon.Command],
     path: Path,
@@ -201,7 +228,7 @@ def _view(
 
     try:
         page.backplot, page.surface = program_view(
-            commands, path, ctx, program, opts.dialect, page.source
+            commands, path, ctx, program, opts.dialect, page.source, page.part
         )
     except Diagnostic as diag:
         page.note = f"No backplot: {diag}"
@@ -307,6 +334,8 @@ def _run_program(
     except Exception as exc:  # noqa: BLE001 - a bug must not take the rest of the batch down
         msg = f"internal error while checking ({type(exc).__name__}: {exc}); please report it"
         findings = [Finding("CNC001", Severity.ERROR, msg, Location(program), "CHECK-INTERNAL")]
+    if opts.design is not None and not any(f.rule == "CNC001" for f in findings):
+        findings += _design_findings(commands, program, ctx, opts.design, doc, page)
     doc["findings"] = [f.to_dict() for f in findings]
     res.stages["check"] = time.perf_counter() - t0
     res.errors = sum(1 for f in findings if f.severity == Severity.ERROR)

@@ -1,5 +1,6 @@
 """What ``cnc run --html`` adds to a program's page besides the JSON report: the backplot,
-the program's text for the listing, the cut part when the profile has a ``[stock]`` box, and
+the program's text for the listing, the cut part when the profile has a ``[stock]`` box
+(with ``--design``: coloured by its deviation from the design, :func:`design_part`), and
 plotly.js written once beside the pages of a batch.
 
 The drawing itself is kernel.report.backplot (pure); here the program's language, its text
@@ -11,13 +12,16 @@ from __future__ import annotations
 import math
 import os
 import re
+from dataclasses import dataclass
+
+import numpy as np
 
 from cli.formats.html_report import PLOTLY_FILE, plotly_js
 from cli.outputs import refuse_output, replacing
 from cli.programs import program_language
-from cli.sim import machine_stock
+from cli.sim import machine_stock, machine_stock_spec, stock_field
 from gcode.registry import REGISTRY, canonical_name
-from kernel.check import CheckContext
+from kernel.check import CheckContext, Finding
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.machine import Machine
@@ -25,13 +29,18 @@ from kernel.path.segments import Path
 from kernel.report.backplot import (
     Backplot,
     Box,
+    Mark,
     Surface,
     build_backplot,
     is_lathe,
     surface_grid,
     tool_changes,
 )
-from kernel.stock import HeightField, shapes_from_table, simulate_removal
+from kernel.stock import HeightField, SimResult, shapes_from_table, simulate_removal
+from kernel.stock.checkrules import as_check
+from kernel.stock.design import Deviation, compare_design
+from kernel.stock.mesh import top_surface
+from kernel.stock.turning import is_bar
 
 #: the dialects whose X words are diameters (the IR's x is the radius)
 _DIAMETER_DIALECTS = frozenset(e.name for e in REGISTRY if e.lathe)
@@ -77,6 +86,67 @@ def _limits(machine: Machine) -> Box | None:
     return Box((lo[0], lo[1], lo[2]), (hi[0], hi[1], hi[2]))
 
 
+@dataclass(frozen=True, slots=True)
+class Design:
+    """``cnc run --design``: the design's triangles (read once for the batch), the
+    deviation accepted (``--design-tol``, mm) and the grid of the comparison (the profile's
+    ``[stock] resolution``, as ``cnc check`` simulates)."""
+
+    triangles: np.ndarray
+    tol: float
+    resolution: float
+
+
+@dataclass(frozen=True, slots=True)
+class DesignedPart:
+    """The program's cut part compared with the design: the final height field, the
+    deviation and the simulation with its ``SIM-GOUGE``/``SIM-LEFTOVER`` findings."""
+
+    hf: HeightField
+    deviation: Deviation
+    result: SimResult
+    tol: float
+
+    def findings(self, ctx: CheckContext) -> list[Finding]:
+        """The design findings as check findings (CNC906, CNC907) at the configured
+        severities, listed in the report like the other findings."""
+        design = [f for f in self.result.findings if f.code in ("SIM-GOUGE", "SIM-LEFTOVER")]
+        return as_check(SimResult(0.0, 0, design), ctx)
+
+    def marks(self) -> tuple[Mark, ...]:
+        """The worst gouge and the worst material left beyond the tolerance, on the part."""
+        out = []
+        hf = self.hf
+        for f in self.result.findings:
+            if f.code not in ("SIM-GOUGE", "SIM-LEFTOVER") or f.x is None or f.y is None:
+                continue
+            i = min(max(int((f.x - hf.box.x0) / hf.dx), 0), hf.nx - 1)
+            j = min(max(int((f.y - hf.box.y0) / hf.dy), 0), hf.ny - 1)
+            gouge = f.code == "SIM-GOUGE"
+            value = -(f.value or 0.0) if gouge else (f.value or 0.0)
+            what = "worst gouge" if gouge else "worst material left"
+            label = f"{what} {abs(value):.3f} mm"
+            out.append(Mark(label, f.x, f.y, float(hf.h[j, i]), value, f.location.line or 0))
+        return tuple(out)
+
+
+def design_part(
+    commands: list[canon.Command], ctx: CheckContext, program: str, design: Design
+) -> DesignedPart | None:
+    """Simulate ``commands`` on the profile's ``[stock]`` at ``design.resolution`` (tools
+    as flat end mills of the tool table's diameters) and compare the result with the design
+    (kernel.stock.design: the same rules as ``cnc check --design``); None without a
+    ``[stock]`` or on a lathe."""
+    spec = machine_stock_spec(ctx.machine, None)
+    if spec is None or is_bar(spec) or ctx.machine.kind == "lathe":
+        return None
+    hf = stock_field(spec, design.resolution)  # a mesh stock: its top surface, as cnc check
+    shapes = shapes_from_table(ctx.tools, ctx.tool_mm_per_unit) if ctx.tools else {}
+    result = simulate_removal(commands, hf, shapes, track_moves=True)
+    deviation = compare_design(hf, top_surface(design.triangles, hf), result, design.tol, program)
+    return DesignedPart(hf, deviation, result, design.tol)
+
+
 def program_view(
     commands: list[canon.Command],
     path: Path,
@@ -84,10 +154,12 @@ def program_view(
     program: str,
     dialect: str | None,
     source: str | None,
+    part: DesignedPart | None = None,
 ) -> tuple[Backplot, Surface | None]:
     """The backplot of ``program`` and, when the profile has a ``[stock]`` box, the cut part
     (a height field of at most :data:`STOCK_CELLS` cells a side, tools as flat end mills of
-    the tool table's diameters)."""
+    the tool table's diameters); with a design's ``part`` (:func:`design_part`), that part's
+    surface coloured by its deviation from the design, the worst values marked."""
     machine = ctx.machine
     try:
         language = program_language(program, dialect, -1, machine.kind == "lathe")
@@ -108,7 +180,20 @@ def program_view(
         limits=_limits(machine),
     )
     surface = None
-    if stock is not None and not lathe:
+    if stock is not None and not lathe and part is not None:
+        dev, b = part.deviation, part.hf.box
+        surface = surface_grid(
+            b.x0,
+            b.y0,
+            b.x1,
+            b.y1,
+            part.hf.h,
+            STOCK_CELLS,
+            dev.dev,
+            part.tol,
+            part.marks(),
+        )
+    elif stock is not None and not lathe:
         step = max(stock.x1 - stock.x0, stock.y1 - stock.y0) / STOCK_CELLS
         hf = HeightField(stock, step)
         shapes = shapes_from_table(ctx.tools, ctx.tool_mm_per_unit) if ctx.tools else {}

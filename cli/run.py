@@ -33,6 +33,8 @@ from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded
 from cli.formats.html_report import PLOTLY_FILE
 from cli.main import verbosity
 from cli.options import (
+    design_option,
+    design_tol_option,
     fail_on_option,
     failing,
     force_option,
@@ -58,6 +60,8 @@ from cli.programs import (
     scheduler_option,
     timeout_option,
 )
+from cli.report_view import Design
+from cli.sim import design_triangles, machine_stock, stock_resolution
 from kernel.check import CheckContext, Finding
 from kernel.diagnostics import Diagnostic, Location, Severity
 
@@ -171,6 +175,12 @@ def _resumed(path: str, report: str, newest_input: float) -> RunResult | None:
     is_flag=True,
     help="Skip programs whose report in DIR is newer than the program and the profile.",
 )
+@design_option(
+    help="Design model (STL, or STEP with cadquery): compare the cut part of the profile's "
+    "[stock] with it, report gouges and material left (CNC906, CNC907) and colour the "
+    "--html view by the deviation."
+)
+@design_tol_option()
 @dialect_option
 @guarded
 def command(
@@ -188,6 +198,8 @@ def command(
     resume: bool,
     dialect: str,
     fail_on: str,
+    design: str | None,
+    design_tol: float,
 ) -> None:
     """Run programs through the whole pipeline and write a report per program.
 
@@ -199,6 +211,7 @@ def command(
       cnc run -m mill.toml -j 4 -o reports/ programs/
       cnc run --traces csv -o out/ part.ngc
       cnc run --html -o reports/ part.ngc
+      cnc run --html -m mill.toml --design part.stl -o reports/ part.ngc
       cnc run --scheduler local:2 --resume -o reports/ programs/
     """
     ctx = load_context(machine_path, None, tool_table, tool_units)
@@ -212,6 +225,7 @@ def command(
         dialect=dialect,
         verbosity=verbosity(),
         timeout=timeout or None,
+        design=_design(design, design_tol, ctx, machine_path),
     )
     paths = list(dict.fromkeys(expand(files)))  # each program once
     if STDIN_NAME in paths:  # standard input is read here, not by worker processes
@@ -280,6 +294,19 @@ def command(
     if any(r.status == "io-error" for r in ordered):
         sys.exit(EXIT_USAGE)
     sys.exit(EXIT_PROGRAM_ERROR if any(_fails(r, fail_on) for r in ordered) else EXIT_OK)
+
+
+def _design(
+    path: str | None, tol: float, ctx: CheckContext, machine_path: str | None
+) -> Design | None:
+    """``--design``: the design read once for the batch, on the grid of the profile's
+    ``[stock]`` (a milling stock is needed: usage error without one)."""
+    if path is None:
+        return None
+    if ctx.machine.kind == "lathe" or machine_stock(ctx.machine, machine_path) is None:
+        raise click.UsageError("--design needs a milling stock: a [stock] box in the profile")
+    res = stock_resolution(ctx.machine, machine_path)
+    return Design(design_triangles(path, 0.1 * res), tol, res)
 
 
 def _fails(result: RunResult, fail_on: str) -> bool:

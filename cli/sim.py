@@ -21,6 +21,8 @@ from cli.errors import EXIT_OK, EXIT_PROGRAM_ERROR, guarded
 from cli.excerpt import render
 from cli.main import verbosity
 from cli.options import (
+    design_option,
+    design_tol_option,
     force_option,
     machine_option,
     output_option,
@@ -123,6 +125,16 @@ def machine_stock(machine: Machine, where: str | None) -> StockBox | None:
     if is_mesh(spec):
         return mesh_box(mesh_triangles(spec, 0.01, "SIM-STOCK"), "SIM-STOCK", spec)
     return parse_stock(spec, Location(where))
+
+
+def stock_resolution(machine: Machine, where: str | None) -> float:
+    """The profile's ``[stock] resolution`` (mm, default 0.5): the grid of ``cnc check``'s
+    and ``cnc run --design``'s simulation (``SIM-GRID`` when it is not > 0)."""
+    table = machine.extra.get("stock")
+    res = table.get("resolution", 0.5) if isinstance(table, dict) else 0.5
+    if not isinstance(res, int | float) or not res > 0:
+        raise Diagnostic("SIM-GRID", "[stock] resolution must be > 0", Location(where))
+    return float(res)
 
 
 def stock_field(spec: str, resolution: float, where: str | None = None) -> HeightField:
@@ -396,19 +408,8 @@ def _text(
 @machine_option(
     "machine_file", help="machine profile (TOML); its [stock] box is used without --stock"
 )
-@click.option(
-    "--design",
-    type=click.Path(exists=True, dir_okay=False),
-    default=None,
-    help="design model (STL, or STEP with cadquery): report gouges and material left",
-)
-@click.option(
-    "--design-tol",
-    type=click.FloatRange(min=0.0),
-    default=0.1,
-    show_default=True,
-    help="deviation from the design's top surface accepted (mm)",
-)
+@design_option(help="design model (STL, or STEP with cadquery): report gouges and material left")
+@design_tol_option(help="deviation from the design's top surface accepted (mm)")
 @click.option(
     "--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True
 )

@@ -56,6 +56,26 @@ from kernel.diagnostics import Diagnostic, Location
     show_default=True,
     help="rows simulated and written at a time (bounds memory)",
 )
+@click.option(
+    "--stock",
+    default=None,
+    help="stock as box:X0,Y0,Z0,X1,Y1,Z1, cyl:... or an STL/STEP file (as cnc sim): add the "
+    "removed_mm3 and mrr_mm3_s columns from a height-field simulation",
+)
+@click.option(
+    "--tools",
+    "library",
+    type=click.Path(exists=True, dir_okay=False),
+    default=None,
+    help="tool library (TOML) with the tools' shapes for --stock (docs/simulation.md)",
+)
+@click.option(
+    "--resolution",
+    type=click.FloatRange(min=0.0, min_open=True),
+    default=0.5,
+    show_default=True,
+    help="grid cell size of the --stock simulation (mm)",
+)
 @dialect_option
 @guarded
 def command(
@@ -68,6 +88,9 @@ def command(
     plot: bool,
     force: bool,
     chunk: int,
+    stock: str | None,
+    library: str | None,
+    resolution: float,
     dialect: str,
 ) -> None:
     """Simulate PROGRAM through acc/dec and the servo loops; write per-axis traces to DIR.
@@ -79,10 +102,18 @@ def command(
     Examples:
       cnc trace part.ngc -o traces --plot
       cnc trace part.ngc -o traces --format npz --machine mill.toml
+      cnc trace part.ngc -o traces --stock box:0,0,-20,100,80,0 --tools lib.toml
     """
+    import numpy as np
+
+    from cli.programs import metric_tool_table
+    from cli.sim import stock_field, tool_shapes
     from kernel import simulate
-    from kernel.report.trace import column_dtypes, columns
+    from kernel.report.trace import REMOVAL, XYZ, column_dtypes, columns
     from kernel.report.trace_writers import open_writer
+    from kernel.stock import simulate_removal
+    from kernel.stock.removal import RemovalMeter
+    from kernel.stock.turning import is_bar
 
     machine, tools, tool_mm = machine_tools(machine_file, tool_table, tool_units)
     stem = output_stem(program)
@@ -106,12 +137,23 @@ def command(
                 "Parquet output needs pyarrow, which is not installed; use --format csv or npz",
                 Location(trace_path),
             )
-    commands = program_commands(program, tools, tool_mm, dialect, machine=machine)
+    if stock is not None and is_bar(stock):
+        raise click.UsageError("--stock for the removal columns is a milling stock, not a bar")
+    hf = stock_field(stock, resolution) if stock is not None else None
+    commands = list(program_commands(program, tools, tool_mm, dialect, machine=machine))
     result = simulate(commands, machine, program)
     samples = result.samples
     trace = result.servo(chunk)
+    meter = None
+    if hf is not None:
+        metric = metric_tool_table(tools, tool_mm) if tools else None
+        shapes = tool_shapes(metric, library, ())
+        removal = simulate_removal(commands, hf, shapes, track_volume=True)
+        meter = RemovalMeter(
+            removal.move_volumes or {}, result.path.segments, trace.commanded().period
+        )
     os.makedirs(out_dir, exist_ok=True)
-    names = columns(samples.axes)
+    names = columns(samples.axes, meter is not None)
     data = None
     if plot:
         from kernel.report.plots import PlotData
@@ -119,9 +161,13 @@ def command(
         data = PlotData(samples.axes, total_rows=trace.rows)
     rows = 0
     with replacing(trace_path) as tmp:
-        writer = open_writer(fmt, tmp, names, True, trace.rows, column_dtypes(samples.axes))
+        dtypes = column_dtypes(samples.axes, meter is not None)
+        writer = open_writer(fmt, tmp, names, True, trace.rows, dtypes)
         try:
             for table in trace.chunks():
+                if meter is not None:
+                    xyz = np.column_stack([table[f"{a}_cmd_pos"] for a in XYZ])
+                    table[REMOVAL[0]], table[REMOVAL[1]] = meter.step(table["segment"], xyz)
                 writer.write(table)
                 rows += len(table["t"])
                 if data is not None:

@@ -1,9 +1,10 @@
 """The HTML report's backplot in headless Chromium (tests/browser.py, the DevTools protocol):
 the page loads without console errors, the view draws (pixels of the tool colours in the
 plot), hovering a move shows its source line and feed, and clicking a finding draws its move
-in red and selects its line in the listing. Lines, coordinates and feeds are checked
-against the program text. Skipped without Chromium (.ci/run installs Debian's); about 15 s
-(a browser per module, WebGL in software)."""
+in red and selects its line in the listing, and with a design the cut part is red where it
+gouges. Lines, coordinates, feeds and deviations are checked against the program text and
+closed forms. Skipped without Chromium (.ci/run installs Debian's); about 20 s idle (a
+browser per module, WebGL in software)."""
 
 from __future__ import annotations
 
@@ -200,3 +201,76 @@ def test_a_lathe_program_is_drawn_in_zx_from_the_batch_library(
         "((d => d[d.length - 1])(document.getElementById('cnc-plot').data))"
     )
     assert xy[0][-1] == pytest.approx(-20.0) and xy[1][-1] == pytest.approx(50.0)
+
+
+def _red_mask(b: Browser) -> tuple[np.ndarray, list[float]]:
+    """Pixels of the plot that are the gouge's red (strongly red, shaded by the lighting),
+    and the plot's rectangle."""
+    from PIL import Image
+
+    rect = _rect(b, "#cnc-plot")
+    img = np.asarray(Image.open(io.BytesIO(b.screenshot())).convert("RGB")).astype(int)
+    x0, y0, x1, y1 = (int(v) for v in rect)
+    crop = img[max(y0, 0) : y1, max(x0, 0) : x1]
+    r, g, bl = crop[..., 0], crop[..., 1], crop[..., 2]
+    red = (r > 120) & (r - g > 70) & (r - bl > 60)
+    for part in (".colorbar", ".legend"):  # the scale's and the legend's red are not the part
+        if b.eval(f"document.querySelector('#cnc-plot {part}') !== null"):
+            left, top, right, bottom = (int(v) for v in _rect(b, f"#cnc-plot {part}"))
+            red[max(top - y0, 0) : max(bottom - y0, 0), max(left - x0, 0) : max(right - x0, 0)] = 0
+    return red, rect
+
+
+def test_the_cut_part_is_coloured_by_its_deviation_from_the_design(
+    browser: Browser, tmp_path: Path
+) -> None:
+    """``cnc run --html --design``: a slot cut 1.5 mm below a flat design
+    (tests/test_report_design.py) is red on the part, and hovering a red pixel names that
+    deviation; the deviations zeroed, no red is left (the markers' red is too small to
+    count)."""
+    from tests.test_report_design import design_page
+
+    def render(z: float) -> Path:
+        out = tmp_path
+        page = design_page(out, z)
+        doc = {
+            "program": str(page["program"]),
+            "machine": "mill with stock",
+            "status": "findings",
+            "findings": [f.to_dict() for f in page["findings"]],
+            "diagnostics": [],
+        }
+        html = out / "slot.report.html"
+        html.write_text(render_html(doc, {}, page["view"], page["source"], page["surface"]))
+        return html
+
+    browser.errors.clear()
+    browser.open(render(-1.0).as_uri(), READY)
+    browser.pump(1.0)
+    assert browser.errors == []
+    assert browser.eval("document.getElementById('cnc-plot').data.some(t => t.surfacecolor)")
+    red, rect = _red_mask(browser)
+    assert red.sum() > 300  # the slot's floor and walls
+    # hover the middle of the red region: the surface there is 1.5 mm below the design
+    ys, xs = np.nonzero(red)
+    label = ""
+    for q in (0.5, 0.4, 0.6, 0.3, 0.7):  # along the red region, at its middle height
+        k = np.argsort(xs)[int(q * (len(xs) - 1))]
+        browser.mouse("mouseMoved", rect[0] + float(xs[k]), rect[1] + float(ys[k]))
+        browser.pump(0.2)
+        label = browser.eval(
+            "Array.from(document.querySelectorAll('#cnc-plot .hovertext'))"
+            ".map(e => e.textContent).join('|')"
+        )
+        if "deviation" in label:
+            break
+    assert "deviation -1.500 mm" in label, label
+    # the red is the deviation's colour: with the deviations zeroed none is left
+    browser.eval(
+        "(gd => { const i = gd.data.findIndex(t => t.surfacecolor);"
+        " Plotly.restyle(gd, {surfacecolor: [gd.data[i].surfacecolor.map(r => r.map(() => 0))]},"
+        " [i]); })(document.getElementById('cnc-plot'))"
+    )
+    browser.pump(0.5)
+    assert browser.errors == []
+    assert _red_mask(browser)[0].sum() < 20

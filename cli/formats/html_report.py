@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from kernel.report.backplot import Backplot, Surface
+from kernel.report.backplot import GOUGE_RED, LEFT_BLUE, Backplot, Surface, deviation_scale
 from kernel.report.clock import clock
 
 #: the file name of plotly.js beside the reports of a batch
@@ -312,6 +312,27 @@ def view_data(
             "ny": ny,
             "z": _b64(surface.z, "<f4"),
         }
+        if surface.dev is not None:
+            span, scale = deviation_scale(surface)
+            out["surface"]["deviation"] = {
+                # cells the design does not cover are drawn neutral (0)
+                "values": _b64(np.nan_to_num(surface.dev, nan=0.0), "<f4"),
+                "span": span,
+                "tol": surface.tol,
+                "colorscale": [list(stop) for stop in scale],
+                "marks": [
+                    {
+                        "label": m.label,
+                        "x": m.x,
+                        "y": m.y,
+                        "z": m.z,
+                        "value": m.value,
+                        "line": m.line,
+                        "color": GOUGE_RED if m.value < 0 else LEFT_BLUE,
+                    }
+                    for m in surface.marks
+                ],
+            }
     return out
 
 

@@ -268,30 +268,98 @@ def _thin(view: np.ndarray, key: np.ndarray, brk: np.ndarray, budget: int) -> np
 
 
 @dataclass(frozen=True, slots=True)
+class Mark:
+    """A point the 3-D view marks on the cut part: the worst gouge or material left."""
+
+    label: str
+    x: float
+    y: float
+    z: float
+    value: float  # signed deviation (mm): below the design < 0
+    line: int  # source line of the move that last cut there (0: none)
+
+
+@dataclass(frozen=True, slots=True)
 class Surface:
     """The cut part as a height field over ``[x0, x1] x [y0, y1]``: ``z[j, i]`` is the top of
-    cell (i, j), cells of equal size (kernel.stock's grid, reduced for display)."""
+    cell (i, j), cells of equal size (kernel.stock's grid, reduced for display).
+
+    With a design: ``dev[j, i]`` is the signed deviation stock − design (mm, NaN where the
+    design has no surface) that colours the cell, ``tol`` the accepted deviation and
+    ``marks`` the worst gouge and material left."""
 
     x0: float
     y0: float
     x1: float
     y1: float
     z: np.ndarray
+    dev: np.ndarray | None = None
+    tol: float = 0.0
+    marks: tuple[Mark, ...] = ()
+
+
+def _blocks(a: np.ndarray, fy: int, fx: int, fill: float) -> np.ndarray:
+    """``a`` padded with ``fill`` to whole blocks of ``fy`` x ``fx`` cells, as
+    (rows, fy, cols, fx)."""
+    ny, nx = a.shape
+    pad = np.full((math.ceil(ny / fy) * fy, math.ceil(nx / fx) * fx), fill)
+    pad[:ny, :nx] = a
+    return pad.reshape(pad.shape[0] // fy, fy, pad.shape[1] // fx, fx)
 
 
 def surface_grid(
-    x0: float, y0: float, x1: float, y1: float, heights: np.ndarray, cells: int = 160
+    x0: float,
+    y0: float,
+    x1: float,
+    y1: float,
+    heights: np.ndarray,
+    cells: int = 160,
+    deviation: np.ndarray | None = None,
+    tol: float = 0.0,
+    marks: tuple[Mark, ...] = (),
 ) -> Surface:
     """``heights`` (rows along Y) reduced to at most ``cells`` a side for display, each new
-    cell the lowest of the cells it merges so that narrow cuts stay visible."""
+    cell the lowest of the cells it merges so that narrow cuts stay visible; the
+    ``deviation`` (same grid) reduced to the largest in size of the cells merged, so that
+    a narrow gouge stays visible too (NaN only where all are)."""
     h = np.asarray(heights, float)
+    dev = None if deviation is None else np.asarray(deviation, float)
     ny, nx = h.shape
     fy, fx = max(1, math.ceil(ny / cells)), max(1, math.ceil(nx / cells))
     if fy > 1 or fx > 1:
-        pad = np.full((math.ceil(ny / fy) * fy, math.ceil(nx / fx) * fx), np.inf)
-        pad[:ny, :nx] = h
-        h = pad.reshape(pad.shape[0] // fy, fy, pad.shape[1] // fx, fx).min(axis=(1, 3))
+        h = _blocks(h, fy, fx, np.inf).min(axis=(1, 3))
+        if dev is not None:
+            b = _blocks(dev, fy, fx, np.nan)
+            flat = b.transpose(0, 2, 1, 3).reshape(b.shape[0], b.shape[2], fy * fx)
+            size = np.where(np.isnan(flat), -1.0, np.abs(flat))
+            dev = np.take_along_axis(flat, size.argmax(axis=2)[..., None], axis=2)[..., 0]
         # the padded cells reach past the grid: the extents grow with them
         x1 = x0 + (x1 - x0) * h.shape[1] * fx / nx
         y1 = y0 + (y1 - y0) * h.shape[0] * fy / ny
-    return Surface(float(x0), float(y0), float(x1), float(y1), h)
+    return Surface(float(x0), float(y0), float(x1), float(y1), h, dev, float(tol), marks)
+
+
+#: the deviation colours: gouge (below the design), within tolerance, material left
+GOUGE_RED = "#b2182b"
+NEUTRAL = "#d9dee5"
+LEFT_BLUE = "#2166ac"
+
+
+def deviation_scale(surface: Surface) -> tuple[float, list[tuple[float, str]]]:
+    """``(span, colorscale)`` for colouring ``surface.dev`` over ``[-span, span]`` (mm):
+    the largest deviation in size, at least twice the tolerance; red below ``-tol``
+    (deepest darkest), the neutral grey within ``±tol``, blue above ``+tol``."""
+    dev = surface.dev
+    finite = dev[np.isfinite(dev)] if dev is not None else np.zeros(0)
+    big = float(np.abs(finite).max()) if finite.size else 0.0
+    span = max(big, 2.0 * surface.tol, 1e-6)
+    band = 0.5 * surface.tol / span  # the tolerance as a share of the colour axis
+    lo, hi = 0.5 - band, 0.5 + band
+    return span, [
+        (0.0, GOUGE_RED),
+        (lo, "#f4a582"),
+        (lo, NEUTRAL),
+        (hi, NEUTRAL),
+        (hi, "#92c5de"),
+        (1.0, LEFT_BLUE),
+    ]

@@ -45,17 +45,22 @@ PER_AXIS: tuple[str, ...] = (
 XYZ = ("x", "y", "z")
 
 
-def columns(axes: tuple[str, ...]) -> list[str]:
-    """The trace columns, in order: time, segment, source line, per-axis groups, contour."""
+#: the columns a stock simulation adds (kernel.stock.removal)
+REMOVAL = ("removed_mm3", "mrr_mm3_s")
+
+
+def columns(axes: tuple[str, ...], removal: bool = False) -> list[str]:
+    """The trace columns, in order: time, segment, source line, per-axis groups, contour,
+    and with ``removal`` (a stock given) the removed volume and removal rate."""
     out = ["t", "segment", "source_line"]
     for a in axes:
         out += [f"{a}_{c}" for c in PER_AXIS]
-    return [*out, "contour_error"]
+    return [*out, "contour_error", *(REMOVAL if removal else ())]
 
 
-def column_dtypes(axes: tuple[str, ...]) -> dict[str, np.dtype]:
+def column_dtypes(axes: tuple[str, ...], removal: bool = False) -> dict[str, np.dtype]:
     """Storage type of every column: segment int64, source line int32, the rest float64."""
-    out = {c: np.dtype(np.float64) for c in columns(axes)}
+    out = {c: np.dtype(np.float64) for c in columns(axes, removal)}
     out["segment"] = np.dtype(np.int64)
     out["source_line"] = np.dtype(np.int32)
     return out

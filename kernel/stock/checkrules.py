@@ -109,7 +109,7 @@ def sim_findings(
     try:
         if isinstance(setup.box, Bar):
             prof = TurnedProfile(setup.box, setup.resolution)
-            return _as_check(simulate_turning(commands, prof, setup.tools, setup.chord_tol), ctx)
+            return as_check(simulate_turning(commands, prof, setup.tools, setup.chord_tol), ctx)
         hf = HeightField(setup.box, setup.resolution)
         if setup.stock_top is not None:
             hf.h[...] = setup.stock_top
@@ -125,10 +125,10 @@ def sim_findings(
         return [Finding("CNC001", Severity.ERROR, exc.message, exc.location, exc.code)]
     if setup.design_top is not None:
         compare_design(hf, setup.design_top, result, setup.design_tol, program)
-    return _as_check(result, ctx)
+    return as_check(result, ctx)
 
 
-def _as_check(result: SimResult, ctx: CheckContext) -> list[Finding]:
+def as_check(result: SimResult, ctx: CheckContext) -> list[Finding]:
     """The simulation's findings at their configured severities (a rule switched off
     gives none)."""
     out = []

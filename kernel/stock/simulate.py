@@ -112,6 +112,9 @@ class SimResult:
     #: that cut it (-1: never cut)
     last_move: np.ndarray | None = None
     move_locations: list[Location] = field(default_factory=list)
+    #: with ``track_volume``: material removed (mm³) by each motion command, by its index
+    #: in the command stream (the IR index a path segment's ``source`` holds)
+    move_volumes: dict[int, float] | None = None
 
     @property
     def errors(self) -> int:
@@ -375,18 +378,26 @@ def simulate_removal(
     chord_tol: float = 0.005,
     track_moves: bool = False,
     fixtures: Sequence[Fixture] = (),
+    track_volume: bool = False,
 ) -> SimResult:
     """Sweep every move of ``commands`` through ``hf`` (changed in place) with the tools by
     number (a tool not in ``tools`` is tool 0's shape, or the default 6 mm flat end mill)
     and report the removed volume, each tool's share and the findings (:data:`RULES`), one
     per rule and line with the worst value found on that line. ``track_moves`` keeps, per
     cell, the last move that cut it (``SimResult.last_move``). Any move whose swept tool,
-    shank or holder goes below the top of one of ``fixtures`` is ``SIM-FIXTURE``."""
+    shank or holder goes below the top of one of ``fixtures`` is ``SIM-FIXTURE``.
+    ``track_volume`` keeps the volume each motion command removed
+    (``SimResult.move_volumes``, by IR index) for the removal-rate trace column."""
     start = hf.volume()
     z0 = hf.box.z0
     result = SimResult(0.0, 0)
     if track_moves:
         result.last_move = np.full(hf.h.shape, -1, dtype=np.int32)
+    ir_index: dict[int, int] = {}
+    if track_volume:
+        commands = list(commands)
+        ir_index = {id(c): i for i, c in enumerate(commands)}
+        result.move_volumes = {}
     index: dict[tuple[str, int | None], int] = {}
     fallback = tools.get(0, DEFAULT_TOOL)
     first_use: dict[int, Location] = {}
@@ -493,10 +504,15 @@ def simulate_removal(
                             worst,
                             f"cut {worst[0]:.3f} mm deep with {tool.flute_length:g} mm of flutes",
                         )
-            if result.last_move is not None:
+            if result.last_move is not None or result.move_volumes is not None:
                 new = np.minimum(h, np.maximum(env, z0))
-                lm = result.last_move[win]
-                lm[new < h] = move_id
+                if result.last_move is not None:
+                    lm = result.last_move[win]
+                    lm[new < h] = move_id
+                if result.move_volumes is not None:
+                    k_ir = ir_index[id(cmd)]
+                    removed = float(np.sum(h - new)) * hf.cell_area
+                    result.move_volumes[k_ir] = result.move_volumes.get(k_ir, 0.0) + removed
                 h[...] = new
             else:
                 np.minimum(h, np.maximum(env, z0), out=h)

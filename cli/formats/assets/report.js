@@ -145,10 +145,49 @@
       var xs = [], ys = [];
       for (var i = 0; i < s.nx; i++) xs.push(s.x0 + (i + 0.5) * (s.x1 - s.x0) / s.nx);
       for (var j2 = 0; j2 < s.ny; j2++) ys.push(s.y0 + (j2 + 0.5) * (s.y1 - s.y0) / s.ny);
-      plot.push({
+      var part = {
         type: "surface", name: "cut part", x: xs, y: ys, z: rows, showscale: false,
         colorscale: [[0, "#5b6b7c"], [1, "#d9dee5"]], opacity: 0.85, hoverinfo: "skip"
-      });
+      };
+      var dv = s.deviation;
+      if (dv) { // coloured by stock - design: red below it, blue above, grey within tolerance
+        var d = floats(dv.values);
+        var drows = [];
+        for (var j3 = 0; j3 < s.ny; j3++) drows.push(d.slice(j3 * s.nx, (j3 + 1) * s.nx));
+        part.surfacecolor = drows;
+        var cols = []; // the hover label reads customdata column-major: [x index][y index]
+        for (var i3 = 0; i3 < s.nx; i3++) {
+          var col = [];
+          for (var j4 = 0; j4 < s.ny; j4++) col.push(d[j4 * s.nx + i3]);
+          cols.push(col);
+        }
+        part.customdata = cols;
+        part.colorscale = dv.colorscale;
+        part.cmin = -dv.span;
+        part.cmax = dv.span;
+        part.opacity = 1;
+        part.showscale = true;
+        part.name = "cut part (stock - design)";
+        part.colorbar = { title: { text: "stock - design (mm)" }, len: 0.7, x: 1.0 };
+        part.hovertemplate = "X%{x:.2f} Y%{y:.2f} Z%{z:.3f}<br>deviation %{customdata:.3f} mm" +
+          "<extra></extra>";
+        delete part.hoverinfo;
+      }
+      plot.push(part);
+      if (dv && dv.marks.length) {
+        plot.push({
+          type: "scatter3d", mode: "markers+text", name: "worst deviation",
+          x: dv.marks.map(function (m) { return m.x; }),
+          y: dv.marks.map(function (m) { return m.y; }),
+          z: dv.marks.map(function (m) { return m.z; }),
+          text: dv.marks.map(function (m) { return m.label; }),
+          customdata: dv.marks.map(function (m) { return [m.line, m.value]; }),
+          marker: { size: 6, symbol: "diamond", color: dv.marks.map(function (m) { return m.color; }),
+            line: { color: "#000000", width: 1 } },
+          textposition: "top center",
+          hovertemplate: "%{text}<br>line %{customdata[0]}<extra></extra>"
+        });
+      }
     }
     var hl = { type: kind, mode: "lines", name: "selected line", x: [], y: [],
       line: { color: "#e4002b", width: 10 }, hoverinfo: "skip", connectgaps: false,
