@@ -25,6 +25,7 @@ from kernel.ir import canon
 from kernel.machine import AxisLimits, Controller, Machine, parse_machine, with_controller
 from kernel.plan.models.grbl import arc_chords, junction_speed
 from kernel.plan.strategy import plan_program
+from kernel.report.measure import difference_peaks
 from kernel.simulation import simulate
 
 DATA = Path(__file__).parent / "data"
@@ -43,6 +44,8 @@ GRBL_GOLDENS = _goldens(GRBL) if (GRBL / "goldens.json").exists() else {}
 # the reason (tests/data/lcnc_tp/README.md); they are held to their own bound so they
 # cannot get worse unnoticed.
 LCNC_KNOWN = json.loads((LCNC / "known_deviations.json").read_text())
+# the HAL sampler's output resolution (halsampler prints positions with %f)
+RECORD_RESOLUTION = 1e-6
 
 
 @cache
@@ -53,15 +56,19 @@ def _machine(folder: str) -> Machine:
 @cache
 def _run(folder: str, name: str) -> tuple[float, tuple[float, ...], tuple[float, ...]]:
     """Cycle time and peak |axis speed|, |axis acceleration| (x, y, z) of one variant (the
-    grbl-sim programs are read as Grbl reads them)."""
+    grbl-sim programs are read as Grbl reads them). The peaks are taken from the sampled
+    positions as LinuxCNC's are from its recording (kernel.report.measure.difference_peaks:
+    differences over the 1 ms servo period of positions printed to 1e-6 mm; the
+    acceleration's 99.9th percentile), so that they compare like for like."""
     prog = Path(folder) / "ngc" / f"{name}.ngc"
     if Path(folder) == GRBL and "file" in GRBL_GOLDENS[name]:
         prog = GRBL / str(GRBL_GOLDENS[name]["file"])  # a real program of tests/realworld
     dialect = "grbl" if Path(folder) == GRBL else "rs274ngc"
-    rep = simulate(list(read(prog, dialect)), _machine(folder), str(prog)).measure()
-    vel = tuple(abs(rep.peak_velocity[a]) for a in "xyz")
-    acc = tuple(abs(rep.peak_acceleration[a]) for a in "xyz")
-    return rep.cycle.total, vel, acc
+    result = simulate(list(read(prog, dialect)), _machine(folder), str(prog))
+    peaks = difference_peaks(result.samples, RECORD_RESOLUTION)
+    vel = tuple(float(x) for x in peaks.velocity[:3])
+    acc = tuple(float(x) for x in peaks.acceleration_p999[:3])
+    return result.measure().cycle.total, vel, acc
 
 
 def _usable(g: dict[str, object]) -> bool:

@@ -249,6 +249,7 @@ class _Sampler:
         self.total = plan.total_time
         self.tf = tf = plan.filter_time
         self.pc = pieces(plan, integral=tf > 0)
+        self.blends = _Blends.of(plan, self.pc) if tf <= 0 else None
         self.kind = kind = np.ascontiguousarray(seg["kind"])
         self.start, self.u = _line_rows(seg, self.cols)
         self.lines_of = np.ascontiguousarray(seg["line"], dtype=np.int32)
@@ -305,6 +306,8 @@ class _Sampler:
             np.take(self.lines_of, gk, out=line_out[a_:b_], mode="clip")
         if arcs is not None:
             arcs.flush()
+        if self.blends is not None:
+            self.blends.add(self, out, offset, count)
 
     def _smoothed_state(self, tt: np.ndarray) -> tuple[np.ndarray, ...]:
         """``(segment, local s, v, a, j)`` of the S-curve (moving-average) motion."""
@@ -319,6 +322,75 @@ class _Sampler:
         local = big_s - self.plan.s_start[gk]
         np.clip(local, 0.0, self.length[gk], out=local)
         return gk, local, v, a, j
+
+
+class _Blends:
+    """Overlapping moves (:attr:`Plan.overlap`, a controller model's parabolic blends): in
+    the overlap of segment ``p`` and ``q = p + 1`` both move, and the axis position,
+    velocity and acceleration are the sum of the two motions. The samples are ``p``'s
+    (its segment and line); ``q``'s motion since its start is added here. ``q``'s pieces
+    are cut at ``p``'s end, so that the sampler's own pass follows ``p`` until it ends and
+    ``q`` after (its pieces stay sorted in time)."""
+
+    def __init__(self, q: np.ndarray, t_on: np.ndarray, t_cut: np.ndarray, rows: tuple) -> None:
+        self.q, self.t_on, self.t_cut = q, t_on, t_cut
+        self.t0, self.s0, self.v0, self.a = rows  # q's own pieces, (blends, 4)
+
+    @classmethod
+    def of(cls, plan: Plan, pc: Pieces) -> _Blends | None:
+        """The overlaps of ``plan``; cuts the pieces ``pc`` of the later moves in place."""
+        ov = plan.overlap
+        if ov is None or not np.any(ov > 0):
+            return None
+        p = np.flatnonzero(ov > 0)
+        q = p + 1
+        t_cut = plan.t_start[p] + plan.profiles.duration[p]  # p's own end
+        rows = q[:, None] * 4 + np.arange(4)[None, :]
+        own = tuple(x[rows] for x in (pc.t0, pc.s0, pc.v0, pc.a))
+        t0, s0, v0, a = own
+        d = np.clip(t_cut[:, None] - t0, 0.0, None)
+        pc.s0[rows] = s0 + v0 * d + 0.5 * a * d * d
+        pc.v0[rows] = v0 + a * d
+        pc.t0[rows] = np.maximum(t0, t_cut[:, None])
+        return cls(q, plan.t_start[q], t_cut, own)
+
+    def add(self, sampler: _Sampler, out: tuple[np.ndarray, ...], offset: int, count: int) -> None:
+        """Add the later move's motion to the rows ``out`` holds (from ``offset`` on)."""
+        t, pos, vel, acc, jerk = out[:5]
+        if not len(t):
+            return
+        lo = np.searchsorted(self.t_cut, float(t[0]), "right")
+        hi = np.searchsorted(self.t_on, float(t[-1]), "right")
+        if hi <= lo:
+            return
+        b = np.arange(lo, hi)
+        first = np.searchsorted(t, self.t_on[b], "left")
+        last = np.searchsorted(t, self.t_cut[b], "left")
+        n = np.maximum(last - first, 0)
+        if not n.sum():
+            return
+        which = np.repeat(b, n)
+        rows = np.repeat(first - np.cumsum(n) + n, n) + np.arange(int(n.sum()))
+        tt = t[rows]
+        t0 = self.t0[which]
+        k = np.maximum((tt[:, None] >= t0[:, 1:]).sum(axis=1), 0)
+        pick = (np.arange(which.size), k)
+        tau = np.maximum(tt - t0[pick], 0.0)
+        a = self.a[which][pick]
+        v = self.v0[which][pick] + a * tau
+        s = self.s0[which][pick] + self.v0[which][pick] * tau + 0.5 * a * tau * tau
+        q = self.q[which]
+        seg = sampler.plan.path.segments
+        s = np.clip(s, 0.0, seg["length"][q])
+        ctl, cols = sampler.ctl, sampler.cols
+        p, d1, curved, d2, d3 = evaluate(seg, q, s, ctl.circle_method, ctl.chord_tolerance, cols)
+        pos[rows] += p - seg["start"][q][:, cols]
+        vel[rows] += d1 * v[:, None]
+        acc[rows] += d1 * a[:, None]
+        if curved.size:
+            vc, ac = v[curved, None], a[curved, None]
+            acc[rows[curved]] += d2 * vc * vc
+            jerk[rows[curved]] += 3 * d2 * vc * ac + d3 * vc**3
 
 
 def _columns(machine: Machine) -> list[int]:

@@ -42,8 +42,11 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   ``tpComputeBlendVelocity``, ``tpUpdateBlend``): a segment that ends in a parabolic blend,
   or that starts with one, runs at half its acceleration, and so does a G64 segment with no
   blend after it (the program's last move, a move before a stop). A parabolic blend overlaps
-  the end of one segment with the start of the next; its time is that of a junction passed
-  at the blend speed, which is what the plan uses.
+  the end of one segment with the start of the next (tc.c ``tcIsBlending``, tp.c
+  ``tpDoParabolicBlending``): each runs to a stop, and the next starts once the first is on
+  its final deceleration below the blend speed; the plan's ``overlap`` says for how long,
+  and the sampler adds the two motions there (kernel.interp.interpolate), as LinuxCNC's
+  axis positions are the sum of both.
 * **Look-ahead** (tp.c ``tpRunOptimization``): backwards over ``ARC_BLEND_OPTIMIZATION_DEPTH``
   (50) tangent segments; non-tangent joins stop it.
 * **Ramped short segments** (tp.c ``tpActivateSegment``, ``tpCalculateRampAccel``): a
@@ -71,8 +74,16 @@ import numpy as np
 import kernel.ir.canon as canon
 from kernel.machine import Machine
 from kernel.path.blend import insert_blend_arcs
+from kernel.path.geometry import arc_tangent
 from kernel.path.segments import ARC, HOLD, LINE, RAPID, Path
-from kernel.plan.planner import Plan, commanded_feed, lookahead, ratio_min, trapezoids
+from kernel.plan.planner import (
+    Plan,
+    Profiles,
+    commanded_feed,
+    lookahead,
+    ratio_min,
+    trapezoids,
+)
 
 # terminal conditions (LinuxCNC's TC_TERM_COND_*): how a segment ends
 STOP = 0  # G61.1 exact stop
@@ -878,6 +889,8 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
         table, rows = _split_lines(
             table, pos, j.trim[virt], seg["kind"][virt] == LINE, j.radius[virt]
         )
+        # the blend is asked the faster of its two moves' speeds, as a blend arc is
+        table["feed"][rows] = np.maximum(seg["feed"][virt], seg["feed"][virt + 1])
         at = pos + 1
         vmax = np.minimum(j.arc_vel[virt], table["length"][rows] / period)
 
@@ -941,6 +954,8 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     target = np.minimum(reqvel, maxvel)
     # junction speeds
     jcap = np.zeros(nn + 1)
+    par_at = np.zeros(0, dtype=np.intp)
+    blend_vel = np.zeros(nn)  # parabolic blends: the speed below which the next move starts
     if nn > 1:
         tan = (seg_term[:-1] == TANGENT) & moving[:-1] & moving[1:]
         cap_t = np.minimum(target[:-1], target[1:])
@@ -948,7 +963,6 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
         cap_t = np.where(kv >= 0, np.minimum(cap_t, kv), cap_t)
         par = (seg_term[:-1] == PARABOLIC) & moving[:-1] & moving[1:]
         par_at = np.flatnonzero(par)
-        par_cap = np.zeros(par_at.size)
         if par_at.size:
             p, q = par_at, par_at + 1
             u1 = table["u_end"][p, :3]
@@ -975,10 +989,10 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
                 cos_half,
                 prepared.tolerance[src_t],
             )
-            par_cap = np.minimum(b1, b2)
-        inner = np.where(tan, cap_t, 0.0)
-        inner[par_at] = par_cap
-        jcap[1:-1] = inner
+            blend_vel[par_at] = b1
+        # a parabolic blend: each move runs to a stop, the next starts during the end of
+        # its deceleration (below)
+        jcap[1:-1] = np.where(tan, cap_t, 0.0)
     acc_plan = np.where(moving, acc_t, 0.0)
     window = None if nn <= OPT_DEPTH else OPT_DEPTH
     v = lookahead(length, jcap, acc_plan, None, window)
@@ -996,11 +1010,13 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     cap = np.where(ramp, np.maximum(v[:-1], v[1:]), cap)
     cap = np.where(moving, cap, 0.0)
     prof = trapezoids(length, v[:-1], v[1:], np.where(moving, cap, 0.0), acc_plan)
-    duration = np.where(moving, prof.duration, table["duration"])
+    vlim = np.array(machine.limit_vector("velocity"), dtype=float)
+    overlap = _blend_overlap(prof, par_at, blend_vel, table, vlim)
+    duration = np.where(moving, prof.duration, table["duration"]) - overlap
     # the planner runs once per servo period: every stop costs about STOP_CYCLES periods
     # more than the continuous profile, and a program START_CYCLES (tp.c
     # tcUpdateDistFromAccel's half-period undershoot, the split cycle at a segment's end)
-    pause = np.where(moving & (v[1:] <= 0.0), STOP_CYCLES * period, 0.0)
+    pause = np.where(moving & (v[1:] <= 0.0) & (overlap <= 0.0), STOP_CYCLES * period, 0.0)
     last = np.flatnonzero(moving)
     if last.size:
         pause[last[-1]] += START_CYCLES * period
@@ -1008,7 +1024,90 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     t_start = np.concatenate([[0.0], np.cumsum(duration)[:-1]]) if nn else np.zeros(0)
     s = np.concatenate([[0.0], np.cumsum(length)])
     out_path = Path(table, path.file)
-    return Plan(out_path, machine, v, cap, prof, pause, duration, t_start, s[:-1], 0.0)
+    return Plan(out_path, machine, v, cap, prof, pause, duration, t_start, s[:-1], 0.0, overlap)
 
 
-__all__ = ["EXACT", "PARABOLIC", "STOP", "TANGENT", "Prepared", "plan", "prepare"]
+def _tangents(table: np.ndarray, rows: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """Unit tangents (6 axes) of ``rows`` at path positions ``s`` (one row of positions
+    per row)."""
+    out = np.repeat(table["u_start"][rows][:, None, :], s.shape[1], axis=1)
+    arc = np.flatnonzero(table["kind"][rows] == ARC)
+    if arc.size:
+        r = np.repeat(rows[arc], s.shape[1])
+        lam = np.clip(s[arc].ravel() / np.maximum(table["length"][r], _TINY), 0.0, 1.0)
+        out[arc] = arc_tangent(table[r], lam).reshape(arc.size, s.shape[1], -1)
+    return out
+
+
+def _axis_speed_ratio(
+    table: np.ndarray,
+    p: np.ndarray,
+    v_on: np.ndarray,
+    a_p: np.ndarray,
+    a_q: np.ndarray,
+    vq: np.ndarray,
+    vmax: np.ndarray,
+) -> np.ndarray:
+    """The largest axis speed over its limit while move ``p`` (from ``v_on`` down to a stop
+    at ``a_p``) and ``p + 1`` (from rest at ``a_q`` up to ``vq``) run together, on a grid
+    over the overlap and where ``p + 1`` reaches ``vq`` (where the sum peaks on lines)."""
+    t_end = (v_on / a_p)[:, None]
+    grid = t_end * np.linspace(0.0, 1.0, 17)[None, :]
+    tau = np.concatenate([grid, np.minimum(vq / a_q, t_end[:, 0])[:, None]], axis=1)
+    v1 = np.maximum(v_on[:, None] - a_p[:, None] * tau, 0.0)
+    left = v1 * v1 / (2.0 * a_p[:, None])  # what p has still to go
+    t_up = (vq / a_q)[:, None]
+    v2 = np.minimum(a_q[:, None] * tau, vq[:, None])
+    ramp = 0.5 * a_q[:, None] * tau * tau
+    gone = np.where(tau < t_up, ramp, 0.5 * vq[:, None] * t_up + vq[:, None] * (tau - t_up))
+    u1 = _tangents(table, p, table["length"][p][:, None] - left)
+    u2 = _tangents(table, p + 1, gone)
+    w = np.abs(u1 * v1[..., None] + u2 * v2[..., None])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(vmax > 0, w / np.where(vmax > 0, vmax, 1.0), 0.0)
+    return ratio.max(axis=(1, 2))
+
+
+def _blend_overlap(
+    prof: Profiles, par_at: np.ndarray, blend_vel: np.ndarray, table: np.ndarray, vmax: np.ndarray
+) -> np.ndarray:
+    """How long each move that ends in a parabolic blend runs on into the next one's slot
+    (tc.c ``tcIsBlending``, tp.c ``tpUpdateBlend``, ``tpDoParabolicBlending``): once the move
+    is on its final deceleration (to a stop) and slower than its blend speed, the next move
+    starts and runs at the same time; their axis motions add. The overlap is the rest of the
+    deceleration, from the blend speed (or the move's peak, if lower) to the stop.
+
+    The next move accelerates at its own rate from its start (the target speed
+    tpUpdateBlend gives it is used by position-synchronised moves only, tp.c
+    ``tpGetRealTargetVel``), so where it speeds up faster than this one slows, an axis both
+    move along in the same sense could pass its velocity limit (LinuxCNC checks nothing
+    there); the model then starts that blend at the lower speed that keeps the axis within
+    its limit. A move is shared with at most one neighbour at a time (the next move blends
+    on only once this one has ended)."""
+    overlap = np.zeros(len(prof.v_peak))
+    if not par_at.size:
+        return overlap
+    p, q = par_at, par_at + 1
+    a_p = np.maximum(prof.decel[p], _TINY)
+    a_q = np.maximum(prof.accel[q], _TINY)
+    v_on = np.minimum(blend_vel[p], prof.v_peak[p])
+    # the axis speeds u1 v1 + u2 v2 over the overlap, checked on a grid; where one passes
+    # its limit the blend starts at a lower speed (bisection)
+    vq = prof.v_peak[q]
+    over = _axis_speed_ratio(table, p, v_on, a_p, a_q, vq, vmax) > 1.0 + 1e-9
+    if over.any():
+        k = np.flatnonzero(over)
+        lo, hi = np.zeros(k.size), v_on[k].copy()
+        for _ in range(12):
+            mid = 0.5 * (lo + hi)
+            bad = _axis_speed_ratio(table, p[k], mid, a_p[k], a_q[k], vq[k], vmax) > 1.0 + 1e-9
+            hi = np.where(bad, mid, hi)
+            lo = np.where(bad, lo, mid)
+        v_on[k] = lo
+    overlap[p] = np.minimum(v_on / a_p, prof.t_dec[p])
+    own = prof.duration
+    tight = p[overlap[p] + overlap[q] > own[q]]
+    for row in tight.tolist():  # rare: a short move between two blends
+        overlap[row] = min(overlap[row], own[row + 1])
+        overlap[row + 1] = min(overlap[row + 1], max(own[row + 1] - overlap[row], 0.0))
+    return overlap
