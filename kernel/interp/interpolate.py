@@ -34,10 +34,11 @@ import numpy as np
 
 import kernel.limits as limits
 from kernel.diagnostics import Diagnostic, Location
+from kernel.interp.arc_kernel import arc_samples
 from kernel.interp.bulk import bulk_array
 from kernel.interp.samples import Samples
 from kernel.machine import AXIS_NAMES, Controller, Machine
-from kernel.path.geometry import evaluate
+from kernel.path.geometry import arc_cache, evaluate
 from kernel.path.segments import ARC, HOLD, LINE
 from kernel.plan.planner import Plan
 
@@ -192,7 +193,13 @@ class _ArcBatch:
     of :func:`kernel.path.geometry.evaluate`), then written over the line values."""
 
     def __init__(
-        self, seg: np.ndarray, kind: np.ndarray, ctl: Controller, cols: list[int], out: tuple
+        self,
+        seg: np.ndarray,
+        kind: np.ndarray,
+        ctl: Controller,
+        cols: list[int],
+        out: tuple,
+        fields: dict[str, np.ndarray],
     ) -> None:
         self.seg, self.ctl, self.cols, self.out = seg, ctl, cols, out
         self.cache = {  # kernel.path.geometry.line_cache; only "kind" is read for arc queries
@@ -200,7 +207,10 @@ class _ArcBatch:
             "length": np.zeros(0),
             "start": np.zeros((0, len(cols))),
             "u": np.zeros((0, len(cols))),
+            **fields,  # kernel.path.geometry.arc_cache (its "length" is the rows' own)
         }
+        # exact arcs on an XYZ machine: the compiled kernel (kernel.interp.arc_kernel)
+        self.compiled = ctl.circle_method == "exact" and cols == [0, 1, 2]
         self.parts: list[tuple[np.ndarray, ...]] = []
         self.size = 0
 
@@ -219,6 +229,33 @@ class _ArcBatch:
         self.parts, self.size = [], 0
         pos, vel, acc, jerk = self.out
         ctl = self.ctl
+        if j is None and self.compiled:
+            f = self.cache
+            arc_samples(
+                rows,
+                gk,
+                local,
+                v,
+                v**3,
+                a,
+                f["sweep"],
+                f["sweep3"],
+                f["radius"],
+                f["radius_end"],
+                f["length"],
+                f["length3"],
+                f["e1"],
+                f["e2"],
+                f["normal"],
+                f["centre"],
+                f["axial"],
+                f["end"],
+                pos,
+                vel,
+                acc,
+                jerk,
+            )
+            return
         p, d1, curved, d2, d3 = evaluate(
             self.seg, gk, local, ctl.circle_method, ctl.chord_tolerance, self.cols, self.cache
         )
@@ -227,7 +264,10 @@ class _ArcBatch:
         vel[rows] = d1 * va
         acc_a = d1 * aa
         jerk_a = d1 * j[:, None] if j is not None else np.zeros_like(d1)
-        if curved.size:
+        if curved.size == len(gk):  # every sample on an exactly sampled arc
+            acc_a += d2 * va * va
+            jerk_a += 3 * d2 * va * aa + d3 * va**3
+        elif curved.size:
             vc, ac = va[curved], aa[curved]
             acc_a[curved] += d2 * vc * vc
             jerk_a[curved] += 3 * d2 * vc * ac + d3 * vc**3
@@ -255,6 +295,10 @@ class _Sampler:
         self.lines_of = np.ascontiguousarray(seg["line"], dtype=np.int32)
         self.seg_index = np.where(kind == HOLD, -1, np.arange(len(seg), dtype=np.int32))
         self.has_arcs = bool(np.any(kind == ARC))
+        self.fields = arc_cache(seg) if self.has_arcs else {}
+        if self.has_arcs:
+            self.fields["sweep3"] = self.fields["sweep"] ** 3
+            self.fields["length3"] = self.fields["length"] ** 3
         if tf > 0:
             self.moving_idx = np.flatnonzero(kind != HOLD)
             self.s_end_moving = (plan.s_start + seg["length"])[self.moving_idx]
@@ -273,7 +317,7 @@ class _Sampler:
         seg = self.plan.path.segments
         arcs = None
         if self.has_arcs:
-            arcs = _ArcBatch(seg, kind, self.ctl, self.cols, (pos, vel, acc, jerk))
+            arcs = _ArcBatch(seg, kind, self.ctl, self.cols, (pos, vel, acc, jerk), self.fields)
         width = min(chunk, count)
         scratch = np.empty((3, width))
         rows = np.empty((2, width, len(self.cols)))

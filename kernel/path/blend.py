@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from kernel.interp.bulk import bulk_array
 from kernel.path.segments import ARC, LINE, Path
 
 _MIN_ANGLE = 1e-6
@@ -80,12 +81,12 @@ def insert_blend_arcs(seg: np.ndarray, corners: np.ndarray, r: np.ndarray) -> np
     # the rows moved to their places (row i after the arcs of the corners before it), the
     # arcs in between: one copy of the table, no per-field inserts
     n, k = len(seg), corners.size
-    out = np.empty(n + k, dtype=seg.dtype)
+    out = bulk_array(n + k, seg.dtype)
     moved = np.arange(n) + np.searchsorted(corners, np.arange(n), "left")
-    out[moved] = seg
+    raw = np.dtype((np.void, seg.dtype.itemsize))  # rows copied as bytes, not field by field
+    out.view(raw)[moved] = np.ascontiguousarray(seg).view(raw)
     at = corners + 1 + np.arange(k)
-    out[at] = np.zeros(1, dtype=seg.dtype)
-    arcs = out[at]
+    arcs = bulk_array(k, seg.dtype)
     arcs["kind"] = ARC
     arcs["category"] = seg["category"][corners]
     arcs["start"] = seg["end"][corners]
@@ -100,7 +101,7 @@ def insert_blend_arcs(seg: np.ndarray, corners: np.ndarray, r: np.ndarray) -> np
     arcs["blend"] = seg["blend"][corners]
     arcs["source"] = seg["source"][corners + 1]
     arcs["line"] = seg["line"][corners + 1]
-    out[at] = arcs
+    out.view(raw)[at] = arcs.view(raw)
     # shorten the lines on both sides
     before, after = moved[corners], moved[corners + 1]
     out["end"][before, :3] = start

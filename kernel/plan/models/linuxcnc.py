@@ -106,6 +106,22 @@ _SHARP = (math.pi * 2.0 / 180.0) ** 2  # tp.c SHARP_CORNER_DEG = 2, small-angle 
 _TINY = 1e-12
 
 
+def _rowsum(x: np.ndarray) -> np.ndarray:
+    """``np.sum(x, axis=1)`` for a few columns, as column additions (the same order, the
+    same numbers; a reduction over a short inner axis is an order of magnitude slower)."""
+    if x.shape[1] > 7:
+        return np.sum(x, axis=1)
+    total = x[:, 0].copy()
+    for col in range(1, x.shape[1]):
+        total += x[:, col]
+    return total
+
+
+def _rownorm(x: np.ndarray) -> np.ndarray:
+    """``np.linalg.norm(x, axis=1)`` by :func:`_rowsum`."""
+    return np.sqrt(_rowsum(x * x))
+
+
 # ----------------------------------------------------------------------------- the IR pass
 @dataclass(frozen=True, slots=True)
 class Prepared:
@@ -273,7 +289,7 @@ def _inscribed(binormal: np.ndarray, bounds: np.ndarray) -> np.ndarray:
     for i in range(3):
         proj = np.abs(eye[i][None, :] - binormal * binormal[:, i : i + 1])
         proj[:, i] = np.maximum(proj[:, i], _TINY)
-        scale = np.linalg.norm(proj, axis=1)
+        scale = _rownorm(proj)
         if bounds[i] > 0:
             out = np.minimum(out, bounds[i] / scale)
     return out
@@ -393,12 +409,12 @@ def _accel_half_angle(
     v2 = u2.copy()
     if arc2.any():
         with np.errstate(divide="ignore", invalid="ignore"):
-            inward = inward2 / np.maximum(np.linalg.norm(inward2, axis=1), _TINY)[:, None]
+            inward = inward2 / np.maximum(_rownorm(inward2), _TINY)[:, None]
             lean = np.where(radius2 > _TINY, (0.5 * reqvel2) ** 2 / radius2, 0.0)
             tilted = u2 * acc2[:, None] + inward * lean[:, None]
-            tilted /= np.maximum(np.linalg.norm(tilted, axis=1), _TINY)[:, None]
+            tilted /= np.maximum(_rownorm(tilted), _TINY)[:, None]
         v2 = np.where(arc2[:, None], tilted, u2)
-    dot = np.clip(np.sum(u1 * v2, axis=1), -1.0, 1.0)
+    dot = np.clip(_rowsum(u1 * v2), -1.0, 1.0)
     return np.arccos(-dot) / 2.0
 
 
@@ -411,7 +427,7 @@ def _spiral_circle(
     with np.errstate(divide="ignore", invalid="ignore"):
         dr = np.where(sweep > 0, (seg["radius_end"][idx] - seg["radius"][idx]) / sweep, 0.0)
     centre = seg["centre"][idx] + u_tan * dr[:, None]
-    return centre, np.linalg.norm(p - centre, axis=1)
+    return centre, _rownorm(p - centre)
 
 
 def _arc_arc_blend(
@@ -440,35 +456,35 @@ def _arc_arc_blend(
     p = seg["end"][ia, :3]
     c1, r1 = _spiral_circle(seg, ia, p, t1)
     c2, r2 = _spiral_circle(seg, ib, p, t2)
-    convex1 = np.sum((p - c1) * t2, axis=1) < 0
-    convex2 = np.sum((p - c2) * t1, axis=1) >= 0
+    convex1 = _rowsum((p - c1) * t2) < 0
+    convex2 = _rowsum((p - c2) * t1) >= 0
     rp = r_plan[which]
     d1 = np.where(convex1, -rp, rp) + r1
     d2 = np.where(convex2, -rp, rp) + r2
     c12 = c2 - c1
-    cx_len = np.linalg.norm(c12, axis=1)
+    cx_len = _rownorm(c12)
     good = cx_len > _TINY
     with np.errstate(divide="ignore", invalid="ignore"):
         uc = c12 / np.where(good, cx_len, 1.0)[:, None]
         cx = (-(d1**2) + d2**2 - cx_len**2) / (-2.0 * np.where(good, cx_len, 1.0))
         cy = np.sqrt(np.maximum(d1**2 - cx**2, 0.0))
     normal = t2 - t1
-    normal /= np.maximum(np.linalg.norm(normal, axis=1), _TINY)[:, None]
+    normal /= np.maximum(_rownorm(normal), _TINY)[:, None]
     nc = np.cross(binormal[which], uc)
-    nc = np.where((np.sum(normal * nc, axis=1) < 0)[:, None], -nc, nc)
-    nc /= np.maximum(np.linalg.norm(nc, axis=1), _TINY)[:, None]
+    nc = np.where((_rowsum(normal * nc) < 0)[:, None], -nc, nc)
+    nc /= np.maximum(_rownorm(nc), _TINY)[:, None]
     base = c1 - p + uc * cx[:, None]
-    plus = np.linalg.norm(base + nc * cy[:, None], axis=1)
-    minus = np.linalg.norm(base - nc * cy[:, None], axis=1)
+    plus = _rownorm(base + nc * cy[:, None])
+    minus = _rownorm(base - nc * cy[:, None])
     cy = np.where(minus < plus, -cy, cy)
     centre = c1 + uc * cx[:, None] + nc * cy[:, None]
-    t_final = np.linalg.norm(centre - p, axis=1) - rp
+    t_final = _rownorm(centre - p) - rp
 
     def trim(c: np.ndarray) -> np.ndarray:
         """blendmath.c ``findTrimAngle``: the angle the blend takes off a circle."""
-        up = (p - c) / np.maximum(np.linalg.norm(p - c, axis=1), _TINY)[:, None]
-        uq = (centre - c) / np.maximum(np.linalg.norm(centre - c, axis=1), _TINY)[:, None]
-        return np.arccos(np.clip(np.sum(up * uq, axis=1), -1.0, 1.0))
+        up = (p - c) / np.maximum(_rownorm(p - c), _TINY)[:, None]
+        uq = (centre - c) / np.maximum(_rownorm(centre - c), _TINY)[:, None]
+        return np.arccos(np.clip(_rowsum(up * uq), -1.0, 1.0))
 
     tt = theta_tan[which]
     phi1_max = np.minimum(np.abs(seg["sweep"][ia]) * 2.0 / 3.0, np.where(convex1, tt, np.pi / 2))
@@ -481,10 +497,10 @@ def _arc_arc_blend(
         """Where the blend circle touches the circle of centre ``c``: along the centres'
         line, from the blend's centre (unit vector)."""
         d = centre - c
-        t = c + d * (r / np.maximum(np.linalg.norm(d, axis=1), _TINY))[:, None] - centre
-        return t / np.maximum(np.linalg.norm(t, axis=1), _TINY)[:, None]
+        t = c + d * (r / np.maximum(_rownorm(d), _TINY))[:, None] - centre
+        return t / np.maximum(_rownorm(t), _TINY)[:, None]
 
-    cos_arc = np.clip(np.sum(touch(c1, r1) * touch(c2, r2), axis=1), -1.0, 1.0)
+    cos_arc = np.clip(_rowsum(touch(c1, r1) * touch(c2, r2)), -1.0, 1.0)
     length[which] = rp * np.arccos(cos_arc)
     return fails, length
 
@@ -512,7 +528,8 @@ def _joins(
     if m == 0:
         return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, radius)
     moving = seg["kind"] != HOLD
-    a, b = np.arange(m), np.arange(1, n)
+    # the rows before and after each join (slices: views, not gathers)
+    a, b = slice(0, m), slice(1, n)
     valid = moving[a] & moving[b]
     rot = (np.abs(seg["u_end"][:, 3:]).max(axis=1) > 0) | (
         np.abs(seg["u_start"][:, 3:]).max(axis=1) > 0
@@ -521,8 +538,8 @@ def _joins(
     mode = term[a]
     u1 = seg["u_end"][a, :3]
     u2 = seg["u_start"][b, :3]
-    u1 = u1 / np.maximum(np.linalg.norm(u1, axis=1), _TINY)[:, None]
-    u2 = u2 / np.maximum(np.linalg.norm(u2, axis=1), _TINY)[:, None]
+    u1 = u1 / np.maximum(_rownorm(u1), _TINY)[:, None]
+    u2 = u2 / np.maximum(_rownorm(u2), _TINY)[:, None]
     length = seg["length"]
     # speeds when the join is decided: the add-time short-segment cap only
     maxvel = np.minimum(lim.maxvel, length / period)
@@ -530,7 +547,7 @@ def _joins(
     v_max = np.minimum(vt[a], vt[b])
     circ = (seg["kind"][a] == ARC) | (seg["kind"][b] == ARC)
     # tpSetupTangent
-    anti = np.sum((u1 + u2) ** 2, axis=1) < _SHARP
+    anti = _rowsum((u1 + u2) ** 2) < _SHARP
     a_inst = v_max / period + lim.maxacc[b]
     with np.errstate(divide="ignore", invalid="ignore"):
         scale = np.where(
@@ -554,7 +571,7 @@ def _joins(
     if not blend.any():
         return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, radius)
     # --- blend arc (blendmath.c), line-line geometry at every blended corner
-    dot = np.clip(np.sum(u1 * u2, axis=1), -1.0, 1.0)
+    dot = np.clip(_rowsum(u1 * u2), -1.0, 1.0)
     theta = np.arccos(-dot) / 2.0
     ok = blend & (math.pi / 2 - theta >= 1e-6) & (theta >= 1e-6)
     phi = math.pi - 2.0 * theta
@@ -572,14 +589,14 @@ def _joins(
     arc_a = seg["kind"][a] == ARC
     if arc_b.any():
         r2 = seg["radius"][b]
-        dot2 = np.sum((seg["start"][b, :3] - seg["centre"][b]) * u1, axis=1)
+        dot2 = _rowsum((seg["start"][b, :3] - seg["centre"][b]) * u1)
         convex2 = dot2 >= 0
         phi2 = np.minimum(np.abs(seg["sweep"][b]) / 3.0, np.where(convex2, theta_tan, np.pi / 2))
         l2 = np.where(arc_b, np.where(convex2, np.sin(phi2 / 4.0) * r2, phi2 * r2), l2)
         theta = np.where(arc_b & convex2, np.minimum(theta, theta_tan - phi2 / 4.0), theta)
     if arc_a.any():
         r1 = seg["radius_end"][a]
-        dot1 = np.sum((seg["end"][a, :3] - seg["centre"][a]) * u2, axis=1)
+        dot1 = _rowsum((seg["end"][a, :3] - seg["centre"][a]) * u2)
         convex1 = dot1 < 0
         phi1 = np.minimum(
             np.abs(seg["sweep"][a]) * 2.0 / 3.0, np.where(convex1, theta_tan, np.pi / 2)
@@ -589,7 +606,7 @@ def _joins(
     theta = np.maximum(theta, 1e-6)
     phi = math.pi - 2.0 * theta
     binormal = np.cross(u1, u2)
-    binormal /= np.maximum(np.linalg.norm(binormal, axis=1), _TINY)[:, None]
+    binormal /= np.maximum(_rownorm(binormal), _TINY)[:, None]
     a_max = _inscribed(binormal, amax)
     a_n = a_max * ACC_RATIO_NORMAL
     v_req = np.maximum(vt[a], vt[b])
@@ -598,7 +615,7 @@ def _joins(
     vm1 = np.minimum(maxvel[a], maxvel[b] / np.cos(phi_eff))
     vm2 = np.minimum(maxvel[b], maxvel[a] / np.cos(phi_eff))
     area = vm1 * vm2 / 2.0 * np.sin(phi)
-    base = np.linalg.norm(u2 * vm2[:, None] - u1 * vm1[:, None], axis=1)
+    base = _rownorm(u2 * vm2[:, None] - u1 * vm1[:, None])
     with np.errstate(divide="ignore", invalid="ignore"):
         v_alt = np.where(circ | (base <= _TINY), 0.0, 2.0 * area / np.maximum(base, _TINY))
         v_goal = np.minimum(v_req, np.maximum(v_alt, v_planar))
@@ -620,13 +637,13 @@ def _joins(
     eps2 = 1e-12
     for idx, is_arc in ((a, seg["kind"][a] == ARC), (b, seg["kind"][b] == ARC)):
         nrm = seg["normal"][idx]
-        same = np.sum((binormal - nrm) ** 2, axis=1) < eps2
-        opposite = np.sum((binormal + nrm) ** 2, axis=1) < eps2
+        same = _rowsum((binormal - nrm) ** 2) < eps2
+        opposite = _rowsum((binormal + nrm) ** 2) < eps2
         ok &= ~is_arc | same | opposite
     both = ok & (seg["kind"][a] == ARC) & (seg["kind"][b] == ARC)
     if both.any():
         fails, s_exact = _arc_arc_blend(
-            seg, a, b, u1, u2, binormal, r_plan, tolerance, theta_tan, both
+            seg, np.arange(m), np.arange(1, n), u1, u2, binormal, r_plan, tolerance, theta_tan, both
         )
         ok &= ~fails
         s_arc = np.where(both, s_exact, s_arc)
@@ -815,6 +832,12 @@ def _split_lines(
     return out, pos + 1 + np.arange(pos.size)
 
 
+def _kept_rows(table: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """``table[keep]``, the rows copied as bytes (a structured copy goes field by field)."""
+    rows = np.ascontiguousarray(table).view(np.uint8).reshape(len(table), -1)
+    return rows[keep].view(table.dtype).reshape(-1)
+
+
 def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     """Plan ``path`` (built from ``prepared.commands``) as LinuxCNC 2.9's planner runs it."""
     seg = path.segments
@@ -841,7 +864,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     if n > 1:
         u1 = seg["u_end"][:-1, :3]
         u2 = seg["u_start"][1:, :3]
-        anti = np.sum((u1 + u2) ** 2, axis=1) < _SHARP
+        anti = _rowsum((u1 + u2) ** 2) < _SHARP
         stop_rev = (j.kind == STOP) & anti & moving[:-1] & moving[1:] & (term[:-1] != STOP)
         seg_term[:-1] = np.where(stop_rev, STOP, seg_term[:-1])
     blend_prev = in_kind == PARABOLIC
@@ -912,7 +935,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     # a line both blends shortened to nothing is gone
     keep = ~((table["kind"] == LINE) & (table["length"] <= 1e-9))
     if not keep.all():
-        table = table[keep]
+        table = _kept_rows(table, keep)
         seg_term, acc_all = seg_term[keep], acc_all[keep]
         maxvel, reqvel = maxvel[keep], reqvel[keep]
         kink_vel, moving, r_eff = kink_vel[keep], moving[keep], r_eff[keep]
