@@ -72,6 +72,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import kernel.ir.canon as canon
+from kernel.interp.bulk import bulk_array
 from kernel.machine import Machine
 from kernel.path.blend import insert_blend_arcs
 from kernel.path.geometry import arc_tangent
@@ -833,9 +834,13 @@ def _split_lines(
 
 
 def _kept_rows(table: np.ndarray, keep: np.ndarray) -> np.ndarray:
-    """``table[keep]``, the rows copied as bytes (a structured copy goes field by field)."""
-    rows = np.ascontiguousarray(table).view(np.uint8).reshape(len(table), -1)
-    return rows[keep].view(table.dtype).reshape(-1)
+    """``table[keep]``, the rows copied as bytes (a structured copy goes field by field)
+    into a bulk array (a fresh large array's first touch is slow: kernel.interp.bulk)."""
+    n, k = len(table), int(np.count_nonzero(keep))
+    out = bulk_array(k, table.dtype)
+    rows = np.ascontiguousarray(table).view(np.uint8).reshape(n, -1)
+    np.compress(keep, rows, axis=0, out=out.view(np.uint8).reshape(k, -1))
+    return out
 
 
 def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
