@@ -21,6 +21,7 @@ from click.testing import CliRunner
 from cli.plan import command
 from gcode.readers import read, read_text
 from kernel.interp.interpolate import sample
+from kernel.interp.samples import Samples
 from kernel.ir import canon
 from kernel.machine import AxisLimits, Controller, Machine, parse_machine, with_controller
 from kernel.plan.models.grbl import arc_chords, junction_speed
@@ -239,3 +240,24 @@ def test_linuxcnc_model_helix_stop_keeps_the_axis_acceleration_limit():
     _, p = plan_program(cmds, machine)
     s = sample(p)
     assert np.abs(s.acceleration).max() <= 200.0 * (1 + 1e-6)
+
+
+def test_difference_peaks_of_a_recorded_ramp() -> None:
+    """Closed form: x = a t^2 / 2 sampled every T has second differences a T^2 and first
+    differences a (k + 1/2) T^2; positions rounded to a resolution r move the acceleration by
+    at most 2 r / T^2 and the speed by at most r / T."""
+    a, period, n = 500.0, 0.001, 101
+    t = np.arange(n) * period
+    pos = np.zeros((n, 3))
+    pos[:, 0] = 0.5 * a * t * t
+    s = Samples(
+        period, t, pos, pos * 0, pos * 0, pos * 0, np.zeros(n, np.int32), np.zeros(n, np.int32)
+    )
+    exact = difference_peaks(s)
+    assert exact.velocity[0] == pytest.approx(a * (n - 1.5) * period, rel=1e-9)
+    assert exact.acceleration[0] == pytest.approx(a, rel=1e-9)
+    assert exact.acceleration_p999[0] == pytest.approx(a, rel=1e-9)
+    assert exact.velocity[1] == 0.0 and exact.acceleration[1] == 0.0
+    recorded = difference_peaks(s, RECORD_RESOLUTION)
+    assert abs(recorded.acceleration[0] - a) <= 2 * RECORD_RESOLUTION / period**2 + 1e-9
+    assert abs(recorded.velocity[0] - exact.velocity[0]) <= RECORD_RESOLUTION / period + 1e-9
