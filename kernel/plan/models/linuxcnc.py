@@ -74,7 +74,7 @@ import numpy as np
 import kernel.ir.canon as canon
 from kernel.interp.bulk import bulk_array
 from kernel.machine import Machine
-from kernel.path.blend import insert_blend_arcs
+from kernel.path.blend import insert_blend_arcs, kept_after_blending
 from kernel.path.geometry import arc_tangent
 from kernel.path.segments import ARC, HOLD, LINE, RAPID, Path
 from kernel.plan.planner import (
@@ -105,6 +105,7 @@ STOP_CYCLES = 0.8
 START_CYCLES = 1.5
 _SHARP = (math.pi * 2.0 / 180.0) ** 2  # tp.c SHARP_CORNER_DEG = 2, small-angle squared
 _TINY = 1e-12
+_GONE = 1e-9  # mm: a line blending leaves shorter than this is dropped
 
 
 def _rowsum(x: np.ndarray) -> np.ndarray:
@@ -881,15 +882,21 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     reqvel = lim.reqvel.copy()
     # insert the blend arcs
     corners = np.flatnonzero(j.kind == _ARC_JOIN)
+    virt = np.flatnonzero(j.kind == _VIRTUAL)
     table = seg
+    kept = None  # without blends next to circles: the lines blending empties left out now
     if corners.size:
-        table = insert_blend_arcs(seg, corners, j.radius[corners])
+        if not virt.size:
+            kept = kept_after_blending(seg, corners, j.radius[corners], _GONE)
+        table = insert_blend_arcs(seg, corners, j.radius[corners], kept)
         at = corners + 1
         # the blend arc is asked the faster of its two moves' speeds (tp.c
         # tpCreateLineLineBlend: v_req)
         rows = at + np.arange(corners.size)
+        if kept is not None:
+            rows = (np.cumsum(kept) - 1)[rows]
         table["feed"][rows] = np.maximum(seg["feed"][corners], seg["feed"][corners + 1])
-        arc_len = table["length"][at + np.arange(corners.size)]
+        arc_len = table["length"][rows]
         arc_max = np.minimum(j.arc_vel[corners], arc_len / period)
 
         def ins(x: np.ndarray, values: np.ndarray) -> np.ndarray:
@@ -910,7 +917,6 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
         is_blend_arc = np.zeros(n, bool)
         in_prev_tan = np.zeros(n, bool)
         bprev = blend_prev
-    virt = np.flatnonzero(j.kind == _VIRTUAL)
     if virt.size:
         # where the original rows are now (after the blend arcs)
         pos = virt + np.searchsorted(corners, virt, "left")
@@ -938,9 +944,13 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
         nxt = rows + 1
         in_prev_tan[nxt[nxt < in_prev_tan.size]] = True
     # a line both blends shortened to nothing is gone
-    keep = ~((table["kind"] == LINE) & (table["length"] <= 1e-9))
+    if kept is not None:
+        keep = kept
+    else:
+        keep = ~((table["kind"] == LINE) & (table["length"] <= _GONE))
+        if not keep.all():
+            table = _kept_rows(table, keep)
     if not keep.all():
-        table = _kept_rows(table, keep)
         seg_term, acc_all = seg_term[keep], acc_all[keep]
         maxvel, reqvel = maxvel[keep], reqvel[keep]
         kink_vel, moving, r_eff = kink_vel[keep], moving[keep], r_eff[keep]
