@@ -120,17 +120,18 @@ def insert_blend_arcs(
     before, after = moved[corners], moved[corners + 1]
     raw = np.dtype((np.void, seg.dtype.itemsize))  # rows copied as bytes, not field by field
     src = np.ascontiguousarray(seg).view(raw)
+    size = n + k
     if keep is not None:  # rows of the result renumbered, the dropped ones left out
         final = np.cumsum(keep) - 1
-        rows_kept = keep[moved]
-        src = src[rows_kept]
-        moved = final[moved[rows_kept]]
+        size = int(final[-1]) + 1 if final.size else 0
+        # a dropped row is copied to a spare row past the end (no gather of the kept ones)
+        moved = np.where(keep[moved], final[moved], size)
         at = final[at]
         cut_end, cut_start = keep[before], keep[after]
         before, after = final[before[cut_end]], final[after[cut_start]]
     else:
         cut_end = cut_start = np.ones(k, dtype=bool)
-    out = bulk_array(len(moved) + k, seg.dtype)
+    out = bulk_array(size + 1, seg.dtype)
     out.view(raw)[moved] = src
     arcs = bulk_array(k, seg.dtype)
     arcs["kind"] = ARC
@@ -153,4 +154,4 @@ def insert_blend_arcs(
     out["length"][before] -= d[cut_end]
     out["start"][after, :3] = end[cut_start]
     out["length"][after] -= d[cut_start]
-    return out
+    return out[:size]
