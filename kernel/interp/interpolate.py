@@ -200,6 +200,7 @@ class _ArcBatch:
         cols: list[int],
         out: tuple,
         fields: dict[str, np.ndarray],
+        compiled: bool,
     ) -> None:
         self.seg, self.ctl, self.cols, self.out = seg, ctl, cols, out
         self.cache = {  # kernel.path.geometry.line_cache; only "kind" is read for arc queries
@@ -209,8 +210,9 @@ class _ArcBatch:
             "u": np.zeros((0, len(cols))),
             **fields,  # kernel.path.geometry.arc_cache (its "length" is the rows' own)
         }
-        # exact arcs on an XYZ machine: the compiled kernel (kernel.interp.arc_kernel)
-        self.compiled = ctl.circle_method == "exact" and cols == [0, 1, 2]
+        # exact arcs on an XYZ machine, no S-curve: the compiled kernel
+        # (kernel.interp.arc_kernel), with the arc rows' fields of :func:`_arc_rows`
+        self.compiled = compiled
         self.parts: list[tuple[np.ndarray, ...]] = []
         self.size = 0
 
@@ -233,7 +235,7 @@ class _ArcBatch:
             f = self.cache
             arc_samples(
                 rows,
-                gk,
+                f["arc_of"].take(gk),
                 local,
                 v,
                 v**3,
@@ -276,6 +278,25 @@ class _ArcBatch:
             jerk[rows] = jerk_a
 
 
+def _arc_rows(seg: np.ndarray, kind: np.ndarray) -> dict[str, np.ndarray]:
+    """The fields the compiled arc kernel reads, of the arc rows only (contiguous), their
+    cubes as numpy computes them, and ``arc_of``: each segment's place among them."""
+    rows = np.flatnonzero(kind == ARC)
+    arcs = seg[rows]
+    out = {
+        f: np.ascontiguousarray(arcs[f])
+        for f in ("sweep", "radius", "radius_end", "length", "axial", "e1", "e2", "normal")
+    }
+    out["centre"] = np.ascontiguousarray(arcs["centre"])
+    out["end"] = np.ascontiguousarray(arcs["end"][:, :3])
+    out["sweep3"] = out["sweep"] ** 3
+    out["length3"] = out["length"] ** 3
+    arc_of = np.zeros(len(seg), dtype=np.int64)
+    arc_of[rows] = np.arange(rows.size)
+    out["arc_of"] = arc_of
+    return out
+
+
 class _Sampler:
     """The chunk loop of :func:`sample`: the read-only tables the chunks share, and
     :meth:`run`, which fills the rows of the given chunks (every chunk is computed alone)."""
@@ -295,10 +316,12 @@ class _Sampler:
         self.lines_of = np.ascontiguousarray(seg["line"], dtype=np.int32)
         self.seg_index = np.where(kind == HOLD, -1, np.arange(len(seg), dtype=np.int32))
         self.has_arcs = bool(np.any(kind == ARC))
-        self.fields = arc_cache(seg) if self.has_arcs else {}
+        self.compiled = (
+            self.ctl.circle_method == "exact" and self.cols == [0, 1, 2] and plan.filter_time <= 0
+        )
+        self.fields: dict[str, np.ndarray] = {}
         if self.has_arcs:
-            self.fields["sweep3"] = self.fields["sweep"] ** 3
-            self.fields["length3"] = self.fields["length"] ** 3
+            self.fields = _arc_rows(seg, kind) if self.compiled else arc_cache(seg)
         if tf > 0:
             self.moving_idx = np.flatnonzero(kind != HOLD)
             self.s_end_moving = (plan.s_start + seg["length"])[self.moving_idx]
@@ -317,7 +340,9 @@ class _Sampler:
         seg = self.plan.path.segments
         arcs = None
         if self.has_arcs:
-            arcs = _ArcBatch(seg, kind, self.ctl, self.cols, (pos, vel, acc, jerk), self.fields)
+            arcs = _ArcBatch(
+                seg, kind, self.ctl, self.cols, (pos, vel, acc, jerk), self.fields, self.compiled
+            )
         width = min(chunk, count)
         scratch = np.empty((3, width))
         rows = np.empty((2, width, len(self.cols)))
