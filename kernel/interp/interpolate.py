@@ -43,6 +43,9 @@ from kernel.path.segments import ARC, HOLD, LINE
 from kernel.plan.planner import Plan
 
 CHUNK = 32_768
+#: arc samples from which the compiled arc kernel (kernel.interp.arc_kernel) pays: loading it
+#: costs a process about 0.3 s of CPU, numpy takes about 1 s per million arc samples
+COMPILED_ARC_SAMPLES = 200_000
 
 
 @dataclass(frozen=True, slots=True)
@@ -317,7 +320,10 @@ class _Sampler:
         self.seg_index = np.where(kind == HOLD, -1, np.arange(len(seg), dtype=np.int32))
         self.has_arcs = bool(np.any(kind == ARC))
         self.compiled = (
-            self.ctl.circle_method == "exact" and self.cols == [0, 1, 2] and plan.filter_time <= 0
+            self.ctl.circle_method == "exact"
+            and self.cols == [0, 1, 2]
+            and plan.filter_time <= 0
+            and float(plan.duration[kind == ARC].sum()) >= COMPILED_ARC_SAMPLES * period
         )
         self.fields: dict[str, np.ndarray] = {}
         if self.has_arcs:
