@@ -21,10 +21,12 @@ from click.testing import CliRunner
 from cli.plan import command
 from gcode.readers import read, read_text
 from kernel.interp.interpolate import sample
+from kernel.interp.samples import Samples
 from kernel.ir import canon
 from kernel.machine import AxisLimits, Controller, Machine, parse_machine, with_controller
 from kernel.plan.models.grbl import arc_chords, junction_speed
 from kernel.plan.strategy import plan_program
+from kernel.report.measure import difference_peaks
 from kernel.simulation import simulate
 
 DATA = Path(__file__).parent / "data"
@@ -43,6 +45,8 @@ GRBL_GOLDENS = _goldens(GRBL) if (GRBL / "goldens.json").exists() else {}
 # the reason (tests/data/lcnc_tp/README.md); they are held to their own bound so they
 # cannot get worse unnoticed.
 LCNC_KNOWN = json.loads((LCNC / "known_deviations.json").read_text())
+# the HAL sampler's output resolution (halsampler prints positions with %f)
+RECORD_RESOLUTION = 1e-6
 
 
 @cache
@@ -53,15 +57,19 @@ def _machine(folder: str) -> Machine:
 @cache
 def _run(folder: str, name: str) -> tuple[float, tuple[float, ...], tuple[float, ...]]:
     """Cycle time and peak |axis speed|, |axis acceleration| (x, y, z) of one variant (the
-    grbl-sim programs are read as Grbl reads them)."""
+    grbl-sim programs are read as Grbl reads them). The peaks are taken from the sampled
+    positions as LinuxCNC's are from its recording (kernel.report.measure.difference_peaks:
+    differences over the 1 ms servo period of positions printed to 1e-6 mm; the
+    acceleration's 99.9th percentile), so that they compare like for like."""
     prog = Path(folder) / "ngc" / f"{name}.ngc"
     if Path(folder) == GRBL and "file" in GRBL_GOLDENS[name]:
         prog = GRBL / str(GRBL_GOLDENS[name]["file"])  # a real program of tests/realworld
     dialect = "grbl" if Path(folder) == GRBL else "rs274ngc"
-    rep = simulate(list(read(prog, dialect)), _machine(folder), str(prog)).measure()
-    vel = tuple(abs(rep.peak_velocity[a]) for a in "xyz")
-    acc = tuple(abs(rep.peak_acceleration[a]) for a in "xyz")
-    return rep.cycle.total, vel, acc
+    result = simulate(list(read(prog, dialect)), _machine(folder), str(prog))
+    peaks = difference_peaks(result.samples, RECORD_RESOLUTION)
+    vel = tuple(float(x) for x in peaks.velocity[:3])
+    acc = tuple(float(x) for x in peaks.acceleration_p999[:3])
+    return result.measure().cycle.total, vel, acc
 
 
 def _usable(g: dict[str, object]) -> bool:
@@ -232,3 +240,24 @@ def test_linuxcnc_model_helix_stop_keeps_the_axis_acceleration_limit():
     _, p = plan_program(cmds, machine)
     s = sample(p)
     assert np.abs(s.acceleration).max() <= 200.0 * (1 + 1e-6)
+
+
+def test_difference_peaks_of_a_recorded_ramp() -> None:
+    """Closed form: x = a t^2 / 2 sampled every T has second differences a T^2 and first
+    differences a (k + 1/2) T^2; positions rounded to a resolution r move the acceleration by
+    at most 2 r / T^2 and the speed by at most r / T."""
+    a, period, n = 500.0, 0.001, 101
+    t = np.arange(n) * period
+    pos = np.zeros((n, 3))
+    pos[:, 0] = 0.5 * a * t * t
+    s = Samples(
+        period, t, pos, pos * 0, pos * 0, pos * 0, np.zeros(n, np.int32), np.zeros(n, np.int32)
+    )
+    exact = difference_peaks(s)
+    assert exact.velocity[0] == pytest.approx(a * (n - 1.5) * period, rel=1e-9)
+    assert exact.acceleration[0] == pytest.approx(a, rel=1e-9)
+    assert exact.acceleration_p999[0] == pytest.approx(a, rel=1e-9)
+    assert exact.velocity[1] == 0.0 and exact.acceleration[1] == 0.0
+    recorded = difference_peaks(s, RECORD_RESOLUTION)
+    assert abs(recorded.acceleration[0] - a) <= 2 * RECORD_RESOLUTION / period**2 + 1e-9
+    assert abs(recorded.velocity[0] - exact.velocity[0]) <= RECORD_RESOLUTION / period + 1e-9

@@ -23,6 +23,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from kernel.diagnostics import Diagnostic
+from kernel.interp import interpolate
 from kernel.interp.bulk import MAPPED_BYTES, bulk_array
 from kernel.interp.interpolate import _piece_of, sample
 from kernel.interp.samples import Samples
@@ -302,6 +303,17 @@ def test_cam_zigzag_samples_as_before_for_any_chunk_size(machine, chunk):
     ref = reference_sample(pl)
     assert len(ref) > 3 * 97
     assert_same(sample(pl, chunk=chunk), ref)
+
+
+@pytest.mark.parametrize("chunk", [32_768, 97])
+def test_compiled_arc_kernel_samples_as_before(monkeypatch, chunk):
+    """The compiled arc kernel (kernel.interp.arc_kernel), used from
+    ``COMPILED_ARC_SAMPLES`` arc samples on, here forced on for small programs: the golden
+    programs and the CAM zig-zag, bit for bit as the numpy formulation."""
+    monkeypatch.setattr(interpolate, "COMPILED_ARC_SAMPLES", 0)
+    plans = [planned(zigzag(12), DEFAULT_MACHINE), *golden_plans(20.0)[::3]]
+    for pl in plans:
+        assert_same(sample(pl, chunk=chunk), reference_sample(pl, chunk=chunk))
 
 
 def test_golden_programs_with_scurve_and_circle_methods_sample_as_before():

@@ -34,14 +34,18 @@ import numpy as np
 
 import kernel.limits as limits
 from kernel.diagnostics import Diagnostic, Location
+from kernel.interp.arc_kernel import arc_samples
 from kernel.interp.bulk import bulk_array
 from kernel.interp.samples import Samples
 from kernel.machine import AXIS_NAMES, Controller, Machine
-from kernel.path.geometry import evaluate
+from kernel.path.geometry import arc_cache, evaluate
 from kernel.path.segments import ARC, HOLD, LINE
 from kernel.plan.planner import Plan
 
 CHUNK = 32_768
+#: arc samples from which the compiled arc kernel (kernel.interp.arc_kernel) pays: loading it
+#: costs a process about 0.3 s of CPU, numpy takes about 1 s per million arc samples
+COMPILED_ARC_SAMPLES = 200_000
 
 
 @dataclass(frozen=True, slots=True)
@@ -192,7 +196,14 @@ class _ArcBatch:
     of :func:`kernel.path.geometry.evaluate`), then written over the line values."""
 
     def __init__(
-        self, seg: np.ndarray, kind: np.ndarray, ctl: Controller, cols: list[int], out: tuple
+        self,
+        seg: np.ndarray,
+        kind: np.ndarray,
+        ctl: Controller,
+        cols: list[int],
+        out: tuple,
+        fields: dict[str, np.ndarray],
+        compiled: bool,
     ) -> None:
         self.seg, self.ctl, self.cols, self.out = seg, ctl, cols, out
         self.cache = {  # kernel.path.geometry.line_cache; only "kind" is read for arc queries
@@ -200,7 +211,11 @@ class _ArcBatch:
             "length": np.zeros(0),
             "start": np.zeros((0, len(cols))),
             "u": np.zeros((0, len(cols))),
+            **fields,  # kernel.path.geometry.arc_cache (its "length" is the rows' own)
         }
+        # exact arcs on an XYZ machine, no S-curve: the compiled kernel
+        # (kernel.interp.arc_kernel), with the arc rows' fields of :func:`_arc_rows`
+        self.compiled = compiled
         self.parts: list[tuple[np.ndarray, ...]] = []
         self.size = 0
 
@@ -219,6 +234,33 @@ class _ArcBatch:
         self.parts, self.size = [], 0
         pos, vel, acc, jerk = self.out
         ctl = self.ctl
+        if j is None and self.compiled:
+            f = self.cache
+            arc_samples(
+                rows,
+                f["arc_of"].take(gk),
+                local,
+                v,
+                v**3,
+                a,
+                f["sweep"],
+                f["sweep3"],
+                f["radius"],
+                f["radius_end"],
+                f["length"],
+                f["length3"],
+                f["e1"],
+                f["e2"],
+                f["normal"],
+                f["centre"],
+                f["axial"],
+                f["end"],
+                pos,
+                vel,
+                acc,
+                jerk,
+            )
+            return
         p, d1, curved, d2, d3 = evaluate(
             self.seg, gk, local, ctl.circle_method, ctl.chord_tolerance, self.cols, self.cache
         )
@@ -227,13 +269,35 @@ class _ArcBatch:
         vel[rows] = d1 * va
         acc_a = d1 * aa
         jerk_a = d1 * j[:, None] if j is not None else np.zeros_like(d1)
-        if curved.size:
+        if curved.size == len(gk):  # every sample on an exactly sampled arc
+            acc_a += d2 * va * va
+            jerk_a += 3 * d2 * va * aa + d3 * va**3
+        elif curved.size:
             vc, ac = va[curved], aa[curved]
             acc_a[curved] += d2 * vc * vc
             jerk_a[curved] += 3 * d2 * vc * ac + d3 * vc**3
         acc[rows] = acc_a
         if j is not None or curved.size:
             jerk[rows] = jerk_a
+
+
+def _arc_rows(seg: np.ndarray, kind: np.ndarray) -> dict[str, np.ndarray]:
+    """The fields the compiled arc kernel reads, of the arc rows only (contiguous), their
+    cubes as numpy computes them, and ``arc_of``: each segment's place among them."""
+    rows = np.flatnonzero(kind == ARC)
+    arcs = seg[rows]
+    out = {
+        f: np.ascontiguousarray(arcs[f])
+        for f in ("sweep", "radius", "radius_end", "length", "axial", "e1", "e2", "normal")
+    }
+    out["centre"] = np.ascontiguousarray(arcs["centre"])
+    out["end"] = np.ascontiguousarray(arcs["end"][:, :3])
+    out["sweep3"] = out["sweep"] ** 3
+    out["length3"] = out["length"] ** 3
+    arc_of = np.zeros(len(seg), dtype=np.int64)
+    arc_of[rows] = np.arange(rows.size)
+    out["arc_of"] = arc_of
+    return out
 
 
 class _Sampler:
@@ -249,11 +313,21 @@ class _Sampler:
         self.total = plan.total_time
         self.tf = tf = plan.filter_time
         self.pc = pieces(plan, integral=tf > 0)
+        self.blends = _Blends.of(plan, self.pc) if tf <= 0 else None
         self.kind = kind = np.ascontiguousarray(seg["kind"])
         self.start, self.u = _line_rows(seg, self.cols)
         self.lines_of = np.ascontiguousarray(seg["line"], dtype=np.int32)
         self.seg_index = np.where(kind == HOLD, -1, np.arange(len(seg), dtype=np.int32))
         self.has_arcs = bool(np.any(kind == ARC))
+        self.compiled = (
+            self.ctl.circle_method == "exact"
+            and self.cols == [0, 1, 2]
+            and plan.filter_time <= 0
+            and float(plan.duration[kind == ARC].sum()) >= COMPILED_ARC_SAMPLES * period
+        )
+        self.fields: dict[str, np.ndarray] = {}
+        if self.has_arcs:
+            self.fields = _arc_rows(seg, kind) if self.compiled else arc_cache(seg)
         if tf > 0:
             self.moving_idx = np.flatnonzero(kind != HOLD)
             self.s_end_moving = (plan.s_start + seg["length"])[self.moving_idx]
@@ -272,7 +346,9 @@ class _Sampler:
         seg = self.plan.path.segments
         arcs = None
         if self.has_arcs:
-            arcs = _ArcBatch(seg, kind, self.ctl, self.cols, (pos, vel, acc, jerk))
+            arcs = _ArcBatch(
+                seg, kind, self.ctl, self.cols, (pos, vel, acc, jerk), self.fields, self.compiled
+            )
         width = min(chunk, count)
         scratch = np.empty((3, width))
         rows = np.empty((2, width, len(self.cols)))
@@ -305,6 +381,8 @@ class _Sampler:
             np.take(self.lines_of, gk, out=line_out[a_:b_], mode="clip")
         if arcs is not None:
             arcs.flush()
+        if self.blends is not None:
+            self.blends.add(self, out, offset, count)
 
     def _smoothed_state(self, tt: np.ndarray) -> tuple[np.ndarray, ...]:
         """``(segment, local s, v, a, j)`` of the S-curve (moving-average) motion."""
@@ -319,6 +397,75 @@ class _Sampler:
         local = big_s - self.plan.s_start[gk]
         np.clip(local, 0.0, self.length[gk], out=local)
         return gk, local, v, a, j
+
+
+class _Blends:
+    """Overlapping moves (:attr:`Plan.overlap`, a controller model's parabolic blends): in
+    the overlap of segment ``p`` and ``q = p + 1`` both move, and the axis position,
+    velocity and acceleration are the sum of the two motions. The samples are ``p``'s
+    (its segment and line); ``q``'s motion since its start is added here. ``q``'s pieces
+    are cut at ``p``'s end, so that the sampler's own pass follows ``p`` until it ends and
+    ``q`` after (its pieces stay sorted in time)."""
+
+    def __init__(self, q: np.ndarray, t_on: np.ndarray, t_cut: np.ndarray, rows: tuple) -> None:
+        self.q, self.t_on, self.t_cut = q, t_on, t_cut
+        self.t0, self.s0, self.v0, self.a = rows  # q's own pieces, (blends, 4)
+
+    @classmethod
+    def of(cls, plan: Plan, pc: Pieces) -> _Blends | None:
+        """The overlaps of ``plan``; cuts the pieces ``pc`` of the later moves in place."""
+        ov = plan.overlap
+        if ov is None or not np.any(ov > 0):
+            return None
+        p = np.flatnonzero(ov > 0)
+        q = p + 1
+        t_cut = plan.t_start[p] + plan.profiles.duration[p]  # p's own end
+        rows = q[:, None] * 4 + np.arange(4)[None, :]
+        own = tuple(x[rows] for x in (pc.t0, pc.s0, pc.v0, pc.a))
+        t0, s0, v0, a = own
+        d = np.clip(t_cut[:, None] - t0, 0.0, None)
+        pc.s0[rows] = s0 + v0 * d + 0.5 * a * d * d
+        pc.v0[rows] = v0 + a * d
+        pc.t0[rows] = np.maximum(t0, t_cut[:, None])
+        return cls(q, plan.t_start[q], t_cut, own)
+
+    def add(self, sampler: _Sampler, out: tuple[np.ndarray, ...], offset: int, count: int) -> None:
+        """Add the later move's motion to the rows ``out`` holds (from ``offset`` on)."""
+        t, pos, vel, acc, jerk = out[:5]
+        if not len(t):
+            return
+        lo = np.searchsorted(self.t_cut, float(t[0]), "right")
+        hi = np.searchsorted(self.t_on, float(t[-1]), "right")
+        if hi <= lo:
+            return
+        b = np.arange(lo, hi)
+        first = np.searchsorted(t, self.t_on[b], "left")
+        last = np.searchsorted(t, self.t_cut[b], "left")
+        n = np.maximum(last - first, 0)
+        if not n.sum():
+            return
+        which = np.repeat(b, n)
+        rows = np.repeat(first - np.cumsum(n) + n, n) + np.arange(int(n.sum()))
+        tt = t[rows]
+        t0 = self.t0[which]
+        k = np.maximum((tt[:, None] >= t0[:, 1:]).sum(axis=1), 0)
+        pick = (np.arange(which.size), k)
+        tau = np.maximum(tt - t0[pick], 0.0)
+        a = self.a[which][pick]
+        v = self.v0[which][pick] + a * tau
+        s = self.s0[which][pick] + self.v0[which][pick] * tau + 0.5 * a * tau * tau
+        q = self.q[which]
+        seg = sampler.plan.path.segments
+        s = np.clip(s, 0.0, seg["length"][q])
+        ctl, cols = sampler.ctl, sampler.cols
+        p, d1, curved, d2, d3 = evaluate(seg, q, s, ctl.circle_method, ctl.chord_tolerance, cols)
+        pos[rows] += p - seg["start"][q][:, cols]
+        vel[rows] += d1 * v[:, None]
+        acc[rows] += d1 * a[:, None]
+        if curved.size:
+            vc, ac = v[curved, None], a[curved, None]
+            acc[rows[curved]] += d2 * vc * vc
+            jerk[rows[curved]] += 3 * d2 * vc * ac + d3 * vc**3
 
 
 def _columns(machine: Machine) -> list[int]:

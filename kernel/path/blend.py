@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from kernel.interp.bulk import bulk_array
 from kernel.path.segments import ARC, LINE, Path
 
 _MIN_ANGLE = 1e-6
@@ -58,14 +59,49 @@ def blend_corners(path: Path) -> Path:
     return Path(out, path.file)
 
 
-def insert_blend_arcs(seg: np.ndarray, corners: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """``seg`` with a tangent arc of radius ``r[k]`` inserted at the corner after each row
-    ``corners[k]`` (sorted; both rows lines); the lines are shortened by the arc's tangent
-    length. Lines shortened to nothing are kept (zero length): the caller decides."""
+def _corner_trims(
+    seg: np.ndarray, corners: np.ndarray, r: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Directions into and out of each corner, their cosine and angle, and the tangent
+    length ``d`` an arc of radius ``r`` takes off both lines."""
     u1, u2 = seg["u_end"][corners, :3], seg["u_start"][corners + 1, :3]
     cos = np.clip(np.einsum("ij,ij->i", u1, u2), -1.0, 1.0)
     theta = np.arccos(cos)
-    d = r * np.tan(theta / 2)
+    return u1, u2, cos, theta, r * np.tan(theta / 2)
+
+
+def _placed(n: int, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Where the rows of an ``n``-row table go once an arc follows each corner row, and
+    where the arcs go."""
+    moved = np.arange(n) + np.searchsorted(corners, np.arange(n), "left")
+    return moved, corners + 1 + np.arange(corners.size)
+
+
+def kept_after_blending(
+    seg: np.ndarray, corners: np.ndarray, r: np.ndarray, min_length: float
+) -> np.ndarray:
+    """Which rows of :func:`insert_blend_arcs`' result are not lines shortened to
+    ``min_length`` or less (the same arithmetic as the shortening there)."""
+    _, _, _, theta, d = _corner_trims(seg, corners, r)
+    moved, at = _placed(len(seg), corners)
+    length = np.empty(len(seg) + corners.size)
+    length[moved] = seg["length"]
+    length[at] = r * theta
+    line = np.zeros(length.size, dtype=bool)
+    line[moved] = seg["kind"] == LINE
+    length[moved[corners]] -= d
+    length[moved[corners + 1]] -= d
+    return ~(line & (length <= min_length))
+
+
+def insert_blend_arcs(
+    seg: np.ndarray, corners: np.ndarray, r: np.ndarray, keep: np.ndarray | None = None
+) -> np.ndarray:
+    """``seg`` with a tangent arc of radius ``r[k]`` inserted at the corner after each row
+    ``corners[k]`` (sorted; both rows lines); the lines are shortened by the arc's tangent
+    length. Lines shortened to nothing are kept (zero length): the caller decides, and may
+    pass ``keep`` (:func:`kept_after_blending`): only those rows of the result are made."""
+    u1, u2, cos, theta, d = _corner_trims(seg, corners, r)
     c = seg["end"][corners, :3]
     v1, v2 = u1, u2
     start = c - d[:, None] * v1
@@ -80,12 +116,24 @@ def insert_blend_arcs(seg: np.ndarray, corners: np.ndarray, r: np.ndarray) -> np
     # the rows moved to their places (row i after the arcs of the corners before it), the
     # arcs in between: one copy of the table, no per-field inserts
     n, k = len(seg), corners.size
-    out = np.empty(n + k, dtype=seg.dtype)
-    moved = np.arange(n) + np.searchsorted(corners, np.arange(n), "left")
-    out[moved] = seg
-    at = corners + 1 + np.arange(k)
-    out[at] = np.zeros(1, dtype=seg.dtype)
-    arcs = out[at]
+    moved, at = _placed(n, corners)
+    before, after = moved[corners], moved[corners + 1]
+    raw = np.dtype((np.void, seg.dtype.itemsize))  # rows copied as bytes, not field by field
+    src = np.ascontiguousarray(seg).view(raw)
+    size = n + k
+    if keep is not None:  # rows of the result renumbered, the dropped ones left out
+        final = np.cumsum(keep) - 1
+        size = int(final[-1]) + 1 if final.size else 0
+        # a dropped row is copied to a spare row past the end (no gather of the kept ones)
+        moved = np.where(keep[moved], final[moved], size)
+        at = final[at]
+        cut_end, cut_start = keep[before], keep[after]
+        before, after = final[before[cut_end]], final[after[cut_start]]
+    else:
+        cut_end = cut_start = np.ones(k, dtype=bool)
+    out = bulk_array(size + 1, seg.dtype)
+    out.view(raw)[moved] = src
+    arcs = bulk_array(k, seg.dtype)
     arcs["kind"] = ARC
     arcs["category"] = seg["category"][corners]
     arcs["start"] = seg["end"][corners]
@@ -100,11 +148,10 @@ def insert_blend_arcs(seg: np.ndarray, corners: np.ndarray, r: np.ndarray) -> np
     arcs["blend"] = seg["blend"][corners]
     arcs["source"] = seg["source"][corners + 1]
     arcs["line"] = seg["line"][corners + 1]
-    out[at] = arcs
+    out.view(raw)[at] = arcs.view(raw)
     # shorten the lines on both sides
-    before, after = moved[corners], moved[corners + 1]
-    out["end"][before, :3] = start
-    out["length"][before] -= d
-    out["start"][after, :3] = end
-    out["length"][after] -= d
-    return out
+    out["end"][before, :3] = start[cut_end]
+    out["length"][before] -= d[cut_end]
+    out["start"][after, :3] = end[cut_start]
+    out["length"][after] -= d[cut_start]
+    return out[:size]

@@ -68,8 +68,20 @@ _ARC_FIELDS = (
 )
 
 
-def _gather(table: np.ndarray, idx: np.ndarray) -> dict[str, np.ndarray]:
+def _gather(
+    table: np.ndarray, idx: np.ndarray, cache: dict[str, np.ndarray] | None = None
+) -> dict[str, np.ndarray]:
+    """The arc fields of rows ``idx`` (from the contiguous copies in ``cache`` when it has
+    them, :func:`arc_cache`: a gather from a contiguous array instead of a strided field)."""
+    if cache is not None and "sweep" in cache:
+        return {f: cache[f].take(idx, axis=0) for f in _ARC_FIELDS}
     return {f: table[f][idx] for f in _ARC_FIELDS}
+
+
+def arc_cache(table: np.ndarray) -> dict[str, np.ndarray]:
+    """Contiguous copies of the fields arc evaluation reads (for :func:`evaluate`'s
+    ``cache``, added to :func:`line_cache`'s; speed only, the same numbers)."""
+    return {f: np.ascontiguousarray(table[f]) for f in _ARC_FIELDS}
 
 
 def _polygon(
@@ -149,12 +161,21 @@ def evaluate(
         p = cache["start"].take(idx, axis=0)
         p += np.clip(s, 0.0, None)[:, None] * u
         return p, u, curved, d2c, d3c
+    arc = kind == ARC
+    if circle_method == "exact" and max(cols) < 3 and arc.all():
+        # arcs only, XYZ only (a batch of arc samples): no masks, no rotary columns
+        sa = _gather(table, idx, cache)
+        la = np.clip(s / sa["length"], 0.0, 1.0)
+        p, a1, a2, a3 = _arc(sa, la)
+        done = np.flatnonzero(la >= 1.0)
+        if done.size:
+            p[done] = sa["end"][done, :3]
+        return p[:, cols], a1[:, cols], np.arange(n), a2[:, cols], a3[:, cols]
     pos = np.empty((n, 6))
     d1 = np.zeros((n, 6))
-    arc = kind == ARC
     if arc.any():
         ai = idx[arc]
-        sa = _gather(table, ai)
+        sa = _gather(table, ai, cache)
         la = np.clip(s[arc] / sa["length"], 0.0, 1.0)
         rot = sa["start"][:, 3:] + la[:, None] * (sa["end"][:, 3:] - sa["start"][:, 3:])
         if circle_method == "exact":

@@ -366,7 +366,10 @@ class Plan:
 
     ``pause`` is the extra stand-still after a segment (S-curve smoothing, ``T_f`` at every
     stop); ``t_start[i]`` is when segment ``i`` starts; ``s_start`` its path position.
-    ``filter_time`` is ``T_f`` (0 for trapezoidal acc/dec).
+    ``filter_time`` is ``T_f`` (0 for trapezoidal acc/dec). ``overlap[i]`` (a controller
+    model's parabolic blends, else ``None``): how long segment ``i``'s motion runs on past
+    its slot (``duration[i]``) while segment ``i + 1`` already moves; the two motions add
+    (kernel.interp.interpolate samples both).
     """
 
     path: Path
@@ -379,6 +382,7 @@ class Plan:
     t_start: np.ndarray
     s_start: np.ndarray
     filter_time: float
+    overlap: np.ndarray | None = None
 
     @property
     def total_time(self) -> float:

@@ -145,6 +145,42 @@ def _peak(extremes: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
     return np.maximum(hi, -lo)
 
 
+@dataclass(frozen=True, slots=True)
+class DifferencePeaks:
+    """Peak axis values from the sampled positions alone, per axis (mm/s, mm/s^2)."""
+
+    velocity: np.ndarray  # max |first difference| / T
+    acceleration: np.ndarray  # max |second difference| / T^2
+    acceleration_p999: np.ndarray  # 99.9th percentile of |second difference| / T^2
+
+
+def difference_peaks(samples: Samples, resolution: float = 0.0) -> DifferencePeaks:
+    """Peak axis speed and acceleration as a recording of commanded positions gives them:
+    the first and second differences of the positions over the sampling period, with the
+    positions rounded to ``resolution`` first (0: not rounded), over the stretch from the
+    first to the last period in which an axis moved, and the 99.9th percentile of the
+    acceleration (single-period spikes left out). This is how LinuxCNC's goldens are reduced
+    (tests/data/lcnc_tp/make_goldens.py: a HAL sampler every 1 ms servo period, printed to
+    1e-6 mm), so a model's samples compare with them like for like; the analytic peaks of
+    :func:`measure` hold no rounding and no discretisation."""
+    pos = samples.position
+    if resolution > 0:
+        pos = np.round(pos / resolution) * resolution
+    nax = pos.shape[1]
+    zero = np.zeros(nax)
+    if len(pos) < 2:
+        return DifferencePeaks(zero, zero, zero)
+    step = np.diff(pos, axis=0)
+    moving = np.flatnonzero(np.any(np.abs(step) > 1e-9, axis=1))
+    if not moving.size:
+        return DifferencePeaks(zero, zero, zero)
+    v = step[moving[0] : moving[-1] + 1] / samples.period
+    if len(v) < 2:
+        return DifferencePeaks(np.abs(v).max(axis=0), zero, zero)
+    a = np.abs(np.diff(v, axis=0)) / samples.period
+    return DifferencePeaks(np.abs(v).max(axis=0), a.max(axis=0), np.percentile(a, 99.9, axis=0))
+
+
 def limit_hits(
     plan: Plan,
     samples: Samples,

@@ -42,8 +42,11 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   ``tpComputeBlendVelocity``, ``tpUpdateBlend``): a segment that ends in a parabolic blend,
   or that starts with one, runs at half its acceleration, and so does a G64 segment with no
   blend after it (the program's last move, a move before a stop). A parabolic blend overlaps
-  the end of one segment with the start of the next; its time is that of a junction passed
-  at the blend speed, which is what the plan uses.
+  the end of one segment with the start of the next (tc.c ``tcIsBlending``, tp.c
+  ``tpDoParabolicBlending``): each runs to a stop, and the next starts once the first is on
+  its final deceleration below the blend speed; the plan's ``overlap`` says for how long,
+  and the sampler adds the two motions there (kernel.interp.interpolate), as LinuxCNC's
+  axis positions are the sum of both.
 * **Look-ahead** (tp.c ``tpRunOptimization``): backwards over ``ARC_BLEND_OPTIMIZATION_DEPTH``
   (50) tangent segments; non-tangent joins stop it.
 * **Ramped short segments** (tp.c ``tpActivateSegment``, ``tpCalculateRampAccel``): a
@@ -69,10 +72,19 @@ from dataclasses import dataclass
 import numpy as np
 
 import kernel.ir.canon as canon
+from kernel.interp.bulk import bulk_array
 from kernel.machine import Machine
-from kernel.path.blend import insert_blend_arcs
+from kernel.path.blend import insert_blend_arcs, kept_after_blending
+from kernel.path.geometry import arc_tangent
 from kernel.path.segments import ARC, HOLD, LINE, RAPID, Path
-from kernel.plan.planner import Plan, commanded_feed, lookahead, ratio_min, trapezoids
+from kernel.plan.planner import (
+    Plan,
+    Profiles,
+    commanded_feed,
+    lookahead,
+    ratio_min,
+    trapezoids,
+)
 
 # terminal conditions (LinuxCNC's TC_TERM_COND_*): how a segment ends
 STOP = 0  # G61.1 exact stop
@@ -93,6 +105,23 @@ STOP_CYCLES = 0.8
 START_CYCLES = 1.5
 _SHARP = (math.pi * 2.0 / 180.0) ** 2  # tp.c SHARP_CORNER_DEG = 2, small-angle squared
 _TINY = 1e-12
+_GONE = 1e-9  # mm: a line blending leaves shorter than this is dropped
+
+
+def _rowsum(x: np.ndarray) -> np.ndarray:
+    """``np.sum(x, axis=1)`` for a few columns, as column additions (the same order, the
+    same numbers; a reduction over a short inner axis is an order of magnitude slower)."""
+    if x.shape[1] > 7:
+        return np.sum(x, axis=1)
+    total = x[:, 0].copy()
+    for col in range(1, x.shape[1]):
+        total += x[:, col]
+    return total
+
+
+def _rownorm(x: np.ndarray) -> np.ndarray:
+    """``np.linalg.norm(x, axis=1)`` by :func:`_rowsum`."""
+    return np.sqrt(_rowsum(x * x))
 
 
 # ----------------------------------------------------------------------------- the IR pass
@@ -262,7 +291,7 @@ def _inscribed(binormal: np.ndarray, bounds: np.ndarray) -> np.ndarray:
     for i in range(3):
         proj = np.abs(eye[i][None, :] - binormal * binormal[:, i : i + 1])
         proj[:, i] = np.maximum(proj[:, i], _TINY)
-        scale = np.linalg.norm(proj, axis=1)
+        scale = _rownorm(proj)
         if bounds[i] > 0:
             out = np.minimum(out, bounds[i] / scale)
     return out
@@ -382,12 +411,12 @@ def _accel_half_angle(
     v2 = u2.copy()
     if arc2.any():
         with np.errstate(divide="ignore", invalid="ignore"):
-            inward = inward2 / np.maximum(np.linalg.norm(inward2, axis=1), _TINY)[:, None]
+            inward = inward2 / np.maximum(_rownorm(inward2), _TINY)[:, None]
             lean = np.where(radius2 > _TINY, (0.5 * reqvel2) ** 2 / radius2, 0.0)
             tilted = u2 * acc2[:, None] + inward * lean[:, None]
-            tilted /= np.maximum(np.linalg.norm(tilted, axis=1), _TINY)[:, None]
+            tilted /= np.maximum(_rownorm(tilted), _TINY)[:, None]
         v2 = np.where(arc2[:, None], tilted, u2)
-    dot = np.clip(np.sum(u1 * v2, axis=1), -1.0, 1.0)
+    dot = np.clip(_rowsum(u1 * v2), -1.0, 1.0)
     return np.arccos(-dot) / 2.0
 
 
@@ -400,7 +429,7 @@ def _spiral_circle(
     with np.errstate(divide="ignore", invalid="ignore"):
         dr = np.where(sweep > 0, (seg["radius_end"][idx] - seg["radius"][idx]) / sweep, 0.0)
     centre = seg["centre"][idx] + u_tan * dr[:, None]
-    return centre, np.linalg.norm(p - centre, axis=1)
+    return centre, _rownorm(p - centre)
 
 
 def _arc_arc_blend(
@@ -429,35 +458,35 @@ def _arc_arc_blend(
     p = seg["end"][ia, :3]
     c1, r1 = _spiral_circle(seg, ia, p, t1)
     c2, r2 = _spiral_circle(seg, ib, p, t2)
-    convex1 = np.sum((p - c1) * t2, axis=1) < 0
-    convex2 = np.sum((p - c2) * t1, axis=1) >= 0
+    convex1 = _rowsum((p - c1) * t2) < 0
+    convex2 = _rowsum((p - c2) * t1) >= 0
     rp = r_plan[which]
     d1 = np.where(convex1, -rp, rp) + r1
     d2 = np.where(convex2, -rp, rp) + r2
     c12 = c2 - c1
-    cx_len = np.linalg.norm(c12, axis=1)
+    cx_len = _rownorm(c12)
     good = cx_len > _TINY
     with np.errstate(divide="ignore", invalid="ignore"):
         uc = c12 / np.where(good, cx_len, 1.0)[:, None]
         cx = (-(d1**2) + d2**2 - cx_len**2) / (-2.0 * np.where(good, cx_len, 1.0))
         cy = np.sqrt(np.maximum(d1**2 - cx**2, 0.0))
     normal = t2 - t1
-    normal /= np.maximum(np.linalg.norm(normal, axis=1), _TINY)[:, None]
+    normal /= np.maximum(_rownorm(normal), _TINY)[:, None]
     nc = np.cross(binormal[which], uc)
-    nc = np.where((np.sum(normal * nc, axis=1) < 0)[:, None], -nc, nc)
-    nc /= np.maximum(np.linalg.norm(nc, axis=1), _TINY)[:, None]
+    nc = np.where((_rowsum(normal * nc) < 0)[:, None], -nc, nc)
+    nc /= np.maximum(_rownorm(nc), _TINY)[:, None]
     base = c1 - p + uc * cx[:, None]
-    plus = np.linalg.norm(base + nc * cy[:, None], axis=1)
-    minus = np.linalg.norm(base - nc * cy[:, None], axis=1)
+    plus = _rownorm(base + nc * cy[:, None])
+    minus = _rownorm(base - nc * cy[:, None])
     cy = np.where(minus < plus, -cy, cy)
     centre = c1 + uc * cx[:, None] + nc * cy[:, None]
-    t_final = np.linalg.norm(centre - p, axis=1) - rp
+    t_final = _rownorm(centre - p) - rp
 
     def trim(c: np.ndarray) -> np.ndarray:
         """blendmath.c ``findTrimAngle``: the angle the blend takes off a circle."""
-        up = (p - c) / np.maximum(np.linalg.norm(p - c, axis=1), _TINY)[:, None]
-        uq = (centre - c) / np.maximum(np.linalg.norm(centre - c, axis=1), _TINY)[:, None]
-        return np.arccos(np.clip(np.sum(up * uq, axis=1), -1.0, 1.0))
+        up = (p - c) / np.maximum(_rownorm(p - c), _TINY)[:, None]
+        uq = (centre - c) / np.maximum(_rownorm(centre - c), _TINY)[:, None]
+        return np.arccos(np.clip(_rowsum(up * uq), -1.0, 1.0))
 
     tt = theta_tan[which]
     phi1_max = np.minimum(np.abs(seg["sweep"][ia]) * 2.0 / 3.0, np.where(convex1, tt, np.pi / 2))
@@ -470,10 +499,10 @@ def _arc_arc_blend(
         """Where the blend circle touches the circle of centre ``c``: along the centres'
         line, from the blend's centre (unit vector)."""
         d = centre - c
-        t = c + d * (r / np.maximum(np.linalg.norm(d, axis=1), _TINY))[:, None] - centre
-        return t / np.maximum(np.linalg.norm(t, axis=1), _TINY)[:, None]
+        t = c + d * (r / np.maximum(_rownorm(d), _TINY))[:, None] - centre
+        return t / np.maximum(_rownorm(t), _TINY)[:, None]
 
-    cos_arc = np.clip(np.sum(touch(c1, r1) * touch(c2, r2), axis=1), -1.0, 1.0)
+    cos_arc = np.clip(_rowsum(touch(c1, r1) * touch(c2, r2)), -1.0, 1.0)
     length[which] = rp * np.arccos(cos_arc)
     return fails, length
 
@@ -501,7 +530,8 @@ def _joins(
     if m == 0:
         return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, radius)
     moving = seg["kind"] != HOLD
-    a, b = np.arange(m), np.arange(1, n)
+    # the rows before and after each join (slices: views, not gathers)
+    a, b = slice(0, m), slice(1, n)
     valid = moving[a] & moving[b]
     rot = (np.abs(seg["u_end"][:, 3:]).max(axis=1) > 0) | (
         np.abs(seg["u_start"][:, 3:]).max(axis=1) > 0
@@ -510,8 +540,8 @@ def _joins(
     mode = term[a]
     u1 = seg["u_end"][a, :3]
     u2 = seg["u_start"][b, :3]
-    u1 = u1 / np.maximum(np.linalg.norm(u1, axis=1), _TINY)[:, None]
-    u2 = u2 / np.maximum(np.linalg.norm(u2, axis=1), _TINY)[:, None]
+    u1 = u1 / np.maximum(_rownorm(u1), _TINY)[:, None]
+    u2 = u2 / np.maximum(_rownorm(u2), _TINY)[:, None]
     length = seg["length"]
     # speeds when the join is decided: the add-time short-segment cap only
     maxvel = np.minimum(lim.maxvel, length / period)
@@ -519,7 +549,7 @@ def _joins(
     v_max = np.minimum(vt[a], vt[b])
     circ = (seg["kind"][a] == ARC) | (seg["kind"][b] == ARC)
     # tpSetupTangent
-    anti = np.sum((u1 + u2) ** 2, axis=1) < _SHARP
+    anti = _rowsum((u1 + u2) ** 2) < _SHARP
     a_inst = v_max / period + lim.maxacc[b]
     with np.errstate(divide="ignore", invalid="ignore"):
         scale = np.where(
@@ -543,7 +573,7 @@ def _joins(
     if not blend.any():
         return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, radius)
     # --- blend arc (blendmath.c), line-line geometry at every blended corner
-    dot = np.clip(np.sum(u1 * u2, axis=1), -1.0, 1.0)
+    dot = np.clip(_rowsum(u1 * u2), -1.0, 1.0)
     theta = np.arccos(-dot) / 2.0
     ok = blend & (math.pi / 2 - theta >= 1e-6) & (theta >= 1e-6)
     phi = math.pi - 2.0 * theta
@@ -561,14 +591,14 @@ def _joins(
     arc_a = seg["kind"][a] == ARC
     if arc_b.any():
         r2 = seg["radius"][b]
-        dot2 = np.sum((seg["start"][b, :3] - seg["centre"][b]) * u1, axis=1)
+        dot2 = _rowsum((seg["start"][b, :3] - seg["centre"][b]) * u1)
         convex2 = dot2 >= 0
         phi2 = np.minimum(np.abs(seg["sweep"][b]) / 3.0, np.where(convex2, theta_tan, np.pi / 2))
         l2 = np.where(arc_b, np.where(convex2, np.sin(phi2 / 4.0) * r2, phi2 * r2), l2)
         theta = np.where(arc_b & convex2, np.minimum(theta, theta_tan - phi2 / 4.0), theta)
     if arc_a.any():
         r1 = seg["radius_end"][a]
-        dot1 = np.sum((seg["end"][a, :3] - seg["centre"][a]) * u2, axis=1)
+        dot1 = _rowsum((seg["end"][a, :3] - seg["centre"][a]) * u2)
         convex1 = dot1 < 0
         phi1 = np.minimum(
             np.abs(seg["sweep"][a]) * 2.0 / 3.0, np.where(convex1, theta_tan, np.pi / 2)
@@ -578,7 +608,7 @@ def _joins(
     theta = np.maximum(theta, 1e-6)
     phi = math.pi - 2.0 * theta
     binormal = np.cross(u1, u2)
-    binormal /= np.maximum(np.linalg.norm(binormal, axis=1), _TINY)[:, None]
+    binormal /= np.maximum(_rownorm(binormal), _TINY)[:, None]
     a_max = _inscribed(binormal, amax)
     a_n = a_max * ACC_RATIO_NORMAL
     v_req = np.maximum(vt[a], vt[b])
@@ -587,7 +617,7 @@ def _joins(
     vm1 = np.minimum(maxvel[a], maxvel[b] / np.cos(phi_eff))
     vm2 = np.minimum(maxvel[b], maxvel[a] / np.cos(phi_eff))
     area = vm1 * vm2 / 2.0 * np.sin(phi)
-    base = np.linalg.norm(u2 * vm2[:, None] - u1 * vm1[:, None], axis=1)
+    base = _rownorm(u2 * vm2[:, None] - u1 * vm1[:, None])
     with np.errstate(divide="ignore", invalid="ignore"):
         v_alt = np.where(circ | (base <= _TINY), 0.0, 2.0 * area / np.maximum(base, _TINY))
         v_goal = np.minimum(v_req, np.maximum(v_alt, v_planar))
@@ -609,13 +639,13 @@ def _joins(
     eps2 = 1e-12
     for idx, is_arc in ((a, seg["kind"][a] == ARC), (b, seg["kind"][b] == ARC)):
         nrm = seg["normal"][idx]
-        same = np.sum((binormal - nrm) ** 2, axis=1) < eps2
-        opposite = np.sum((binormal + nrm) ** 2, axis=1) < eps2
+        same = _rowsum((binormal - nrm) ** 2) < eps2
+        opposite = _rowsum((binormal + nrm) ** 2) < eps2
         ok &= ~is_arc | same | opposite
     both = ok & (seg["kind"][a] == ARC) & (seg["kind"][b] == ARC)
     if both.any():
         fails, s_exact = _arc_arc_blend(
-            seg, a, b, u1, u2, binormal, r_plan, tolerance, theta_tan, both
+            seg, np.arange(m), np.arange(1, n), u1, u2, binormal, r_plan, tolerance, theta_tan, both
         )
         ok &= ~fails
         s_arc = np.where(both, s_exact, s_arc)
@@ -804,6 +834,16 @@ def _split_lines(
     return out, pos + 1 + np.arange(pos.size)
 
 
+def _kept_rows(table: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """``table[keep]``, the rows copied as bytes (a structured copy goes field by field)
+    into a bulk array (a fresh large array's first touch is slow: kernel.interp.bulk)."""
+    n, k = len(table), int(np.count_nonzero(keep))
+    out = bulk_array(k, table.dtype)
+    rows = np.ascontiguousarray(table).view(np.uint8).reshape(n, -1)
+    np.compress(keep, rows, axis=0, out=out.view(np.uint8).reshape(k, -1))
+    return out
+
+
 def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     """Plan ``path`` (built from ``prepared.commands``) as LinuxCNC 2.9's planner runs it."""
     seg = path.segments
@@ -830,7 +870,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     if n > 1:
         u1 = seg["u_end"][:-1, :3]
         u2 = seg["u_start"][1:, :3]
-        anti = np.sum((u1 + u2) ** 2, axis=1) < _SHARP
+        anti = _rowsum((u1 + u2) ** 2) < _SHARP
         stop_rev = (j.kind == STOP) & anti & moving[:-1] & moving[1:] & (term[:-1] != STOP)
         seg_term[:-1] = np.where(stop_rev, STOP, seg_term[:-1])
     blend_prev = in_kind == PARABOLIC
@@ -842,15 +882,21 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     reqvel = lim.reqvel.copy()
     # insert the blend arcs
     corners = np.flatnonzero(j.kind == _ARC_JOIN)
+    virt = np.flatnonzero(j.kind == _VIRTUAL)
     table = seg
+    kept = None  # without blends next to circles: the lines blending empties left out now
     if corners.size:
-        table = insert_blend_arcs(seg, corners, j.radius[corners])
+        if not virt.size:
+            kept = kept_after_blending(seg, corners, j.radius[corners], _GONE)
+        table = insert_blend_arcs(seg, corners, j.radius[corners], kept)
         at = corners + 1
         # the blend arc is asked the faster of its two moves' speeds (tp.c
         # tpCreateLineLineBlend: v_req)
         rows = at + np.arange(corners.size)
+        if kept is not None:
+            rows = (np.cumsum(kept) - 1)[rows]
         table["feed"][rows] = np.maximum(seg["feed"][corners], seg["feed"][corners + 1])
-        arc_len = table["length"][at + np.arange(corners.size)]
+        arc_len = table["length"][rows]
         arc_max = np.minimum(j.arc_vel[corners], arc_len / period)
 
         def ins(x: np.ndarray, values: np.ndarray) -> np.ndarray:
@@ -871,13 +917,14 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
         is_blend_arc = np.zeros(n, bool)
         in_prev_tan = np.zeros(n, bool)
         bprev = blend_prev
-    virt = np.flatnonzero(j.kind == _VIRTUAL)
     if virt.size:
         # where the original rows are now (after the blend arcs)
         pos = virt + np.searchsorted(corners, virt, "left")
         table, rows = _split_lines(
             table, pos, j.trim[virt], seg["kind"][virt] == LINE, j.radius[virt]
         )
+        # the blend is asked the faster of its two moves' speeds, as a blend arc is
+        table["feed"][rows] = np.maximum(seg["feed"][virt], seg["feed"][virt + 1])
         at = pos + 1
         vmax = np.minimum(j.arc_vel[virt], table["length"][rows] / period)
 
@@ -897,9 +944,13 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
         nxt = rows + 1
         in_prev_tan[nxt[nxt < in_prev_tan.size]] = True
     # a line both blends shortened to nothing is gone
-    keep = ~((table["kind"] == LINE) & (table["length"] <= 1e-9))
+    if kept is not None:
+        keep = kept
+    else:
+        keep = ~((table["kind"] == LINE) & (table["length"] <= _GONE))
+        if not keep.all():
+            table = _kept_rows(table, keep)
     if not keep.all():
-        table = table[keep]
         seg_term, acc_all = seg_term[keep], acc_all[keep]
         maxvel, reqvel = maxvel[keep], reqvel[keep]
         kink_vel, moving, r_eff = kink_vel[keep], moving[keep], r_eff[keep]
@@ -941,6 +992,8 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     target = np.minimum(reqvel, maxvel)
     # junction speeds
     jcap = np.zeros(nn + 1)
+    par_at = np.zeros(0, dtype=np.intp)
+    blend_vel = np.zeros(nn)  # parabolic blends: the speed below which the next move starts
     if nn > 1:
         tan = (seg_term[:-1] == TANGENT) & moving[:-1] & moving[1:]
         cap_t = np.minimum(target[:-1], target[1:])
@@ -948,7 +1001,6 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
         cap_t = np.where(kv >= 0, np.minimum(cap_t, kv), cap_t)
         par = (seg_term[:-1] == PARABOLIC) & moving[:-1] & moving[1:]
         par_at = np.flatnonzero(par)
-        par_cap = np.zeros(par_at.size)
         if par_at.size:
             p, q = par_at, par_at + 1
             u1 = table["u_end"][p, :3]
@@ -975,10 +1027,10 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
                 cos_half,
                 prepared.tolerance[src_t],
             )
-            par_cap = np.minimum(b1, b2)
-        inner = np.where(tan, cap_t, 0.0)
-        inner[par_at] = par_cap
-        jcap[1:-1] = inner
+            blend_vel[par_at] = b1
+        # a parabolic blend: each move runs to a stop, the next starts during the end of
+        # its deceleration (below)
+        jcap[1:-1] = np.where(tan, cap_t, 0.0)
     acc_plan = np.where(moving, acc_t, 0.0)
     window = None if nn <= OPT_DEPTH else OPT_DEPTH
     v = lookahead(length, jcap, acc_plan, None, window)
@@ -996,11 +1048,13 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     cap = np.where(ramp, np.maximum(v[:-1], v[1:]), cap)
     cap = np.where(moving, cap, 0.0)
     prof = trapezoids(length, v[:-1], v[1:], np.where(moving, cap, 0.0), acc_plan)
-    duration = np.where(moving, prof.duration, table["duration"])
+    vlim = np.array(machine.limit_vector("velocity"), dtype=float)
+    overlap = _blend_overlap(prof, par_at, blend_vel, table, vlim)
+    duration = np.where(moving, prof.duration, table["duration"]) - overlap
     # the planner runs once per servo period: every stop costs about STOP_CYCLES periods
     # more than the continuous profile, and a program START_CYCLES (tp.c
     # tcUpdateDistFromAccel's half-period undershoot, the split cycle at a segment's end)
-    pause = np.where(moving & (v[1:] <= 0.0), STOP_CYCLES * period, 0.0)
+    pause = np.where(moving & (v[1:] <= 0.0) & (overlap <= 0.0), STOP_CYCLES * period, 0.0)
     last = np.flatnonzero(moving)
     if last.size:
         pause[last[-1]] += START_CYCLES * period
@@ -1008,7 +1062,90 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     t_start = np.concatenate([[0.0], np.cumsum(duration)[:-1]]) if nn else np.zeros(0)
     s = np.concatenate([[0.0], np.cumsum(length)])
     out_path = Path(table, path.file)
-    return Plan(out_path, machine, v, cap, prof, pause, duration, t_start, s[:-1], 0.0)
+    return Plan(out_path, machine, v, cap, prof, pause, duration, t_start, s[:-1], 0.0, overlap)
 
 
-__all__ = ["EXACT", "PARABOLIC", "STOP", "TANGENT", "Prepared", "plan", "prepare"]
+def _tangents(table: np.ndarray, rows: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """Unit tangents (6 axes) of ``rows`` at path positions ``s`` (one row of positions
+    per row)."""
+    out = np.repeat(table["u_start"][rows][:, None, :], s.shape[1], axis=1)
+    arc = np.flatnonzero(table["kind"][rows] == ARC)
+    if arc.size:
+        r = np.repeat(rows[arc], s.shape[1])
+        lam = np.clip(s[arc].ravel() / np.maximum(table["length"][r], _TINY), 0.0, 1.0)
+        out[arc] = arc_tangent(table[r], lam).reshape(arc.size, s.shape[1], -1)
+    return out
+
+
+def _axis_speed_ratio(
+    table: np.ndarray,
+    p: np.ndarray,
+    v_on: np.ndarray,
+    a_p: np.ndarray,
+    a_q: np.ndarray,
+    vq: np.ndarray,
+    vmax: np.ndarray,
+) -> np.ndarray:
+    """The largest axis speed over its limit while move ``p`` (from ``v_on`` down to a stop
+    at ``a_p``) and ``p + 1`` (from rest at ``a_q`` up to ``vq``) run together, on a grid
+    over the overlap and where ``p + 1`` reaches ``vq`` (where the sum peaks on lines)."""
+    t_end = (v_on / a_p)[:, None]
+    grid = t_end * np.linspace(0.0, 1.0, 17)[None, :]
+    tau = np.concatenate([grid, np.minimum(vq / a_q, t_end[:, 0])[:, None]], axis=1)
+    v1 = np.maximum(v_on[:, None] - a_p[:, None] * tau, 0.0)
+    left = v1 * v1 / (2.0 * a_p[:, None])  # what p has still to go
+    t_up = (vq / a_q)[:, None]
+    v2 = np.minimum(a_q[:, None] * tau, vq[:, None])
+    ramp = 0.5 * a_q[:, None] * tau * tau
+    gone = np.where(tau < t_up, ramp, 0.5 * vq[:, None] * t_up + vq[:, None] * (tau - t_up))
+    u1 = _tangents(table, p, table["length"][p][:, None] - left)
+    u2 = _tangents(table, p + 1, gone)
+    w = np.abs(u1 * v1[..., None] + u2 * v2[..., None])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(vmax > 0, w / np.where(vmax > 0, vmax, 1.0), 0.0)
+    return ratio.max(axis=(1, 2))
+
+
+def _blend_overlap(
+    prof: Profiles, par_at: np.ndarray, blend_vel: np.ndarray, table: np.ndarray, vmax: np.ndarray
+) -> np.ndarray:
+    """How long each move that ends in a parabolic blend runs on into the next one's slot
+    (tc.c ``tcIsBlending``, tp.c ``tpUpdateBlend``, ``tpDoParabolicBlending``): once the move
+    is on its final deceleration (to a stop) and slower than its blend speed, the next move
+    starts and runs at the same time; their axis motions add. The overlap is the rest of the
+    deceleration, from the blend speed (or the move's peak, if lower) to the stop.
+
+    The next move accelerates at its own rate from its start (the target speed
+    tpUpdateBlend gives it is used by position-synchronised moves only, tp.c
+    ``tpGetRealTargetVel``), so where it speeds up faster than this one slows, an axis both
+    move along in the same sense could pass its velocity limit (LinuxCNC checks nothing
+    there); the model then starts that blend at the lower speed that keeps the axis within
+    its limit. A move is shared with at most one neighbour at a time (the next move blends
+    on only once this one has ended)."""
+    overlap = np.zeros(len(prof.v_peak))
+    if not par_at.size:
+        return overlap
+    p, q = par_at, par_at + 1
+    a_p = np.maximum(prof.decel[p], _TINY)
+    a_q = np.maximum(prof.accel[q], _TINY)
+    v_on = np.minimum(blend_vel[p], prof.v_peak[p])
+    # the axis speeds u1 v1 + u2 v2 over the overlap, checked on a grid; where one passes
+    # its limit the blend starts at a lower speed (bisection)
+    vq = prof.v_peak[q]
+    over = _axis_speed_ratio(table, p, v_on, a_p, a_q, vq, vmax) > 1.0 + 1e-9
+    if over.any():
+        k = np.flatnonzero(over)
+        lo, hi = np.zeros(k.size), v_on[k].copy()
+        for _ in range(12):
+            mid = 0.5 * (lo + hi)
+            bad = _axis_speed_ratio(table, p[k], mid, a_p[k], a_q[k], vq[k], vmax) > 1.0 + 1e-9
+            hi = np.where(bad, mid, hi)
+            lo = np.where(bad, lo, mid)
+        v_on[k] = lo
+    overlap[p] = np.minimum(v_on / a_p, prof.t_dec[p])
+    own = prof.duration
+    tight = p[overlap[p] + overlap[q] > own[q]]
+    for row in tight.tolist():  # rare: a short move between two blends
+        overlap[row] = min(overlap[row], own[row + 1])
+        overlap[row + 1] = min(overlap[row + 1], max(own[row + 1] - overlap[row], 0.0))
+    return overlap
