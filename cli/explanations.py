@@ -451,6 +451,7 @@ EXPLANATIONS: dict[str, str] = {
     "STEPNC-TOOL-HOLE": "a drilling-type tool is wider than its hole",
     "STEPNC-TOOL-MISSING": "a tool of the program is not in the tool file",
     "STEPNC-TOOL-WIDTH": "the tool does not fit the pocket width minus the side allowances",
+    "STEPNC-TURNING": "a turning program without a raw bar (RIGHT_CIRCULAR_CYLINDER) on the spindle axis, a turning feature with no size, an outline that turns back or has an undercut, or material left above a feature between it and the free end",
     "STEPNC-UNKNOWN-ENTITY": "an entity name that is not in the ISO 14649 schema this reader knows",
     "STEPNC-UNSUPPORTED": "a construct the interpreter does not execute (IF/WHILE statements, back boring, side milling of closed pockets, ...)",
     "TOOL-NO-BLANK": "a NIST tool file lacks the single blank line before its data rows",

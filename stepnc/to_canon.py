@@ -23,7 +23,7 @@ from stepnc.executor import DEFAULT_START, NIST_START, Executor, start_within
 from stepnc.frames import Frame, coords, frame_of
 from stepnc.model import Entity, Model, load
 from stepnc.tooling import ToolEntry, load_tool_file
-from stepnc.toolpaths import drilling, explicit, facing, open_pocket, pocket, slot, step
+from stepnc.toolpaths import drilling, explicit, facing, open_pocket, pocket, slot, step, turning
 
 FAMILIES = {
     "PLANE_ROUGH_MILLING": facing,
@@ -141,6 +141,11 @@ def _setup(model: Model, project: Entity, plan: Entity) -> tuple[float, Frame]:
     return z, frame
 
 
+#: the setup's security Z and workpiece frame (for modules that place features as the
+#: executor does)
+setup_frames = _setup
+
+
 def _walk(
     element: Entity, ex: Executor, active: tuple[int, ...] = (), count: list[int] | None = None
 ) -> Iterator[Entity]:
@@ -214,6 +219,16 @@ def _execute(ex: Executor, element: Entity, wp_frame: Frame, setup_z: float) -> 
 
 def _machining(ex: Executor, ws: Entity, wp_frame: Frame) -> None:
     feature, op = ws.its_feature, ws.its_operation
+    if op.type in turning.TURNING_OPS:
+        if op not in (feature.its_operations or ()):
+            raise Diagnostic(
+                "STEPNC-OP-FEATURE",
+                f"operation #{op.id} is not one of the operations of feature #{feature.id}",
+                ws.where(ws.id),
+            )
+        ex.at(op, ws)
+        turning.generate(ex, ws, feature, op, wp_frame)
+        return
     family = FAMILIES.get(op.type)
     if op.type in _SIDE_MILLING and feature.type in _BY_FEATURE:
         family = _BY_FEATURE[feature.type]
@@ -273,4 +288,4 @@ def _rapid(ex: Executor, rapid: Entity) -> None:
         ex.x, ex.y, ex.z = pts[-1]
 
 
-__all__ = ["Job", "canon_from_file", "canon_from_model"]
+__all__ = ["Job", "canon_from_file", "canon_from_model", "setup_frames"]
