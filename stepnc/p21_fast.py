@@ -39,10 +39,24 @@ _ENUM_NAME = re.compile(r"\.[A-Za-z_][A-Za-z0-9_]*\.\Z")
 _NUMBER_START = frozenset("0123456789+-")
 
 
+class _Split(Exception):
+    """Splitting at blanks and commas cut a string value apart."""
+
+
 def fast_params(body: str) -> tuple | None:
     """The parameters of a body :data:`FAST_INSTANCE` matched, or None when a value needs
-    the exact parser (a typed parameter, a malformed number, reference or enumeration)."""
-    toks = _FAST_TOKEN.findall(body)
+    the exact parser (a typed parameter, a malformed number, reference or enumeration).
+
+    The grammar has checked the structure, so the values are first split out with C-level
+    string replaces; only a string holding a blank, comma or parenthesis (which that split
+    cuts apart, and :func:`_convert` notices) is tokenised by the regular expression."""
+    try:
+        return _convert(body.replace("(", " ( ").replace(")", " ) ").replace(",", " ").split())
+    except _Split:
+        return _convert(_FAST_TOKEN.findall(body))
+
+
+def _convert(toks: list[str]) -> tuple | None:
     stack: list[list[object]] = []
     cur: list[object] = []
     try:
@@ -50,11 +64,6 @@ def fast_params(body: str) -> tuple | None:
             c = t[0]
             if c in _NUMBER_START:
                 cur.append(float(t) if "." in t else int(t))
-            elif c == "#":
-                cur.append(Ref(t[1:]))
-            elif c == "'":
-                s = t[1:-1]
-                cur.append(decode_string(s) if "'" in s or "\\" in s else s)
             elif c == ")":
                 done = tuple(cur)
                 cur = stack.pop()
@@ -62,6 +71,13 @@ def fast_params(body: str) -> tuple | None:
             elif c == "(":
                 stack.append(cur)
                 cur = []
+            elif c == "#":
+                cur.append(Ref(t[1:]))
+            elif c == "'":
+                s = t[1:-1]
+                if len(t) < 2 or t[-1] != "'" or "'" in s.replace("''", ""):
+                    raise _Split
+                cur.append(decode_string(s) if "'" in s or "\\" in s else s)
             elif t == "$":
                 cur.append(None)
             elif c == ".":
