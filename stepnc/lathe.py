@@ -8,7 +8,8 @@ outside the feature; turning a feature leaves ``min(stock, feature)``.
 
 Feature readings (docs/stepnc.md, "Turning"): the feature placement lies on the spindle
 axis with its Z axis along it; ``OUTER_DIAMETER`` is the cylinder of its diameter from the
-placement ``feature_length`` towards -Z (the chuck); ``REVOLVED_FLAT`` is the face at the
+placement ``feature_length`` towards -Z (the chuck), tapering to a ``DIAMETER_TAPER``'s final
+diameter or by an ``ANGLE_TAPER``'s angle there; ``REVOLVED_FLAT`` is the face at the
 placement: the part ends there, down to ``radius`` (0 for a full face); ``GROOVE`` is a
 ``SQUARE_U_PROFILE`` of its width centred on the placement, down to ``radius``;
 ``GENERAL_REVOLUTION`` is the polyline of its ``outline`` in the feature's XZ plane
@@ -245,13 +246,6 @@ def feature_limit(feature: Entity, fr: Frame, stock: Profile) -> Profile:
     lo, hi = stock.z_lo, stock.z_hi
     t = feature.type
     if t == "OUTER_DIAMETER":
-        if feature.reduced_size is not None:
-            raise _err(
-                "STEPNC-UNSUPPORTED",
-                f"OUTER_DIAMETER #{feature.id}: a reduced_size (taper) is not read; give the "
-                "taper as a GENERAL_REVOLUTION",
-                feature,
-            )
         r = _number(feature.diameter_at_placement, "diameter_at_placement", feature) / 2
         length = _number(feature.feature_length, "feature_length", feature)
         if r <= 0 or length <= 0:
@@ -260,7 +254,26 @@ def feature_limit(feature: Entity, fr: Frame, stock: Profile) -> Profile:
                 f"OUTER_DIAMETER #{feature.id} needs a positive diameter and length",
                 feature,
             )
-        return limit(lo, hi, [(z0 - length, r), (z0, r)])
+        r_end = r
+        taper = feature.reduced_size
+        if isinstance(taper, Entity) and taper.type == "DIAMETER_TAPER":
+            r_end = _number(taper.final_diameter, "final_diameter", feature) / 2
+        elif isinstance(taper, Entity) and taper.type == "ANGLE_TAPER":
+            # positive: the diameter grows away from the placement (towards the chuck)
+            r_end = r + length * math.tan(math.radians(float(taper.angle)))
+        elif taper is not None:
+            raise _err(
+                "STEPNC-UNSUPPORTED",
+                f"OUTER_DIAMETER #{feature.id}: reduced_size {taper!r} is not a taper",
+                feature,
+            )
+        if r_end < 0:
+            raise _err(
+                "STEPNC-TURNING",
+                f"OUTER_DIAMETER #{feature.id}: the taper ends below the axis",
+                feature,
+            )
+        return limit(lo, hi, [(z0 - length, r_end), (z0, r)])
     if t == "REVOLVED_FLAT":
         r = _number(feature.radius, "radius", feature)
         return limit(lo, hi, [(z0, r), (hi, r)])

@@ -332,10 +332,14 @@ ENTITIES: dict[str, tuple[str, ...]] = {
     ),
     # ---- ISO 14649-12 turning features
     "OUTER_DIAMETER": _TWO5D_FEATURE
-    + ("diameter_at_placement:any", "feature_length:any", "reduced_size:ref?"),
+    + ("diameter_at_placement:any", "feature_length:any", "reduced_size:ref:taper?"),
     "REVOLVED_FLAT": _REVOLVED + ("flat_edge_shape:ref:LINEAR_PROFILE",),
     "GROOVE": _REVOLVED + ("sweep:ref:open_profile",),
     "GENERAL_REVOLUTION": _REVOLVED + ("outline:ref:open_profile",),
+    # ISO 14649-10 taper_select (a round hole's change_in_diameter; an outer diameter's
+    # reduced_size)
+    "DIAMETER_TAPER": ("final_diameter:any",),
+    "ANGLE_TAPER": ("angle:real",),
     "RIGHT_CIRCULAR_CYLINDER": _NAME
     + ("position:ref:AXIS2_PLACEMENT_3D", "height:real", "radius:real"),
     # ---- ISO 14649-12 turning operations, strategies, technology, machine functions
@@ -617,6 +621,7 @@ GROUPS: dict[str, frozenset[str]] = {
     "speed_select": frozenset({"CONST_SPINDLE_SPEED", "CONST_CUTTING_SPEED"}),
     "corner": frozenset({"ROUNDED_CORNER", "CHAMFERED_CORNER"}),
     "bounding": frozenset({"BLOCK", "RIGHT_CIRCULAR_CYLINDER"}),
+    "taper": frozenset({"DIAMETER_TAPER", "ANGLE_TAPER"}),
     "two5d_strategy": frozenset(
         {
             "UNIDIRECTIONAL_MILLING",

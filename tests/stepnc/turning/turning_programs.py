@@ -128,6 +128,12 @@ def render(name: str, prog: Program | None = None) -> str:
             feat_ref[feat] = f.add(
                 f"OUTER_DIAMETER('diameter {_num(dia)}',{wp},{opl},{pl},{_num(dia)},{_num(flen)},$)"
             )
+        elif kind == "cone":
+            _, _, dia, flen, final = feat
+            taper = f.add(f"DIAMETER_TAPER({_num(final)})")
+            feat_ref[feat] = f.add(
+                f"OUTER_DIAMETER('cone',{wp},{opl},{pl},{_num(dia)},{_num(flen)},{taper})"
+            )
         elif kind == "groove":
             _, _, width, r = feat
             w = f.add(f"TOLERANCED_LENGTH_MEASURE({_num(width)},$)")
@@ -187,6 +193,26 @@ PROGRAMS: dict[str, Program] = {
             Op(
                 "CONTOURING_ROUGH",
                 ("od", -40.0, 50.0, 30.0),
+                allowance=0.0,
+                strategy=unidirectional(3.0, 2.0),
+            ),
+        ),
+    ),
+    # the book's part with the cone as ISO 14649 writes it: an outer diameter whose
+    # reduced_size is a diameter taper
+    "book_tapered_outer_diameter": Program(
+        (-100.0, 102.0, 30.0),
+        (
+            Op("FACING_ROUGH", _FACE, allowance=0.0, strategy=unidirectional(3.0, 2.0)),
+            Op(
+                "CONTOURING_ROUGH",
+                ("cone", 0.0, 30.0, 20.0, 50.0),
+                allowance=0.0,
+                strategy=unidirectional(3.0, 2.0),
+            ),
+            Op(
+                "CONTOURING_ROUGH",
+                ("od", -20.0, 50.0, 50.0),
                 allowance=0.0,
                 strategy=unidirectional(3.0, 2.0),
             ),
