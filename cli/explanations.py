@@ -413,7 +413,7 @@ EXPLANATIONS: dict[str, str] = {
     "SIM-STOCK": "--stock or the profile's [stock] is not box:X0,Y0,Z0,X1,Y1,Z1 with each max above its min, nor cyl:CX,CY,R,Z0,Z1 with R > 0 and Z1 > Z0 (box = [...] / cylinder = [...])",
     "SIM-TOOL": "a --tool is not N=KIND:DIAMETER[,key=value...][,nocentre], or a tool library (--tools) entry is not a [tools.N] table with a known type and diameter > 0 and lengths >= 0 (a bull nose needs 0 < corner_radius <= D/2, an angle lies in (0, 180))",
     "SIM-UNSUPPORTED": "a NURBS, ellipse or rigid-tap move, a rotated work system (G10 L2 R), or an arc before any straight move; located at the command",
-    "STEPNC-AP238": "the file is AP238's AIM form (FILE_SCHEMA(('INTEGRATED_CNC_SCHEMA'))): one message instead of an error per entity",
+    "STEPNC-AP238": "the file is AP238's AIM form (FILE_SCHEMA(('INTEGRATED_CNC_SCHEMA'))): one message instead of an error per entity when it is validated as ISO 14649; when it is run, a construct outside conformance class 1 (cutter-location toolpaths), named in the message",
     "STEPNC-ATTR-COUNT": "an instance has more or fewer attributes than its entity",
     "STEPNC-ATTR-MISSING": "a mandatory attribute is $",
     "STEPNC-ATTR-TYPE": "an attribute has the wrong kind of value (a number for a list, ...)",

@@ -176,9 +176,12 @@ def check(file: str) -> None:
 def canon_cmd(file: str, tool_file: str | None, mode: str, as_json: bool) -> None:
     """Print the canonical machining commands of FILE."""
     from kernel.ir import canon
-    from stepnc.to_canon import canon_from_model
+    from stepnc.to_canon import canon_from_file, canon_from_model
 
-    cmds = canon_from_model(_model(file), _tools(tool_file), mode)
+    if is_stdin(file):
+        cmds = canon_from_model(_model(file), _tools(tool_file), mode)
+    else:  # a file may be AP238's AIM form too
+        cmds = canon_from_file(file, tool_file, mode)
     lines = canon.to_jsonl(cmds) if as_json else canon.write_text(cmds)
     for line in lines:
         click.echo(line)

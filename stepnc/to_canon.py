@@ -19,9 +19,11 @@ from dataclasses import dataclass
 import kernel.limits as limits
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
+from stepnc.ap238 import canon_from_aim
 from stepnc.executor import DEFAULT_START, NIST_START, Executor, start_within
 from stepnc.frames import Frame, coords, frame_of
 from stepnc.model import Entity, Model, load
+from stepnc.part21 import read_file
 from stepnc.tooling import ToolEntry, load_tool_file
 from stepnc.toolpaths import drilling, explicit, facing, open_pocket, pocket, slot, step, turning
 
@@ -70,7 +72,14 @@ def canon_from_file(
 
     ``z_max``: the machine's Z travel limit; a start-up retract height above it is lowered
     to it, with a comment saying so."""
-    model = load(path)
+    try:
+        model = load(path)
+    except Diagnostic as exc:
+        if exc.code != "STEPNC-AP238":
+            raise
+        # an AP238 AIM file: its cutter-location toolpaths (conformance class 1)
+        yield from canon_from_aim(read_file(path), mode, z_max)
+        return
     tools = load_tool_file(tool_file) if tool_file else None
     yield from canon_from_model(model, tools, mode, z_max)
 
