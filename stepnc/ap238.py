@@ -33,6 +33,7 @@ from stepnc.executor import DEFAULT_START, NIST_START, Executor, start_within
 from stepnc.frames import Frame
 from stepnc.model import Model
 from stepnc.p21_values import Instance, Part, Part21File, Ref, Typed
+from stepnc.schema import GROUPS
 from stepnc.toolpaths.code import Code
 from stepnc.toolpaths.explicit import follow_curve
 
@@ -219,6 +220,7 @@ def canon_from_aim(
     ]
     if not plans:
         raise refuse("the file has no MACHINING_WORKPLAN", Location(p21.file, 1, 1))
+    _check_length_units(aim)
     ex.source = aim.where(plans[0].id)
     if fitted is not start:
         ex.emit(
@@ -239,6 +241,24 @@ def canon_from_aim(
         yield from ex.take()
     ex.emit(canon.ProgramEnd())
     yield from ex.take()
+
+
+def _check_length_units(aim: Aim) -> None:
+    """Coordinates are read as mm: a geometric context in another length unit is refused."""
+    for inst in aim.p21.instances.values():
+        ctx = _parts(inst).get("GLOBAL_UNIT_ASSIGNED_CONTEXT")
+        if not ctx or not isinstance(ctx[0], tuple):
+            continue
+        for unit in ctx[0]:
+            if not isinstance(unit, Ref) or "LENGTH_UNIT" not in _parts(aim.get(int(unit))):
+                continue
+            quantity, scale = _named_scale(aim, int(unit))
+            if quantity == "length" and abs(scale - 1.0) > 1e-12:
+                raise refuse(
+                    f"the geometry is in a length unit of {scale:g} mm (#{int(unit)}); only "
+                    "millimetre coordinates are read",
+                    aim.where(inst.id),
+                )
 
 
 def _walk(aim: Aim, plan: int, active: tuple[int, ...]) -> Iterator[int]:
@@ -297,9 +317,19 @@ def _workingstep(aim: Aim, model: Model, ex: Executor, ws: int) -> None:
         rapid = aim.description(tp, "trajectory type") == "connect" or (
             aim.description(tp, "speed profile") == "rapid"
         )
-        curves = aim.items(tp, "basic curve")
+        if aim.items(tp, "tool axis"):
+            raise refuse(
+                f"toolpath #{tp} has a tool axis curve: multi-axis toolpaths are not read",
+                aim.where(tp),
+            )
+        items = aim.items(tp, "basic curve")
+        curves = [i for i in items if i.name in GROUPS["curve"]]
         if len(curves) != 1:
-            raise refuse(f"toolpath #{tp} needs one basic curve", aim.where(tp))
+            kinds = ", ".join(sorted({i.name or "complex instance" for i in items})) or "none"
+            raise refuse(
+                f"toolpath #{tp} needs one basic curve this reader follows (found: {kinds})",
+                aim.where(tp),
+            )
         code = Code()
         first = join is None
         join = follow_curve(ex, model.entity(curves[0].id), code, rapid, join, [], Frame())

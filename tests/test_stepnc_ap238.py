@@ -73,6 +73,13 @@ def test_cc1_toolpaths_tools_feeds_and_speeds_are_the_files():
         ),
         ("NUMERIC_MEASURE(500.),#10", "NUMERIC_MEASURE(500.),#13", "length per time"),
         ("#30=MACHINING_WORKPLAN", "#30=MACHINING_NC_FUNCTION", "MACHINING_WORKPLAN"),
+        ("SI_UNIT(.MILLI.,.METRE.)", "SI_UNIT($,.METRE.)", "length unit of 1000 mm"),
+        ("#121=REPRESENTATION('',(#93),#20);", "#121=REPRESENTATION('',(#91),#20);", "AXIS2"),
+        (
+            "#100=ACTION_PROPERTY('basic curve','',#70);",
+            "#100=ACTION_PROPERTY('tool axis','',#70);",
+            "tool axis",
+        ),
         (
             "#34=MACHINING_PROCESS_SEQUENCE_RELATIONSHIP('',$,#30,#32,2.);",
             "#34=MACHINING_PROCESS_SEQUENCE_RELATIONSHIP('',$,#30,#35,2.);",
