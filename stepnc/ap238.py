@@ -1,4 +1,5 @@
-"""AP238 (ISO 10303-238) AIM files, conformance class 1: explicit cutter-location toolpaths.
+"""AP238 (ISO 10303-238) AIM files, conformance class 1: explicit cutter-location toolpaths
+(and the program stop, optional stop and display message NC functions).
 
 The AIM (``FILE_SCHEMA(('INTEGRATED_CNC_SCHEMA'))``) encodes a workplan as action methods
 tied by relationships. The paths followed here are those of the AP238 ed. 3 mapping
@@ -237,7 +238,10 @@ def canon_from_aim(
     yield from ex.take()
     model = Model(p21)
     for ws in _walk(aim, plans[0].id, ()):
-        _workingstep(aim, model, ex, ws)
+        if aim.get(ws).name == "MACHINING_NC_FUNCTION":
+            _nc_function(aim, ex, ws)
+        else:
+            _workingstep(aim, model, ex, ws)
         yield from ex.take()
     ex.emit(canon.ProgramEnd())
     yield from ex.take()
@@ -268,7 +272,7 @@ def _walk(aim: Aim, plan: int, active: tuple[int, ...]) -> Iterator[int]:
         name = aim.get(child).name
         if name == "MACHINING_WORKPLAN":
             yield from _walk(aim, child, (*active, plan))
-        elif name == "MACHINING_WORKINGSTEP":
+        elif name == "MACHINING_WORKINGSTEP" or name == "MACHINING_NC_FUNCTION":
             yield child
         else:
             raise refuse(
@@ -276,6 +280,26 @@ def _walk(aim: Aim, plan: int, active: tuple[int, ...]) -> Iterator[int]:
                 "toolpaths (AP238 conformance class 1) are read",
                 aim.where(child),
             )
+
+
+def _nc_function(aim: Aim, ex: Executor, ref: int) -> None:
+    """Program stop, optional stop and display message (§5.1.6.3, .20, .23)."""
+    inst = aim.get(ref)
+    desc = str(inst.params[1]) if len(inst.params) > 1 else ""
+    loc = aim.where(ref)
+    ex.source = Location(loc.file, loc.line, loc.column, ref, ref)
+    if desc == "program stop":
+        ex.emit(canon.ProgramStop())
+    elif desc == "optional stop":
+        ex.emit(canon.OptionalProgramStop())
+    elif desc == "display message":
+        ex.emit(canon.Message(aim.description(ref, "message text") or ""))
+    else:
+        raise refuse(
+            f"MACHINING_NC_FUNCTION #{ref} ({desc!r}): only program stop, optional stop and "
+            "display message are read",
+            loc,
+        )
 
 
 def _workingstep(aim: Aim, model: Model, ex: Executor, ws: int) -> None:

@@ -63,6 +63,38 @@ def test_cc1_toolpaths_tools_feeds_and_speeds_are_the_files():
         assert c.source is not None and c.source.workingstep in (31, 32)
 
 
+_NC = """#170=MACHINING_NC_FUNCTION('msg','display message','','');
+#171=MACHINING_PROCESS_SEQUENCE_RELATIONSHIP('',$,#30,#170,1.5);
+#172=ACTION_PROPERTY('message text','',#170);
+#173=REPRESENTATION('',(#174),#20);
+#174=DESCRIPTIVE_REPRESENTATION_ITEM('text','change the clamp');
+#175=ACTION_PROPERTY_REPRESENTATION('','',#172,#173);
+#176=MACHINING_NC_FUNCTION('stop','{}','','');
+#177=MACHINING_PROCESS_SEQUENCE_RELATIONSHIP('',$,#30,#176,1.7);
+ENDSEC;"""
+
+
+def _with_nc(stop: str) -> str:
+    end = "\nENDSEC;\nEND-ISO-10303-21;"
+    return CC1.read_text().replace(end, "\n" + _NC.format(stop) + "\nEND-ISO-10303-21;")
+
+
+def test_nc_functions_run_in_sequence_position_order(tmp_path):
+    path = tmp_path / "nc.stp"
+    path.write_text(_with_nc("program stop"))
+    cmds = _run(path)
+    names = [type(c).__name__ for c in cmds]
+    msg = names.index("Message")
+    stop = names.index("ProgramStop")
+    tools = [i for i, n in enumerate(names) if n == "ChangeTool"]
+    assert tools[0] < msg < stop < tools[1]
+    assert cmds[msg].text == "change the clamp"
+    path.write_text(_with_nc("set mark"))
+    with pytest.raises(Diagnostic) as err:
+        _run(path)
+    assert err.value.code == "STEPNC-AP238" and "set mark" in err.value.message
+
+
 @pytest.mark.parametrize(
     ("old", "new", "word"),
     [
