@@ -172,14 +172,20 @@ def _unit(aim: Aim, ref: int) -> dict[str, float]:
 
 
 def _measure(aim: Aim, item: Instance) -> tuple[float, dict[str, float]]:
-    if len(item.params) != 3 or not isinstance(item.params[2], Ref):
+    """Value and unit of a MEASURE_REPRESENTATION_ITEM (simple, or complex with a
+    MEASURE_WITH_UNIT part)."""
+    params = item.params
+    if item.name is None:
+        mwu = _parts(item).get("MEASURE_WITH_UNIT")
+        params = ("", *mwu) if mwu is not None else ()
+    if len(params) != 3 or not isinstance(params[2], Ref):
         raise refuse(f"#{item.id} is not a measure with a unit", aim.where(item.id))
-    value = item.params[1]
+    value = params[1]
     if isinstance(value, Typed):
         value = value.value
     if not isinstance(value, (int, float)):
         raise refuse(f"#{item.id} has no numeric value", aim.where(item.id))
-    return float(value), _unit(aim, int(item.params[2]))
+    return float(value), _unit(aim, int(params[2]))
 
 
 def _feed(aim: Aim, tech: int) -> float | None:

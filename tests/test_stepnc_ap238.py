@@ -74,6 +74,18 @@ _NC = """#170=MACHINING_NC_FUNCTION('msg','display message','','');
 ENDSEC;"""
 
 
+def test_a_measure_may_be_a_complex_instance(tmp_path):
+    path = tmp_path / "complex.stp"
+    simple = "#54=MEASURE_REPRESENTATION_ITEM('feed speed',NUMERIC_MEASURE(500.),#10);"
+    complex_ = (
+        "#54=(MEASURE_REPRESENTATION_ITEM()MEASURE_WITH_UNIT(NUMERIC_MEASURE(500.),#10)"
+        "REPRESENTATION_ITEM('feed speed'));"
+    )
+    assert simple in CC1.read_text()
+    path.write_text(CC1.read_text().replace(simple, complex_))
+    assert [c.rate for c in _run(path) if isinstance(c, canon.SetFeedRate)] == [500.0, 600.0]
+
+
 def _with_nc(stop: str) -> str:
     end = "\nENDSEC;\nEND-ISO-10303-21;"
     return CC1.read_text().replace(end, "\n" + _NC.format(stop) + "\nEND-ISO-10303-21;")
