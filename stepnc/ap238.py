@@ -14,6 +14,9 @@ specification (github.com/stepmfg/ap238, ``data/clause5.htm``; entity attributes
   ``MACHINING_TOOLPATH`` described ``'cutter location trajectory'`` (§5.1.8.10) whose
   ``'basic curve'`` action property holds the curve (§5.1.8.10.1); ``'trajectory type'``
   ``'connect'`` or a ``'speed profile'`` ``'rapid'`` makes it a traverse (§5.1.8.13);
+* coolant: the ``'coolant'`` property (``'coolant on'``/``'coolant off'``) of the
+  ``MACHINING_FUNCTIONS`` of the operation's ``MACHINING_FUNCTIONS_RELATIONSHIP``
+  (§5.1.9.38.1);
 * technology: ``MACHINING_TECHNOLOGY_RELATIONSHIP`` from the operation (or the toolpath) to a
   ``MACHINING_TECHNOLOGY`` whose ``'feedrate'`` and ``'spindle'`` properties are measures
   with units (§5.1.7.5);
@@ -323,11 +326,19 @@ def _workingstep(aim: Aim, model: Model, ex: Executor, ws: int) -> None:
         if ex.spindle is not canon.Direction.STOPPED:
             ex.emit(canon.StopSpindleTurning())
             ex.spindle = canon.Direction.STOPPED
+        if ex.flood is not False:
+            ex.emit(canon.FloodOff())
+            ex.flood = False
         if ex.z != ex.retracted_z:
             ex.emit(canon.SpindleRetract())
             ex.z = ex.retracted_z
         ex.emit(canon.ChangeTool(ex.pocket_of(ident, model.entity(tool.id)), ident))
         ex.tool_id = ident
+    for funcs in aim.related("MACHINING_FUNCTIONS_RELATIONSHIP", op):
+        coolant = aim.description(funcs, "coolant")  # §5.1.9.38.1
+        if coolant in ("coolant on", "coolant off") and (coolant == "coolant on") is not ex.flood:
+            ex.flood = coolant == "coolant on"
+            ex.emit(canon.FloodOn() if ex.flood else canon.FloodOff())
     op_tech = aim.related("MACHINING_TECHNOLOGY_RELATIONSHIP", op)
     paths = aim.related("MACHINING_TOOLPATH_SEQUENCE_RELATIONSHIP", op)
     if not paths:

@@ -58,6 +58,9 @@ def test_cc1_toolpaths_tools_feeds_and_speeds_are_the_files():
     assert [c.rate for c in cmds if isinstance(c, canon.SetFeedRate)] == [500.0, 600.0]
     assert [c.speed for c in cmds if isinstance(c, canon.SetSpindleSpeed)] == [3000.0]
     assert sum(isinstance(c, canon.StartSpindleClockwise) for c in cmds) == 2
+    names = [type(c).__name__ for c in cmds]
+    assert names.count("FloodOn") == 1 and names.index("FloodOn") < names.index("StraightFeed")
+    assert names.index("FloodOff") < names.index("ChangeTool", names.index("FloodOn"))
     # every motion is located at its operation inside its workingstep
     for c in moves:
         assert c.source is not None and c.source.workingstep in (31, 32)
