@@ -13,7 +13,8 @@ from cli.options import force_option, output_option, program_argument, tool_tabl
 from cli.outputs import refuse_output, replacing, write_output
 from cli.programs import is_stdin, stdin_text
 from kernel.diagnostics import Diagnostic, Location, Severity
-from stepnc.model import Model, load, load_text
+from stepnc.model import Entity, Model, load, load_text
+from stepnc.schema import GROUPS
 from stepnc.tooling import ToolEntry, load_tool_file
 
 MODES = click.Choice(["nist", "default"])
@@ -95,8 +96,6 @@ def info(file: str) -> None:
     from rich.markup import escape
     from rich.tree import Tree
 
-    from stepnc.model import Entity
-
     model = _model(file)
     project = model.project()
     root = Tree(f"[bold]PROJECT #{project.id}[/] {escape(repr(project.its_id))}")
@@ -116,10 +115,7 @@ def info(file: str) -> None:
             ws.add(f"feature {f.type} #{f.id} {escape(repr(f.its_id))}")
             o = ws.add(f"operation {op.type} #{op.id} {escape(repr(op.its_id))}")
             tool = op.its_tool
-            o.add(
-                f"tool #{tool.id} {escape(repr(tool.its_id))} ({tool.its_tool_body.type}, "
-                f"D={float(tool.its_tool_body.dimension.diameter):g})"
-            )
+            o.add(f"tool #{tool.id} {escape(repr(tool.its_id))} ({_tool_kind(tool)})")
             strat = getattr(op, "its_machining_strategy", None)
             if isinstance(strat, Entity):
                 o.add(f"strategy {strat.type} #{strat.id}")
@@ -135,12 +131,23 @@ def info(file: str) -> None:
 
     walk(root, plan)
     tools = root.add("[bold]tools[/]")
-    for t in model.all("MILLING_CUTTING_TOOL"):
-        dim = t.its_tool_body.dimension
-        tools.add(
-            f"#{t.id} {escape(repr(t.its_id))} {t.its_tool_body.type} D={float(dim.diameter):g}"
-        )
+    for t in model.p21.instances.values():
+        if t.name in GROUPS["tool"]:
+            tool = model.entity(t.id)
+            kind = _tool_kind(tool).replace(", D=", " D=")
+            tools.add(f"#{tool.id} {escape(repr(tool.its_id))} {kind}")
     Console().print(root)
+
+
+def _tool_kind(tool: Entity) -> str:
+    """Tool type and size: the body and diameter of a milling tool, the entity of a turning
+    tool (with the insert width of a grooving tool)."""
+    if tool.type == "MILLING_CUTTING_TOOL":
+        body = tool.its_tool_body
+        return f"{body.type}, D={float(body.dimension.diameter):g}"
+    if tool.type == "GROOVING_TOOL":
+        return f"{tool.type}, width {float(tool.cutting_width):g}"
+    return tool.type
 
 
 @command.command("check")
@@ -169,9 +176,12 @@ def check(file: str) -> None:
 def canon_cmd(file: str, tool_file: str | None, mode: str, as_json: bool) -> None:
     """Print the canonical machining commands of FILE."""
     from kernel.ir import canon
-    from stepnc.to_canon import canon_from_model
+    from stepnc.to_canon import canon_from_file, canon_from_model
 
-    cmds = canon_from_model(_model(file), _tools(tool_file), mode)
+    if is_stdin(file):
+        cmds = canon_from_model(_model(file), _tools(tool_file), mode)
+    else:  # a file may be AP238's AIM form too
+        cmds = canon_from_file(file, tool_file, mode)
     lines = canon.to_jsonl(cmds) if as_json else canon.write_text(cmds)
     for line in lines:
         click.echo(line)
@@ -218,13 +228,19 @@ def to_gcode(
 @guarded
 @_interpreting
 def part(file: str, output: str, raw: str | None, force: bool) -> None:
-    """Write the finished part (workpiece minus features) as STEP or STL."""
-    from stepnc import geometry
+    """Write the finished part (workpiece minus features; a turning program's bar less its
+    turned features) as STEP or STL."""
+    from stepnc import geometry, turned
 
     if not output.lower().endswith((".step", ".stp", ".stl")):
         raise click.UsageError("OUTPUT must end in .step, .stp or .stl")
     _write_guard(output, force, (file,))
-    shape = geometry.finished_part(_model(file), _raw(raw))
+    model = _model(file)
+    shape = (
+        turned.turned_solid(turned.turned_profile(model))
+        if turned.is_turning(model)
+        else geometry.finished_part(model, _raw(raw))
+    )
     with replacing(output) as tmp:
         geometry.export(shape, tmp)
     click.echo(f"{output}: finished part, volume {geometry.volume(shape):.3f} mm^3")
@@ -239,12 +255,16 @@ def part(file: str, output: str, raw: str | None, force: bool) -> None:
 @_interpreting
 def gouge_cmd(file: str, tool_file: str | None, mode: str, raw: str | None) -> None:
     """Check every cutting move against the finished part, per workingstep."""
-    from stepnc import gouge
+    from stepnc import gouge, turned
     from stepnc.to_canon import canon_from_model
 
     model = _model(file)
     tools = _tools(tool_file)
-    result = gouge.check(model, canon_from_model(model, tools, mode), _raw(raw))
+    commands = canon_from_model(model, tools, mode)
+    if turned.is_turning(model):
+        result = turned.turning_gouges(model, commands)
+    else:
+        result = gouge.check(model, commands, _raw(raw))
     bad = 0
     for ws, found in result.items():
         status = "ok" if not found else f"{len(found)} gouging move(s)"

@@ -82,6 +82,14 @@ class Executor:
         self.mist = start.mist
         self.tool_id: str | None = None
         self.security_z = 0.0
+        # turning (stepnc.toolpaths.turning): plane, feed mode, constant surface speed and
+        # the stock left by earlier turning workingsteps (a stepnc.lathe.Profile)
+        self.plane = canon.Plane.XY
+        self.feed_mode = canon.FeedMode.UNITS_PER_MINUTE
+        self.css = False
+        self.css_max = 0.0
+        self.stock: object | None = None
+        self.home = (start.position[0], start.position[2])
         self.out: list[canon.Command] = []
         self.source = Location(file)
         self._pockets: dict[str, int] = {}
@@ -117,6 +125,17 @@ class Executor:
         edges = tool.its_cutting_edge or ()
         length = float(edges[0].tool_offset_length) if edges else 0.0
         return ToolEntry(pocket, ident, length, float(tool_dimension(tool).diameter))
+
+    def pocket_of(self, ident: str, tool: Entity) -> int:
+        """The tool file's pocket of tool ``ident``, else pockets numbered in order of use."""
+        if self.tools is not None:
+            entry = self.tools.get(ident)
+            if entry is None:
+                raise self.error(
+                    "STEPNC-TOOL-MISSING", f"tool {ident!r} is not in the tool file", tool
+                )
+            return entry.pocket
+        return self._pockets.setdefault(ident, len(self._pockets) + 1)
 
     def handle_tool(self, tool: Entity) -> None:
         if str(tool.its_id) != self.tool_id:
@@ -186,6 +205,13 @@ class Executor:
             if self.speed != 0.0:
                 self.emit(canon.SetSpindleSpeed(0.0))
                 self.speed = 0.0
+
+    def spin(self, speed: float, direction: canon.Direction) -> None:
+        """Spindle at ``speed`` in ``direction`` (commands only for what changes)."""
+        if direction is canon.Direction.CLOCKWISE:
+            self._spin(speed, direction, canon.StartSpindleClockwise)
+        else:
+            self._spin(speed, direction, canon.StartSpindleCounterclockwise)
 
     def _spin(self, speed: float, direction: canon.Direction, start: type) -> None:
         if speed != self.speed:

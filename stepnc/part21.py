@@ -425,23 +425,42 @@ class _Reader:
                 bad_reported = True
             pos = m.end()
 
+    def fast_run(self, pos: int, instances: dict[int, Instance]) -> int:
+        """Read the well-formed simple instances from ``pos`` on through the fast path;
+        return the position of the first one it cannot take (or of ENDSEC)."""
+        text = self.text
+        fast_match = FAST_INSTANCE.match
+        count_nl = text.count
+        rfind = text.rfind
+        names: dict[str, str] = {}
+        line_pos, line_no = self.line_pos, self.line_no
+        if pos < line_pos:
+            line_pos, line_no = 0, 1
+        while True:
+            f = fast_match(text, pos)
+            if f is None:
+                break
+            ident_s, raw_name, body = f.groups()
+            params = fast_params(body)
+            ident = int(ident_s)
+            if params is None or ident in instances:
+                break
+            start = f.start(1) - 1
+            line_no += count_nl("\n", line_pos, start)
+            line_pos = start
+            name = names.get(raw_name)
+            if name is None:
+                name = names[raw_name] = sys.intern(raw_name.upper())
+            instances[ident] = Instance(ident, name, params, line_no, start - rfind("\n", 0, start))
+            pos = f.end()
+        self.line_pos, self.line_no = line_pos, line_no
+        return pos
+
     def data(self, pos: int, out: Part21File) -> int:
         text = self.text
         instances = out.instances
-        fast_match = FAST_INSTANCE.match
         while True:
-            f = fast_match(text, pos)
-            if f is not None:
-                params = fast_params(f.group(3))
-                ident = int(f.group(1))
-                if params is not None and ident not in instances:
-                    start = f.start(1) - 1
-                    line, col = self.line_col(start)
-                    instances[ident] = Instance(
-                        ident, sys.intern(f.group(2).upper()), params, line, col
-                    )
-                    pos = f.end()
-                    continue
+            pos = self.fast_run(pos, instances)
             m = _TOKEN.match(text, pos)
             assert m is not None
             k = m.lastindex

@@ -86,7 +86,11 @@ def raw_block(model: Model, default: tuple[float, ...] | None = None) -> Prism:
     as ``(x0, y0, z0, x1, y1, z1)`` in setup coordinates."""
     for wp in model.all("WORKPIECE"):
         for cand in (wp, wp.its_rawpiece):
-            if isinstance(cand, Entity) and isinstance(cand.its_bounding_geometry, Entity):
+            if (
+                isinstance(cand, Entity)
+                and isinstance(cand.its_bounding_geometry, Entity)
+                and cand.its_bounding_geometry.type == "BLOCK"
+            ):
                 b = cand.its_bounding_geometry
                 fr = frame_of(b.position)
                 return Prism(

@@ -78,6 +78,34 @@ _TOOLPATH = (
 )
 _DRIVE_STRATEGY = ("overlap:real?", "allow_multiple_passes:bool?")
 _PLUNGE = ("tool_orientation:ref:DIRECTION?",)
+# ---- ISO 14649-12 turning and -121 turning tools, in the attribute order of the ARM that
+# AP238 ed. 3 carries (stepmfg/ap238 data/ap238e3_arm.exp, "TYPES DEFINED IN PROCESS DATA
+# FOR TURNING ISO 14649-12" and "TOOLS FOR TURNING ISO 14649-121"), with the attributes
+# AP238 moved to supertypes or inverses put back where the 14649 schema had them.
+_TURNING_OP = _MACHINING_OP + (
+    "approach:ref?",
+    "retract:ref?",
+    "its_machining_strategy:ref:turning_strategy?",
+)
+_TURNING_STRATEGY = (
+    "overcut_length:real?",
+    "allow_multiple_passes:bool?",
+    "cutting_depth:list:real",
+    "variable_feedrate:real?",
+)
+_TURNING_TOOL = (
+    "its_id:label",
+    "functional_length:real",
+    "f_dimension:real",
+    "minimum_cutting_diameter:real?",
+    "a_dimension_on_f:real?",
+    "a_dimension_on_lf:real?",
+    "cutting_edge:ref:CUTTING_EDGE_PROPERTIES",
+    "hand_of_tool:enum:LEFT|RIGHT|NEUTRAL?",
+)
+#: revolved features (ISO 14649-12): ``radius`` is a numeric parameter in the standard and
+#: a plain number in published examples, so both are read
+_REVOLVED = _TWO5D_FEATURE + ("material_side:ref:DIRECTION?", "radius:any")
 _NAME = ("name:label",)
 
 #: entity -> attribute specs ``name:type[?]`` in Part 21 order.
@@ -146,7 +174,7 @@ ENTITIES: dict[str, tuple[str, ...]] = {
         "global_tolerance:real?",
         "its_rawpiece:ref:WORKPIECE?",
         "its_geometry:ref?",
-        "its_bounding_geometry:ref:BLOCK?",
+        "its_bounding_geometry:ref:bounding?",
         "clamping_positions:list:ref:CARTESIAN_POINT",
     ),
     "MATERIAL": (
@@ -302,6 +330,133 @@ ENTITIES: dict[str, tuple[str, ...]] = {
         "its_process_model:ref?",
         "other_functions:list:ref",
     ),
+    # ---- ISO 14649-12 turning features
+    "OUTER_DIAMETER": _TWO5D_FEATURE
+    + ("diameter_at_placement:any", "feature_length:any", "reduced_size:ref:taper?"),
+    "REVOLVED_FLAT": _REVOLVED + ("flat_edge_shape:ref:LINEAR_PROFILE",),
+    "GROOVE": _REVOLVED + ("sweep:ref:open_profile",),
+    "GENERAL_REVOLUTION": _REVOLVED + ("outline:ref:open_profile",),
+    # ISO 14649-10 taper_select (a round hole's change_in_diameter; an outer diameter's
+    # reduced_size)
+    "DIAMETER_TAPER": ("final_diameter:any",),
+    "ANGLE_TAPER": ("angle:real",),
+    "RIGHT_CIRCULAR_CYLINDER": _NAME
+    + ("position:ref:AXIS2_PLACEMENT_3D", "height:real", "radius:real"),
+    # ---- ISO 14649-12 turning operations, strategies, technology, machine functions
+    "FACING_ROUGH": _TURNING_OP + ("allowance:real?",),
+    "FACING_FINISH": _TURNING_OP + ("allowance:real?",),
+    "CONTOURING_ROUGH": _TURNING_OP + ("allowance:real?",),
+    "CONTOURING_FINISH": _TURNING_OP + ("allowance:real?",),
+    "GROOVING_ROUGH": _TURNING_OP + ("dwell:any?", "allowance:real?"),
+    "GROOVING_FINISH": _TURNING_OP + ("dwell:any?", "allowance:real?"),
+    "CUTTING_IN": _TURNING_OP + ("dwell:any?", "allowance:real?"),
+    "THREADING_ROUGH": _TURNING_OP + ("allowance:real?",),
+    "THREADING_FINISH": _TURNING_OP + ("allowance:real?",),
+    "KNURLING": _TURNING_OP,
+    "UNIDIRECTIONAL_TURNING": _TURNING_STRATEGY
+    + (
+        "feed_direction:ref:DIRECTION?",
+        "back_path_direction:ref:DIRECTION?",
+        "lift_direction:ref:DIRECTION?",
+        "stepover_direction:ref:DIRECTION?",
+        "lift_height:real?",
+        "lift_feed:any?",
+        "stepover_feed:any?",
+    ),
+    "BIDIRECTIONAL_TURNING": _TURNING_STRATEGY
+    + ("feed_direction:ref:DIRECTION?", "stepover_direction:ref:DIRECTION?", "stepover_feed:any?"),
+    "CONTOUR_TURNING": _TURNING_STRATEGY
+    + (
+        "feed_direction:ref:DIRECTION?",
+        "back_path_direction:ref:DIRECTION?",
+        "lift_direction:ref:DIRECTION?",
+        "stepover_direction:ref:DIRECTION?",
+        "lift_height:real?",
+        "lift_feed:any?",
+        "stepover_feed:any?",
+        "variable_stepover_feed:real?",
+    ),
+    "THREAD_STRATEGY": _TURNING_STRATEGY
+    + (
+        "cut_in_amount_function:enum:CONSTANT_DEPTH|VARIABLE_DEPTH|CONSTANT_REMOVAL_AMOUNT",
+        "threading_direction:enum:LEFT|RIGHT|CENTER|LEFT_ZIGZAG|RIGHT_ZIGZAG",
+        "path_return_angle:real?",
+        "lift_height:real?",
+    ),
+    "GROOVING_STRATEGY": _TURNING_STRATEGY
+    + ("grooving_direction:ref:DIRECTION?", "travel_distance:real?"),
+    "MULTISTEP_GROOVING_STRATEGY": _TURNING_STRATEGY
+    + ("grooving_direction:ref:DIRECTION?", "travel_distance:real?", "retract_distance:real"),
+    "EXPLICIT_TURNING_STRATEGY": _TURNING_STRATEGY,
+    "TURNING_TECHNOLOGY": (
+        "feedrate:real?",
+        "feedrate_reference:enum:TCP|CCP",
+        "spindle_speed:ref:speed_select",
+        "feed_per_revolution:real?",
+        "sync_spindle_and_z_feed:bool",
+        "inhibit_feedrate_override:bool",
+        "inhibit_spindle_override:bool",
+        "its_adaptive_control:ref?",
+    ),
+    "CONST_SPINDLE_SPEED": ("rot_speed:real",),
+    "CONST_CUTTING_SPEED": ("speed:real", "max_speed:real?"),
+    "TURNING_MACHINE_FUNCTIONS": (
+        "coolant:bool",
+        "coolant_type:enum:FLOOD|MIST|THROUGH_TOOL?",
+        "coolant_pressure:real?",
+        "axis_clamping:list:any",
+        "chip_removal:bool?",
+        "oriented_spindle_stop:ref?",
+        "its_process_model:ref?",
+        "other_functions:list:ref",
+        "tail_stock:bool?",
+        "steady_rest:bool?",
+        "follow_rest:bool?",
+    ),
+    # ---- ISO 14649-121 turning tools
+    "GENERAL_TURNING_TOOL": _TURNING_TOOL,
+    "GROOVING_TOOL": _TURNING_TOOL
+    + (
+        "cutting_width:real",
+        "maximum_grooving_depth:real",
+        "corner_radius:real?",
+        "maximum_axial_grooving_diameter:real?",
+        "minimum_axial_grooving_diameter:real?",
+    ),
+    "TURNING_THREADING_TOOL": _TURNING_TOOL
+    + (
+        "threading_pitch:real",
+        "thread_hand:enum:LEFT|RIGHT",
+        "its_thread_type:enum:INTERNAL|EXTERNAL",
+        "thread_profile:enum:FULL_PROFILE|PARTIAL_PROFILE",
+        "thread_form_type:label",
+    ),
+    "KNURLING_TOOL": _TURNING_TOOL
+    + (
+        "knurl_pattern:enum:STRAIGHT|DIAGONAL|DIAMOND",
+        "cutting_length:real?",
+        "angle:real?",
+        "pitch:real?",
+    ),
+    "CUTTING_EDGE_PROPERTIES": (
+        "its_material:ref?",
+        "expected_tool_life:real?",
+        "its_technology:ref?",
+        "cutting_edge_length:real?",
+        "tool_cutting_edge_angle:real?",
+        "tool_cutting_edge_angle_type:label?",
+        "tool_included_angle:real?",
+        "corner_transitions:list:ref:CORNER_TRANSITION",
+        "maximum_side_cutting_depth:real?",
+        "maximum_end_cutting_depth:real?",
+    ),
+    "CORNER_TRANSITION": ("corner_identity:int", "transition:ref:corner"),
+    "ROUNDED_CORNER": ("corner_radius:real",),
+    "CHAMFERED_CORNER": (
+        "corner_chamfer_angle:real",
+        "corner_chamfer_length:real?",
+        "corner_chamfer_width:real?",
+    ),
     # ---- Part 111 tools (§4.3)
     "MILLING_CUTTING_TOOL": (
         "its_id:label",
@@ -416,7 +571,8 @@ GROUPS: dict[str, frozenset[str]] = {
     ),
     "feature": frozenset(
         {"PLANAR_FACE", "CLOSED_POCKET", "OPEN_POCKET", "ROUND_HOLE", "SLOT", "STEP"}
-    ),
+    )
+    | frozenset({"OUTER_DIAMETER", "REVOLVED_FLAT", "GROOVE", "GENERAL_REVOLUTION"}),
     "operation": frozenset(
         {
             "PLANE_ROUGH_MILLING",
@@ -436,7 +592,36 @@ GROUPS: dict[str, frozenset[str]] = {
             "TAPPING",
             "THREAD_DRILLING",
         }
+    )
+    | frozenset(
+        {
+            "FACING_ROUGH",
+            "FACING_FINISH",
+            "CONTOURING_ROUGH",
+            "CONTOURING_FINISH",
+            "GROOVING_ROUGH",
+            "GROOVING_FINISH",
+            "CUTTING_IN",
+            "THREADING_ROUGH",
+            "THREADING_FINISH",
+            "KNURLING",
+        }
     ),
+    "turning_strategy": frozenset(
+        {
+            "UNIDIRECTIONAL_TURNING",
+            "BIDIRECTIONAL_TURNING",
+            "CONTOUR_TURNING",
+            "THREAD_STRATEGY",
+            "GROOVING_STRATEGY",
+            "MULTISTEP_GROOVING_STRATEGY",
+            "EXPLICIT_TURNING_STRATEGY",
+        }
+    ),
+    "speed_select": frozenset({"CONST_SPINDLE_SPEED", "CONST_CUTTING_SPEED"}),
+    "corner": frozenset({"ROUNDED_CORNER", "CHAMFERED_CORNER"}),
+    "bounding": frozenset({"BLOCK", "RIGHT_CIRCULAR_CYLINDER"}),
+    "taper": frozenset({"DIAMETER_TAPER", "ANGLE_TAPER"}),
     "two5d_strategy": frozenset(
         {
             "UNIDIRECTIONAL_MILLING",
@@ -449,7 +634,15 @@ GROUPS: dict[str, frozenset[str]] = {
     ),
     "drilling_strategy": frozenset({"DRILLING_TYPE_STRATEGY"}),
     "approach": frozenset({"PLUNGE_TOOLAXIS", "PLUNGE_RAMP", "PLUNGE_ZIGZAG", "PLUNGE_HELIX"}),
-    "tool": frozenset({"MILLING_CUTTING_TOOL"}),
+    "tool": frozenset(
+        {
+            "MILLING_CUTTING_TOOL",
+            "GENERAL_TURNING_TOOL",
+            "GROOVING_TOOL",
+            "TURNING_THREADING_TOOL",
+            "KNURLING_TOOL",
+        }
+    ),
     "tool_body": frozenset(
         {
             "ENDMILL",
@@ -464,8 +657,8 @@ GROUPS: dict[str, frozenset[str]] = {
             "TAP",
         }
     ),
-    "technology": frozenset({"MILLING_TECHNOLOGY"}),
-    "machine_functions": frozenset({"MILLING_MACHINE_FUNCTIONS"}),
+    "technology": frozenset({"MILLING_TECHNOLOGY", "TURNING_TECHNOLOGY"}),
+    "machine_functions": frozenset({"MILLING_MACHINE_FUNCTIONS", "TURNING_MACHINE_FUNCTIONS"}),
     "surface": frozenset({"PLANE", "ELEMENTARY_SURFACE"}),
     "point": frozenset({"CARTESIAN_POINT"}),
     "numeric": frozenset({"NUMERIC_PARAMETER", "TOLERANCED_LENGTH_MEASURE"}),

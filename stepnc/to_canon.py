@@ -19,11 +19,13 @@ from dataclasses import dataclass
 import kernel.limits as limits
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
+from stepnc.ap238 import canon_from_aim
 from stepnc.executor import DEFAULT_START, NIST_START, Executor, start_within
 from stepnc.frames import Frame, coords, frame_of
 from stepnc.model import Entity, Model, load
+from stepnc.part21 import read_file
 from stepnc.tooling import ToolEntry, load_tool_file
-from stepnc.toolpaths import drilling, explicit, facing, open_pocket, pocket, slot, step
+from stepnc.toolpaths import drilling, explicit, facing, open_pocket, pocket, slot, step, turning
 
 FAMILIES = {
     "PLANE_ROUGH_MILLING": facing,
@@ -70,7 +72,14 @@ def canon_from_file(
 
     ``z_max``: the machine's Z travel limit; a start-up retract height above it is lowered
     to it, with a comment saying so."""
-    model = load(path)
+    try:
+        model = load(path)
+    except Diagnostic as exc:
+        if exc.code != "STEPNC-AP238":
+            raise
+        # an AP238 AIM file: its cutter-location toolpaths (conformance class 1)
+        yield from canon_from_aim(read_file(path), mode, z_max)
+        return
     tools = load_tool_file(tool_file) if tool_file else None
     yield from canon_from_model(model, tools, mode, z_max)
 
@@ -139,6 +148,11 @@ def _setup(model: Model, project: Entity, plan: Entity) -> tuple[float, Frame]:
     # Coordinates are setup coordinates (NIST): the setup's own placement (its_origin) is
     # where the machinist puts the setup on the machine, so it is not applied here.
     return z, frame
+
+
+#: the setup's security Z and workpiece frame (for modules that place features as the
+#: executor does)
+setup_frames = _setup
 
 
 def _walk(
@@ -214,6 +228,16 @@ def _execute(ex: Executor, element: Entity, wp_frame: Frame, setup_z: float) -> 
 
 def _machining(ex: Executor, ws: Entity, wp_frame: Frame) -> None:
     feature, op = ws.its_feature, ws.its_operation
+    if op.type in turning.TURNING_OPS:
+        if op not in (feature.its_operations or ()):
+            raise Diagnostic(
+                "STEPNC-OP-FEATURE",
+                f"operation #{op.id} is not one of the operations of feature #{feature.id}",
+                ws.where(ws.id),
+            )
+        ex.at(op, ws)
+        turning.generate(ex, ws, feature, op, wp_frame)
+        return
     family = FAMILIES.get(op.type)
     if op.type in _SIDE_MILLING and feature.type in _BY_FEATURE:
         family = _BY_FEATURE[feature.type]
@@ -273,4 +297,4 @@ def _rapid(ex: Executor, rapid: Entity) -> None:
         ex.x, ex.y, ex.z = pts[-1]
 
 
-__all__ = ["Job", "canon_from_file", "canon_from_model"]
+__all__ = ["Job", "canon_from_file", "canon_from_model", "setup_frames"]

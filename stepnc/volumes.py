@@ -78,6 +78,12 @@ def feature_volume(feature: Entity, wp: Frame) -> Prism | None:
             "STEPNC-UNSUPPORTED", f"no solid for a pocket bounded by {b.type}", feature.where()
         )
     if t == "ROUND_HOLE":
+        if feature.change_in_diameter is not None:
+            raise Diagnostic(
+                "STEPNC-UNSUPPORTED",
+                "no solid for a tapered ROUND_HOLE (change_in_diameter)",
+                feature.where(),
+            )
         r = measure(feature.diameter) / 2
         through = feature.bottom_condition.type == "THROUGH_BOTTOM_CONDITION"
         return Prism(

@@ -113,6 +113,12 @@ def generate(ex, job) -> None:  # noqa: ANN001
         raise ex.error(
             "STEPNC-OP-FEATURE", f"{kind} is implemented for ROUND_HOLE, not {job.feature.type}", op
         )
+    if job.feature.change_in_diameter is not None:
+        raise ex.error(
+            "STEPNC-UNSUPPORTED",
+            f"{kind} of a tapered hole (change_in_diameter) is not implemented",
+            op,
+        )
     {
         "DRILLING": _drilling,
         "MULTISTEP_DRILLING": _multistep,

@@ -178,3 +178,7 @@ def _curve(
     raise Diagnostic(
         "STEPNC-UNSUPPORTED", f"curve {t} is not supported as a toolpath", curve.where()
     )
+
+
+#: a curve followed into placed-ready pseudocode (AP238 cutter-location toolpaths use it too)
+follow_curve = _curve
