@@ -522,7 +522,8 @@ def check_one(mode: str, dialect: str, text: str) -> Outcome:
         else:
             run_reader(dialect, text)
     except Diagnostic as diag:
-        lines = text.count("\n") + 2
+        # a lone CR ends a line too (old Mac files): splitlines counts it
+        lines = max(text.count("\n"), len(text.splitlines())) + 2
         if not diag.code or diag.code != diag.code.upper():
             return Outcome(False, ("bad-code", diag.code), str(diag))
         if dialect != "stepnc" and not 0 <= (diag.location.line or 0) <= lines:

@@ -64,6 +64,29 @@ PINNED_CLI = [
 ]
 
 
+#: found through ``cnc check`` on canonical text (``python -m tests.fuzzing canon 100 cli``,
+#: seed 634 and others): an enum argument given as a number (``USE_LENGTH_UNITS(-144.3)``,
+#: ``SELECT_PLANE(3)``) or an enum name where a number goes was read into the command, and
+#: the checker's arithmetic on it ended in CHECK-INTERNAL; they are CANON-SYNTAX now
+PINNED_CHECK = [
+    "    1 N..... USE_LENGTH_UNITS(-144.33237)\n    2 N..... STRAIGHT_FEED(82, 63.4, 29)\n",
+    "    1 N..... SELECT_PLANE(-184.07)\n    2 N..... ARC_FEED(1, 2, 0, 0, 1, 0)\n",
+    "    1 N..... STRAIGHT_FEED(CANON_PLANE_XY, 1, 2)\n",
+]
+
+
+@pytest.mark.parametrize("text", PINNED_CHECK)
+def test_pinned_canonical_text_is_diagnosed_by_check(text: str) -> None:
+    out = check_one("cli", "canon", text)
+    assert out.ok, out
+
+
+def test_a_lone_carriage_return_counts_as_a_line() -> None:
+    # sandia, seeds of `python -m tests.fuzzing sandia 1000 reader 7000`: the reader counts
+    # CR as a line end, the harness did not, and took a right line number for a wrong one
+    assert check_one("reader", "sandia", "\r\rk7").ok
+
+
 @pytest.mark.parametrize(("dialect", "text"), PINNED_CLI)
 def test_pinned_endless_moving_loops_end_in_check(tmp_path: Path, dialect: str, text: str) -> None:
     path = tmp_path / ("p.mpf" if dialect == "siemens840d" else "p.nc")
