@@ -11,7 +11,7 @@ the commands before it (rs274 stops at the first error the same way).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from typing import cast
 
 import numpy as np
@@ -19,8 +19,10 @@ import numpy as np
 import kernel.ir.canon as canon
 from kernel.check import rules_tooling  # noqa: F401 - registers the remaining rules
 from kernel.check.batch import (
+    SET_FEED,
     Judge,
     Message,
+    Moves,
     StraightRun,
     arc_kind,
     kinds_mask,
@@ -38,6 +40,7 @@ __all__ = [
     "CheckConfig",
     "CheckContext",
     "Finding",
+    "Moves",
     "Rule",
     "check_stream",
     "config_from_dict",
@@ -103,7 +106,7 @@ class _Book:
 
 
 def check_stream(
-    commands: Iterable[canon.Command],
+    commands: Iterable[canon.Command | Moves],
     ctx: CheckContext,
     file: str | None = None,
     text_findings: Iterable[tuple[str, str, Location]] = (),
@@ -119,9 +122,10 @@ def check_stream(
     ends with the count of further commands, so one missing M3 does not give 10,000 lines;
     a later finding with the same rule and message is folded into the first the same way.
 
-    Consecutive straight moves are judged up to :data:`BATCH` at a time over arrays
-    (:mod:`kernel.check.batch`); ``batched=False`` asks every rule command by command. The
-    findings are the same.
+    Consecutive moves are judged up to :data:`BATCH` at a time over arrays
+    (:mod:`kernel.check.batch`), and a front end may give blocks of plain moves as arrays
+    already (:class:`~kernel.check.batch.Moves`); ``batched=False`` asks every rule command
+    by command. The findings are the same.
     """
     active = _active(ctx)
     per_cmd = [(r, r.check, s) for r, s in active if r.check is not None]
@@ -154,8 +158,47 @@ def check_stream(
             run_ends.clear()
             run_locs.clear()
 
+    def one(cmd: canon.Command, loc: Location) -> None:
+        """Every rule on one command, then its effect on the state."""
+        for r, check, sev in per_cmd:
+            if r.kinds and not isinstance(cmd, r.kinds):
+                continue
+            msg = check(cmd, st, ctx)
+            if msg is None:
+                book.close(r.id)
+            else:
+                book.offend(r.id, sev, _given(msg), loc)
+        advance(st, cmd)
+
+    def moves(m: Moves) -> None:
+        """A block of moves as arrays: runs between its SET_FEED events."""
+        a, n = 0, len(m)
+        for b in [*np.flatnonzero(m.kind == SET_FEED).tolist(), n]:
+            if a < b and not st.moved:
+                cmd = m.command(a)
+                one(cmd, cmd.source or Location(m.file))
+                a += 1
+            if a < b:
+                run = StraightRun.of_moves(m, a, b, st.position, st.plane)
+                _judge_run(judge, run, straight, book)
+                p = run.end[-1].tolist()
+                st.position = (p[0], p[1], p[2], p[3], p[4], p[5])
+            if b < n:
+                cmd = m.command(b)
+                one(cmd, cmd.source or Location(m.file))
+            a = b + 1
+
+    items: Iterable[canon.Command | Moves] = commands if batched else _expanded(commands)
     try:
-        for cmd in commands:
+        for cmd in items:
+            if isinstance(cmd, Moves):
+                flush()
+                if len(cmd):
+                    moves(cmd)
+                    top = int(cmd.line.max())
+                    if top >= last_loc.line or cmd.file != last_loc.file:
+                        last_loc = Location(cmd.file, top, 1)
+                continue
             loc = cmd.source or last_loc
             if loc.line >= last_loc.line or loc.file != last_loc.file:
                 last_loc = loc
@@ -174,15 +217,7 @@ def check_stream(
                     flush()
                 continue
             flush()
-            for r, check, sev in per_cmd:
-                if r.kinds and not isinstance(cmd, r.kinds):
-                    continue
-                msg = check(cmd, st, ctx)
-                if msg is None:
-                    book.close(r.id)
-                else:
-                    book.offend(r.id, sev, lambda m=msg: m, loc)
-            advance(st, cmd)
+            one(cmd, loc)
     except Diagnostic as diag:
         flush()
         book.close_all()
@@ -201,6 +236,16 @@ def check_stream(
             if msg is not None:
                 findings.append(Finding(r.id, sev, msg, end_loc))
     return _folded(findings, book.repeats)
+
+
+def _expanded(items: Iterable[canon.Command | Moves]) -> Iterator[canon.Command]:
+    """The commands of a stream whose blocks of moves are arrays."""
+    for item in items:
+        if isinstance(item, Moves):
+            for i in range(len(item)):
+                yield item.command(i)
+        else:
+            yield item
 
 
 def _judge_run(
@@ -244,7 +289,17 @@ def _judge_run(
             book.close(rid)
         else:
             first = run.locations[i]
-            book.offend(rid, sev, lambda i=i, message=message: message(i) or "", first, count)
+            book.offend(rid, sev, _asked(message, i), first, count)
+
+
+def _given(msg: str) -> Callable[[], str]:
+    """A message already known."""
+    return lambda: msg
+
+
+def _asked(message: Message, i: int) -> Callable[[], str]:
+    """The message of command ``i``, asked for when needed."""
+    return lambda: message(i) or ""
 
 
 def _none(i: int) -> str | None:

@@ -26,18 +26,30 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, fields
+from typing import Protocol, TypeVar
 
 import numpy as np
 import numpy.typing as npt
 
 import kernel.ir.canon as canon
 from kernel.check.rules import EPS, FEEDS, CheckContext, Rule
-from kernel.check.state import CheckState, Vec6
+from kernel.check.state import PLANE_AXES, CheckState, Vec6
 from kernel.diagnostics import Location
 from kernel.machine import AXIS_NAMES
 
 Bools = npt.NDArray[np.bool_]
 Floats = npt.NDArray[np.float64]
+
+
+T_co = TypeVar("T_co", covariant=True)
+
+
+class Indexed(Protocol[T_co]):
+    """What a run needs of its commands and locations: a list, or built when asked for."""
+
+    def __len__(self) -> int: ...
+
+    def __getitem__(self, i: int, /) -> T_co: ...
 
 
 @dataclass
@@ -47,8 +59,8 @@ class StraightRun:
     which are straight feeds and which are arcs (the rest are straight traverses). The arcs
     are judged command by command; they are in the run so that it is long."""
 
-    commands: list[canon.Command]
-    locations: list[Location]
+    commands: Indexed[canon.Command]
+    locations: Indexed[Location]
     start: Floats
     end: Floats
     feed: Bools
@@ -73,14 +85,101 @@ class StraightRun:
         arc = np.fromiter((type(c) is canon.ArcFeed for c in commands), np.bool_, n)
         return cls(commands, locations, start, end, feed, arc, ~(feed | arc))
 
+    @classmethod
+    def of_moves(
+        cls, moves: Moves, a: int, b: int, position: Vec6, plane: canon.Plane
+    ) -> StraightRun:
+        """The run of events ``a .. b`` of ``moves`` (none of them SET_FEED) from
+        ``position``, in ``plane`` (the arcs' axes)."""
+        kind = moves.kind[a:b]
+        end = np.array(moves.position[a:b], dtype=np.float64)
+        arc = kind == ARC
+        if arc.any():
+            assert moves.arc is not None
+            i1, i2, n = PLANE_AXES[plane]
+            rows = np.asarray(moves.arc[a:b], dtype=np.float64)[arc]
+            end[arc, i1], end[arc, i2], end[arc, n] = rows[:, 0], rows[:, 1], rows[:, 5]
+        start = np.empty_like(end)
+        start[0] = position
+        start[1:] = end[:-1]
+        feed = kind == FEED
+        return cls(
+            _Commands(moves, a, b), _Locations(moves, a, b), start, end, feed, arc, ~(feed | arc)
+        )
+
     def __len__(self) -> int:
-        return len(self.commands)
+        return len(self.start)
 
     def finite(self) -> bool:
         return bool(np.isfinite(self.start).all() and np.isfinite(self.end).all())
 
 
 Message = Callable[[int], "str | None"]
+
+#: the kinds of :attr:`Moves.kind`
+TRAVERSE, FEED, SET_FEED, ARC = 0, 1, 2, 3
+
+
+@dataclass(frozen=True)
+class Moves:
+    """Canonical commands of a block of plain moves as arrays, the bulk form a front end may
+    hand :func:`kernel.check.check_stream` instead of command objects (the RS274/NGC fast
+    lane's runs): ``kind[i]`` (:data:`TRAVERSE` STRAIGHT_TRAVERSE, :data:`FEED`
+    STRAIGHT_FEED, :data:`SET_FEED` SET_FEED_RATE, :data:`ARC` ARC_FEED), ``position[i]``
+    (x y z a b c after the event, program coordinates), ``feed[i]`` (the rate of a
+    SET_FEED), ``line[i]`` (1-based source line in ``file``) and, for an arc, ``arc[i]``:
+    first and second end, first and second centre, turns, end on the normal axis."""
+
+    kind: npt.NDArray[np.int64]
+    position: Floats
+    feed: Floats
+    line: npt.NDArray[np.int64]
+    arc: Floats | None
+    file: str | None
+
+    def __len__(self) -> int:
+        return int(self.kind.shape[0])
+
+    def command(self, i: int) -> canon.Command:
+        """Event ``i`` as its command object."""
+        k = int(self.kind[i])
+        src = Location(self.file, int(self.line[i]), 1)
+        pos = self.position[i].tolist()
+        if k == TRAVERSE:
+            return canon.StraightTraverse(*pos, source=src)
+        if k == FEED:
+            return canon.StraightFeed(*pos, source=src)
+        if k == ARC:
+            assert self.arc is not None
+            e1, e2, c1, c2, turns, normal = self.arc[i].tolist()
+            return canon.ArcFeed(e1, e2, c1, c2, int(turns), normal, *pos[3:], source=src)
+        return canon.SetFeedRate(float(self.feed[i]), source=src)
+
+
+class _Commands:
+    """Events ``a .. b`` of a :class:`Moves`, built when asked for."""
+
+    def __init__(self, moves: Moves, a: int, b: int) -> None:
+        self.moves, self.a, self.b = moves, a, b
+
+    def __len__(self) -> int:
+        return self.b - self.a
+
+    def __getitem__(self, i: int) -> canon.Command:
+        return self.moves.command(self.a + i)
+
+
+class _Locations:
+    """Source locations of events ``a .. b`` of a :class:`Moves`."""
+
+    def __init__(self, moves: Moves, a: int, b: int) -> None:
+        self.moves, self.a, self.b = moves, a, b
+
+    def __len__(self) -> int:
+        return self.b - self.a
+
+    def __getitem__(self, i: int) -> Location:
+        return Location(self.moves.file, int(self.moves.line[self.a + i]), 1)
 
 
 def _ask(rule: Rule, run: StraightRun, st: CheckState, ctx: CheckContext, i: int) -> str | None:
