@@ -99,3 +99,20 @@ def test_pinned_endless_moving_loops_end_in_check(tmp_path: Path, dialect: str, 
     assert time.process_time() - start < 15
     assert res.exit_code == 1, res.output
     assert "LIMIT-TIME" in res.output and "CHECK-INTERNAL" not in res.output
+
+
+#: siemens840d, seed 7427 of the reader campaign (about 10,000 digits after ``M3`` on a
+#: plain block): the plain-block expressions of the readers read a number as ``\d+\.?\d*``,
+#: whose two digit runs split a long run of digits in quadratically many ways, and the
+#: match took 36 s of CPU; ``\d+(?:\.\d*)?`` reads the same numbers with one split
+LONG_DIGITS = "N10 G1 G90 S1000 M3" + "9" * 20_000 + "Q\n"
+
+
+@pytest.mark.parametrize(
+    "dialect", ["rs274ngc", "grbl", "fanuc", "haas", "fanuc_lathe", "siemens840d", "sandia"]
+)
+def test_a_run_of_twenty_thousand_digits_is_read_at_once(dialect: str) -> None:
+    start = time.process_time()
+    out = check_one("reader", dialect, LONG_DIGITS)
+    assert out.ok, out
+    assert time.process_time() - start < 2.0
