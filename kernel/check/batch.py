@@ -26,7 +26,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, fields
-from typing import Protocol, TypeVar
+from typing import Protocol, TypeVar, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -157,16 +157,20 @@ class Moves:
 
 
 class _Commands:
-    """Events ``a .. b`` of a :class:`Moves`, built when asked for."""
+    """Events ``a .. b`` of a :class:`Moves`, built when first asked for."""
 
     def __init__(self, moves: Moves, a: int, b: int) -> None:
         self.moves, self.a, self.b = moves, a, b
+        self.built: dict[int, canon.Command] = {}
 
     def __len__(self) -> int:
         return self.b - self.a
 
     def __getitem__(self, i: int) -> canon.Command:
-        return self.moves.command(self.a + i)
+        cmd = self.built.get(i)
+        if cmd is None:
+            cmd = self.built[i] = self.moves.command(self.a + i)
+        return cmd
 
 
 class _Locations:
@@ -186,8 +190,8 @@ def _ask(rule: Rule, run: StraightRun, st: CheckState, ctx: CheckContext, i: int
     """The rule's own verdict on command ``i`` of the run (the state with its start point)."""
     assert rule.check is not None
     keep = st.position
-    p = run.start[i]
-    st.position = (float(p[0]), float(p[1]), float(p[2]), float(p[3]), float(p[4]), float(p[5]))
+    p = run.start[i].tolist()
+    st.position = (p[0], p[1], p[2], p[3], p[4], p[5])
     try:
         return rule.check(run.commands[i], st, ctx)
     finally:
@@ -356,7 +360,7 @@ class Judge:
 
     def __init__(self, st: CheckState, ctx: CheckContext) -> None:
         self.st, self.ctx = st, ctx
-        self.verdicts: dict[tuple[object, ...], dict[tuple[str, bool], str | None]] = {}
+        self.verdicts: dict[tuple[object, ...], dict[tuple[object, ...], str | None]] = {}
 
     def start(self, run: StraightRun) -> None:
         """Begin judging ``run`` (the state is the one before its first move)."""
@@ -392,13 +396,25 @@ class Judge:
         return v
 
     def _arcs(self, rule: Rule) -> dict[int, str | None]:
-        """The rule's verdict on each arc of the run (asked one by one)."""
+        """The rule's verdict on each arc of the run: a state rule's (and, without a stock
+        box, where every arc cuts, a cutting rule's) once per turning direction (G2/G3 are
+        different codes), the others' arc by arc."""
         msgs = self.arc_msgs.get(rule.id)
         if msgs is None:
-            if arc_kind(rule):
-                msgs = {i: _ask(rule, self.run, self.st, self.ctx, i) for i in self.arcs}
-            else:
+            if not arc_kind(rule):
                 msgs = {}
+            elif rule.id in STATE_RULES or (
+                rule.id in CUTTING_RULES and rule.kinds == FEEDS and self.ctx.config.stock is None
+            ):
+                msgs = {}
+                for i in self.arcs:
+                    arc = cast(canon.ArcFeed, self.run.commands[i])
+                    k = (rule.id, "arc", arc.rotation > 0)
+                    if k not in self.known:
+                        self.known[k] = _ask(rule, self.run, self.st, self.ctx, i)
+                    msgs[i] = self.known[k]
+            else:
+                msgs = {i: _ask(rule, self.run, self.st, self.ctx, i) for i in self.arcs}
             self.arc_msgs[rule.id] = msgs
         return msgs
 
