@@ -40,7 +40,9 @@ ROOT = HERE.parent
 CPU_SECONDS = 10.0
 MEMORY_BYTES = 1 << 30
 #: a generated loop may legitimately run long: reading stops after this many commands
-MAX_COMMANDS = 50_000
+MAX_COMMANDS = 20_000
+#: loop passes in a row (kernel.limits loop_passes) in reader cases
+LOOP_PASSES = 2_000
 #: cnc check's CPU budget per program in CLI cases (--limit seconds)
 CLI_SECONDS = 5.0
 
@@ -436,7 +438,20 @@ def case(dialect: str, seed: int) -> str:
 
 def run_reader(dialect: str, text: str) -> int:
     """Read ``text`` as ``dialect`` into canonical commands; their count (at most
-    :data:`MAX_COMMANDS`). Only Diagnostics may escape."""
+    :data:`MAX_COMMANDS`). Only Diagnostics may escape. A loop ends after
+    :data:`LOOP_PASSES` passes in a row (the default budget is exercised through the CLI
+    cases and tests/test_loop_guard.py): a generated endless loop then costs milliseconds."""
+    import kernel.limits as limits
+
+    limits.configure(loop_passes=LOOP_PASSES)
+    try:
+        return _read(dialect, text)
+    finally:
+        limits.reset()
+
+
+def _read(dialect: str, text: str) -> int:
+    """:func:`run_reader` under the limits it sets."""
     from kernel.ir import canon as ir
 
     if dialect == "stepnc":
@@ -526,7 +541,8 @@ def check_one(mode: str, dialect: str, text: str) -> Outcome:
         lines = max(text.count("\n"), len(text.splitlines())) + 2
         if not diag.code or diag.code != diag.code.upper():
             return Outcome(False, ("bad-code", diag.code), str(diag))
-        if dialect != "stepnc" and not 0 <= (diag.location.line or 0) <= lines:
+        # STEP-NC locations are instance numbers, canonical text ones its sequence numbers
+        if dialect not in ("stepnc", "canon") and not 0 <= (diag.location.line or 0) <= lines:
             return Outcome(False, ("bad-line", diag.code), str(diag))
         return Outcome(True)
     except _CpuOut:

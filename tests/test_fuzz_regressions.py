@@ -19,6 +19,18 @@ from cli.main import cli
 from tests.fuzzing import case, check_one
 
 PINNED = [
+    # siemens840d, seed 11732 of the reader campaign: a block number of 5,000 digits made
+    # the jump table's int() fail past Python's 4,300-digit limit (a ValueError traceback)
+    # before the line's own LIMIT-DIGITS
+    ("siemens840d", "G0 X0\nGOTOF N10\nN1" + "4" * 5_000 + " G1 X1\nN10 G0 X0\nM30\n"),
+    # haas, seed 77067 of the reader campaign: L1000000000 on a G76 listed a billion holes
+    # (10 GB) before the first move; the Fanuc-family G74/G76/G84/G87 repeats are
+    # cycle_passes now, as the other cycles' are
+    (
+        "haas",
+        "%\nO0054\nG21 G90 G17\nS500 M03\nG00 X0 Y0 Z5.\n"
+        "L1000000000G76 X0 Y0 Z-10. R2. Q500 P500 F100.\nG80\nM30\n%\n",
+    ),
     # canon, seed 1910 of `python -m tests.fuzzing canon 2000`: NURBS_FEED with a control
     # point count of 1e9 and nine values built a billion-point tuple (worker out of memory)
     (
