@@ -629,6 +629,9 @@ class Report:
 
 #: seeds a worker runs per job (the pipe is crossed twice a batch, not twice a case)
 BATCH = 500
+#: cases after which a worker is replaced by a fresh one: the CLI's caches keep about 20 KB
+#: a case, which the 1 GB limit would otherwise meet after some 40,000 cases
+RECYCLE = 20_000
 #: a worker that makes no progress for this long (wall clock) is hung: generous for a busy
 #: machine, the per-case CPU timer is the real limit
 HANG_SECONDS = 120.0
@@ -646,6 +649,7 @@ class Pool:
         self._start()
 
     def _start(self) -> None:
+        self.ran = 0  # cases the worker has run
         self.conn, child = self.ctx.Pipe()
         self.proc = self.ctx.Process(
             target=_worker, args=(child, self.progress, self.cpu, self.memory)
@@ -681,6 +685,9 @@ class Pool:
                     break
                 if msg[0] == "done":
                     report.cases += msg[1]
+                    self.ran += msg[1]
+                    if self.ran >= RECYCLE:
+                        self.restart()
                     return stop
                 _, seed, out = msg
                 report.add(out.key, dialect, case(dialect, seed), out.detail)
