@@ -35,7 +35,7 @@ import kernel.ir.canon as canon
 from kernel.check.rules import EPS, FEEDS, CheckContext, Rule
 from kernel.check.state import PLANE_AXES, CheckState, Vec6
 from kernel.diagnostics import Location
-from kernel.machine import AXIS_NAMES
+from kernel.machine import AXIS_NAMES, Machine
 
 Bools = npt.NDArray[np.bool_]
 Floats = npt.NDArray[np.float64]
@@ -294,7 +294,7 @@ def _feed_too_fast(run: StraightRun, st: CheckState, ctx: CheckContext) -> Bools
         fixed.append(ctx.machine.controller.max_feed * 60.0)
     if any(f > cap * (1 + 1e-9) for cap in fixed):
         return run.feed.copy()
-    vel = ctx.machine.limit_vector("velocity")
+    vel = _velocity(ctx.machine)
     k = st.mm_per_unit
     with np.errstate(over="ignore", invalid="ignore"):
         d = (run.end[:, :3] - run.start[:, :3]) * k
@@ -312,6 +312,19 @@ def _feed_too_fast(run: StraightRun, st: CheckState, ctx: CheckContext) -> Bools
             cap = np.where(used & (c < cap), c, cap)  # min() of the caps in axis order
     valid = (length >= EPS) & np.isfinite(cap)
     return run.feed & valid & (f > cap * 60.0 * (1 + 1e-9))
+
+
+_VELOCITY: dict[int, tuple[Machine, tuple[float, ...]]] = {}
+
+
+def _velocity(machine: Machine) -> tuple[float, ...]:
+    """``machine.limit_vector("velocity")``, kept for the machine (asked at every run)."""
+    hit = _VELOCITY.get(id(machine))
+    if hit is None or hit[0] is not machine:
+        if len(_VELOCITY) > 16:
+            _VELOCITY.clear()
+        hit = _VELOCITY[id(machine)] = (machine, machine.limit_vector("velocity"))
+    return hit[1]
 
 
 def _rapid_into_stock(run: StraightRun, st: CheckState, ctx: CheckContext) -> Bools | None:
