@@ -23,6 +23,10 @@ PINNED = [
     # the jump table's int() fail past Python's 4,300-digit limit (a ValueError traceback)
     # before the line's own LIMIT-DIGITS
     ("siemens840d", "G0 X0\nGOTOF N10\nN1" + "4" * 5_000 + " G1 X1\nN10 G0 X0\nM30\n"),
+    # fanuc_lathe, seed 104081 of the reader campaign: a block of eight L1000000000 words
+    # and a % took 17 s of CPU in the plain-block pattern (\d+\.?\d* splits each run of
+    # digits many ways, and the words multiply the splits); the worker was stopped as hung
+    ("fanuc_lathe", "%\n%\n%\n" + "L1000000000" * 8 + "%\n" + "L1000000000" * 4),
     # haas, seed 77067 of the reader campaign: L1000000000 on a G76 listed a billion holes
     # (10 GB) before the first move; the Fanuc-family G74/G76/G84/G87 repeats are
     # cycle_passes now, as the other cycles' are
