@@ -88,6 +88,9 @@ PINNED_CHECK = [
     "    1 N..... USE_LENGTH_UNITS(-144.33237)\n    2 N..... STRAIGHT_FEED(82, 63.4, 29)\n",
     "    1 N..... SELECT_PLANE(-184.07)\n    2 N..... ARC_FEED(1, 2, 0, 0, 1, 0)\n",
     "    1 N..... STRAIGHT_FEED(CANON_PLANE_XY, 1, 2)\n",
+    # seed 22461 of `python -m tests.fuzzing canon 100 cli 22400`: an arc with a NaN centre
+    # made the travel rule's quadrant points a ValueError (CHECK-INTERNAL)
+    "    1 N..... ARC_FEED(104.826, -89, 2.6, nan, -190.4, -6.5146, -183.9222, 59.464)\n",
 ]
 
 
