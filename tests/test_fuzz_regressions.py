@@ -19,6 +19,15 @@ from cli.main import cli
 from tests.fuzzing import case, check_one
 
 PINNED = [
+    # stepnc, seed 221090 of the reader campaign: a MULTISTEP_DRILLING with a 1e-7 mm
+    # depth_of_step pecked tens of millions of times (over the 10 s CPU limit); its pecks
+    # are cycle_passes now
+    (
+        "stepnc",
+        (Path(__file__).parent / "stepnc" / "multistep_drilling.stp")
+        .read_text()
+        .replace("1.0,5.0,4.0,0.2);", "1.0,5.0,0.0000001,0.2);"),
+    ),
     # siemens840d, seed 11732 of the reader campaign: a block number of 5,000 digits made
     # the jump table's int() fail past Python's 4,300-digit limit (a ValueError traceback)
     # before the line's own LIMIT-DIGITS
