@@ -53,6 +53,7 @@ from cli.programs import (
     STDIN_NAME,
     apply_limits,
     check_input,
+    check_input_bulk,
     dialect_option,
     expand,
     jobs_option,
@@ -177,11 +178,28 @@ def check_file(path: str | InlineProgram, setup: Setup | None = None) -> FileRes
     ctx = setup.context
     try:
         with deadline(setup.timeout), cpu_budget(path):
-            cmds, text = check_input(
-                path, setup.dialect, setup.verbosity, ctx.tools, ctx.tool_mm_per_unit, ctx.machine
-            )
             seen: list[canon.Command] = []
-            findings = check_stream(_kept(cmds, seen if setup.sim else None), ctx, path, text)
+            if setup.sim is None:  # runs of plain lines judged as the reader's arrays
+                bulk, text = check_input_bulk(
+                    path,
+                    setup.dialect,
+                    setup.verbosity,
+                    ctx.tools,
+                    ctx.tool_mm_per_unit,
+                    ctx.machine,
+                    bulk=True,
+                )
+                findings = check_stream(bulk, ctx, path, text)
+            else:
+                cmds, text = check_input(
+                    path,
+                    setup.dialect,
+                    setup.verbosity,
+                    ctx.tools,
+                    ctx.tool_mm_per_unit,
+                    ctx.machine,
+                )
+                findings = check_stream(_kept(cmds, seen), ctx, path, text)
             if setup.sim is not None:
                 findings = [*findings, *sim_findings(seen, setup.sim, ctx, path)]
     except ProgramTimeout:

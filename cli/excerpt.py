@@ -21,6 +21,7 @@ import os
 import re
 from array import array
 from collections import OrderedDict
+from itertools import accumulate
 
 from cli.explanations import EXPLANATIONS
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location
@@ -93,12 +94,23 @@ def _line_starts(name: str) -> array[int] | None:
     if name in _offsets:
         return _offsets[name]
     starts = array("q", [0])
+    carry = 0  # bytes of the line the last block ended in
     try:
         with open(name, "rb") as fh:
-            for data in fh:
-                starts.append(starts[-1] + len(data))
+            while block := fh.read(1 << 22):
+                parts = block.split(b"\n")
+                ends = [len(part) + 1 for part in parts[:-1]]  # each ends at a newline
+                if ends:
+                    ends[0] += carry
+                    starts.extend(accumulate(ends, initial=starts[-1]))
+                    del starts[-len(ends) - 1]  # the initial value, already there
+                    carry = len(parts[-1])
+                else:
+                    carry += len(parts[-1])
     except OSError:
         return None
+    if carry:
+        starts.append(starts[-1] + carry)
     _offsets[name] = starts
     if len(_offsets) > 2:
         del _offsets[next(iter(_offsets))]

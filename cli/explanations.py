@@ -142,7 +142,7 @@ EXPLANATIONS: dict[str, str] = {
     "LIMIT-DIGITS": "a number has more digits than the digits limit (default 100)",
     "LIMIT-NESTING": "an expression, Part 21 value or workplan is nested deeper than the nesting or expression_depth limit",
     "LIMIT-TIME": "a program used more CPU time than the seconds limit of a batch command",
-    "LOOP-LIMIT": "more blocks executed in one run than max_blocks (InterpreterOptions.max_blocks, cnc canon --max-blocks; default 10**8)",
+    "LOOP-LIMIT": "more blocks executed in one run than max_blocks (InterpreterOptions.max_blocks, cnc canon --max-blocks; default 10**8), or one loop going back more than loop_passes times in a row (--limit loop_passes=N; default 100,000): an endless loop that moves",
     "LOOP-NO-PROGRESS": "a loop ran more than max_idle_blocks blocks (default 100,000) since the last canonical command: it neither moves nor outputs anything (an endless loop)",
     "MACH-AXIS": "a machine profile names an axis other than x y z a b c",
     "MACH-KEY": "a machine profile table has a key the toolchain does not know (likely misspelt)",

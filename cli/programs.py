@@ -18,6 +18,7 @@ import re
 from collections.abc import Iterator
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING, cast
 
 import click
 
@@ -26,12 +27,15 @@ from cli.main import verbosity as current_verbosity
 from cli.options import STDIN_META, STDIN_NAME, read_stdin
 from cli.options import dialect_option as dialect_option  # the commands import it from here
 from gcode.detect import Guess
-from gcode.readers import read, read_text, text_findings
+from gcode.readers import read, read_chunks, read_text, text_findings
 from gcode.registry import DEFAULT_INPUT, guess_dialect
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
 from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
 from kernel.tooltable import ToolTable, header_units, read_tool_table
+
+if TYPE_CHECKING:
+    from kernel.check.batch import Moves
 
 KINDS = ("gcode", "canon", "jsonl", "part21")
 #: the files a folder given to ``cnc check`` or ``cnc convert`` contributes
@@ -246,8 +250,8 @@ def program_dialect(
 
 
 def _gcode(
-    path: str, tools: ToolTable | None, mm_per_unit: float, dialect: str
-) -> Iterator[canon.Command]:
+    path: str, tools: ToolTable | None, mm_per_unit: float, dialect: str, bulk: bool = False
+) -> Iterator[canon.Command | Moves]:
     if tools is not None:
         tools = inch_tool_table(tools, mm_per_unit)
     from gcode.ngc.interpreter import InterpreterOptions
@@ -256,8 +260,30 @@ def _gcode(
     options = InterpreterOptions(tool_table=tools, search_path=search)
     if is_stdin(path):
         yield from read_text(stdin_text(), dialect, path, options)
+    elif bulk:
+        for item in read_chunks(path, dialect, options, arcs=True):
+            yield item if isinstance(item, canon.Command) else _moves(item, path)
     else:
         yield from read(path, dialect, options)
+
+
+def _moves(run: object, path: str) -> Moves:
+    """A run of the RS274/NGC fast lane (gcode.ngc.lane.fastlane.Run) as the checker's
+    :class:`~kernel.check.batch.Moves` (the same events, as arrays)."""
+    import numpy as np  # a bulk run comes from the fast lane, which has loaded numpy
+
+    from gcode.ngc.lane import fastlane
+    from kernel.check.batch import ARC, FEED, SET_FEED, TRAVERSE, Moves
+
+    assert isinstance(run, fastlane.Run), run
+    codes = np.zeros(4, dtype=np.int64)
+    codes[[fastlane.TRAVERSE, fastlane.FEED_MOVE, fastlane.SET_FEED, fastlane.ARC]] = (
+        TRAVERSE,
+        FEED,
+        SET_FEED,
+        ARC,
+    )
+    return Moves(codes[run.kind], run.position, run.feed, run.line, run.arc, path)
 
 
 def _part21(path: str, machine: Machine | None) -> Iterator[canon.Command]:
@@ -299,9 +325,9 @@ def program_commands(
     ``machine``: a lathe tips a close dialect call to the lathe readers, and a STEP-NC
     start state is fitted to its travel."""
     lathe = machine is not None and machine.kind == "lathe"
-    yield from language_commands(
-        path, program_language(path, dialect, verbosity, lathe), tools, tool_mm_per_unit, machine
-    )
+    language = program_language(path, dialect, verbosity, lathe)
+    cmds = language_commands(path, language, tools, tool_mm_per_unit, machine)
+    yield from cast(Iterator[canon.Command], cmds)  # no bulk: commands only
 
 
 #: a finding a front end made from a program's text: (rule, message, location)
@@ -316,16 +342,32 @@ def check_input(
     tool_mm_per_unit: float = 1.0,
     machine: Machine | None = None,
 ) -> tuple[Iterator[canon.Command], list[TextFinding]]:
+    """What ``cnc check`` and ``cnc run`` judge of ``path`` (:func:`check_input_bulk`
+    without its arrays)."""
+    cmds, text = check_input_bulk(path, dialect, verbosity, tools, tool_mm_per_unit, machine)
+    return cast(Iterator[canon.Command], cmds), text
+
+
+def check_input_bulk(
+    path: str,
+    dialect: str | None,
+    verbosity: int | None,
+    tools: ToolTable | None = None,
+    tool_mm_per_unit: float = 1.0,
+    machine: Machine | None = None,
+    bulk: bool = False,
+) -> tuple[Iterator[canon.Command | Moves], list[TextFinding]]:
     """What ``cnc check`` and ``cnc run`` judge of ``path``: its canonical commands and the
     findings of the rules judged on its text (CNC050, gcode.readers.text_findings). A file
     that cannot be read as a program gives a stream that stops at once with its diagnostic,
-    so it becomes a finding like the program's own errors."""
+    so it becomes a finding like the program's own errors. ``bulk``: runs of plain lines
+    as arrays (:func:`language_commands`)."""
     lathe = machine is not None and machine.kind == "lathe"
     try:
         language = program_language(path, dialect, verbosity, lathe)
     except Diagnostic as diag:
         return _failing(diag), []
-    cmds = language_commands(path, language, tools, tool_mm_per_unit, machine)
+    cmds = language_commands(path, language, tools, tool_mm_per_unit, machine, bulk)
     if language in KINDS:
         return cmds, []
     return cmds, text_findings(path, language, stdin_text() if is_stdin(path) else None)
@@ -343,8 +385,11 @@ def language_commands(
     tools: ToolTable | None = None,
     tool_mm_per_unit: float = 1.0,
     machine: Machine | None = None,
-) -> Iterator[canon.Command]:
-    """The canonical commands of ``path`` read as ``language`` (:func:`program_language`)."""
+    bulk: bool = False,
+) -> Iterator[canon.Command | Moves]:
+    """The canonical commands of ``path`` read as ``language`` (:func:`program_language`);
+    with ``bulk``, an RS274/NGC program's runs of plain lines as
+    :class:`~kernel.check.batch.Moves` arrays."""
     if language == "canon":
         yield from _canon_text(path)
     elif language == "jsonl":
@@ -352,7 +397,7 @@ def language_commands(
     elif language == "part21":
         yield from _part21(path, machine)
     else:
-        yield from _gcode(path, tools, tool_mm_per_unit, language)
+        yield from _gcode(path, tools, tool_mm_per_unit, language, bulk)
 
 
 #: ``--jobs/-j`` of the batch commands (check, run)

@@ -35,15 +35,19 @@ def read(
 
 
 def read_chunks(
-    path: str | os.PathLike[str], dialect: str, options: InterpreterOptions | None = None
+    path: str | os.PathLike[str],
+    dialect: str,
+    options: InterpreterOptions | None = None,
+    arcs: bool = False,
 ) -> Iterator[object]:
     """Like :func:`read`, but an RS274/NGC program's runs of plain lines come as
-    :class:`gcode.ngc.lane.fastlane.Run` arrays (``interpret_chunks``), for a writer that takes
-    them in bulk (gcode.write.writer.write_text); other dialects give commands only."""
+    :class:`gcode.ngc.lane.fastlane.Run` arrays (``interpret_chunks``; with ``arcs`` the runs
+    may hold arcs), for a consumer that takes them in bulk (gcode.write.writer.write_text,
+    cnc check); other dialects give commands only."""
     if reader_name(dialect) == "rs274ngc":
         from gcode.ngc.interpreter import interpret_chunks
 
-        return interpret_chunks(path, options or _default_options())
+        return interpret_chunks(path, options or _default_options(), arcs=arcs)
     return read(path, dialect, options)
 
 

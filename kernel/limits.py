@@ -32,6 +32,9 @@ class Limits:
     expression_depth: int = 256
     #: passes, pecks and repeats one canned-cycle block or generated operation may produce
     cycle_passes: int = 100_000
+    #: passes of one loop in a row (per entry into it) in every dialect's flow control: an
+    #: endless loop that moves ends in about a second of CPU
+    loop_passes: int = 100_000
     #: interpolation samples of one move (a move longer than this at the machine's period)
     samples_per_move: int = 50_000_000
     #: control points of one NURBS curve

@@ -16,6 +16,7 @@ hand: ``python -m tests.fuzzing rs274ngc 10000`` prints the failures found.
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import multiprocessing as mp
 import os
 import random
@@ -24,6 +25,7 @@ import resource
 import signal
 import sys
 import tempfile
+import time
 import traceback
 from collections import Counter
 from collections.abc import Callable, Iterator
@@ -38,7 +40,9 @@ ROOT = HERE.parent
 CPU_SECONDS = 10.0
 MEMORY_BYTES = 1 << 30
 #: a generated loop may legitimately run long: reading stops after this many commands
-MAX_COMMANDS = 50_000
+MAX_COMMANDS = 20_000
+#: loop passes in a row (kernel.limits loop_passes) in reader cases
+LOOP_PASSES = 2_000
 #: cnc check's CPU budget per program in CLI cases (--limit seconds)
 CLI_SECONDS = 5.0
 
@@ -434,7 +438,20 @@ def case(dialect: str, seed: int) -> str:
 
 def run_reader(dialect: str, text: str) -> int:
     """Read ``text`` as ``dialect`` into canonical commands; their count (at most
-    :data:`MAX_COMMANDS`). Only Diagnostics may escape."""
+    :data:`MAX_COMMANDS`). Only Diagnostics may escape. A loop ends after
+    :data:`LOOP_PASSES` passes in a row (the default budget is exercised through the CLI
+    cases and tests/test_loop_guard.py): a generated endless loop then costs milliseconds."""
+    import kernel.limits as limits
+
+    limits.configure(loop_passes=LOOP_PASSES)
+    try:
+        return _read(dialect, text)
+    finally:
+        limits.reset()
+
+
+def _read(dialect: str, text: str) -> int:
+    """:func:`run_reader` under the limits it sets."""
     from kernel.ir import canon as ir
 
     if dialect == "stepnc":
@@ -476,7 +493,7 @@ def run_cli(dialect: str, text: str) -> int:
         args = ["check", "-f", "json", str(path)]
         if dialect in GCODE_DIALECTS or dialect in ("siemens840d", "sandia"):
             args[1:1] = ["--dialect", dialect]
-        # an endless loop that moves runs until LOOP-LIMIT (10**8 blocks): the batch
+        # an endless loop that moves runs until LOOP-LIMIT (loop_passes): the batch
         # budget per program ends it first, as it would in a user's batch
         args[0:0] = ["--limit", f"seconds={CLI_SECONDS:g}"]
         try:
@@ -520,10 +537,12 @@ def check_one(mode: str, dialect: str, text: str) -> Outcome:
         else:
             run_reader(dialect, text)
     except Diagnostic as diag:
-        lines = text.count("\n") + 2
+        # a lone CR ends a line too (old Mac files): splitlines counts it
+        lines = max(text.count("\n"), len(text.splitlines())) + 2
         if not diag.code or diag.code != diag.code.upper():
             return Outcome(False, ("bad-code", diag.code), str(diag))
-        if dialect != "stepnc" and not 0 <= (diag.location.line or 0) <= lines:
+        # STEP-NC locations are instance numbers, canonical text ones its sequence numbers
+        if dialect not in ("stepnc", "canon") and not 0 <= (diag.location.line or 0) <= lines:
             return Outcome(False, ("bad-line", diag.code), str(diag))
         return Outcome(True)
     except _CpuOut:
@@ -539,9 +558,24 @@ def check_one(mode: str, dialect: str, text: str) -> Outcome:
     return Outcome(True)
 
 
-def _worker(conn: Connection, cpu: float, memory: int) -> None:
-    """Run cases from ``conn`` under ``memory`` bytes of address space and ``cpu`` seconds
-    of CPU per case (a SIGPROF timer; RLIMIT_CPU as the hard stop)."""
+def _run_case(mode: str, dialect: str, text: str, cpu: float) -> Outcome:
+    """One case under the per-case CPU timer."""
+    signal.setitimer(signal.ITIMER_PROF, cpu)
+    try:
+        return check_one(mode, dialect, text)
+    except _CpuOut:
+        return Outcome(False, ("cpu", "over the CPU limit"))
+    finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
+
+
+def _worker(conn: Connection, progress: ctypes.c_int64, cpu: float, memory: int) -> None:
+    """Run jobs from ``conn`` under ``memory`` bytes of address space and ``cpu`` seconds
+    of CPU per case (a SIGPROF timer). A job is one text (``("text", mode, dialect, text)``,
+    answered with its :class:`Outcome`) or a batch of seeds (``("seeds", mode, dialect,
+    start, stop)``) generated here: each failure is sent as it is found (``("fail", seed,
+    outcome)``), then ``("done", count)``; ``progress`` holds the seed being run, so that
+    the parent knows which case killed or hung the worker."""
     # on top of what the fresh interpreter already maps (libraries, numpy): the cases' own
     # growth is what is limited
     with open("/proc/self/statm") as fh:
@@ -560,15 +594,17 @@ def _worker(conn: Connection, cpu: float, memory: int) -> None:
             return
         if job is None:
             return
-        mode, dialect, text = job
-        signal.setitimer(signal.ITIMER_PROF, cpu)
-        try:
-            out = check_one(mode, dialect, text)
-        except _CpuOut:
-            out = Outcome(False, ("cpu", "over the CPU limit"))
-        finally:
-            signal.setitimer(signal.ITIMER_PROF, 0)
-        conn.send(out)
+        if job[0] == "text":
+            _, mode, dialect, text = job
+            conn.send(_run_case(mode, dialect, text, cpu))
+            continue
+        _, mode, dialect, first, stop = job
+        for seed in range(first, stop):
+            progress.value = seed
+            out = _run_case(mode, dialect, case(dialect, seed), cpu)
+            if not out.ok:
+                conn.send(("fail", seed, out))
+        conn.send(("done", stop - first))
 
 
 @dataclass
@@ -591,34 +627,84 @@ class Report:
         return "\n".join(lines)
 
 
+#: seeds a worker runs per job (the pipe is crossed twice a batch, not twice a case)
+BATCH = 500
+#: cases after which a worker is replaced by a fresh one: the CLI's caches keep about 20 KB
+#: a case, which the 1 GB limit would otherwise meet after some 40,000 cases
+RECYCLE = 20_000
+#: a worker that makes no progress for this long (wall clock) is hung: generous for a busy
+#: machine, the per-case CPU timer is the real limit
+HANG_SECONDS = 120.0
+
+
 class Pool:
-    """One worker process under the limits; restarted when a case kills it."""
+    """One worker process under the limits; restarted when a case kills or hangs it."""
 
     def __init__(self, cpu: float = CPU_SECONDS, memory: int = MEMORY_BYTES) -> None:
         self.cpu, self.memory = cpu, memory
         # a fresh interpreter, not a fork: a fork of a test runner's thread inherits its
         # mappings and its (small) stack
         self.ctx = mp.get_context("spawn")
+        self.progress = self.ctx.RawValue(ctypes.c_int64, -1)
         self._start()
 
     def _start(self) -> None:
+        self.ran = 0  # cases the worker has run
         self.conn, child = self.ctx.Pipe()
-        self.proc = self.ctx.Process(target=_worker, args=(child, self.cpu, self.memory))
+        self.proc = self.ctx.Process(
+            target=_worker, args=(child, self.progress, self.cpu, self.memory)
+        )
         self.proc.daemon = True
         self.proc.start()
         child.close()
 
     def run(self, mode: str, dialect: str, text: str) -> Outcome:
-        self.conn.send((mode, dialect, text))
-        # wall clock: generous (a busy machine), the CPU timer is the real limit
-        if self.conn.poll(max(60.0, 6 * self.cpu)):
+        """One given text."""
+        self.conn.send(("text", mode, dialect, text))
+        if self.conn.poll(max(HANG_SECONDS, 6 * self.cpu)):
             try:
                 out: Outcome = self.conn.recv()
                 return out
-            except EOFError:
+            except (EOFError, OSError):
                 pass
         self.restart()
         return Outcome(False, ("dead", "worker killed, hung or out of memory"))
+
+    def run_seeds(self, mode: str, dialect: str, first: int, stop: int, report: Report) -> int:
+        """Cases ``first .. stop`` of ``dialect`` generated and run in the worker, their
+        failures added to ``report``; returns the seed to go on from (``stop``, or the seed
+        after one that killed or hung the worker, which is then restarted)."""
+        self.progress.value = first - 1
+        self.conn.send(("seeds", mode, dialect, first, stop))
+        seen, since = self.progress.value, time.monotonic()
+        while True:
+            if self.conn.poll(1.0):
+                try:
+                    msg = self.conn.recv()
+                except (EOFError, OSError):
+                    break
+                if msg[0] == "done":
+                    report.cases += msg[1]
+                    self.ran += msg[1]
+                    if self.ran >= RECYCLE:
+                        self.restart()
+                    return stop
+                _, seed, out = msg
+                report.add(out.key, dialect, case(dialect, seed), out.detail)
+                continue
+            if not self.proc.is_alive():
+                break
+            if self.progress.value != seen:
+                seen, since = self.progress.value, time.monotonic()
+            elif time.monotonic() - since > max(HANG_SECONDS, 6 * self.cpu):
+                break
+        bad = max(self.progress.value, first)
+        self.restart()
+        report.cases += bad + 1 - first
+        report.add(
+            ("dead", "worker killed, hung or out of memory"), dialect, case(dialect, bad), ""
+        )
+        return bad + 1
 
     def restart(self) -> None:
         if self.proc.is_alive():
@@ -637,17 +723,15 @@ class Pool:
 def campaign(
     dialect: str, count: int, mode: str = "reader", start: int = 0, pool: Pool | None = None
 ) -> Report:
-    """Run cases ``start .. start+count`` of ``dialect`` and sort the failures."""
+    """Run cases ``start .. start+count`` of ``dialect`` (generated in the worker, in
+    batches) and sort the failures."""
     own = pool is None
     pool = pool or Pool()
     report = Report()
     try:
-        for seed in range(start, start + count):
-            text = case(dialect, seed)
-            out = pool.run(mode, dialect, text)
-            report.cases += 1
-            if not out.ok:
-                report.add(out.key, dialect, text, out.detail)
+        seed, stop = start, start + count
+        while seed < stop:
+            seed = pool.run_seeds(mode, dialect, seed, min(stop, seed + BATCH), report)
     finally:
         if own:
             pool.close()

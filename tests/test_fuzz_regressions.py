@@ -19,6 +19,38 @@ from cli.main import cli
 from tests.fuzzing import case, check_one
 
 PINNED = [
+    # haas_lathe, seed 180982 of the reader campaign: G75 with 13,000 pecks at each of
+    # 2,000 plunges (each under its own bound of 100,000) made 2.6e7 moves, over the CPU
+    # limit; the pecks in all are bounded now
+    (
+        "haas_lathe",
+        "%\nO0108\nG21 G18 G99\nG00 X4. Z-10.\nG75 R0.5\nG75 X30. Z-16. P2 Q3 F0.1\nM30\n%\n",
+    ),
+    # stepnc, seed 221090 of the reader campaign: a MULTISTEP_DRILLING with a 1e-7 mm
+    # depth_of_step pecked tens of millions of times (over the 10 s CPU limit); its pecks
+    # are cycle_passes now
+    (
+        "stepnc",
+        (Path(__file__).parent / "stepnc" / "multistep_drilling.stp")
+        .read_text()
+        .replace("1.0,5.0,4.0,0.2);", "1.0,5.0,0.0000001,0.2);"),
+    ),
+    # siemens840d, seed 11732 of the reader campaign: a block number of 5,000 digits made
+    # the jump table's int() fail past Python's 4,300-digit limit (a ValueError traceback)
+    # before the line's own LIMIT-DIGITS
+    ("siemens840d", "G0 X0\nGOTOF N10\nN1" + "4" * 5_000 + " G1 X1\nN10 G0 X0\nM30\n"),
+    # fanuc_lathe, seed 104081 of the reader campaign: a block of eight L1000000000 words
+    # and a % took 17 s of CPU in the plain-block pattern (\d+\.?\d* splits each run of
+    # digits many ways, and the words multiply the splits); the worker was stopped as hung
+    ("fanuc_lathe", "%\n%\n%\n" + "L1000000000" * 8 + "%\n" + "L1000000000" * 4),
+    # haas, seed 77067 of the reader campaign: L1000000000 on a G76 listed a billion holes
+    # (10 GB) before the first move; the Fanuc-family G74/G76/G84/G87 repeats are
+    # cycle_passes now, as the other cycles' are
+    (
+        "haas",
+        "%\nO0054\nG21 G90 G17\nS500 M03\nG00 X0 Y0 Z5.\n"
+        "L1000000000G76 X0 Y0 Z-10. R2. Q500 P500 F100.\nG80\nM30\n%\n",
+    ),
     # canon, seed 1910 of `python -m tests.fuzzing canon 2000`: NURBS_FEED with a control
     # point count of 1e9 and nine values built a billion-point tuple (worker out of memory)
     (
@@ -64,6 +96,32 @@ PINNED_CLI = [
 ]
 
 
+#: found through ``cnc check`` on canonical text (``python -m tests.fuzzing canon 100 cli``,
+#: seed 634 and others): an enum argument given as a number (``USE_LENGTH_UNITS(-144.3)``,
+#: ``SELECT_PLANE(3)``) or an enum name where a number goes was read into the command, and
+#: the checker's arithmetic on it ended in CHECK-INTERNAL; they are CANON-SYNTAX now
+PINNED_CHECK = [
+    "    1 N..... USE_LENGTH_UNITS(-144.33237)\n    2 N..... STRAIGHT_FEED(82, 63.4, 29)\n",
+    "    1 N..... SELECT_PLANE(-184.07)\n    2 N..... ARC_FEED(1, 2, 0, 0, 1, 0)\n",
+    "    1 N..... STRAIGHT_FEED(CANON_PLANE_XY, 1, 2)\n",
+    # seed 22461 of `python -m tests.fuzzing canon 100 cli 22400`: an arc with a NaN centre
+    # made the travel rule's quadrant points a ValueError (CHECK-INTERNAL)
+    "    1 N..... ARC_FEED(104.826, -89, 2.6, nan, -190.4, -6.5146, -183.9222, 59.464)\n",
+]
+
+
+@pytest.mark.parametrize("text", PINNED_CHECK)
+def test_pinned_canonical_text_is_diagnosed_by_check(text: str) -> None:
+    out = check_one("cli", "canon", text)
+    assert out.ok, out
+
+
+def test_a_lone_carriage_return_counts_as_a_line() -> None:
+    # sandia, seeds of `python -m tests.fuzzing sandia 1000 reader 7000`: the reader counts
+    # CR as a line end, the harness did not, and took a right line number for a wrong one
+    assert check_one("reader", "sandia", "\r\rk7").ok
+
+
 @pytest.mark.parametrize(("dialect", "text"), PINNED_CLI)
 def test_pinned_endless_moving_loops_end_in_check(tmp_path: Path, dialect: str, text: str) -> None:
     path = tmp_path / ("p.mpf" if dialect == "siemens840d" else "p.nc")
@@ -76,3 +134,20 @@ def test_pinned_endless_moving_loops_end_in_check(tmp_path: Path, dialect: str, 
     assert time.process_time() - start < 15
     assert res.exit_code == 1, res.output
     assert "LIMIT-TIME" in res.output and "CHECK-INTERNAL" not in res.output
+
+
+#: siemens840d, seed 7427 of the reader campaign (about 10,000 digits after ``M3`` on a
+#: plain block): the plain-block expressions of the readers read a number as ``\d+\.?\d*``,
+#: whose two digit runs split a long run of digits in quadratically many ways, and the
+#: match took 36 s of CPU; ``\d+(?:\.\d*)?`` reads the same numbers with one split
+LONG_DIGITS = "N10 G1 G90 S1000 M3" + "9" * 20_000 + "Q\n"
+
+
+@pytest.mark.parametrize(
+    "dialect", ["rs274ngc", "grbl", "fanuc", "haas", "fanuc_lathe", "siemens840d", "sandia"]
+)
+def test_a_run_of_twenty_thousand_digits_is_read_at_once(dialect: str) -> None:
+    start = time.process_time()
+    out = check_one("reader", dialect, LONG_DIGITS)
+    assert out.ok, out
+    assert time.process_time() - start < 2.0

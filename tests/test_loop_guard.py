@@ -11,10 +11,12 @@ from pathlib import Path
 
 import pytest
 
+import kernel.limits as limits
 from gcode.core.loopguard import LoopGuard
 from gcode.fanuc.reader import interpret_text as fanuc_text
 from gcode.ngc.interpreter import InterpreterOptions
 from gcode.ngc.interpreter import interpret_text as ngc_text
+from gcode.readers import read_text
 from gcode.siemens.reader import interpret_text as siemens_text
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
@@ -112,3 +114,78 @@ def test_cnc_canon_max_blocks_option(tmp_path: Path) -> None:
     args = [sys.executable, "-m", "cli.main", "canon", "--max-blocks", "300", str(prog)]
     done = subprocess.run(args, capture_output=True, text=True, timeout=60)
     assert done.returncode == 1 and "LOOP-LIMIT" in done.stderr
+
+
+#: an endless loop that moves, in every dialect's loop constructs: (text, line of the jump
+#: back, the loop named in the error)
+MOVING = {
+    "rs274ngc": ("G91\no100 while [1]\nG1 X1 F100\no100 endwhile\nM2\n", 4, "o100 while"),
+    "rs274ngc-do": ("G91\no100 do\nG1 X1 F100\no100 while [1]\nM2\n", 4, "o100 do"),
+    "fanuc": ("%\nO1\nG91\nWHILE[1EQ1]DO1\nG01 X1 F100\nEND1\nM30\n%\n", 6, "DO1 (line 4)"),
+    "fanuc-goto": ("%\nO1\nG91\nN10 G01 X1 F100\nIF[1EQ1]GOTO10\nM30\n%\n", 5, "GOTO10"),
+    "haas": ("%\nO1\nG91\nWHILE[1EQ1]DO2\nG01 X1 F100\nEND2\nM30\n%\n", 6, "DO2 (line 4)"),
+    "siemens840d": ("G91\nWHILE 1\nG1 X1 F100\nENDWHILE\nM30\n", 4, "WHILE (line 2)"),
+    "siemens840d-loop": ("G91\nLOOP\nG1 X1 F100\nENDLOOP\nM30\n", 4, "LOOP (line 2)"),
+    "siemens840d-goto": ("G91\nLAB1: G1 X1 F100\nGOTOB LAB1\nM30\n", 3, "GOTOB LAB1"),
+    "siemens840d-for": (
+        "DEF INT I\nG91\nFOR I=1 TO 1000000000\nG1 X1 F100\nENDFOR\nM30\n",
+        5,
+        "FOR (line 3)",
+    ),
+}
+
+
+@pytest.fixture
+def few_passes() -> Iterator[None]:
+    limits.configure(loop_passes=2_000)
+    yield
+    limits.reset()
+
+
+@pytest.mark.parametrize("case", sorted(MOVING))
+def test_an_endless_loop_that_moves_stops_at_the_loop_pass_budget(
+    few_passes: None, case: str
+) -> None:
+    text, line, construct = MOVING[case]
+    with pytest.raises(Diagnostic) as info:
+        list(read_text(text, case.split("-")[0], "mv"))
+    exc = info.value
+    assert (exc.code, exc.location.line) == ("LOOP-LIMIT", line), exc
+    assert construct in exc.message and "loop_passes" in exc.message
+
+
+@pytest.mark.parametrize(
+    ("dialect", "text"),
+    [
+        # 3 rows of 1,500 points: 4,500 passes of the inner loop, 1,500 in a row
+        (
+            "rs274ngc",
+            "#1=0\no1 while [#1 LT 3]\n#2=0\no2 while [#2 LT 1500]\nG1 X#2 Y#1 F100\n"
+            "#2=[#2+1]\no2 endwhile\n#1=[#1+1]\no1 endwhile\nM2\n",
+        ),
+        (
+            "fanuc",
+            "%\nO1\n#1=0\nWHILE[#1LT3]DO1\n#2=0\nWHILE[#2LT1500]DO2\nG01 X#2 Y#1 F100\n"
+            "#2=#2+1\nEND2\n#1=#1+1\nEND1\nM30\n%\n",
+        ),
+        (
+            "siemens840d",
+            "R1=0\nWHILE R1<3\nR2=0\nWHILE R2<1500\nG1 X=R2 Y=R1 F100\nR2=R2+1\nENDWHILE\n"
+            "R1=R1+1\nENDWHILE\nM30\n",
+        ),
+    ],
+)
+def test_passes_of_a_nested_loop_count_per_entry(few_passes: None, dialect: str, text: str) -> None:
+    moves = [c for c in read_text(text, dialect, "raster") if type(c).__name__ == "StraightFeed"]
+    assert len(moves) == 4_500
+
+
+@pytest.mark.slow
+def test_the_default_loop_pass_budget_ends_a_moving_loop_within_seconds() -> None:
+    text, line, _ = MOVING["rs274ngc"]
+    start = time.process_time()
+    with pytest.raises(Diagnostic) as info:
+        list(read_text(text, "rs274ngc", "mv"))
+    assert info.value.code == "LOOP-LIMIT"
+    assert "limit 100000" in info.value.message
+    assert time.process_time() - start < 10  # about a second idle; room for a busy machine

@@ -43,11 +43,11 @@ _LEVELS: tuple[tuple[str, ...], ...] = (
     ("**",),
 )
 _OPERATOR_RE = re.compile(r"\*\*|[-+*/]|and|xor|or|eq|ne|gt|ge|lt|le|mod")
-_NUMBER_RE = re.compile(r"(?:\d+\.?\d*|\.\d+)")
-_PLAIN_LINE_RE = re.compile(r"[ \t]*(?:[xyzabc][ \t]*[-+]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
-_PLAIN_WORD_RE = re.compile(r"([xyzabc])[ \t]*([-+]?(?:\d+\.?\d*|\.\d+))")
-_SIMPLE_LINE_RE = re.compile(r"[ \t]*(?:[a-z][ \t]*[-+]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
-_SIMPLE_WORD_RE = re.compile(r"([a-z])[ \t]*([-+]?(?:\d+\.?\d*|\.\d+))")
+_NUMBER_RE = re.compile(r"(?:\d+(?:\.\d*)?|\.\d+)")
+_PLAIN_LINE_RE = re.compile(r"[ \t]*(?:[xyzabc][ \t]*[-+]?(?:\d+(?:\.\d*)?|\.\d+)[ \t]*)+")
+_PLAIN_WORD_RE = re.compile(r"([xyzabc])[ \t]*([-+]?(?:\d+(?:\.\d*)?|\.\d+))")
+_SIMPLE_LINE_RE = re.compile(r"[ \t]*(?:[a-z][ \t]*[-+]?(?:\d+(?:\.\d*)?|\.\d+)[ \t]*)+")
+_SIMPLE_WORD_RE = re.compile(r"([a-z])[ \t]*([-+]?(?:\d+(?:\.\d*)?|\.\d+))")
 _OWORD_KEYWORDS = (
     "sub",
     "endsub",

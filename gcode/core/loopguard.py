@@ -4,7 +4,12 @@ error instead of running for ever.
 Two limits, both checked where a program goes back (a backward jump, a loop's end going
 back to its start), since a program that never goes back ends by itself:
 
-* ``LOOP-LIMIT``: more than ``max_blocks`` blocks executed in the run (default 10**8).
+* ``LOOP-LIMIT``: more than ``max_blocks`` blocks executed in the run (default 10**8), or
+  one loop going back more than ``loop_passes`` times in a row (:mod:`kernel.limits`, default
+  100,000: an endless loop that moves, about a second of CPU). "In a row" is per entry into
+  the loop: the passes of a loop nested in another's body (or of a subroutine's loop called
+  from it) start again from zero at each pass of the outer loop, so a raster of 1,000 rows
+  of 1,000 points counts 1,000 passes of each loop, not 10**6.
 * ``LOOP-NO-PROGRESS``: more than ``max_idle_blocks`` blocks executed since the last
   canonical command was emitted (default 100,000), i.e. a loop that computes but never moves
   nor outputs anything. A real program's computation loops between two motions run a few
@@ -17,16 +22,32 @@ emits in :attr:`LoopGuard.output`, and calls :meth:`LoopGuard.back` at each back
 
 from __future__ import annotations
 
+import kernel.limits as limits
 from kernel.diagnostics import Diagnostic, Location
 
 MAX_BLOCKS = 10**8
 MAX_IDLE_BLOCKS = 100_000
+#: loop sites remembered (a memory bound for programs with very many loops one after another)
+MAX_SITES = 4096
+#: sites looked at, from the most recent, for loops nested in a loop seen for the first time
+NEST_SCAN = 64
+
+Site = tuple[str | None, int]
 
 
 class LoopGuard:
     """Block and output counters of one run, checked at each backward jump."""
 
-    __slots__ = ("blocks", "max_blocks", "max_idle", "output", "_mark_blocks", "_mark_output")
+    __slots__ = (
+        "blocks",
+        "max_blocks",
+        "max_idle",
+        "output",
+        "_mark_blocks",
+        "_mark_output",
+        "_sites",
+        "_where",
+    )
 
     def __init__(
         self, max_blocks: int = MAX_BLOCKS, max_idle_blocks: int = MAX_IDLE_BLOCKS
@@ -37,10 +58,23 @@ class LoopGuard:
         self.output = 0  # canonical commands emitted so far (the reader adds them)
         self._mark_blocks = 0  # block count when output last changed
         self._mark_output = 0
+        # loop sites (file, line of the jump back) with their passes in a row, in the order
+        # of their last pass; _where: a site's index in _sites
+        self._sites: list[tuple[Site, int]] = []
+        self._where: dict[Site, int] = {}
 
-    def back(self, construct: str, loc: Location) -> None:
+    def back(self, construct: str, loc: Location, target: int = 0) -> None:
         """A backward jump or loop pass of ``construct`` (e.g. ``"GOTOB LAB1"``, ``"WHILE
-        (line 3)"``) at ``loc``: raises LOOP-LIMIT or LOOP-NO-PROGRESS past a limit."""
+        (line 3)"``) at ``loc``, going back to line ``target`` of the same file (0: not
+        known): raises LOOP-LIMIT or LOOP-NO-PROGRESS past a limit."""
+        passes = self._pass((loc.file, loc.line), target)
+        if passes > limits.current().loop_passes:
+            raise Diagnostic(
+                "LOOP-LIMIT",
+                f"endless loop? {construct} went back {passes - 1} times in a row (limit "
+                f"{limits.current().loop_passes}, --limit loop_passes=N)",
+                loc,
+            )
         if self.output != self._mark_output:
             self._mark_output = self.output
             self._mark_blocks = self.blocks
@@ -57,6 +91,41 @@ class LoopGuard:
                 f"endless loop? {construct}: more than {self.max_blocks} blocks executed",
                 loc,
             )
+
+    def _pass(self, site: Site, target: int) -> int:
+        """Count one pass of the loop at ``site``; its passes in a row."""
+        sites, where = self._sites, self._where
+        i = where.get(site)
+        if i is not None:
+            # the sites passed since this one's last pass are inside its body: their count
+            # starts again
+            for other, _ in sites[i + 1 :]:
+                del where[other]
+            passes = sites[i][1] + 1
+            del sites[i:]
+        else:
+            passes = 1
+            if target:
+                # first pass: the loops of its body (same file, lines target..site) passed
+                # so far were part of its first pass
+                tail = max(0, len(sites) - NEST_SCAN)
+                inner = [
+                    j
+                    for j in range(tail, len(sites))
+                    if sites[j][0][0] == site[0] and target <= sites[j][0][1] <= site[1]
+                ]
+                if inner:
+                    for j in inner:
+                        del where[sites[j][0]]
+                    sites[tail:] = [s for j, s in enumerate(sites[tail:], tail) if j not in inner]
+                    where.update((s[0], j) for j, s in enumerate(sites[tail:], tail))
+            if len(sites) >= MAX_SITES:
+                del sites[: MAX_SITES // 2]
+                where.clear()
+                where.update((s[0], j) for j, s in enumerate(sites))
+        where[site] = len(sites)
+        sites.append((site, passes))
+        return passes
 
 
 class RepeatGuard:

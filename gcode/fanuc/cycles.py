@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import kernel.limits as limits
 from gcode.core.codes import Words
 from gcode.fanuc.state import ExecutorState
 from gcode.ngc.motion import AXES, PLANE_AXES
@@ -72,7 +73,11 @@ def _setup(ex: ExecutorState, w: Words, code: int, sticky: bool) -> _Hole:
         c.q = abs(v["q"])
     elif not sticky:
         c.q = 0.0
-    repeats = round(v.get("l", 1.0))
+    count = v.get("l", 1.0)
+    limit = limits.current().cycle_passes
+    if not count < limit + 1:  # the holes are listed: a bound before any (NaN and inf too)
+        raise limits.count_error(f"{name} repeats", count, limit, "cycle_passes", loc)
+    repeats = round(count)
     if repeats < 1:
         raise Diagnostic("FANUC-CYCLE-L", f"{name}: repeat count K must be 1 or more", loc)
     if s.feed_rate == 0.0:

@@ -241,7 +241,9 @@ class Reader:
             if start is None:
                 raise Diagnostic("FANUC-LOOP", f"END{blk.label} without DO{blk.label}", loc)
             fr.pc = start
-            self._count_jump(loc, f"WHILE ... DO{blk.label} (line {start + 1}) END{blk.label}")
+            self._count_jump(
+                loc, f"WHILE ... DO{blk.label} (line {start + 1}) END{blk.label}", start + 1
+            )
 
     @staticmethod
     def _check_loop_id(label: int, loc: Location) -> None:
@@ -267,7 +269,7 @@ class Reader:
         if line is None:
             raise Diagnostic("FANUC-GOTO", f"sequence number N{int(target)} not found", loc)
         if line < fr.pc:
-            self._count_jump(loc, f"GOTO{int(target)}")
+            self._count_jump(loc, f"GOTO{int(target)}", line + 1)
         fr.pc = line
         for m, start in list(fr.loops.items()):
             if start >= line:  # jumping out of (or back before) a loop ends it
@@ -296,8 +298,9 @@ class Reader:
                 loc,
             )
 
-    def _count_jump(self, loc: Location, construct: str) -> None:
-        """A jump back: the flavour's jump limit, then the shared loop guard."""
+    def _count_jump(self, loc: Location, construct: str, target: int = 0) -> None:
+        """A jump back to line ``target``: the flavour's jump limit, then the shared loop
+        guard."""
         self.jumps += 1
         if self.jumps > self.fl.max_loops:
             raise Diagnostic(
@@ -313,7 +316,7 @@ class Reader:
                 "which a reading without the machine holds at 0: it would wait for ever",
                 loc,
             )
-        self.guard.back(construct, loc)
+        self.guard.back(construct, loc, target)
 
     # ------------------------------------------------------------------ calls
     def _act(self, a: Action, fr: Frame, loc: Location) -> bool:

@@ -36,9 +36,9 @@ _LEVELS: tuple[tuple[str, ...], ...] = (
     ("*", "/", "AND", "MOD"),
 )
 _OP_RE = re.compile(r"EQ|NE|GT|GE|LT|LE|OR|XOR|AND|MOD|[-+*/]")
-_NUM_RE = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)")
-_PLAIN_RE = re.compile(r"(?:[A-Z][-+]?(?:\d+\.?\d*|\.\d+))+")
-_WORD_RE = re.compile(r"([A-Z])([-+]?(?:\d+\.?\d*|\.\d+))")
+_NUM_RE = re.compile(r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)")
+_PLAIN_RE = re.compile(r"(?:[A-Z][-+]?(?:\d+(?:\.\d*)?|\.\d+))+")
+_WORD_RE = re.compile(r"([A-Z])([-+]?(?:\d+(?:\.\d*)?|\.\d+))")
 _PROGRAM_RE = re.compile(r"[O:](\d+)$")
 _SEQ_RE = re.compile(r"N(\d+)")
 

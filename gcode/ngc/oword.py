@@ -543,7 +543,7 @@ class Flow:
     def _back(self, ctl: _Control, loc: Location) -> None:
         """A loop going back to its head: the shared loop guard's check."""
         line = ctl.head.line + 1 if ctl.kind == "while" else ctl.head.line
-        self.guard.back(f"o{ctl.name} {ctl.kind} (line {line})", loc)
+        self.guard.back(f"o{ctl.name} {ctl.kind} (line {line})", loc, line)
 
     def _kw_do(self, block: Block, ow: OWord, name: str, loc: Location) -> None:
         self._check_unique(block, name, loc)

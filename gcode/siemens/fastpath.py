@@ -11,7 +11,7 @@ import re
 
 from gcode.siemens.lexer import MAX_NUMBER
 
-_NUM = r"[+-]?(?:\d+\.?\d*|\.\d+)"
+_NUM = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)"
 _LINE = re.compile(
     rf"[ \t]*(?:N\d+[ \t]+)?(?:(?:[ABCDFGIJKMSTXYZ]{_NUM}|(?:CR|AR|TURN)={_NUM})(?:[ \t]+|$))+"
 )

@@ -475,7 +475,7 @@ class Runner:
             raise Diagnostic("SIEM-REPEAT", f"more than {MAX_DEPTH} nested REPEAT sections", ex.loc)
         construct = f"{head} {start_label} (line {here + 1})"
         level.sections.append(Section(start, end, int(passes) - 1, here + 1, construct))
-        self._count(construct)
+        self._count(construct, start + 1)
         program.caching = True
         level.index = start
 
@@ -484,7 +484,7 @@ class Runner:
         top = level.sections[-1]
         if top.left > 0:
             top.left -= 1
-            self._count(top.construct)
+            self._count(top.construct, top.start + 1)
             level.index = top.start
         else:
             level.sections.pop()
@@ -495,7 +495,7 @@ class Runner:
         if target < 0:
             return
         if target <= here:
-            self._count(f"{how} {label}")
+            self._count(f"{how} {label}", target + 1)
             level.program.caching = True
         level.structures = [o for o in level.structures if o.start < target <= o.end]
         level.index = target
@@ -524,9 +524,9 @@ class Runner:
                 self.ex.loc,
             )
 
-    def _count(self, construct: str) -> None:
-        """A loop pass or backward jump: the reader's pass limit, a loop waiting on a PLC
-        input, then the shared guard."""
+    def _count(self, construct: str, target: int = 0) -> None:
+        """A loop pass or backward jump to line ``target``: the reader's pass limit, a loop
+        waiting on a PLC input, then the shared guard."""
         self.loops += 1
         reads = self.ex.input_reads
         self.waiting = self.waiting + 1 if reads != self.input_mark else 0
@@ -544,7 +544,7 @@ class Runner:
                 f"more than {MAX_LOOPS} loop passes or backward jumps",
                 self.ex.loc,
             )
-        self.guard.back(construct, self.ex.loc)
+        self.guard.back(construct, self.ex.loc, target)
 
     def structure(self, level: Level, block: Block, index: int) -> None:
         ex = self.ex
@@ -594,13 +594,13 @@ class Runner:
             level.index = top.end + 1
         elif kind == "ENDWHILE":
             opened.pop()
-            self._count(f"WHILE (line {top.start + 1})")
+            self._count(f"WHILE (line {top.start + 1})", top.start + 1)
             level.index = top.start
         elif kind == "ENDFOR":
             target, stop = top.data
             self._assign(scope, target, self._read(scope, target) + 1)
             if self._read(scope, target) <= stop:
-                self._count(f"FOR (line {top.start + 1})")
+                self._count(f"FOR (line {top.start + 1})", top.start + 1)
                 level.index = top.start + 1
             else:
                 opened.pop()
@@ -608,10 +608,10 @@ class Runner:
             if evaluate(block.args[0], scope):
                 opened.pop()
             else:
-                self._count(f"REPEAT (line {top.start + 1})")
+                self._count(f"REPEAT (line {top.start + 1})", top.start + 1)
                 level.index = top.start + 1
         else:  # ENDLOOP
-            self._count(f"LOOP (line {top.start + 1})")
+            self._count(f"LOOP (line {top.start + 1})", top.start + 1)
             level.index = top.start + 1
             self._repeats_for_ever(level)
         program.caching = True

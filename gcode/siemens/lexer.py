@@ -20,7 +20,7 @@ WORD, NAME, NUM, STR, OP = "word", "name", "num", "str", "op"
 #: ones keeps the arithmetic finite (the 840D's REAL range is wider)
 MAX_NUMBER = 1e15
 
-_NUMBER = r"(?:\d+\.?\d*|\.\d+)(?:EX[+-]?\d+)?"
+_NUMBER = r"(?:\d+(?:\.\d*)?|\.\d+)(?:EX[+-]?\d+)?"
 _TOKEN = re.compile(
     rf"""
     (?P<ws>[ \t]+)

@@ -111,8 +111,8 @@ class Program:
                 line = self.line(index)
                 m = _HEAD.match(line)
                 n = _NUMBER.match(line)
-                if n:
-                    found.setdefault(f"N{int(n.group(1))}", []).append(index)
+                if n:  # the number's digits without leading zeros: no int() of 5,000 digits
+                    found.setdefault(f"N{n.group(1).lstrip('0') or '0'}", []).append(index)
                 if m and m.group(1):
                     found.setdefault(m.group(1).upper(), []).append(index)
                 index += 1

@@ -59,8 +59,8 @@ def arc_extremes(arc: Arc, turned: float = 0.0) -> Iterator[Vec6]:
     turned by it (an XY arc under an XY rotation, boxed in machine coordinates)."""
     yield arc.start
     yield arc.end
-    if arc.sweep == 0.0:
-        return
+    if arc.sweep == 0.0 or not math.isfinite(arc.theta0 + arc.sweep):
+        return  # no sweep, or none to place quadrant points on (a NaN or infinite centre)
     i1, i2, _ = arc.axes
     r = max(arc.r_start, arc.r_end)
     lo, hi = sorted((arc.theta0, arc.theta0 + arc.sweep))

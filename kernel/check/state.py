@@ -96,20 +96,22 @@ class CheckState:
         return self.flood or self.mist
 
 
-def motion_end(st: CheckState, cmd: canon.Command) -> Vec6 | None:
-    """Where ``cmd`` leaves the controlled point (program coordinates), None if no motion."""
+def motion_end(st: CheckState, cmd: canon.Command, start: Vec6 | None = None) -> Vec6 | None:
+    """Where ``cmd`` leaves the controlled point (program coordinates), None if no motion;
+    from ``start`` instead of the state's position when given."""
+    position = st.position if start is None else start
     match cmd:
         case canon.StraightTraverse() | canon.StraightFeed() | canon.StraightProbe():
             return (cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)
         case canon.ArcFeed() | canon.EllipseFeed():
             i1, i2, n = PLANE_AXES[st.plane]
-            p = list(st.position)
+            p = list(position)
             p[i1], p[i2], p[n] = cmd.first_end, cmd.second_end, cmd.axis_end_point
             p[3], p[4], p[5] = cmd.a, cmd.b, cmd.c
             return (p[0], p[1], p[2], p[3], p[4], p[5])
         case canon.NurbsFeed(points=pts) if pts:
             i1, i2, _ = PLANE_AXES[st.plane]
-            p = list(st.position)
+            p = list(position)
             p[i1], p[i2] = pts[-1][0], pts[-1][1]
             return (p[0], p[1], p[2], p[3], p[4], p[5])
     return None

@@ -125,6 +125,8 @@ _ENUMS: tuple[type[Enum], ...] = (
     CompSide,
 )
 _ENUM_BY_VALUE: dict[str, Enum] = {m.value: m for e in _ENUMS for m in e}
+#: field annotation -> enum: a field of one takes no other enum's values
+_ENUM_TYPES: dict[str, type[Enum]] = {e.__name__: e for e in _ENUMS}
 # LinuxCNC prints directions with the long NISTIR names too.
 _ENUM_BY_VALUE["CANON_DIRECTION_CLOCKWISE"] = Direction.CLOCKWISE
 _ENUM_BY_VALUE["CANON_DIRECTION_COUNTERCLOCKWISE"] = Direction.COUNTERCLOCKWISE
@@ -862,8 +864,14 @@ _SPINDLE_INDEXED = frozenset(
 def _convert(raw: str, typ: object) -> object:
     if raw.startswith('"') and raw.endswith('"') and len(raw) >= 2:
         return raw[1:-1]
+    enum = _ENUM_TYPES.get(typ) if isinstance(typ, str) else None
     if raw in _ENUM_BY_VALUE:
-        return _ENUM_BY_VALUE[raw]
+        value = _ENUM_BY_VALUE[raw]
+        if typ in ("float", float) or (enum is not None and not isinstance(value, enum)):
+            raise ValueError(f"{raw} where a {typ} is expected")
+        return value
+    if enum in (Units, Plane):  # no numeric spelling (LinuxCNC prints others as numbers)
+        raise ValueError(f"{raw} is not a {typ}")
     if typ in ("int", int):
         return int(float(raw))
     if typ in ("bool", bool):

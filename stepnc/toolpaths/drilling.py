@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import kernel.limits as limits
 from kernel.ir import canon
 from stepnc.executor import TINY, UP
 from stepnc.model import Entity, tool_dimension
@@ -235,6 +236,10 @@ def _multistep(ex, job) -> None:  # noqa: ANN001
     back = float(op.retract_distance)
     ex.start_cut(x, y, retract)
     depth = top - (first + tip)
+    pecks = (depth - d.bottom) / peck
+    limit = limits.current().cycle_passes
+    if not pecks < limit:  # a 1e-7 mm step: refused before the first peck
+        raise limits.count_error("pecks of the drilling", pecks, limit, "cycle_passes", op.where())
     while True:
         last = depth <= d.bottom + TINY
         if last:

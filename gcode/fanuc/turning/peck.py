@@ -71,6 +71,9 @@ def peck(w: CycleWords, settings: CycleSettings, grooving: bool) -> list[LatheMo
         raise w.error("FANUC-CYCLE-DEPTH", f"{w.cycle}: more than {MAX_STEPS} pecks")
     if multi and abs(s1 - s0) / shift > MAX_STEPS:
         raise w.error("FANUC-CYCLE-DEPTH", f"{w.cycle}: more than {MAX_STEPS} plunges")
+    plunges = abs(s1 - s0) / shift + 1 if multi else 1
+    if depth / peck_len * plunges > MAX_STEPS:  # each bound alone still allows their product
+        raise w.error("FANUC-CYCLE-DEPTH", f"{w.cycle}: more than {MAX_STEPS} pecks in all")
     stations = _stations(s0, s1, shift) if multi else [s0]
     out = MoveList(w.x0, w.z0)
     out.set_feed(w.get("F"))

@@ -1,0 +1,111 @@
+"""``cnc check`` judges runs of moves over arrays (kernel.check.batch); the findings must be
+those of asking every rule command by command (``check_stream(..., batched=False)``, the
+loop the rules were written for). Compared on every canonical program of the check tests,
+the corpus and the RS274/NGC goldens, under the shop profile (every rule on, stock and safe
+height set), the sim profile and the built-in default machine, with runs cut short so that
+their boundaries fall everywhere; and on a generated CAM program with an XY rotation, a
+work offset and a tool length offset.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+import kernel.check as check
+from bench.cam_program import cam_lines
+from cli.check import load_context
+from kernel.check import CheckContext, check_stream
+from kernel.ir import canon
+from kernel.machine import DEFAULT_MACHINE
+from tests.data_paths import CORPUS_NGC
+
+HERE = Path(__file__).parent
+CHECK = HERE / "check"
+CONTEXTS = {
+    "shop": load_context(str(CHECK / "shop.toml"), str(CHECK / "shop.toml"), None),
+    "sim": load_context(str(CHECK / "sim.toml"), str(CHECK / "sim.toml"), None),
+    "default": CheckContext(DEFAULT_MACHINE, default_machine=True),
+}
+TRIGGERS = sorted(CHECK.glob("*.canon"))
+PROGRAMS = sorted([*CORPUS_NGC.glob("*.canon"), *(HERE / "golden" / "ngc").glob("*.canon")])
+
+
+def _commands(path: Path) -> list[canon.Command]:
+    with open(path) as fh:
+        out: list[canon.Command] = []
+        # an unreadable golden is judged up to its error
+        with contextlib.suppress(Exception):
+            out.extend(canon.read_commands(fh, str(path), keep_linuxcnc=True))
+        return out
+
+
+@pytest.fixture
+def short_runs(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    monkeypatch.setattr(check, "BATCH", 7)
+    yield
+
+
+def _differ(paths: list[Path], ctx: CheckContext) -> list[str]:
+    out = []
+    for path in paths:
+        cmds = _commands(path)
+        if check_stream(cmds, ctx, str(path)) != check_stream(cmds, ctx, str(path), batched=False):
+            out.append(path.name)
+    return out
+
+
+@pytest.mark.parametrize("ctx_name", sorted(CONTEXTS))
+def test_runs_judge_as_command_by_command_on_the_rule_triggers(
+    short_runs: None, ctx_name: str
+) -> None:
+    assert not _differ(TRIGGERS, CONTEXTS[ctx_name])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("ctx_name", sorted(CONTEXTS))
+def test_runs_judge_as_command_by_command_on_the_corpus_and_goldens(
+    short_runs: None, ctx_name: str
+) -> None:
+    assert not _differ(PROGRAMS, CONTEXTS[ctx_name])
+
+
+def test_runs_judge_as_command_by_command_on_a_cam_program() -> None:
+    from gcode.readers import read_text
+
+    head = "G10 L2 P1 X3 Y-2 R30\nG54\nT1 M6\nG43 H1\nG0 X0 Y0 Z5\nG1 Z-1 F9000\n"
+    text = head + "\n".join(list(cam_lines(600))[7:]) + "\n"
+    cmds = list(read_text(text, "rs274ngc", "cam.ngc"))
+    for ctx in CONTEXTS.values():
+        batched = check_stream(cmds, ctx, "cam.ngc")
+        assert batched == check_stream(cmds, ctx, "cam.ngc", batched=False)
+    assert batched  # the default machine's travel is left, the feed is too fast
+
+
+@pytest.mark.parametrize(
+    "ctx_name",
+    [
+        "default",
+        pytest.param("shop", marks=pytest.mark.slow),
+        pytest.param("sim", marks=pytest.mark.slow),
+    ],
+)
+def test_the_fast_lanes_arrays_judge_as_its_commands(tmp_path: Path, ctx_name: str) -> None:
+    from cli.programs import check_input_bulk
+    from gcode.ngc.interpreter import LANE_MIN_BYTES
+    from gcode.readers import read
+
+    prog = tmp_path / "cam.ngc"
+    head = "G10 L2 P1 X3 Y-2 R30\nG54\nT1 M6\nG43 H1\nG0 X0 Y0 Z5\nG1 Z-1 F9000\n"
+    prog.write_text(head + "\n".join(list(cam_lines(9500))[7:]) + "\n")
+    assert prog.stat().st_size > LANE_MIN_BYTES  # the fast lane reads it
+    ctx = CONTEXTS[ctx_name]
+    items, _ = check_input_bulk(str(prog), "rs274ngc", -1, bulk=True)
+    items = list(items)
+    assert any(isinstance(i, check.Moves) for i in items)
+    bulk = check_stream(items, ctx, str(prog))
+    assert bulk == check_stream(read(prog, "rs274ngc"), ctx, str(prog), batched=False)
+    assert bulk
