@@ -111,19 +111,40 @@ def _bounded(head: str) -> str:
     return "\n".join(line[:LINE_CHARS] for line in lines)
 
 
-def score(head: str, hints: Iterable[Hint]) -> tuple[int, tuple[Hint, ...]]:
+class _Head:
+    """A program's head as the hints read it: cut to :data:`LINE_CHARS` a line, as written
+    and with comments blanked, each pattern searched once however many dialects share it
+    (the Fanuc-family hints appear in four rows)."""
+
+    __slots__ = ("raw", "code", "found")
+
+    def __init__(self, head: str) -> None:
+        self.raw = _bounded(head)
+        self.code = _COMMENTS.sub(lambda m: " " * len(m.group()), self.raw)
+        self.found: dict[tuple[str, bool], bool] = {}
+
+    def matches(self, hint: Hint) -> bool:
+        key = (hint.pattern, hint.raw)
+        hit = self.found.get(key)
+        if hit is None:
+            hit = _compiled(hint.pattern).search(self.raw if hint.raw else self.code) is not None
+            self.found[key] = hit
+        return hit
+
+
+def score(head: str | _Head, hints: Iterable[Hint]) -> tuple[int, tuple[Hint, ...]]:
     """The score of ``head`` for one dialect's hints and the hints that matched."""
-    head = _bounded(head)
-    code = _COMMENTS.sub(lambda m: " " * len(m.group()), head)
-    matched = tuple(h for h in hints if _compiled(h.pattern).search(head if h.raw else code))
+    text = head if isinstance(head, _Head) else _Head(head)
+    matched = tuple(h for h in hints if text.matches(h))
     return sum(h.weight for h in matched), matched
 
 
 def candidates(head: str, table: Sequence[tuple[str, Sequence[Hint]]]) -> list[Candidate]:
     """Every dialect of ``table`` (name, hints; in registry order) with its score."""
+    text = _Head(head)
     out = []
     for name, hints in table:
-        total, matched = score(head, hints)
+        total, matched = score(text, hints)
         out.append(Candidate(name, total, matched))
     return out
 
