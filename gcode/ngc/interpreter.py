@@ -77,6 +77,10 @@ def interpret_text(
 
 
 _PLANES = {170: Plane.XY, 180: Plane.XZ, 190: Plane.YZ}
+#: the words of a block :meth:`Interpreter._motion_block` runs: axis and F words, and in
+#: G2/G3 the centre and R words
+_LINE_WORDS = frozenset("xyzabcf")
+_MOTION_WORDS = frozenset("xyzabcfijkr")
 #: files from this size on use the compiled fast lane (gcode.ngc.lane.lane). The measured
 #: break-even (docs/performance.md, CPU time of ``cnc canon``): loading numpy and the lane
 #: costs about 0.06 s, which the lane wins back on plain CAM code from about 235 KB on.
@@ -218,7 +222,7 @@ class Interpreter(NgcContext):
             assigns: list[Assignment] = []
         else:
             words, assigns = evaluate_block(block, self.params, file)
-            if is_constant(block):
+            if self.flow.file.caching and is_constant(block):  # a block read again: loops
                 block.cached_words = words
         for target, value, loc in assigns:
             if isinstance(target, str):
@@ -247,6 +251,16 @@ class Interpreter(NgcContext):
             # the CAM hot path: axis words in the current motion mode
             motion.execute_motion(self, w, s.motion_mode)
             return False
+        if (
+            not w.m
+            and v.keys() <= _MOTION_WORDS
+            and (not g or (len(g) == 1 and g.get(1, G80) != G80))
+        ):
+            # the other CAM block: G0-G3 with axis, centre, R and F words; none of the
+            # steps below but F and the motion applies, and no letter check can fail
+            mode = g.get(1, s.motion_mode if w.has_axis() else None)
+            if v.keys() <= _LINE_WORDS or mode == 20 or mode == 30:
+                return self._motion_block(w)
         motion.check_block(self, w)
         if w.m:
             mcodes.check_user_m(self, w)
@@ -355,6 +369,29 @@ class Interpreter(NgcContext):
             if code == 99 and self.flow.m99(loc):
                 return False
             return mcodes.program_stop(self, 2 if code == 99 else code)
+        return False
+
+    def _motion_block(self, w: Words) -> bool:
+        """:meth:`_execute` of a block of motion words only (its F word, then its motion)."""
+        s = self.s
+        v = w.values
+        if "f" in v:
+            f = v["f"]
+            if f < 0:
+                raise Diagnostic("NGC-NEGATIVE-F", "negative F word used", self._at(w, "f"))
+            if s.feed_mode != INVERSE_TIME:
+                s.feed_rate = f
+                self.emit(canon.SetFeedRate(f, source=self.loc))
+        if w.g:
+            motion.execute_motion(self, w, w.g[1])
+        elif w.has_axis():
+            if s.motion_mode is None or s.motion_mode == G80:
+                raise Diagnostic(
+                    "NGC-AXIS-NO-MOTION",
+                    "cannot use axis values without a G code that uses them",
+                    self.loc,
+                )
+            motion.execute_motion(self, w, s.motion_mode)
         return False
 
     def _at(self, w: Words, letter: str) -> Location:
