@@ -168,7 +168,11 @@ class _Scanner:
             if m is not None:  # the common value: a plain number
                 self.i = m.end()
                 return float(m.group())
-        c = self.peek()
+        c = s[i] if i < len(s) else ""
+        if c == "[":
+            return self.bracketed()
+        if c == "#":
+            return self.parameter()
         if c == "-":
             self.i += 1
             self.enter()
@@ -217,10 +221,14 @@ class _Scanner:
     def bracketed(self) -> Expr:
         start = self.i
         self.i += 1  # '['
-        self.enter()
+        self.nest += 1  # enter(), inline: the commonest nesting
+        self.depth += 1
+        if self.nest > self.limits.nesting or self.depth > self.limits.expression_depth:
+            raise limits.nesting_error(self.loc_file, self.line, self.col())
         node = self.expression(0)
-        self.leave()
-        if self.peek() != "]":
+        self.nest -= 1
+        self.depth -= 1
+        if self.i >= len(self.s) or self.s[self.i] != "]":
             raise self.error("NGC-UNCLOSED-EXPR", "expression not closed with ']'", start)
         self.i += 1
         return node
@@ -273,22 +281,19 @@ class _Scanner:
         errors and the depth count are those of one recursive frame per level: an operator
         of level L first closes the chains of the levels above L)."""
         left = self.real_value()
+        s = self.s
+        m = _OPERATOR_RE.match(s, self.i)
+        if m is None:
+            if self.i < len(s) and s[self.i] != "]":
+                raise self.error("NGC-BAD-OPERATOR", f"unknown operator at '{s[self.i :]}'")
+            return left
+        op = m.group()
+        op_level = _LEVEL_OF[op]
+        if op_level < level:
+            return left
         chained = [0] * len(_LEVELS)  # operators chained per level in this frame
         open_ops = 0  # their sum: what this frame adds to ``depth``
         while True:
-            m = _OPERATOR_RE.match(self.s, self.i)
-            if m is None:
-                if self.peek() not in ("]", ""):
-                    raise self.error(
-                        "NGC-BAD-OPERATOR", f"unknown operator at '{self.s[self.i :]}'"
-                    )
-                self.depth -= open_ops
-                return left
-            op = m.group()
-            op_level = _LEVEL_OF[op]
-            if op_level < level:
-                self.depth -= open_ops
-                return left
             for k in range(op_level + 1, len(_LEVELS)):
                 if chained[k]:
                     self.depth -= chained[k]
@@ -302,6 +307,17 @@ class _Scanner:
                 raise limits.nesting_error(self.loc_file, self.line, self.col())
             right = self.expression(op_level + 1)
             left = ("b", op, left, right)
+            m = _OPERATOR_RE.match(s, self.i)
+            if m is None:
+                if self.i < len(s) and s[self.i] != "]":
+                    raise self.error("NGC-BAD-OPERATOR", f"unknown operator at '{s[self.i :]}'")
+                self.depth -= open_ops
+                return left
+            op = m.group()
+            op_level = _LEVEL_OF[op]
+            if op_level < level:
+                self.depth -= open_ops
+                return left
 
 
 _BLANKS = frozenset(" \t\r\n")
