@@ -182,3 +182,29 @@ def test_lane_arc_after_g40_is_refused_and_after_a_line_allowed_as_rs274_does(
     fast = run(allowed, lane=True)
     assert fast == run(allowed, lane=False)
     assert fast[1] is None and any(text.startswith("ARC_FEED") for text, _ in fast[0])
+
+
+def test_lane_takes_lines_ending_in_several_carriage_returns(
+    tmp_path: Path, lane_always: list[Lane | None], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Windows CAM output may end its lines in CR CR LF (PyCAM's on Windows does): the general
+    path strips every CR before the LF, and so does the lane, which used to stop at such a
+    line and leave the whole program to the general path."""
+    taken: list[int] = []
+    take = Lane.take
+
+    def counting(self: Lane, ctx: interp.NgcContext) -> object:
+        run = take(self, ctx)
+        if run is not None:
+            taken.append(run.lines)
+        return run
+
+    monkeypatch.setattr(Lane, "take", counting)
+    body = "".join(f"X{k * 0.5:.4f} Y{(k % 7) * 0.25:.4f}\r\r\n" for k in range(200))
+    prog = tmp_path / "crcrlf.ngc"
+    prog.write_bytes(("G21 G90 G17\r\r\nG1 F300\r\n" + body + "M2\r\r\n").encode())
+    fast = run(prog, lane=True)
+    assert_lane_ran(lane_always)
+    assert sum(taken) >= 190
+    assert fast == run(prog, lane=False)
+    assert fast[1] is None and len(fast[0]) > 200
