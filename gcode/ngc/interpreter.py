@@ -16,6 +16,7 @@ one, with the run loop, and the only module here that imports motion, offsets, M
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
@@ -81,19 +82,43 @@ _PLANES = {170: Plane.XY, 180: Plane.XZ, 190: Plane.YZ}
 #: G2/G3 the centre and R words
 _LINE_WORDS = frozenset("xyzabcf")
 _MOTION_WORDS = frozenset("xyzabcfijkr")
-#: files from this size on use the compiled fast lane (gcode.ngc.lane.lane). The measured
-#: break-even (docs/performance.md, CPU time of ``cnc canon``): loading numpy and the lane
-#: costs about 0.06 s, which the lane wins back on plain CAM code from about 235 KB on.
-LANE_MIN_BYTES = 1 << 18
+#: files from this size on may use the compiled fast lane (gcode.ngc.lane.lane); 0 forces it
+#: on for every file. The measured break-even (docs/performance.md, CPU time of ``cnc canon``
+#: on real CAM programs): loading numpy and the lane costs about 0.1 s, which the lane wins
+#: back from about 200 KB of code it takes.
+LANE_MIN_BYTES = 3 << 16
+#: how much of a program's head :func:`_lane_pays` samples
+LANE_SAMPLE_BYTES = 1 << 16
+#: lines the lane can take (an optional N word, one G0-G3, axis, centre, R and F words with
+#: plain numbers), case and blanks as the lane reads them
+_LANE_LINE = re.compile(
+    rb"^[ \t]*(?:[nN][ \t]*\d+[ \t]*)?(?:[gG][ \t]*0*[0-3](?![\d.])[ \t]*)?"
+    rb"(?:[xyzabcfijkrXYZABCFIJKR][ \t]*[-+]?[ \t]*(?:\d+\.?\d*|\.\d+)[ \t]*)+\r*$",
+    re.M,
+)
+
+
+def _lane_pays(path: str) -> bool:
+    """Whether the lane can win back its loading on ``path``: a large file whose head is
+    mostly lines it takes (a macro program of expressions is large too, and the lane takes
+    none of its lines). Only the choice of path depends on it, never the output."""
+    if LANE_MIN_BYTES == 0:
+        return True
+    try:
+        if os.path.getsize(path) < LANE_MIN_BYTES:
+            return False
+        with open(path, "rb") as fh:
+            head = fh.read(LANE_SAMPLE_BYTES)
+    except OSError:
+        return False
+    head = head[: head.rfind(b"\n") + 1] or head
+    return 2 * len(_LANE_LINE.findall(head)) >= head.count(b"\n")
 
 
 def _lane_for(pf: ProgramFile, arcs: bool) -> Lane | None:
-    """The compiled fast lane for a large program file (imported here: it needs numpy, which
-    a small program then never loads); ``arcs``: its runs may hold arcs."""
-    try:
-        if os.path.getsize(pf.path) < LANE_MIN_BYTES:
-            return None
-    except OSError:
+    """The compiled fast lane for a large program file of CAM lines (imported here: it needs
+    numpy, which a small program then never loads); ``arcs``: its runs may hold arcs."""
+    if not _lane_pays(pf.path):
         return None
     from gcode.ngc.lane.lane import Lane
 
