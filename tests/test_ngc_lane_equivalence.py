@@ -213,9 +213,10 @@ def test_lane_takes_lines_ending_in_several_carriage_returns(
 def test_the_lane_is_loaded_only_for_large_programs_of_lines_it_takes(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Loading the lane (numpy, the kernels) costs about 0.1 s of CPU: a program below
-    ``LANE_MIN_BYTES``, or a large one whose head is macro code the lane takes none of,
-    runs on the general path alone; a large program of CAM lines opens the lane."""
+    """Loading the lane (numpy, the kernels) costs as much CPU as it saves on about
+    ``LANE_LOAD_COST`` plain lines: a program of half as many (though over
+    ``LANE_MIN_BYTES``), or a large one whose head is macro code the lane takes none of,
+    runs on the general path alone; a program of twice as many opens the lane."""
     opened: list[str] = []
     for_file = Lane.for_file
 
@@ -224,12 +225,15 @@ def test_the_lane_is_loaded_only_for_large_programs_of_lines_it_takes(
         return for_file(pf, arcs)
 
     monkeypatch.setattr(Lane, "for_file", staticmethod(spy))
-    n = interp.LANE_MIN_BYTES // 20
-    cam = "".join(f"G1 X{k * 0.01:.4f} Y{k % 50 * 0.1:.4f} F300\n" for k in range(n))
+    n = int(interp.LANE_LOAD_COST)
+
+    def cam(lines: int) -> str:
+        return "".join(f"G1 X{k * 0.01:.4f} Y{k % 50 * 0.1:.4f} F300\n" for k in range(lines))
+
     macro = "#1 = 0\n" + "".join(f"#1 = [#1 + {k % 3}]\nG1 X[#1 / 100] F300\n" for k in range(n))
-    for name, text in (("small.ngc", cam[: len(cam) // 2]), ("cam.ngc", cam), ("macro.ngc", macro)):
+    for name, text in (("few.ngc", cam(n // 2)), ("cam.ngc", cam(2 * n)), ("macro.ngc", macro)):
         (tmp_path / name).write_text("G21 G90\n" + text + "M2\n")
         run(tmp_path / name, lane=True)
-    assert (tmp_path / "small.ngc").stat().st_size < interp.LANE_MIN_BYTES
+    assert (tmp_path / "few.ngc").stat().st_size >= interp.LANE_MIN_BYTES
     assert (tmp_path / "macro.ngc").stat().st_size >= interp.LANE_MIN_BYTES
     assert opened == ["cam.ngc"]

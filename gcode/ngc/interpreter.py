@@ -82,13 +82,17 @@ _PLANES = {170: Plane.XY, 180: Plane.XZ, 190: Plane.YZ}
 #: G2/G3 the centre and R words
 _LINE_WORDS = frozenset("xyzabcf")
 _MOTION_WORDS = frozenset("xyzabcfijkr")
-#: files from this size on may use the compiled fast lane (gcode.ngc.lane.lane); 0 forces it
-#: on for every file. The measured break-even (docs/performance.md, CPU time of ``cnc canon``
-#: on real CAM programs): loading numpy and the lane costs about 0.1 s, which the lane wins
-#: back from about 200 KB of code it takes.
-LANE_MIN_BYTES = 3 << 16
+#: files from this size on may use the compiled fast lane (gcode.ngc.lane.lane), when
+#: :func:`_lane_pays`; 0 forces the lane on for every file (the equivalence tests do)
+LANE_MIN_BYTES = 1 << 17
 #: how much of a program's head :func:`_lane_pays` samples
 LANE_SAMPLE_BYTES = 1 << 16
+#: the measured break-even (docs/performance.md, CPU time of ``cnc canon``, in units of
+#: one plain line's general-path time over the lane's): loading numpy and the kernels costs
+#: as much as the lane saves on about 12,000 plain lines; an arc line saves about 2.5 times
+#: what a plain line does (1.5 more; R-format arcs save more than centre-format ones)
+LANE_LOAD_COST = 12_000.0
+LANE_ARC_SAVING = 1.5
 #: lines the lane can take (an optional N word, one G0-G3, axis, centre, R and F words with
 #: plain numbers), case and blanks as the lane reads them
 _LANE_LINE = re.compile(
@@ -96,23 +100,28 @@ _LANE_LINE = re.compile(
     rb"(?:[xyzabcfijkrXYZABCFIJKR][ \t]*[-+]?[ \t]*(?:\d+\.?\d*|\.\d+)[ \t]*)+\r*$",
     re.M,
 )
+_ARC_WORD = re.compile(rb"[ijkrIJKR]")
 
 
 def _lane_pays(path: str) -> bool:
-    """Whether the lane can win back its loading on ``path``: a large file whose head is
-    mostly lines it takes (a macro program of expressions is large too, and the lane takes
-    none of its lines). Only the choice of path depends on it, never the output."""
+    """Whether the lane wins back its loading on ``path``: the lines it would take, estimated
+    from the file's size and its head (plain lines and arcs, which the general path takes
+    more slowly), outweigh :data:`LANE_LOAD_COST`. A macro program of expressions, however
+    large, has none. Only the choice of path depends on it, never the output."""
     if LANE_MIN_BYTES == 0:
         return True
     try:
-        if os.path.getsize(path) < LANE_MIN_BYTES:
+        size = os.path.getsize(path)
+        if size < LANE_MIN_BYTES:
             return False
         with open(path, "rb") as fh:
             head = fh.read(LANE_SAMPLE_BYTES)
     except OSError:
         return False
     head = head[: head.rfind(b"\n") + 1] or head
-    return 2 * len(_LANE_LINE.findall(head)) >= head.count(b"\n")
+    lines = _LANE_LINE.findall(head)
+    arcs = sum(1 for line in lines if _ARC_WORD.search(line))
+    return (len(lines) + LANE_ARC_SAVING * arcs) * size / len(head) >= LANE_LOAD_COST
 
 
 def _lane_for(pf: ProgramFile, arcs: bool) -> Lane | None:
