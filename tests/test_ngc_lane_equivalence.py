@@ -237,3 +237,8 @@ def test_the_lane_is_loaded_only_for_large_programs_of_lines_it_takes(
     assert (tmp_path / "few.ngc").stat().st_size >= interp.LANE_MIN_BYTES
     assert (tmp_path / "macro.ngc").stat().st_size >= interp.LANE_MIN_BYTES
     assert opened == ["cam.ngc"]
+    # the same lines under cutter compensation, which the lane never takes
+    comp = tmp_path / "comp.ngc"
+    comp.write_text("G21 G90 G40\nG0 X-5 Y-5\nG42 D1 G1 X0 Y0 F300\n" + cam(2 * n) + "G40\nM2\n")
+    assert interp._lane_pays(str(tmp_path / "cam.ngc"))
+    assert not interp._lane_pays(str(comp))

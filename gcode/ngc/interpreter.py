@@ -101,6 +101,8 @@ _LANE_LINE = re.compile(
     re.M,
 )
 _ARC_WORD = re.compile(rb"[ijkrIJKR]")
+#: G40, G41, G42 (and G41.1, G42.1): where cutter compensation starts and ends
+_COMP_WORD = re.compile(rb"[gG][ \t]*0*4[ \t]*([012])(?:\.1)?(?![\d.])")
 
 
 def _lane_pays(path: str) -> bool:
@@ -119,7 +121,16 @@ def _lane_pays(path: str) -> bool:
     except OSError:
         return False
     head = head[: head.rfind(b"\n") + 1] or head
-    lines = _LANE_LINE.findall(head)
+    lines: list[bytes] = []
+    start = 0
+    compensated = False  # the lane takes no line under cutter compensation (G41/G42)
+    for word in _COMP_WORD.finditer(head):
+        if not compensated:
+            lines += _LANE_LINE.findall(head, start, word.start())
+        compensated = word.group(1) != b"0"
+        start = word.end()
+    if not compensated:
+        lines += _LANE_LINE.findall(head, start)
     arcs = sum(1 for line in lines if _ARC_WORD.search(line))
     return (len(lines) + LANE_ARC_SAVING * arcs) * size / len(head) >= LANE_LOAD_COST
 
