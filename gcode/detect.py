@@ -24,7 +24,7 @@ Decision (:func:`guess`):
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from functools import cache
 
@@ -111,38 +111,41 @@ def _bounded(head: str) -> str:
     return "\n".join(line[:LINE_CHARS] for line in lines)
 
 
-def _searcher(head: str) -> Callable[[Hint], bool]:
-    """Whether a hint matches ``head``, each distinct (pattern, raw) searched once: the
-    Fanuc-family, mill and lathe groups are shared by several dialects' rows, and the
-    comments are blanked once for all of them."""
-    head = _bounded(head)
-    code = _COMMENTS.sub(lambda m: " " * len(m.group()), head)
-    found: dict[tuple[str, bool], bool] = {}
+class _Head:
+    """A program's head as the hints read it: cut to :data:`LINE_CHARS` a line, as written
+    and with comments blanked, each pattern searched once however many dialects share it
+    (the Fanuc-family hints appear in four rows)."""
 
-    def matches(h: Hint) -> bool:
-        key = (h.pattern, h.raw)
-        hit = found.get(key)
+    __slots__ = ("raw", "code", "found")
+
+    def __init__(self, head: str) -> None:
+        self.raw = _bounded(head)
+        self.code = _COMMENTS.sub(lambda m: " " * len(m.group()), self.raw)
+        self.found: dict[tuple[str, bool], bool] = {}
+
+    def matches(self, hint: Hint) -> bool:
+        key = (hint.pattern, hint.raw)
+        hit = self.found.get(key)
         if hit is None:
-            hit = found[key] = _compiled(h.pattern).search(head if h.raw else code) is not None
+            hit = _compiled(hint.pattern).search(self.raw if hint.raw else self.code) is not None
+            self.found[key] = hit
         return hit
 
-    return matches
 
-
-def score(head: str, hints: Iterable[Hint]) -> tuple[int, tuple[Hint, ...]]:
+def score(head: str | _Head, hints: Iterable[Hint]) -> tuple[int, tuple[Hint, ...]]:
     """The score of ``head`` for one dialect's hints and the hints that matched."""
-    matches = _searcher(head)
-    matched = tuple(h for h in hints if matches(h))
+    text = head if isinstance(head, _Head) else _Head(head)
+    matched = tuple(h for h in hints if text.matches(h))
     return sum(h.weight for h in matched), matched
 
 
 def candidates(head: str, table: Sequence[tuple[str, Sequence[Hint]]]) -> list[Candidate]:
     """Every dialect of ``table`` (name, hints; in registry order) with its score."""
-    matches = _searcher(head)
+    text = _Head(head)
     out = []
     for name, hints in table:
-        matched = tuple(h for h in hints if matches(h))
-        out.append(Candidate(name, sum(h.weight for h in matched), matched))
+        total, matched = score(text, hints)
+        out.append(Candidate(name, total, matched))
     return out
 
 

@@ -182,3 +182,63 @@ def test_lane_arc_after_g40_is_refused_and_after_a_line_allowed_as_rs274_does(
     fast = run(allowed, lane=True)
     assert fast == run(allowed, lane=False)
     assert fast[1] is None and any(text.startswith("ARC_FEED") for text, _ in fast[0])
+
+
+def test_lane_takes_lines_ending_in_several_carriage_returns(
+    tmp_path: Path, lane_always: list[Lane | None], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Windows CAM output may end its lines in CR CR LF (PyCAM's on Windows does): the general
+    path strips every CR before the LF, and so does the lane, which used to stop at such a
+    line and leave the whole program to the general path."""
+    taken: list[int] = []
+    take = Lane.take
+
+    def counting(self: Lane, ctx: interp.NgcContext) -> object:
+        run = take(self, ctx)
+        if run is not None:
+            taken.append(run.lines)
+        return run
+
+    monkeypatch.setattr(Lane, "take", counting)
+    body = "".join(f"X{k * 0.5:.4f} Y{(k % 7) * 0.25:.4f}\r\r\n" for k in range(200))
+    prog = tmp_path / "crcrlf.ngc"
+    prog.write_bytes(("G21 G90 G17\r\r\nG1 F300\r\n" + body + "M2\r\r\n").encode())
+    fast = run(prog, lane=True)
+    assert_lane_ran(lane_always)
+    assert sum(taken) >= 190
+    assert fast == run(prog, lane=False)
+    assert fast[1] is None and len(fast[0]) > 200
+
+
+def test_the_lane_is_loaded_only_for_large_programs_of_lines_it_takes(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Loading the lane (numpy, the kernels) costs as much CPU as it saves on about
+    ``LANE_LOAD_COST`` plain lines: a program of half as many (though over
+    ``LANE_MIN_BYTES``), or a large one whose head is macro code the lane takes none of,
+    runs on the general path alone; a program of twice as many opens the lane."""
+    opened: list[str] = []
+    for_file = Lane.for_file
+
+    def spy(pf: ProgramFile, arcs: bool = False) -> Lane | None:
+        opened.append(Path(pf.path).name)
+        return for_file(pf, arcs)
+
+    monkeypatch.setattr(Lane, "for_file", staticmethod(spy))
+    n = int(interp.LANE_LOAD_COST)
+
+    def cam(lines: int) -> str:
+        return "".join(f"G1 X{k * 0.01:.4f} Y{k % 50 * 0.1:.4f} F300\n" for k in range(lines))
+
+    macro = "#1 = 0\n" + "".join(f"#1 = [#1 + {k % 3}]\nG1 X[#1 / 100] F300\n" for k in range(n))
+    for name, text in (("few.ngc", cam(n // 2)), ("cam.ngc", cam(2 * n)), ("macro.ngc", macro)):
+        (tmp_path / name).write_text("G21 G90\n" + text + "M2\n")
+        run(tmp_path / name, lane=True)
+    assert (tmp_path / "few.ngc").stat().st_size >= interp.LANE_MIN_BYTES
+    assert (tmp_path / "macro.ngc").stat().st_size >= interp.LANE_MIN_BYTES
+    assert opened == ["cam.ngc"]
+    # the same lines under cutter compensation, which the lane never takes
+    comp = tmp_path / "comp.ngc"
+    comp.write_text("G21 G90 G40\nG0 X-5 Y-5\nG42 D1 G1 X0 Y0 F300\n" + cam(2 * n) + "G40\nM2\n")
+    assert interp._lane_pays(str(tmp_path / "cam.ngc"))
+    assert not interp._lane_pays(str(comp))

@@ -111,6 +111,8 @@ def evaluate_block(
 
 
 _AXES = frozenset("xyzabc")
+#: letters any block may hold (no code needs to use them): check_letter_uses passes them
+_UNCHECKED = frozenset("xyzabcfst@^")
 _CYCLES = frozenset({730, 740, 810, 820, 830, 840, 850, 860, 870, 880, 890})
 _LATHE_CYCLES = frozenset({700, 710, 711, 712, 720, 721, 722})  # G70-G72.2
 
@@ -126,6 +128,8 @@ def check_letter_uses(words: Words, motion: int | None, loc: Location) -> None:
     ``motion`` is the motion the block runs (its own group-1 code or the modal one).
     """
     v = words.values
+    if v.keys() <= _UNCHECKED:
+        return
     g = words.g
     m = set(words.m.values())
     g0 = g.get(0)

@@ -33,6 +33,8 @@ Expr = object
 UNARY_FUNCTIONS = frozenset(
     {"abs", "acos", "asin", "cos", "exp", "fix", "fup", "ln", "round", "sin", "sqrt", "tan"}
 )
+#: every function name, longest first (the longest one a word's letters start with wins)
+_FUNCTION_NAMES = sorted(UNARY_FUNCTIONS | {"atan", "exists"}, key=len, reverse=True)
 # Binary operators by precedence level (low to high), LinuxCNC: logical < relational <
 # additive < multiplicative < power.
 _LEVELS: tuple[tuple[str, ...], ...] = (
@@ -42,8 +44,11 @@ _LEVELS: tuple[tuple[str, ...], ...] = (
     ("*", "/", "mod"),
     ("**",),
 )
+#: operator -> its level in :data:`_LEVELS`
+_LEVEL_OF = {op: level for level, ops in enumerate(_LEVELS) for op in ops}
 _OPERATOR_RE = re.compile(r"\*\*|[-+*/]|and|xor|or|eq|ne|gt|ge|lt|le|mod")
 _NUMBER_RE = re.compile(r"(?:\d+(?:\.\d*)?|\.\d+)")
+_NUMBER_START = frozenset("0123456789.")
 _PLAIN_LINE_RE = re.compile(r"[ \t]*(?:[xyzabc][ \t]*[-+]?(?:\d+(?:\.\d*)?|\.\d+)[ \t]*)+")
 _PLAIN_WORD_RE = re.compile(r"([xyzabc])[ \t]*([-+]?(?:\d+(?:\.\d*)?|\.\d+))")
 _SIMPLE_LINE_RE = re.compile(r"[ \t]*(?:[a-z][ \t]*[-+]?(?:\d+(?:\.\d*)?|\.\d+)[ \t]*)+")
@@ -156,7 +161,18 @@ class _Scanner:
     # -------------------------------------------------------------- values
     def real_value(self) -> Expr:
         """A word's value: number, parameter, [expression] or unary function (with sign)."""
-        c = self.peek()
+        s = self.s
+        i = self.i
+        if i < len(s) and s[i] in _NUMBER_START:
+            m = _NUMBER_RE.match(s, i)
+            if m is not None:  # the common value: a plain number
+                self.i = m.end()
+                return float(m.group())
+        c = s[i] if i < len(s) else ""
+        if c == "[":
+            return self.bracketed()
+        if c == "#":
+            return self.parameter()
         if c == "-":
             self.i += 1
             self.enter()
@@ -205,10 +221,14 @@ class _Scanner:
     def bracketed(self) -> Expr:
         start = self.i
         self.i += 1  # '['
-        self.enter()
+        self.nest += 1  # enter(), inline: the commonest nesting
+        self.depth += 1
+        if self.nest > self.limits.nesting or self.depth > self.limits.expression_depth:
+            raise limits.nesting_error(self.loc_file, self.line, self.col())
         node = self.expression(0)
-        self.leave()
-        if self.peek() != "]":
+        self.nest -= 1
+        self.depth -= 1
+        if self.i >= len(self.s) or self.s[self.i] != "]":
             raise self.error("NGC-UNCLOSED-EXPR", "expression not closed with ']'", start)
         self.i += 1
         return node
@@ -220,7 +240,7 @@ class _Scanner:
             j += 1
         name = self.s[self.i : j]
         # the longest function name that is a prefix of the letters (e.g. "sin[" inside "xsin[")
-        for fn in sorted(UNARY_FUNCTIONS | {"atan", "exists"}, key=len, reverse=True):
+        for fn in _FUNCTION_NAMES:
             if name.startswith(fn) and self.s.startswith(fn + "[", self.i):
                 self.i += len(fn)
                 break
@@ -255,70 +275,98 @@ class _Scanner:
             return ("atan", arg, self.bracketed())
         return ("u", fn, arg)
 
-    def operator(self) -> str | None:
-        m = _OPERATOR_RE.match(self.s, self.i)
-        return m.group() if m else None
-
     def expression(self, level: int) -> Expr:
-        """Precedence climbing over :data:`_LEVELS`, left associative."""
-        if level == len(_LEVELS):
-            return self.real_value()
-        left = self.expression(level + 1)
-        ops = _LEVELS[level]
-        chained = 0  # operators of this level so far: each deepens the left-leaning tree
+        """Precedence climbing over :data:`_LEVELS`, left associative: the operators of
+        ``level`` and above. One frame takes every level from ``level`` on (the tree, the
+        errors and the depth count are those of one recursive frame per level: an operator
+        of level L first closes the chains of the levels above L)."""
+        left = self.real_value()
+        s = self.s
+        m = _OPERATOR_RE.match(s, self.i)
+        if m is None:
+            if self.i < len(s) and s[self.i] != "]":
+                raise self.error("NGC-BAD-OPERATOR", f"unknown operator at '{s[self.i :]}'")
+            return left
+        op = m.group()
+        op_level = _LEVEL_OF[op]
+        if op_level < level:
+            return left
+        chained = [0] * len(_LEVELS)  # operators chained per level in this frame
+        open_ops = 0  # their sum: what this frame adds to ``depth``
         while True:
-            op = self.operator()
-            if op is None or op not in ops:
-                if op is None and self.peek() not in ("]", ""):
-                    raise self.error(
-                        "NGC-BAD-OPERATOR", f"unknown operator at '{self.s[self.i :]}'"
-                    )
-                self.depth -= chained
-                return left
-            self.i += len(op)
-            chained += 1
+            for k in range(op_level + 1, len(_LEVELS)):
+                if chained[k]:
+                    self.depth -= chained[k]
+                    open_ops -= chained[k]
+                    chained[k] = 0
+            self.i = m.end()
+            chained[op_level] += 1
+            open_ops += 1
             self.depth += 1
             if self.depth > self.limits.expression_depth:
                 raise limits.nesting_error(self.loc_file, self.line, self.col())
-            right = self.expression(level + 1)
+            right = self.expression(op_level + 1)
             left = ("b", op, left, right)
+            m = _OPERATOR_RE.match(s, self.i)
+            if m is None:
+                if self.i < len(s) and s[self.i] != "]":
+                    raise self.error("NGC-BAD-OPERATOR", f"unknown operator at '{s[self.i :]}'")
+                self.depth -= open_ops
+                return left
+            op = m.group()
+            op_level = _LEVEL_OF[op]
+            if op_level < level:
+                self.depth -= open_ops
+                return left
+
+
+_BLANKS = frozenset(" \t\r\n")
+_NO_BLANKS = str.maketrans("", "", " \t\r\n")
 
 
 def _strip_comments(
     raw: str, file: str | None, line: int
 ) -> tuple[str, list[int], list[tuple[str, int]]]:
-    """Remove comments and blanks; lower-case; keep original columns and comment texts."""
-    chars: list[str] = []
+    """Remove comments and blanks; lower-case; keep original columns and comment texts.
+
+    The text between comments is taken a stretch at a time (each character lower-cased
+    on its own, as the column map needs)."""
+    parts: list[str] = []
     cols: list[int] = []
     comments: list[tuple[str, int]] = []
     i = 0
     n = len(raw)
     while i < n:
-        c = raw[i]
-        if c == "(":
-            end = raw.find(")", i + 1)
-            if end < 0:
-                raise Diagnostic(
-                    "NGC-UNCLOSED-COMMENT", "unclosed comment found", Location(file, line, i + 1)
-                )
-            inner = raw[i + 1 : end]
-            if "(" in inner:
-                raise Diagnostic(
-                    "NGC-NESTED-COMMENT", "nested comment found", Location(file, line, i + 1)
-                )
-            comments.append((inner, i + 1))
-            i = end + 1
-            continue
-        if c == ";":
-            comments.append((raw[i + 1 :], i + 1))
+        paren = raw.find("(", i)
+        semi = raw.find(";", i)
+        j = n if paren < 0 and semi < 0 else (paren if semi < 0 or 0 <= paren < semi else semi)
+        if j > i:
+            stretch = raw[i:j]
+            at = [k for k, c in enumerate(stretch, i + 1) if c not in _BLANKS]
+            if at:
+                cols += at
+                if stretch.isascii():
+                    parts.append(stretch.translate(_NO_BLANKS).lower())
+                else:
+                    parts.append("".join([raw[k - 1].lower() for k in at]))
+        if j == n:
             break
-        if c in " \t\r\n":
-            i += 1
-            continue
-        chars.append(c.lower())
-        cols.append(i + 1)
-        i += 1
-    return "".join(chars), cols, comments
+        if raw[j] == ";":
+            comments.append((raw[j + 1 :], j + 1))
+            break
+        end = raw.find(")", j + 1)
+        if end < 0:
+            raise Diagnostic(
+                "NGC-UNCLOSED-COMMENT", "unclosed comment found", Location(file, line, j + 1)
+            )
+        inner = raw[j + 1 : end]
+        if "(" in inner:
+            raise Diagnostic(
+                "NGC-NESTED-COMMENT", "nested comment found", Location(file, line, j + 1)
+            )
+        comments.append((inner, j + 1))
+        i = end + 1
+    return "".join(parts), cols, comments
 
 
 def parse_line(raw: str, line: int, file: str | None = None) -> Block:

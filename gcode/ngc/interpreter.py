@@ -16,6 +16,7 @@ one, with the run loop, and the only module here that imports motion, offsets, M
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
@@ -77,19 +78,67 @@ def interpret_text(
 
 
 _PLANES = {170: Plane.XY, 180: Plane.XZ, 190: Plane.YZ}
-#: files from this size on use the compiled fast lane (gcode.ngc.lane.lane). The measured
-#: break-even (docs/performance.md, CPU time of ``cnc canon``): loading numpy and the lane
-#: costs about 0.06 s, which the lane wins back on plain CAM code from about 235 KB on.
-LANE_MIN_BYTES = 1 << 18
+#: the words of a block :meth:`Interpreter._motion_block` runs: axis and F words, and in
+#: G2/G3 the centre and R words
+_LINE_WORDS = frozenset("xyzabcf")
+_MOTION_WORDS = frozenset("xyzabcfijkr")
+#: files from this size on may use the compiled fast lane (gcode.ngc.lane.lane), when
+#: :func:`_lane_pays`; 0 forces the lane on for every file (the equivalence tests do)
+LANE_MIN_BYTES = 1 << 17
+#: how much of a program's head :func:`_lane_pays` samples
+LANE_SAMPLE_BYTES = 1 << 16
+#: the measured break-even (docs/performance.md, CPU time of ``cnc canon``, in units of
+#: one plain line's general-path time over the lane's): loading numpy and the kernels costs
+#: as much as the lane saves on about 12,000 plain lines; an arc line saves about 2.5 times
+#: what a plain line does (1.5 more; R-format arcs save more than centre-format ones)
+LANE_LOAD_COST = 12_000.0
+LANE_ARC_SAVING = 1.5
+#: lines the lane can take (an optional N word, one G0-G3, axis, centre, R and F words with
+#: plain numbers), case and blanks as the lane reads them
+_LANE_LINE = re.compile(
+    rb"^[ \t]*(?:[nN][ \t]*\d+[ \t]*)?(?:[gG][ \t]*0*[0-3](?![\d.])[ \t]*)?"
+    rb"(?:[xyzabcfijkrXYZABCFIJKR][ \t]*[-+]?[ \t]*(?:\d+\.?\d*|\.\d+)[ \t]*)+\r*$",
+    re.M,
+)
+_ARC_WORD = re.compile(rb"[ijkrIJKR]")
+#: G40, G41, G42 (and G41.1, G42.1): where cutter compensation starts and ends
+_COMP_WORD = re.compile(rb"[gG][ \t]*0*4[ \t]*([012])(?:\.1)?(?![\d.])")
+
+
+def _lane_pays(path: str) -> bool:
+    """Whether the lane wins back its loading on ``path``: the lines it would take, estimated
+    from the file's size and its head (plain lines and arcs, which the general path takes
+    more slowly), outweigh :data:`LANE_LOAD_COST`. A macro program of expressions, however
+    large, has none. Only the choice of path depends on it, never the output."""
+    if LANE_MIN_BYTES == 0:
+        return True
+    try:
+        size = os.path.getsize(path)
+        if size < LANE_MIN_BYTES:
+            return False
+        with open(path, "rb") as fh:
+            head = fh.read(LANE_SAMPLE_BYTES)
+    except OSError:
+        return False
+    head = head[: head.rfind(b"\n") + 1] or head
+    lines: list[bytes] = []
+    start = 0
+    compensated = False  # the lane takes no line under cutter compensation (G41/G42)
+    for word in _COMP_WORD.finditer(head):
+        if not compensated:
+            lines += _LANE_LINE.findall(head, start, word.start())
+        compensated = word.group(1) != b"0"
+        start = word.end()
+    if not compensated:
+        lines += _LANE_LINE.findall(head, start)
+    arcs = sum(1 for line in lines if _ARC_WORD.search(line))
+    return (len(lines) + LANE_ARC_SAVING * arcs) * size / len(head) >= LANE_LOAD_COST
 
 
 def _lane_for(pf: ProgramFile, arcs: bool) -> Lane | None:
-    """The compiled fast lane for a large program file (imported here: it needs numpy, which
-    a small program then never loads); ``arcs``: its runs may hold arcs."""
-    try:
-        if os.path.getsize(pf.path) < LANE_MIN_BYTES:
-            return None
-    except OSError:
+    """The compiled fast lane for a large program file of CAM lines (imported here: it needs
+    numpy, which a small program then never loads); ``arcs``: its runs may hold arcs."""
+    if not _lane_pays(pf.path):
         return None
     from gcode.ngc.lane.lane import Lane
 
@@ -218,7 +267,7 @@ class Interpreter(NgcContext):
             assigns: list[Assignment] = []
         else:
             words, assigns = evaluate_block(block, self.params, file)
-            if is_constant(block):
+            if self.flow.file.caching and is_constant(block):  # a block read again: loops
                 block.cached_words = words
         for target, value, loc in assigns:
             if isinstance(target, str):
@@ -247,6 +296,16 @@ class Interpreter(NgcContext):
             # the CAM hot path: axis words in the current motion mode
             motion.execute_motion(self, w, s.motion_mode)
             return False
+        if (
+            not w.m
+            and v.keys() <= _MOTION_WORDS
+            and (not g or (len(g) == 1 and g.get(1, G80) != G80))
+        ):
+            # the other CAM block: G0-G3 with axis, centre, R and F words; none of the
+            # steps below but F and the motion applies, and no letter check can fail
+            mode = g.get(1, s.motion_mode if w.has_axis() else None)
+            if v.keys() <= _LINE_WORDS or mode == 20 or mode == 30:
+                return self._motion_block(w)
         motion.check_block(self, w)
         if w.m:
             mcodes.check_user_m(self, w)
@@ -355,6 +414,29 @@ class Interpreter(NgcContext):
             if code == 99 and self.flow.m99(loc):
                 return False
             return mcodes.program_stop(self, 2 if code == 99 else code)
+        return False
+
+    def _motion_block(self, w: Words) -> bool:
+        """:meth:`_execute` of a block of motion words only (its F word, then its motion)."""
+        s = self.s
+        v = w.values
+        if "f" in v:
+            f = v["f"]
+            if f < 0:
+                raise Diagnostic("NGC-NEGATIVE-F", "negative F word used", self._at(w, "f"))
+            if s.feed_mode != INVERSE_TIME:
+                s.feed_rate = f
+                self.emit(canon.SetFeedRate(f, source=self.loc))
+        if w.g:
+            motion.execute_motion(self, w, w.g[1])
+        elif w.has_axis():
+            if s.motion_mode is None or s.motion_mode == G80:
+                raise Diagnostic(
+                    "NGC-AXIS-NO-MOTION",
+                    "cannot use axis values without a G code that uses them",
+                    self.loc,
+                )
+            motion.execute_motion(self, w, s.motion_mode)
         return False
 
     def _at(self, w: Words, letter: str) -> Location:

@@ -77,9 +77,24 @@ def find_ends(ctx: NgcContext, w: Words) -> list[float]:
     if w.g.get(0) == 530:
         machine = s.to_machine(pos)
         return s.to_program([v.get(a, machine[i]) for i, a in enumerate(AXES)])
+    get = v.get
     if s.absolute:
-        return [v.get(a, pos[i]) for i, a in enumerate(AXES)]
-    return [pos[i] + v.get(a, 0.0) for i, a in enumerate(AXES)]
+        return [
+            get("x", pos[0]),
+            get("y", pos[1]),
+            get("z", pos[2]),
+            get("a", pos[3]),
+            get("b", pos[4]),
+            get("c", pos[5]),
+        ]
+    return [
+        pos[0] + get("x", 0.0),
+        pos[1] + get("y", 0.0),
+        pos[2] + get("z", 0.0),
+        pos[3] + get("a", 0.0),
+        pos[4] + get("b", 0.0),
+        pos[5] + get("c", 0.0),
+    ]
 
 
 def polar_words(ctx: NgcContext, w: Words) -> Words:

@@ -120,7 +120,7 @@ class CutterCompensator:
     @property
     def holding(self) -> bool:
         """A move is held: every other command must go through :meth:`passthrough`."""
-        return bool(self._queue)
+        return bool(self._queue.items)
 
     def require_off(self, action: str, source: Location | None) -> None:
         """Raise NGC-COMP-ACTIVE if compensation is on: ``action`` is a key of

@@ -189,7 +189,7 @@ def _scan(
         while e < n and buf[e] != 10:
             e += 1
         next_line = e + 1 if e < n else n
-        if e > i and buf[e - 1] == 13:
+        while e > i and buf[e - 1] == 13:  # every CR before the LF, as rstrip("\r\n")
             e -= 1
         have = 0
         ok = True
