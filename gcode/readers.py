@@ -45,7 +45,8 @@ def read_chunks(
     :class:`gcode.ngc.lane.fastlane.Run` arrays (``interpret_chunks``), for a writer that takes
     them in bulk (gcode.write.writer.write_text). With ``arcs``, for a reader of IR commands
     (the convert check), the runs may hold arcs, and every reader with a fast lane
-    (``interpret_chunks``: the Fanuc mill and Haas mill) gives its runs; without, other
+    (``interpret_chunks``: Grbl, NIST v3, Mach3, the Fanuc and Haas mills) gives its runs;
+    without, other
     dialects give commands only."""
     if reader_name(dialect) == "rs274ngc":
         from gcode.ngc.interpreter import interpret_chunks

@@ -57,6 +57,7 @@ LANE_TARGETS = [
     ("fanuc", "ijk"),
     ("fanuc", "r"),
     ("haas", "r"),
+    ("mach3", "ijk"),
 ]
 
 Listing = tuple[list[tuple[str, int]], str | None]
@@ -134,6 +135,17 @@ def test_fanuc_lane_reads_the_shop_programs_as_the_general_path(
     assert through_lanes(program, dialect, opts) == general(program, dialect, opts)
     # the commands interface of the reader takes the same lane
     assert listing(read(program, dialect, opts)) == general(program, dialect, opts)
+
+
+@pytest.mark.parametrize(
+    "program", sorted((HERE / "dialects" / "mach3").glob("*.tap")), ids=lambda p: p.stem
+)
+def test_mach3_lane_reads_the_hand_derived_programs_as_the_general_path(
+    program: Path, lanes_always: dict[str, int]
+) -> None:
+    """Scaling (G51) keeps the lane aside; the rest reads as the general path does."""
+    opts = InterpreterOptions(search_path=(str(program.parent),))
+    assert through_lanes(program, "mach3", opts) == general(program, "mach3", opts)
 
 
 def cam_program(lines: int, inch: bool, incremental: bool) -> str:

@@ -85,6 +85,8 @@ class Lane:
         flow = ctx.flow
         if flow.file is not self.pf or flow.calls or flow.controls or not flow.seen_line:
             return None
+        if not ctx.lane_open():
+            return None
         arcs = modal_arcs(ctx, self.arcs)
         if arcs is None:
             return None
