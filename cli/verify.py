@@ -60,8 +60,11 @@ class Recorder:
 
 
 def moves_of(run: Run, file: str) -> Moves:
-    """A fast lane's run as the equivalence check's arrays (the same arrays, not copied)."""
-    return Moves(run.kind, run.position, run.feed, run.line, file)
+    """A fast lane's run as the equivalence check's arrays, copied: the lane's arrays are
+    views of buffers sized for its longest run, which a kept short run would hold on to
+    (a 200,000-line program's runs then held gigabytes)."""
+    arc = None if run.arc is None else run.arc.copy()
+    return Moves(run.kind.copy(), run.position.copy(), run.feed.copy(), run.line.copy(), file, arc)
 
 
 @dataclass
@@ -156,7 +159,9 @@ def _check(
     losses = [c for c in report.changes if c.kind in LOSSES and c.code not in SAME_MOTION]
     rounding = _resolution(target, writer.decimals)
     refused: list[Diagnostic] = []
-    back = _chunks(_until_refused(read_chunks(spool, target.name, options), refused), spool)
+    back = _chunks(
+        _until_refused(read_chunks(spool, target.name, options, arcs=True), refused), spool
+    )
     if equivalent(recorder.chunks, back, rounding) and not refused:
         result.compared = sum(len(c.kind) if isinstance(c, Moves) else 1 for c in recorder.chunks)
         result.verified = True
@@ -165,7 +170,7 @@ def _check(
     source = recorder.commands
     refused.clear()
     again = expanded(
-        _chunks(_until_refused(read_chunks(spool, target.name, options), refused), spool)
+        _chunks(_until_refused(read_chunks(spool, target.name, options, arcs=True), refused), spool)
     )
     diff = first_difference(source, again, writer.tolerance, rounding)
     result.compared = len(source)

@@ -38,16 +38,27 @@ def read_chunks(
     path: str | os.PathLike[str],
     dialect: str,
     options: InterpreterOptions | None = None,
+    *,
     arcs: bool = False,
 ) -> Iterator[object]:
     """Like :func:`read`, but an RS274/NGC program's runs of plain lines come as
-    :class:`gcode.ngc.lane.fastlane.Run` arrays (``interpret_chunks``; with ``arcs`` the runs
-    may hold arcs), for a consumer that takes them in bulk (gcode.write.writer.write_text,
-    cnc check); other dialects give commands only."""
+    :class:`gcode.ngc.lane.fastlane.Run` arrays (``interpret_chunks``), for a writer that takes
+    them in bulk (gcode.write.writer.write_text). With ``arcs``, for a consumer of IR
+    commands (the convert check, cnc check), the runs may hold arcs, and every reader with a
+    fast lane (``interpret_chunks``: Grbl, NIST v3, Mach3, the Fanuc and Haas mills) gives its
+    runs; without, other dialects give commands only."""
     if reader_name(dialect) == "rs274ngc":
         from gcode.ngc.interpreter import interpret_chunks
 
         return interpret_chunks(path, options or _default_options(), arcs=arcs)
+<<<<<<< HEAD
+=======
+    if arcs:
+        module = reader_module(dialect)
+        chunks = getattr(module, "interpret_chunks", None)
+        if chunks is not None:
+            return chunks(path, options or _default_options(), arcs=True)
+>>>>>>> wt-convert
     return read(path, dialect, options)
 
 

@@ -16,12 +16,16 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 from gcode.core.lexer import Block, Word
 from gcode.core.program import ProgramFile
 from gcode.ngc.interpreter import Interpreter, InterpreterOptions
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
+
+if TYPE_CHECKING:
+    from gcode.ngc.lane.fastlane import Run
 
 
 class Vocabulary:
@@ -92,10 +96,32 @@ def interpret_checked(
             raise
 
 
+def chunks_checked(
+    pf: CheckedProgramFile, options: InterpreterOptions | None, arcs: bool
+) -> Iterator[canon.Command | Run]:
+    """Like :func:`interpret_checked`, with the fast lane's runs of a large file as
+    :class:`gcode.ngc.lane.fastlane.Run` arrays (``Interpreter.chunks``)."""
+    lenient = pf.vocabulary.lenient_end
+    try:
+        yield from Interpreter(options or InterpreterOptions()).chunks(pf, arcs)
+    except Diagnostic as exc:
+        if exc.code not in lenient:
+            raise
+
+
 def read_path(
     path: str | os.PathLike[str], vocabulary: Vocabulary, options: InterpreterOptions | None
 ) -> Iterator[canon.Command]:
     return interpret_checked(CheckedProgramFile(os.fspath(path), vocabulary), options)
+
+
+def read_chunks(
+    path: str | os.PathLike[str],
+    vocabulary: Vocabulary,
+    options: InterpreterOptions | None,
+    arcs: bool,
+) -> Iterator[canon.Command | Run]:
+    return chunks_checked(CheckedProgramFile(os.fspath(path), vocabulary), options, arcs)
 
 
 def read_text(

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 from gcode.core.loopguard import RepeatGuard
 from gcode.fanuc.executor import Action, Executor
@@ -23,10 +24,14 @@ from gcode.fanuc.options import Flavour
 from gcode.fanuc.program import Source, find_program_file, read_source
 from gcode.fanuc.sysvars import SystemVariables
 from gcode.fanuc.words import resolve
-from gcode.ngc.interpreter import Interpreter, InterpreterOptions
+from gcode.ngc.interpreter import LANE_MIN_BYTES, Interpreter, InterpreterOptions
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.ir.canon import Units
+
+if TYPE_CHECKING:  # numpy and the kernels load with the first large program
+    from gcode.fanuc.lane import FanucLane
+    from gcode.ngc.lane.fastlane import Run
 
 MAX_DEPTH = 32
 #: files up to this many lines keep every parsed block (larger ones: loop/subprogram lines)
@@ -85,8 +90,19 @@ class Reader:
 
     # ------------------------------------------------------------------ run
     def run(self) -> Iterator[canon.Command]:
+        """The canonical commands of the program (the lane's runs as commands)."""
+        for item in self.chunks(arcs=True):
+            if isinstance(item, canon.Command):
+                yield item
+            else:
+                yield from item.commands(self.main.path)
+
+    def chunks(self, arcs: bool = False) -> Iterator[canon.Command | Run]:
+        """Commands, and for a large file runs of plain blocks as
+        :class:`gcode.ngc.lane.fastlane.Run` (gcode.fanuc.lane); ``arcs``: runs may hold
+        arcs."""
         try:
-            yield from self._run()
+            yield from self._run(self._lane(arcs))
         except Diagnostic as exc:
             out = self.ip.out
             yield from list(out)  # what the failing block made before its error
@@ -95,7 +111,16 @@ class Reader:
                 raise Diagnostic("FANUC-" + exc.code[4:], exc.message, exc.location) from None
             raise
 
-    def _run(self) -> Iterator[canon.Command]:
+    def _lane(self, arcs: bool) -> FanucLane | None:
+        """The compiled fast lane for a large main program (imported here: it needs numpy,
+        which a small program then never loads)."""
+        if not self.options.fast_lane or len(self.main.lines.data) < LANE_MIN_BYTES:
+            return None
+        from gcode.fanuc.lane import FanucLane
+
+        return FanucLane.for_source(self.main, arcs)
+
+    def _run(self, lane: FanucLane | None) -> Iterator[canon.Command | Run]:
         ip = self.ip
         out = ip.out
         ip.loc = Location(self.main.path, 0, 0)
@@ -117,6 +142,14 @@ class Reader:
                     break
                 continue
             idx = fr.pc
+            if lane is not None and fr.started and len(frames) == 1 and not fr.loops:
+                run = lane.take(self.ex, idx)
+                if run is not None:
+                    fr.pc += run.lines
+                    guard.blocks += run.lines
+                    guard.output += len(run)
+                    yield run
+                    continue
             fr.pc += 1
             guard.blocks += 1
             blk = src.block(idx, keep_all or len(frames) > 1 or bool(fr.loops))
@@ -438,6 +471,14 @@ class Reader:
 
 def read(path: str, options: InterpreterOptions, flavour: Flavour) -> Iterator[canon.Command]:
     yield from Reader(read_source(path), options, flavour).run()
+
+
+def read_chunks(
+    path: str, options: InterpreterOptions, flavour: Flavour, arcs: bool = False
+) -> Iterator[canon.Command | Run]:
+    """Like :func:`read`, with the runs of plain blocks of a large program as
+    :class:`gcode.ngc.lane.fastlane.Run` arrays (``Reader.chunks``)."""
+    yield from Reader(read_source(path), options, flavour).chunks(arcs)
 
 
 def read_text(

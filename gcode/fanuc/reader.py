@@ -12,7 +12,7 @@ import os
 from collections.abc import Iterator
 from dataclasses import replace
 
-from gcode.fanuc.flow import read, read_text
+from gcode.fanuc.flow import read, read_chunks, read_text
 from gcode.fanuc.options import FANUC, Flavour
 from gcode.ngc.interpreter import InterpreterOptions
 from kernel.ir import canon
@@ -32,6 +32,14 @@ def interpret(
     """Canonical commands of the Fanuc program in ``path`` (streaming)."""
     fl = flavour(lathe=lathe, polar_book_convention=polar_book_convention)
     return read(os.fspath(path), options or InterpreterOptions(), fl)
+
+
+def interpret_chunks(
+    path: str | os.PathLike[str], options: InterpreterOptions | None = None, *, arcs: bool = False
+) -> Iterator[object]:
+    """Like :func:`interpret` (a mill), with the runs of plain blocks of a large program as
+    :class:`gcode.ngc.lane.fastlane.Run` arrays; ``arcs``: runs may hold arcs."""
+    return read_chunks(os.fspath(path), options or InterpreterOptions(), FANUC, arcs)
 
 
 def interpret_text(

@@ -27,7 +27,14 @@ from collections.abc import Iterator
 
 from gcode.core.codes import Words
 from gcode.core.lexer import Block
-from gcode.core.subset_reader import Vocabulary, code_of, constant_word, read_path, read_text
+from gcode.core.subset_reader import (
+    Vocabulary,
+    code_of,
+    constant_word,
+    read_chunks,
+    read_path,
+    read_text,
+)
 from gcode.ngc.interpreter import InterpreterOptions
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
@@ -131,6 +138,14 @@ def interpret(
 ) -> Iterator[canon.Command]:
     """Canonical commands of the Grbl program at ``path`` (streaming)."""
     return read_path(path, GRBL, options)
+
+
+def interpret_chunks(
+    path: str | os.PathLike[str], options: InterpreterOptions | None = None, *, arcs: bool = False
+) -> Iterator[object]:
+    """Like :func:`interpret`, with the fast lane's runs of a large program as
+    :class:`gcode.ngc.lane.fastlane.Run` arrays; ``arcs``: runs may hold arcs."""
+    return read_chunks(path, GRBL, options, arcs)
 
 
 def interpret_text(

@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 from collections.abc import Iterator
 
-from gcode.fanuc.flow import read, read_text
+from gcode.fanuc.flow import read, read_chunks, read_text
 from gcode.fanuc.options import HAAS
 from gcode.ngc.interpreter import InterpreterOptions
 from kernel.ir import canon
@@ -21,6 +21,14 @@ def interpret(
 ) -> Iterator[canon.Command]:
     """Canonical commands of the Haas program in ``path`` (streaming)."""
     return read(os.fspath(path), options or InterpreterOptions(), HAAS)
+
+
+def interpret_chunks(
+    path: str | os.PathLike[str], options: InterpreterOptions | None = None, *, arcs: bool = False
+) -> Iterator[object]:
+    """Like :func:`interpret`, with the runs of plain blocks of a large program as
+    :class:`gcode.ngc.lane.fastlane.Run` arrays; ``arcs``: runs may hold arcs."""
+    return read_chunks(os.fspath(path), options or InterpreterOptions(), HAAS, arcs)
 
 
 def interpret_text(

@@ -54,6 +54,7 @@ FACTOR = {"x": 0, "y": 1, "z": 2, "a": 3, "b": 4, "c": 5, "i": 0, "j": 1, "k": 2
 PLANES = {170: (0, 1), 180: (2, 0), 190: (1, 2)}
 _PLANE_CODE = {canon.Plane.XY: 170, canon.Plane.XZ: 180, canon.Plane.YZ: 190}
 _ARCS = frozenset({20, 30})
+_UNSCALED = [1.0] * 6
 _ENDS = (*canon.MOTIONS, canon.ProgramStop, canon.OptionalProgramStop, canon.ProgramEnd)
 _LENIENT_END = frozenset({"NGC-NO-END", "NGC-NO-PERCENT"})
 #: G codes (x10) that use a P or Q word themselves
@@ -64,9 +65,14 @@ class Mach3Interpreter(Interpreter):
     """The RS274/NGC interpreter with Mach3's codes (module docstring)."""
 
     def __init__(self, options: InterpreterOptions) -> None:
-        # every line goes through execute_line (scaling), so no compiled fast lane
-        super().__init__(replace(options, fast_lane=False, arc_radius_relative=ARC_RELATIVE))
+        super().__init__(replace(options, arc_radius_relative=ARC_RELATIVE))
         self.scale = [1.0] * 6
+
+    def lane_open(self) -> bool:
+        """The fast lane takes plain lines only while no scale factor is set: a plain line
+        then runs as RS274/NGC (no Mach3 code, no M code, and a centre-format arc the lane
+        accepts by LinuxCNC's radius rule is accepted by Mach3's more lenient one too)."""
+        return self.scale == _UNSCALED
 
     def execute_line(self, block: Block) -> bool:
         """Rewrite Mach3's codes of ``block`` and run it (module docstring)."""
@@ -227,6 +233,19 @@ def interpret(
 ) -> Iterator[canon.Command]:
     """Canonical commands of the Mach3 program at ``path`` (streaming)."""
     return _run(ProgramFile(os.fspath(path)), options)
+
+
+def interpret_chunks(
+    path: str | os.PathLike[str], options: InterpreterOptions | None = None, *, arcs: bool = False
+) -> Iterator[object]:
+    """Like :func:`interpret`, with the fast lane's runs of a large program as
+    :class:`gcode.ngc.lane.fastlane.Run` arrays; ``arcs``: runs may hold arcs."""
+    pf = ProgramFile(os.fspath(path))
+    try:
+        yield from Mach3Interpreter(options or InterpreterOptions()).chunks(pf, arcs)
+    except Diagnostic as exc:
+        if exc.code not in _LENIENT_END:
+            raise
 
 
 def interpret_text(

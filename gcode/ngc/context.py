@@ -86,6 +86,11 @@ class NgcContext:
         self.m70: dict[int, SavedModes] = {}  # M70 state by call level
         self.comp: CutterComp | None = None  # cutter comp filter once G40-G42 was seen
 
+    def lane_open(self) -> bool:
+        """Whether the compiled fast lane may take plain lines now (a reader that rewrites
+        blocks before they run says no while a rewrite applies: Mach3's scaling)."""
+        return True
+
     def emit(self, cmd: canon.Command) -> None:
         """Output ``cmd`` (held behind a compensated move if LinuxCNC would hold it)."""
         comp = self.comp

@@ -24,6 +24,7 @@ from gcode.core.subset_reader import (
     code_of,
     constant_word,
     expression_nodes,
+    read_chunks,
     read_path,
     read_text,
 )
@@ -104,6 +105,14 @@ def interpret(
 ) -> Iterator[canon.Command]:
     """Canonical commands of the NIST v3 program at ``path`` (streaming)."""
     return read_path(path, NIST_V3, options)
+
+
+def interpret_chunks(
+    path: str | os.PathLike[str], options: InterpreterOptions | None = None, *, arcs: bool = False
+) -> Iterator[object]:
+    """Like :func:`interpret`, with the fast lane's runs of a large program as
+    :class:`gcode.ngc.lane.fastlane.Run` arrays; ``arcs``: runs may hold arcs."""
+    return read_chunks(path, NIST_V3, options, arcs)
 
 
 def interpret_text(

@@ -482,6 +482,20 @@ def first_difference(
     return None
 
 
+def _arc_middle(item: Item) -> tuple[float, float, float]:
+    """The point half way along an ARC_FEED motion (mm)."""
+    arc = _Curve(item)
+    i, j, n = arc.axes
+    ci, cj = arc.centre
+    angle = arc.theta0 + arc.sweep / 2
+    radius = (arc.r0 + arc.r1) / 2
+    point = [0.0, 0.0, 0.0]
+    point[i] = ci + radius * math.cos(angle)
+    point[j] = cj + radius * math.sin(angle)
+    point[n] = (item.start[n] + item.end[n]) / 2
+    return (point[0], point[1], point[2])
+
+
 def _cover(
     src: Item,
     out: Item | None,
@@ -507,6 +521,14 @@ def _cover(
             k = _mm(src.units)
             shown = ", ".join(f"{v / k:.4f}" for v in out.end)
             return out, f"piece {pieces} of this {name} ends off the curve at ({shown})"
+        if isinstance(out.command, canon.ArcFeed):
+            # an arc piece ending on the curve may still leave it between (the other way
+            # round a circle: G02 for G03): its middle must lie on the curve too
+            middle = _arc_middle(out)
+            if curve.locate(middle, tol_mm) is None:
+                k = _mm(src.units)
+                shown = ", ".join(f"{v / k:.4f}" for v in middle)
+                return out, f"piece {pieces} of this {name} leaves the curve at ({shown})"
         curve.progress = at
         end = out.end
         out = next(rest, None)
@@ -518,29 +540,35 @@ def _cover(
 
 # ---------------------------------------------------------------- the array fast path
 
+_ARC = 3  # ARC_FEED, beside the straight moves' 0 1 and SET_FEED_RATE's 2
+
 
 @dataclass(frozen=True, slots=True)
 class Moves:
     """A run of plain moves and feed changes as arrays (a reader's run of plain lines):
-    ``kind[i]`` is 0 (STRAIGHT_TRAVERSE), 1 (STRAIGHT_FEED) or 2 (SET_FEED_RATE),
-    ``position[i]`` the x y z a b c after it, ``feed[i]`` the rate in force, ``line[i]``
-    its source line in ``file``."""
+    ``kind[i]`` is 0 (STRAIGHT_TRAVERSE), 1 (STRAIGHT_FEED), 2 (SET_FEED_RATE) or 3
+    (ARC_FEED), ``position[i]`` the x y z a b c after it, ``feed[i]`` the rate in force,
+    ``line[i]`` its source line in ``file``; ``arc[i]`` (None when the run has no arcs) an
+    arc's in-plane end, centre, turns and end on the normal axis, as ARC_FEED takes them."""
 
     kind: np.ndarray
     position: np.ndarray
     feed: np.ndarray
     line: np.ndarray
     file: str | None
+    arc: np.ndarray | None = None
 
     def commands(self) -> list[canon.Command]:
         """The events as IR command objects, each with its source line."""
         out: list[canon.Command] = []
         file = self.file
-        for k, pos, rate, ln in zip(
+        arcs = self.arc.tolist() if self.arc is not None else [()] * len(self.kind)
+        for k, pos, rate, ln, arc in zip(
             self.kind.tolist(),
             self.position.tolist(),
             self.feed.tolist(),
             self.line.tolist(),
+            arcs,
             strict=True,
         ):
             src = Location(file, ln, 1)
@@ -548,6 +576,9 @@ class Moves:
                 out.append(canon.StraightTraverse(*pos, source=src))
             elif k == 1:
                 out.append(canon.StraightFeed(*pos, source=src))
+            elif k == _ARC:
+                e1, e2, c1, c2, turns, normal = arc
+                out.append(canon.ArcFeed(e1, e2, c1, c2, int(turns), normal, *pos[3:], source=src))
             else:
                 out.append(canon.SetFeedRate(rate, source=src))
         return out
@@ -564,7 +595,6 @@ def expanded(stream: Iterable[canon.Command | Moves]) -> Iterator[canon.Command]
 
 #: the state a motion sees, as the fast path interns it
 _State = tuple[float, canon.Direction, int | str, bool, bool, canon.Plane, canon.Units | None]
-_ARC = 3  # a kind beside Moves' 0 1 2
 _SMALL = 256  # Moves of fewer events join the rows as Python lists
 _MOTION_KINDS = (
     canon.StraightTraverse,
@@ -575,6 +605,20 @@ _MOTION_KINDS = (
     canon.EllipseFeed,
     canon.Dwell,
 )
+
+
+def _move_rows(run: Moves) -> tuple[np.ndarray, np.ndarray | None]:
+    """A run's rows as :class:`_Table` holds them: the six values of each event (an arc's
+    in-plane end and normal end in place of x y z) and its arcs' centre and turns."""
+    if run.arc is None:
+        return run.position, None
+    arc = run.kind == _ARC
+    if not arc.any():
+        return run.position, None
+    values = run.position.copy()
+    rows = run.arc[arc]
+    values[arc, :3] = rows[:, (0, 1, 5)]
+    return values, rows[:, 2:5]
 
 
 class _Table:
@@ -590,7 +634,8 @@ class _Table:
         values: list[np.ndarray] = []
         feeds: list[np.ndarray] = []
         state_runs: list[tuple[int, int]] = []  # (state id, rows)
-        self.arcs: list[tuple[float, float, int]] = []
+        arc_chunks: list[np.ndarray] = []  # (centre, turns) of the arcs, in row order
+        pa: list[tuple[float, ...]] = []  # the same, not yet in ``arc_chunks``
         self.events: list[tuple[int, str]] = []
         rows = 0  # rows so far, feed changes of Moves included
         moves = 0  # motions so far
@@ -614,6 +659,9 @@ class _Table:
                 pk.clear()
                 pv.clear()
                 pf.clear()
+            if pa:
+                arc_chunks.append(np.array(pa, dtype=np.float64).reshape(len(pa), 3))
+                pa.clear()
 
         def restate() -> int:
             nonlocal run_start
@@ -637,7 +685,7 @@ class _Table:
                 pk.append(_ARC)
                 pv.append((c.first_end, c.second_end, c.axis_end_point, c.a, c.b, c.c))
                 pf.append(feed)
-                self.arcs.append((c.first_axis, c.second_axis, c.rotation))
+                pa.append((c.first_axis, c.second_axis, c.rotation))
                 rows += 1
                 moves += 1
             elif t is Moves:
@@ -645,19 +693,24 @@ class _Table:
                 n = len(c.kind)
                 if not n:
                     continue
+                run_values, run_arcs = _move_rows(c)
                 if n < _SMALL:  # as rows: a few list items cost less than three arrays
                     kind = c.kind.tolist()
                     pk.extend(kind)
-                    pv.extend(map(tuple, c.position.tolist()))
+                    pv.extend(map(tuple, run_values.tolist()))
                     rates = c.feed.tolist()
                     pf.extend(rates)
+                    if run_arcs is not None:
+                        pa.extend(map(tuple, run_arcs.tolist()))
                     moves += n - kind.count(2)
                     feed = rates[-1]
                 else:
                     flush()
                     kinds.append(c.kind)
-                    values.append(c.position)
+                    values.append(run_values)
                     feeds.append(c.feed)
+                    if run_arcs is not None:
+                        arc_chunks.append(run_arcs)
                     moves += n - int(np.count_nonzero(c.kind == 2))
                     feed = float(c.feed[-1])
                 rows += n
@@ -705,6 +758,7 @@ class _Table:
         self.kind = np.concatenate(kinds) if kinds else np.zeros(0, dtype=np.int8)
         self.values = np.concatenate(values) if values else np.zeros((0, 6))
         self.feed = np.concatenate(feeds) if feeds else np.zeros(0)
+        self.arcs = np.concatenate(arc_chunks) if arc_chunks else np.zeros((0, 3))
         ids = np.array([s for s, _ in state_runs], dtype=np.int64)
         self.state = np.repeat(ids, [n for _, n in state_runs])
         motion = self.kind != 2
@@ -733,7 +787,7 @@ def equivalent(
         return False
     if not np.array_equal(src.kind, out.kind) or not np.array_equal(src.state, out.state):
         return False
-    if len(src.arcs) != len(out.arcs):
+    if src.arcs.shape != out.arcs.shape:
         return False
     rounding = resolution or {}
     keys = sorted(states, key=states.__getitem__)
@@ -749,8 +803,8 @@ def equivalent(
     rate_src, rate_out = src.feed * mm, out.feed * mm
     if not (np.abs(rate_src - rate_out) <= np.maximum(tol, 1e-4 * np.abs(rate_src))).all():
         return False
-    if src.arcs:
-        a, b = np.array(src.arcs), np.array(out.arcs)
+    if len(src.arcs):
+        a, b = src.arcs, out.arcs
         if not np.array_equal(a[:, 2], b[:, 2]):
             return False
         arc = src.kind == _ARC

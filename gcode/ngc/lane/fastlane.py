@@ -57,11 +57,22 @@ FEED_MOVE = 1  # STRAIGHT_FEED to ``position``
 SET_FEED = 2  # SET_FEED_RATE(``feed``)
 ARC = 3  # ARC_FEED: the row of ``Run.arc``, then ``position``'s A B C
 
-#: letter -> slot: 0-5 axes X Y Z A B C, 6 F, 7 G (0-3), 8 N, 9-11 I J K, 12 R; -1 other
-_SLOT = np.full(256, -1, dtype=np.int64)
-for _k, _c in enumerate("XYZABCFGNIJKR"):
-    _SLOT[ord(_c)] = _k
-    _SLOT[ord(_c.lower())] = _k
+#: the words' letters in slot order: 0-5 axes X Y Z A B C, 6 F, 7 G (0-3), 8 N, 9-11 I J
+#: K, 12 R
+LETTERS = "XYZABCFGNIJKR"
+
+
+def slot_table(letters: str) -> np.ndarray:
+    """Byte -> slot of :data:`LETTERS` for the words in ``letters`` (either case); -1 for
+    every other byte."""
+    table = np.full(256, -1, dtype=np.int64)
+    for c in letters:
+        table[ord(c)] = table[ord(c.lower())] = LETTERS.index(c)
+    return table
+
+
+#: letter -> slot for the RS274/NGC lines the lane takes
+SLOTS = slot_table(LETTERS)
 _POW10 = 10.0 ** np.arange(23)
 
 
@@ -146,6 +157,8 @@ def scan(
     plane: str = "XY",
     arc_tolerance: tuple[float, float, float] = (0.0, 0.0, 0.0),
     ijk_absolute: bool = False,
+    slots: np.ndarray | None = None,
+    point_slots: int = 0,
 ) -> Run:
     """The run of plain lines that starts at byte ``start`` of ``buf`` (a uint8 array).
 
@@ -161,6 +174,11 @@ def scan(
     :func:`gcode.core.arcs.centre_format` and :func:`gcode.core.arcs.radius_format` check
     (an R arc's centre is computed by the same operations, with ``math.hypot`` to the last
     bit). With ``bare`` it takes a G0/G1 with no axis word (a move to the current point).
+
+    ``slots`` maps each byte to a word's slot (:data:`SLOTS`, the RS274/NGC letters; a
+    reader whose lines hold fewer of them passes its own table, -1 for a letter that ends
+    the run); a word whose slot's bit is set in ``point_slots`` ends the run when its
+    number has no decimal point (a Fanuc length without one counts increments).
     """
     start_pos = np.array(position, dtype=np.float64)
     if start_pos.shape != (6,) or start < 0:
@@ -171,7 +189,7 @@ def scan(
     kind, pos, feed_arr, line, arc, end, line_no, cur, end_feed, end_motion = _kernels().scan(
         np.ascontiguousarray(buf, dtype=np.uint8).reshape(-1),
         int(start),
-        _SLOT,
+        SLOTS if slots is None else slots,
         _POW10,
         start_pos,
         float(feed),
@@ -184,6 +202,7 @@ def scan(
         PLANES[plane],
         np.array(arc_tolerance, dtype=np.float64),
         bool(ijk_absolute),
+        int(point_slots),
     )
     return Run(
         kind,

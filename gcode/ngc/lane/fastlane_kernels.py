@@ -162,6 +162,7 @@ def _scan(
     plane,
     arc_tol,
     ijk_absolute,
+    point_slots,
 ):  # pragma: no cover - compiled
     n = buf.shape[0]
     kind = np.empty(max_events, dtype=np.int8)
@@ -207,6 +208,9 @@ def _scan(
             first = False
             v, j, good, point = _number(buf, _skip_blanks(buf, j + 1, e), e, pow10)
             if not good or (slot == 8 and (point or v < 0.0)):
+                ok = False
+                break
+            if (point_slots >> slot) & 1 and not point:  # a number the reader reads otherwise
                 ok = False
                 break
             words[slot] = v
@@ -733,6 +737,7 @@ SIGNATURES = {
             _I64,
             _F64,
             nt.boolean,
+            nt.int64,
         ),
     ),
     "format": (

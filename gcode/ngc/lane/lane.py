@@ -82,56 +82,94 @@ class Lane:
         if self._wait:
             self._wait -= 1
             return None
-        s = ctx.s
         flow = ctx.flow
-        comp = ctx.comp
-        if (
-            flow.file is not self.pf
-            or flow.calls
-            or flow.controls
-            or not flow.seen_line
-            or s.feed_mode != PER_MINUTE
-            or s.motion_mode not in (_LINES_AND_ARCS if self.arcs else _LINES)
-            or s.diameter_mode
-            or (comp is not None and (comp.on or comp.holding))
-        ):
+        if flow.file is not self.pf or flow.calls or flow.controls or not flow.seen_line:
             return None
-        # the first move after G40 must be straight (comp.check_arc_allowed)
-        arcs = self.arcs and (comp is None or not comp.arc_not_allowed)
-        if s.motion_mode not in _LINES and not arcs:
+        if not ctx.lane_open():
             return None
-        inches = s.units is Units.INCHES
+        arcs = modal_arcs(ctx, self.arcs)
+        if arcs is None:
+            return None
         pf = self.pf
         start = self._window(pf._offset)
-        run = fastlane.scan(
-            self._buf,
-            start,
-            s.pos,
-            s.feed_rate,
-            incremental=not s.absolute,
-            traverse=s.motion_mode == 0,
-            first_line=pf.line + 1,
-            motion=s.motion_mode,
-            arcs=arcs,
-            bare=self.arcs,
-            plane=_PLANE_NAMES[s.plane],
-            arc_tolerance=(
-                (RADIUS_TOLERANCE_INCH, ZERO_RADIUS_INCH, R_REACH_INCH)
-                if inches
-                else (RADIUS_TOLERANCE_MM, ZERO_RADIUS_MM, R_REACH_MM)
-            ),
-            ijk_absolute=s.ijk_absolute,
-        )
+        run = scan_at(ctx, self._buf, start, pf.line + 1, arcs, self.arcs)
         if not run.lines:
             self._wait = _BACKOFF
             return None
         pf.seek_to(self._start + start + run.consumed, pf.line + run.lines)
-        s.pos = list(run.end_position)
-        s.feed_rate = run.end_feed
-        s.motion_mode = run.end_motion
-        if len(run):
-            s.tlo_lag = None
-            if comp is not None and bool((run.kind != fastlane.SET_FEED).any()):
-                comp.arc_not_allowed = False  # a straight move was made (motion.feed)
+        advance(ctx, run)
         ctx.loc = Location(pf.path, pf.line, 1)
         return run
+
+
+def modal_arcs(ctx: NgcContext, arcs: bool) -> bool | None:
+    """None where the machine's modes keep the lane off (a motion mode other than G0 or G1,
+    G2 or G3 with ``arcs``; not G94; cutter compensation; lathe diameter mode); else
+    whether the run may hold arcs (not the first move after G40, which must be straight:
+    comp.check_arc_allowed)."""
+    s = ctx.s
+    comp = ctx.comp
+    if (
+        s.feed_mode != PER_MINUTE
+        or s.motion_mode not in (_LINES_AND_ARCS if arcs else _LINES)
+        or s.diameter_mode
+        or (comp is not None and (comp.on or comp.holding))
+    ):
+        return None
+    arcs = arcs and (comp is None or not comp.arc_not_allowed)
+    if s.motion_mode not in _LINES and not arcs:
+        return None
+    return arcs
+
+
+def scan_at(
+    ctx: NgcContext,
+    buf: np.ndarray,
+    start: int,
+    first_line: int,
+    arcs: bool,
+    bare: bool,
+    slots: np.ndarray | None = None,
+    point_slots: int = 0,
+) -> fastlane.Run:
+    """The run of plain lines at byte ``start`` of ``buf`` (line ``first_line``) from the
+    machine state of ``ctx`` (:func:`fastlane.scan`; ``slots`` and ``point_slots`` as
+    there)."""
+    s = ctx.s
+    inches = s.units is Units.INCHES
+    return fastlane.scan(
+        buf,
+        start,
+        s.pos,
+        s.feed_rate,
+        incremental=not s.absolute,
+        traverse=s.motion_mode == 0,
+        first_line=first_line,
+        motion=s.motion_mode,
+        arcs=arcs,
+        bare=bare,
+        plane=_PLANE_NAMES[s.plane],
+        arc_tolerance=(
+            (RADIUS_TOLERANCE_INCH, ZERO_RADIUS_INCH, R_REACH_INCH)
+            if inches
+            else (RADIUS_TOLERANCE_MM, ZERO_RADIUS_MM, R_REACH_MM)
+        ),
+        ijk_absolute=s.ijk_absolute,
+        slots=slots,
+        point_slots=point_slots,
+    )
+
+
+def advance(ctx: NgcContext, run: fastlane.Run) -> None:
+    """The machine state after ``run``, as the general path leaves it after its lines
+    (gcode.ngc.motion: position, feed rate, motion mode, the tool length offset applied,
+    a straight move made since G40)."""
+    s = ctx.s
+    comp = ctx.comp
+    s.pos = list(run.end_position)
+    s.feed_rate = run.end_feed
+    s.motion_mode = run.end_motion
+    if len(run):
+        s.tlo_lag = None
+        if comp is not None and bool((run.kind != fastlane.SET_FEED).any()):
+            comp.arc_not_allowed = False  # a straight move was made (motion.feed)
