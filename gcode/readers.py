@@ -51,14 +51,11 @@ def read_chunks(
         from gcode.ngc.interpreter import interpret_chunks
 
         return interpret_chunks(path, options or _default_options(), arcs=arcs)
-<<<<<<< HEAD
-=======
     if arcs:
         module = reader_module(dialect)
         chunks = getattr(module, "interpret_chunks", None)
         if chunks is not None:
             return chunks(path, options or _default_options(), arcs=True)
->>>>>>> wt-convert
     return read(path, dialect, options)
 
 
