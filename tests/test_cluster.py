@@ -31,10 +31,11 @@ PROGS = HERE / "check"
 SHOP = str(PROGS / "shop.toml")
 REAL = HERE / "realworld" / "ngc"
 
-# 10^8 blocks of zig-zag moves: moves, so the loop guard lets it run; far past any time limit
+# 10^8 blocks of zig-zag moves: moves, and no loop goes round more than loop_passes
+# (100,000) times in a row, so the loop guard lets it run; far past any time limit
 HANG = (
-    "G21 G90 F1000\n#1=0\nO100 while [#1 LT 100000000]\nG1 X[#1 MOD 2]\n#1=[#1+1]\n"
-    "O100 endwhile\nM2\n"
+    "G21 G90 F1000\n#2=0\nO200 while [#2 LT 1000]\n#1=0\nO100 while [#1 LT 99999]\n"
+    "G1 X[#1 MOD 2]\n#1=[#1+1]\nO100 endwhile\n#2=[#2+1]\nO200 endwhile\nM2\n"
 )
 
 
