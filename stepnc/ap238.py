@@ -232,17 +232,7 @@ def canon_from_aim(
         raise refuse("the file has no MACHINING_WORKPLAN", Location(p21.file, 1, 1))
     _check_length_units(aim)
     ex.source = aim.where(plans[0].id)
-    if fitted is not start:
-        ex.emit(
-            canon.Comment(
-                f"retract height Z{start.retracted_z:g} of the STEP-NC start state lowered "
-                f"to the machine's Z travel limit {fitted.retracted_z:g}"
-            )
-        )
-    ex.emit(canon.UseLengthUnits(canon.Units.MM))
-    ex.emit(canon.SetOriginOffsets(0.0, 0.0, 0.0))
-    ex.emit(canon.SetFeedReference(canon.FeedReference.XYZ))
-    ex.emit(canon.SpindleRetract())
+    ex.preamble(start)
     ex.security_z = ex.z
     yield from ex.take()
     model = Model(p21)

@@ -73,6 +73,7 @@ class Executor:
         self.mode = mode
         if start is None:
             start = NIST_START if mode == "nist" else DEFAULT_START
+        self.start = start
         self.x, self.y, self.z = start.position
         self.retracted_z = start.retracted_z
         self.feedrate = start.feed
@@ -98,6 +99,22 @@ class Executor:
     def emit(self, cmd: canon.Command) -> None:
         object.__setattr__(cmd, "source", self.source)
         self.out.append(cmd)
+
+    def preamble(self, asked: Start) -> None:
+        """The program's first commands (millimetres, no origin offset, XYZ feed reference,
+        spindle retracted), after a comment when the start state ``asked`` for had to be
+        lowered to the machine's Z travel (:func:`start_within`) into this executor's."""
+        if self.start is not asked:
+            self.emit(
+                canon.Comment(
+                    f"retract height Z{asked.retracted_z:g} of the STEP-NC start state "
+                    f"lowered to the machine's Z travel limit {self.start.retracted_z:g}"
+                )
+            )
+        self.emit(canon.UseLengthUnits(canon.Units.MM))
+        self.emit(canon.SetOriginOffsets(0.0, 0.0, 0.0))
+        self.emit(canon.SetFeedReference(canon.FeedReference.XYZ))
+        self.emit(canon.SpindleRetract())
 
     def take(self) -> list[canon.Command]:
         out, self.out = self.out, []

@@ -549,6 +549,22 @@ ENTITIES: dict[str, tuple[str, ...]] = {
     ),
 }
 
+#: the ISO 14649-12 turning operations (the 14649-121 part of the AP238 ed. 3 ARM)
+TURNING_OPERATIONS = frozenset(
+    {
+        "FACING_ROUGH",
+        "FACING_FINISH",
+        "CONTOURING_ROUGH",
+        "CONTOURING_FINISH",
+        "GROOVING_ROUGH",
+        "GROOVING_FINISH",
+        "CUTTING_IN",
+        "THREADING_ROUGH",
+        "THREADING_FINISH",
+        "KNURLING",
+    }
+)
+
 #: abstract supertypes -> the instantiable entities accepted where they are referenced.
 GROUPS: dict[str, frozenset[str]] = {
     "executable": frozenset(
@@ -593,20 +609,7 @@ GROUPS: dict[str, frozenset[str]] = {
             "THREAD_DRILLING",
         }
     )
-    | frozenset(
-        {
-            "FACING_ROUGH",
-            "FACING_FINISH",
-            "CONTOURING_ROUGH",
-            "CONTOURING_FINISH",
-            "GROOVING_ROUGH",
-            "GROOVING_FINISH",
-            "CUTTING_IN",
-            "THREADING_ROUGH",
-            "THREADING_FINISH",
-            "KNURLING",
-        }
-    ),
+    | TURNING_OPERATIONS,
     "turning_strategy": frozenset(
         {
             "UNIDIRECTIONAL_TURNING",

@@ -97,17 +97,7 @@ def canon_from_model(
     ex.source = project.where()
     plan = project.main_workplan
     setup_z, wp_frame = _setup(model, project, plan)
-    if fitted is not start:
-        ex.emit(
-            canon.Comment(
-                f"retract height Z{start.retracted_z:g} of the STEP-NC start state lowered "
-                f"to the machine's Z travel limit {fitted.retracted_z:g}"
-            )
-        )
-    ex.emit(canon.UseLengthUnits(canon.Units.MM))
-    ex.emit(canon.SetOriginOffsets(0.0, 0.0, 0.0))
-    ex.emit(canon.SetFeedReference(canon.FeedReference.XYZ))
-    ex.emit(canon.SpindleRetract())
+    ex.preamble(start)
     ex.security_z = setup_z
     yield from ex.take()
     for element in _walk(plan, ex):

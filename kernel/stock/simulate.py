@@ -371,6 +371,23 @@ def _fixture_contact(
     )
 
 
+def add_air_cutting(result: SimResult, first_use: dict[int, Location]) -> None:
+    """A ``SIM-AIR-CUTTING`` note for each tool more than :data:`AIR_SHARE` of whose feed
+    path removed nothing, located at its first use (milling and turning alike)."""
+    for number, use in result.tools.items():
+        if use.feed_length > 0 and use.air_share > AIR_SHARE:
+            result.findings.append(
+                SimFinding(
+                    "SIM-AIR-CUTTING",
+                    RULES["SIM-AIR-CUTTING"],
+                    f"tool {number}: {100 * use.air_share:.0f} % of its feed path "
+                    f"({use.air_length:.1f} of {use.feed_length:.1f} mm) removes nothing",
+                    first_use[number],
+                    use.air_share,
+                )
+            )
+
+
 def simulate_removal(
     commands: Iterable[canon.Command],
     hf: HeightField,
@@ -517,17 +534,6 @@ def simulate_removal(
             else:
                 np.minimum(h, np.maximum(env, z0), out=h)
     settle()
-    for number, use in result.tools.items():
-        if use.feed_length > 0 and use.air_share > AIR_SHARE:
-            result.findings.append(
-                SimFinding(
-                    "SIM-AIR-CUTTING",
-                    RULES["SIM-AIR-CUTTING"],
-                    f"tool {number}: {100 * use.air_share:.0f} % of its feed path "
-                    f"({use.air_length:.1f} of {use.feed_length:.1f} mm) removes nothing",
-                    first_use[number],
-                    use.air_share,
-                )
-            )
+    add_air_cutting(result, first_use)
     result.removed_volume = start - hf.volume()
     return result

@@ -35,12 +35,12 @@ from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.stock.heightfield import MAX_CELLS
 from kernel.stock.simulate import (
-    AIR_SHARE,
     RAPID_EPS,
     RULES,
     SimFinding,
     SimResult,
     ToolUse,
+    add_air_cutting,
     machine_moves,
 )
 from kernel.stock.tools import INSERT_WIDTH, ToolShape
@@ -232,18 +232,7 @@ def simulate_turning(
                     result.findings[key] = f
             np.minimum(r, np.maximum(env, 0.0), out=r)
     settle()
-    for number, use in result.tools.items():
-        if use.feed_length > 0 and use.air_share > AIR_SHARE:
-            result.findings.append(
-                SimFinding(
-                    "SIM-AIR-CUTTING",
-                    RULES["SIM-AIR-CUTTING"],
-                    f"tool {number}: {100 * use.air_share:.0f} % of its feed path "
-                    f"({use.air_length:.1f} of {use.feed_length:.1f} mm) removes nothing",
-                    first_use[number],
-                    use.air_share,
-                )
-            )
+    add_air_cutting(result, first_use)
     result.removed_volume = start - prof.volume()
     return result
 

@@ -30,21 +30,9 @@ from stepnc.frames import Frame, direction
 from stepnc.lathe import EPS, FREE, Profile, feature_frame, feature_limit, raw_bar
 from stepnc.model import Entity
 from stepnc.part21 import Typed
+from stepnc.schema import TURNING_OPERATIONS
 
-TURNING_OPS = frozenset(
-    {
-        "FACING_ROUGH",
-        "FACING_FINISH",
-        "CONTOURING_ROUGH",
-        "CONTOURING_FINISH",
-        "GROOVING_ROUGH",
-        "GROOVING_FINISH",
-        "CUTTING_IN",
-        "THREADING_ROUGH",
-        "THREADING_FINISH",
-        "KNURLING",
-    }
-)
+TURNING_OPS = TURNING_OPERATIONS
 TURNING_TOOLS = frozenset(
     {"GENERAL_TURNING_TOOL", "GROOVING_TOOL", "TURNING_THREADING_TOOL", "KNURLING_TOOL"}
 )
