@@ -32,6 +32,11 @@ Measured 2026-12-02 on this 2-CPU container shared with other agents:
   10,000 programs, --jobs 2 564/s and 643/s, local:2 487/s and 568/s, ratio 86 % and 88 %;
   results identical. Short of the 90 % asked (the scheduler and the client share the two
   CPUs with the workers).
+- Dask's diagnostics off or slowed on local clusters (cli.fleet.LOCAL_CONFIG: its 10 ms
+  stack sampler, memory and system monitors, event-loop tick), machine idle (load about 2,
+  2026-12-02 09:40 and 09:44, two runs, each alternating pool, cluster, cluster, pool):
+  10,000 programs, --jobs 2 274/s and 276/s, local:2 267/s and 268/s, ratio 97 % and 97 %
+  (cluster start 0.5-0.6 s); results identical.
 - Client peak RSS, generated library, idle machine: 10,000 programs 141 MiB (933/s),
   100,000 programs 205 MiB (636/s), 1,000,000 programs 341 MiB (1,073/s, 932 s; a
   14.3 MiB table of 10^6 rows). Sampled every minute during the 10^6 run, the client's RSS
