@@ -45,6 +45,7 @@ from cli.options import (
     machine_option,
     output_option,
     program_argument,
+    tool_library_option,
     tool_table_option,
     tool_units_option,
 )
@@ -497,13 +498,7 @@ def _list_rules(ctx: CheckContext) -> str:
     help="Also simulate material removal on this stock, box:X0,Y0,Z0,X1,Y1,Z1, "
     "cyl:CX,CY,R,Z0,Z1 or an STL/STEP file (rules CNC901-CNC908).",
 )
-@click.option(
-    "--tools",
-    "library",
-    type=click.Path(exists=True, dir_okay=False),
-    default=None,
-    help="Tool library (TOML) with the tools' shapes for the simulation.",
-)
+@tool_library_option(help="Tool library (TOML) with the tools' shapes for the simulation.")
 @design_option(
     help="Design model (STL, or STEP with cadquery): with --stock, report gouges and "
     "material left (CNC906, CNC907)."

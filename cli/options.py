@@ -108,6 +108,19 @@ def tool_units_option(default: str = "mm") -> Callable[[F], F]:
     )
 
 
+def tool_library_option(help: str) -> Callable[[F], F]:
+    """``--tools FILE``: the tool library (TOML, docs/simulation.md) with the tools' shapes
+    for a stock simulation (cnc sim, check, trace); ``help`` says what the command uses
+    it for."""
+    return click.option(
+        "--tools",
+        "library",
+        type=click.Path(exists=True, dir_okay=False),
+        default=None,
+        help=help,
+    )
+
+
 def dialect_option(func: F) -> F:
     """``-d/--dialect NAME`` of the commands that read programs."""
     return click.option(

@@ -27,6 +27,7 @@ from cli.options import (
     machine_option,
     output_option,
     program_argument,
+    tool_library_option,
     tool_table_option,
     tool_units_option,
 )
@@ -376,12 +377,8 @@ def _text(
 )
 @tool_table_option(help="LinuxCNC .tbl or NIST tool file: flat end mills of its diameters")
 @tool_units_option()
-@click.option(
-    "--tools",
-    "library",
-    type=click.Path(exists=True, dir_okay=False),
-    default=None,
-    help="tool library (TOML, docs/simulation.md): shapes, flutes, shank and holder",
+@tool_library_option(
+    help="tool library (TOML, docs/simulation.md): shapes, flutes, shank and holder"
 )
 @click.option(
     "--tool",

@@ -19,6 +19,7 @@ from cli.options import (
     machine_option,
     output_option,
     program_argument,
+    tool_library_option,
     tool_table_option,
     tool_units_option,
 )
@@ -62,12 +63,8 @@ from kernel.diagnostics import Diagnostic, Location
     help="stock as box:X0,Y0,Z0,X1,Y1,Z1, cyl:... or an STL/STEP file (as cnc sim): add the "
     "removed_mm3 and mrr_mm3_s columns from a height-field simulation",
 )
-@click.option(
-    "--tools",
-    "library",
-    type=click.Path(exists=True, dir_okay=False),
-    default=None,
-    help="tool library (TOML) with the tools' shapes for --stock (docs/simulation.md)",
+@tool_library_option(
+    help="tool library (TOML) with the tools' shapes for --stock (docs/simulation.md)"
 )
 @click.option(
     "--resolution",
