@@ -313,12 +313,7 @@ def _workingstep(aim: Aim, model: Model, ex: Executor, ws: int) -> None:
         raise refuse(f"operation #{op} has no MACHINING_TOOL", aim.where(op))
     ident = str(tool.params[0])
     if ident != ex.tool_id:
-        if ex.spindle is not canon.Direction.STOPPED:
-            ex.emit(canon.StopSpindleTurning())
-            ex.spindle = canon.Direction.STOPPED
-        if ex.flood is not False:
-            ex.emit(canon.FloodOff())
-            ex.flood = False
+        ex.stop_for_tool_change()  # an AP238 program never turns mist on
         if ex.z != ex.retracted_z:
             ex.emit(canon.SpindleRetract())
             ex.z = ex.retracted_z

@@ -158,8 +158,9 @@ class Executor:
         if str(tool.its_id) != self.tool_id:
             self.change_tool(tool)
 
-    def change_tool(self, tool: Entity) -> None:
-        entry = self.tool_entry(tool)
+    def stop_for_tool_change(self) -> None:
+        """Stop the spindle and turn the coolant off, each only if on: what precedes a
+        tool change (milling, turning and AP238 alike)."""
         if self.spindle is not canon.Direction.STOPPED:
             self.emit(canon.StopSpindleTurning())
             self.spindle = canon.Direction.STOPPED
@@ -169,6 +170,10 @@ class Executor:
         if self.mist is not False:
             self.emit(canon.MistOff())
             self.mist = False
+
+    def change_tool(self, tool: Entity) -> None:
+        entry = self.tool_entry(tool)
+        self.stop_for_tool_change()
         if self.z != self.retracted_z:
             self.emit(canon.SpindleRetract())
         self.emit(canon.UseToolLengthOffset(0.0))

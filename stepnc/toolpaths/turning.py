@@ -126,15 +126,7 @@ def _tool(ex: Executor, tool: Entity, lathe: Lathe) -> None:
         return
     pocket = ex.pocket_of(ident, tool)
     _leave(ex, lathe)
-    if ex.spindle is not canon.Direction.STOPPED:
-        ex.emit(canon.StopSpindleTurning())
-        ex.spindle = canon.Direction.STOPPED
-    if ex.flood is not False:
-        ex.emit(canon.FloodOff())
-        ex.flood = False
-    if ex.mist is not False:
-        ex.emit(canon.MistOff())
-        ex.mist = False
+    ex.stop_for_tool_change()
     ex.emit(canon.ChangeTool(pocket, ident))
     ex.tool_id = ident
 
