@@ -37,6 +37,7 @@ from stepnc.executor import DEFAULT_START, NIST_START, Executor, start_within
 from stepnc.frames import Frame
 from stepnc.model import Model
 from stepnc.p21_values import Instance, Part, Part21File, Ref, Typed
+from stepnc.part21 import check_references
 from stepnc.schema import GROUPS
 from stepnc.toolpaths.code import Code
 from stepnc.toolpaths.explicit import follow_curve
@@ -218,7 +219,10 @@ def canon_from_aim(
     p21: Part21File, mode: str = "default", z_max: float | None = None
 ) -> Iterator[canon.Command]:
     """Canonical commands of an AP238 AIM file's cutter-location toolpaths (``z_max``: the
-    machine's Z travel, as for :func:`stepnc.to_canon.canon_from_model`)."""
+    machine's Z travel, as for :func:`stepnc.to_canon.canon_from_model`). A reference to an
+    instance the file does not define is ``P21-DANGLING-REF`` at its first referrer, as in
+    an ISO 14649 file, before anything is read."""
+    check_references(p21)
     aim = Aim(p21)
     start = NIST_START if mode == "nist" else DEFAULT_START
     fitted = start if z_max is None else start_within(start, z_max)

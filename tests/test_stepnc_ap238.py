@@ -151,3 +151,16 @@ def test_cc1_file_has_no_check_error_on_the_default_machine():
     assert result.exit_code == 0, result.output
     doc = json.loads(result.output)
     assert [f for e in doc["files"] for f in e["findings"] if f["severity"] == "error"] == []
+
+
+def test_a_reference_to_an_undefined_instance_is_located_at_its_referrer(tmp_path):
+    """Even in an attribute class 1 does not follow: the file is broken, as in ISO 14649."""
+    old = "#30=MACHINING_WORKPLAN('main workplan',$,'','');"
+    text = CC1.read_text()
+    assert old in text
+    bad = tmp_path / "dangling.stp"
+    bad.write_text(text.replace(old, "#30=MACHINING_WORKPLAN('main workplan',#999,'','');"))
+    with pytest.raises(Diagnostic) as err:
+        _run(bad)
+    assert err.value.code == "P21-DANGLING-REF"
+    assert "#999" in err.value.message and err.value.location.line == 30
