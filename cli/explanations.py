@@ -370,7 +370,7 @@ EXPLANATIONS: dict[str, str] = {
     "SIEM-CHARACTER": "a character that is not part of 840D block syntax",
     "SIEM-COMP": "G41/G42 while the active edge has a radius above 0 in the tool table (the reader reads compensation of a zero radius only)",
     "SIEM-CYCLE-ARGS": "too many cycle parameters, a negative SDIS/DPR/DTB, a depth not below RFP + SDIS or RTP below it",
-    "SIEM-CYCLE-UNSUPPORTED": "a cycle other than CYCLE81/CYCLE82 and the settings CYCLE832/CYCLE800 (e.g. CYCLE83), called or MCALLed; a CYCLE800 that swivels the plane (offsets or angles not 0) or does not state them",
+    "SIEM-CYCLE-UNSUPPORTED": "a cycle other than CYCLE81/CYCLE82 and the settings CYCLE832/CYCLE800 (e.g. CYCLE83, HOLES2, POCKET1), called or MCALLed; a CYCLE800 that swivels the plane (offsets or angles not 0) or does not state them",
     "SIEM-DWELL": "G4 without exactly one of F (seconds) and S (revolutions), with S0 for G4 S, or negative",
     "SIEM-FEED": "G1/G2/G3/CIP with feed 0, G95 with speed 0, G93 without F in the block",
     "SIEM-FRAME": "a frame instruction with words other than X Y Z (RPL= for ROT/AROT), ROT with RPL= and axis angles, a scale factor 0",

@@ -16,6 +16,7 @@ import tests.canon_equiv as canon_equiv
 from gcode.ngc.interpreter import InterpreterOptions
 from gcode.readers import read_text
 from gcode.siemens.reader import interpret, interpret_text
+from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
 from kernel.tooltable import read_tool_table
 
@@ -89,3 +90,29 @@ def test_linuxcnc_compat_off_gives_origin_offsets_only() -> None:
     assert "SET_G92_OFFSET" not in names and "ON_RESET" not in names
     origins = [c for c in cmds if isinstance(c, canon.SetOriginOffsets)]
     assert origins[-1].x == 5.0
+
+
+def test_a_program_start_character_on_the_first_line_is_not_a_block() -> None:
+    """``%`` before the first block (840D character set: the program start character of a
+    program written on a PC) reads as nothing, a ``;`` comment after it as a comment; a
+    ``%`` anywhere else is still refused."""
+
+    def feeds(text: str) -> list[float]:
+        cmds = interpret_text(text, "p.mpf")
+        return [c.x for c in cmds if isinstance(c, canon.StraightFeed)]
+
+    assert feeds("%\nG1 X1 F10\nM30\n") == [1.0]
+    assert feeds("%; PART 7\nG1 X2 F10\nM30\n") == [2.0]
+    for bad in ("%X1\nM30\n", "G1 X1 F10\n%\nM30\n"):
+        with pytest.raises(Diagnostic) as info:
+            list(interpret_text(bad, "p.mpf"))
+        assert info.value.code == "SIEM-CHARACTER"
+
+
+def test_a_standard_cycle_without_a_program_file_is_refused_as_a_cycle() -> None:
+    """HOLES2 is one of the 840D's own cycles: without a HOLES2.SPF on the search path the
+    refusal names it as a cycle that is not expanded, not as a missing subprogram."""
+    with pytest.raises(Diagnostic) as info:
+        list(interpret_text("G1 X0 Y0 F100\nHOLES2(50, 50, 20, 0, 90, 4)\nM30\n", "p.mpf"))
+    assert info.value.code == "SIEM-CYCLE-UNSUPPORTED" and "HOLES2" in info.value.message
+    assert info.value.location.line == 2

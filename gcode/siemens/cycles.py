@@ -32,6 +32,13 @@ from gcode.siemens.state import PLANES
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
 
+#: the 840D standard cycles whose names do not begin with CYCLE (cycles manual: drilling
+#: patterns HOLES1, HOLES2; milling patterns LONGHOLE, SLOT1, SLOT2, POCKET1 to POCKET4):
+#: called without a program file of that name they are the control's cycles, not missing
+#: subprograms
+STANDARD_CYCLES = frozenset(
+    ("HOLES1", "HOLES2", "LONGHOLE", "SLOT1", "SLOT2", "POCKET1", "POCKET2", "POCKET3", "POCKET4")
+)
 #: cycle -> its parameters that the expansion uses, in call order
 PARAMETERS = {
     "CYCLE81": ("RTP", "RFP", "SDIS", "DP", "DPR"),

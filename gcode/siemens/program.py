@@ -19,6 +19,10 @@ from kernel.diagnostics import Diagnostic, Location
 _HEAD = re.compile(r"\s*(?:N\d+\s*)?(?:([A-Z_][A-Z0-9_]*)\s*:(?!=)\s*)?([A-Z_]+)?", re.IGNORECASE)
 _NUMBER = re.compile(r"\s*N(\d+)", re.IGNORECASE)
 _ARCHIVE_HEADER = re.compile(r"%_N_\w+_(?:MPF|SPF)\s*$", re.IGNORECASE)
+#: "%" alone (or before a ";" comment) as the first line: the program start character of a
+#: program written on an external PC (840D sl programming manual, fundamentals, "Character
+#: set": "% program start character")
+_START_CHARACTER = re.compile(r"%\s*(;.*)?$")
 #: structure openers and their closers (840D sl job planning, "Control structures")
 CLOSERS = {
     "IF": "ENDIF",
@@ -63,8 +67,11 @@ class Program:
         if not self.has_line(index):
             return ""
         line = self.text[self._starts[index] : self._starts[index + 1] - 1].rstrip("\r")
-        if index == 0 and _ARCHIVE_HEADER.match(line):
-            return ""  # "%_N_PART1_MPF": the 840D's file header when programs are transferred
+        if index == 0 and line[:1] == "%":
+            if _ARCHIVE_HEADER.match(line):
+                return ""  # "%_N_PART1_MPF": the 840D's file header when programs are transferred
+            if _START_CHARACTER.match(line):
+                return line[1:]  # "%" before the first block; a comment after it stays one
         return line
 
     @classmethod
