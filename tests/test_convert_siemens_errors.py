@@ -64,7 +64,7 @@ def _error(text: str, options: InterpreterOptions | None = None) -> Diagnostic:
         ("IF R1==0 X5\n", "SIEM-SYNTAX", 1, 10),
         ("G1 X5 F10 GOTOF END\n", "SIEM-BLOCK", 1, 11),
         ("ROT RPL=30\nSUPA X5\n", "SIEM-UNSUPPORTED", 2, 1),
-        ("G1 X1 F10 RND=2\n", "SIEM-UNSUPPORTED", 1, 11),
+        ("G1 X1 F10 FRC=2\n", "SIEM-UNSUPPORTED", 1, 11),
         ("G1 X1 P3 F10\n", "SIEM-WORD", 1, 7),
         ("G1 F10\nCIP X10 Y0 I1=5 J1=0\n", "SIEM-ARC-CIP", 2, 1),
         ("G1 F10\nCIP X10 Y0 I1=5 J1=5 K1=3\n", "SIEM-ARC-CIP", 2, 1),

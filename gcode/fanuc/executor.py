@@ -15,7 +15,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from gcode.core.codes import G_GROUPS, Words
+from gcode.core.corners import CornerRequest
 from gcode.core.machine_functions import machine_function
+from gcode.core.state import CompCode
 from gcode.fanuc import cycles, groups, moves, offsets
 from gcode.fanuc.lexer import WordValue
 from gcode.fanuc.state import Action, ExecutorState, ModalCall
@@ -117,9 +119,16 @@ class Executor(ExecutorState):
         cycle = run_motion in CYCLES and self.lathe is None
         nurbs = 62 in gset or (self.nurbs is not None and motion is None)
         v = resolve(raw, inch, gset, cycle, nurbs, self.fl.dwell_p_point_seconds)
+        corner = {k: v.pop(k) for k in (",C", ",R", ",A") if k in v}
+        if corner:
+            self._corner_allowed(corner, cols, loc)
+        start = tuple(s.pos)
         if self.lathe is not None:
             return self.lathe.block(gs, ms, v, cols, raw, loc)
-        return self.mill(gs, ms, v, cols, loc, motion, has_axis)
+        actions = self.mill(gs, ms, v, cols, loc, motion, has_axis)
+        if corner:
+            self._corner(corner, start, cols, loc)
+        return actions
 
     @property
     def groups(self) -> dict[int, int]:
@@ -383,6 +392,48 @@ class Executor(ExecutorState):
             actions.append(Action("g65", mc.number, mc.repeats, dict(mc.args)))
         actions += self._flow_m(ms, v, loc)
         return actions
+
+    # ------------------------------------------------------------------ ,C and ,R
+    def _corner_allowed(
+        self, corner: dict[str, float], cols: dict[str, int], loc: Location
+    ) -> None:
+        """Refuse the corners this reader does not cut, at their word: ,A (direct drawing
+        dimension angles), both ,C and ,R, a lathe's corners, corners under cutter
+        compensation or a programmable transform."""
+        first = min(cols[k] for k in corner)
+        at = Location(loc.file, loc.line, first)
+        why = None
+        if ",A" in corner:
+            why = "direct drawing dimension input (,A angle) is not read"
+        elif len(corner) > 1:
+            why = "a block asks for both a chamfer (,C) and a corner R (,R)"  # PS0055-style
+        elif self.lathe is not None:
+            why = "chamfer and corner R (,C / ,R) are read on mills only"
+        elif self.ip.s.comp_side is not CompCode.G40 or "G410" in cols or "G420" in cols:
+            why = "chamfer and corner R (,C / ,R) under cutter compensation are not read"
+        elif self.tf.active or self.tf.polar:
+            why = "chamfer and corner R (,C / ,R) under G16/G51/G51.1/G68 are not read"
+        if why is not None:
+            raise Diagnostic("FANUC-CORNER", why, at)
+
+    def _corner(
+        self,
+        corner: dict[str, float],
+        start: tuple[float, ...],
+        cols: dict[str, int],
+        loc: Location,
+    ) -> None:
+        """Mark this block's move for the chamfer (,C leg length) or corner R (,R radius)
+        the flow cuts when the next move comes (Fanuc 0i-MF, "Chamfering and corner R":
+        G01 or G02/G03 blocks; the next block must move in the same plane)."""
+        ((key, size),) = corner.items()
+        at = Location(loc.file, loc.line, cols[key])
+        if self.motion not in (10, 20, 30):
+            raise Diagnostic("FANUC-CORNER", f"{key} belongs to a G01, G02 or G03 block", at)
+        if size <= 0:
+            raise Diagnostic("FANUC-CORNER", f"{key} must be positive", at)
+        kind = "round" if key == ",R" else "chamfer"
+        self.corner = CornerRequest(kind, size, start, self.ip.s.plane, at)
 
     # ------------------------------------------------------------------ helpers
     def _flow_m(self, ms: list[int], v: dict[str, float], loc: Location) -> list[Action]:

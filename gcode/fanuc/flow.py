@@ -15,6 +15,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
+from gcode.core.corners import CornerError, CornerFilter
 from gcode.core.loopguard import RepeatGuard
 from gcode.fanuc.executor import Action, Executor
 from gcode.fanuc.lathe import Lathe
@@ -87,6 +88,7 @@ class Reader:
         self.guard = self.ip.flow.guard  # gcode.core.loopguard, shared with the interpreter
         self.current_seq: int | None = None
         self.current_program = 0
+        self.corners = CornerFilter()  # ,C / ,R: the asking move waits for the next one
 
     # ------------------------------------------------------------------ run
     def run(self) -> Iterator[canon.Command]:
@@ -133,7 +135,7 @@ class Reader:
         while True:
             if out:
                 guard.output += len(out)
-                yield from out
+                yield from self._released(out)
                 out.clear()
             fr = frames[-1]
             src = fr.src
@@ -142,7 +144,13 @@ class Reader:
                     break
                 continue
             idx = fr.pc
-            if lane is not None and fr.started and len(frames) == 1 and not fr.loops:
+            if (
+                lane is not None
+                and fr.started
+                and len(frames) == 1
+                and not fr.loops
+                and not self.corners.pending
+            ):
                 run = lane.take(self.ex, idx)
                 if run is not None:
                     fr.pc += run.lines
@@ -184,8 +192,24 @@ class Reader:
                 continue
             else:
                 self._statement(blk, fr, idx)
-        yield from out
+        yield from self._released(out)
         out.clear()
+        try:
+            yield from self.corners.finish()
+        except CornerError as exc:
+            raise Diagnostic("FANUC-CORNER", str(exc), exc.location) from None
+
+    def _released(self, out: list[canon.Command]) -> list[canon.Command]:
+        """The commands of the block just run that may go out now: a move that asked for a
+        chamfer or corner R (``,C`` / ``,R``) waits for the next move (gcode.core.corners)."""
+        request, self.ex.corner = self.ex.corner, None
+        if request is None and not self.corners.pending:
+            return out
+        try:
+            return self.corners.push(out, request)
+        except CornerError as exc:
+            out.clear()  # the failing block's commands without the move they follow
+            raise Diagnostic("FANUC-CORNER", str(exc), exc.location) from None
 
     def _comment(self, blk: FBlock, src: Source) -> None:
         self.ex.last_comment = blk.comment

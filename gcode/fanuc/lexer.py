@@ -306,9 +306,12 @@ class _Scanner:
         n = len(s)
         while self.i < n:
             ch = s[self.i]
-            if not ("A" <= ch <= "Z"):
-                raise self.error("FANUC-SYNTAX", f"bad character '{ch}'")
             start = self.i
+            if ch == "," and s[self.i + 1 : self.i + 2] in ("C", "R", "A"):
+                ch = s[self.i : self.i + 2]  # ,C chamfer / ,R corner R / ,A angle
+                self.i += 1
+            elif not ("A" <= ch <= "Z"):
+                raise self.error("FANUC-SYNTAX", f"bad character '{ch}'")
             self.i += 1
             if self.i >= n:
                 raise self.error("FANUC-SYNTAX", f"value missing after {ch}")

@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from gcode.core.corners import CornerRequest
 from gcode.fanuc.options import Flavour
 from gcode.fanuc.transforms import Transforms
 from gcode.ngc.interpreter import Interpreter
@@ -97,5 +98,7 @@ class ExecutorState:
         self.lathe: LatheMode | None = None  # set by the flow when the flavour is a lathe
         self.depth = 0  # macro call depth (set by the flow)
         self.last_comment: str | None = None
+        #: the ,C / ,R corner the block just run asks for (the flow cuts it)
+        self.corner: CornerRequest | None = None
         ip.s.retract_r = False  # Fanuc mills power on in G98 (initial level)
         ip.s.motion_mode = 0

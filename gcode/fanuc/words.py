@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from kernel.diagnostics import Diagnostic, Location
 
-LENGTHS = frozenset("XYZUVWIJKRQE")
+LENGTHS = frozenset(["X", "Y", "Z", "U", "V", "W", "I", "J", "K", "R", "Q", "E", ",C", ",R"])
 ANGLES = frozenset("ABC")
 #: Fanuc milling canned cycles (round(G*10))
 CYCLES = frozenset({730, 740, 760, 810, 820, 830, 840, 850, 860, 870, 880, 890})

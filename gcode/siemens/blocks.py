@@ -21,7 +21,10 @@ from gcode.siemens.lexer import NAME, OP, STR, WORD, Token, tokenize
 from kernel.diagnostics import Diagnostic, Location
 
 #: addresses written ``X=expr`` or ``CR=expr`` (besides the single letters of words)
-EXTENDED = frozenset({"CR", "AR", "TURN", "SPOS", "LIMS", "ADIS", "RPL", "MEAS", "I1", "J1", "K1"})
+EXTENDED = frozenset(
+    {"CR", "AR", "TURN", "SPOS", "LIMS", "ADIS", "RPL", "MEAS", "I1", "J1", "K1"}
+    | {"CHF", "CHR", "RND", "RNDM"}
+)
 LETTERS = frozenset("XYZABCIJKFSTDGMP")
 AXIS_MODES = frozenset({"AC", "IC"})
 FRAMES = frozenset({"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR"})
@@ -56,10 +59,8 @@ UNSUPPORTED = frozenset(
         "CALL",
         "PCALL",
         "EXTCALL",
-        "CHF",
-        "CHR",
-        "RND",
-        "RNDM",
+        "FRC",  # FRC= / FRCM=: the own feed of a chamfer or rounding (not read)
+        "FRCM",
         "WAITM",
         "WAITE",
         "SAVE",

@@ -9,7 +9,10 @@ functions" and "List of addresses".
 
 from __future__ import annotations
 
+import math
+
 from gcode.core import linuxcnc as lc
+from gcode.core.corners import CornerRequest
 from gcode.core.machine_functions import machine_function
 from gcode.core.register_marks import ToolLengthRegister, WorkOffsetRegister
 from gcode.siemens import motion
@@ -48,6 +51,7 @@ M_CODES = frozenset({0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 19, 30})
 ADDRESSES = frozenset(
     {"X", "Y", "Z", "A", "B", "C", "I", "J", "K", "F", "S", "T", "D"}
     | {"CR", "AR", "TURN", "SPOS", "LIMS", "ADIS", "MEAS", "I1", "J1", "K1"}
+    | {"CHF", "CHR", "RND", "RNDM"}
     | DIAMETER
     | SUPPRESS
 )
@@ -297,7 +301,9 @@ class Executor(Machine):
             self._machine_positions(vals)
         if 1 in g:
             s.motion = g[1]
+        start = tuple(s.pos)
         moved = motion.execute(self, vals, g.get(11) == 9)
+        self._corner(vals, start, moved)
         if moved and s.mcall is not None:
             if s.mcall[2]:
                 self.modal_call_due = True  # a program file: the runner calls it
@@ -308,6 +314,50 @@ class Executor(Machine):
                 cls = canon.ProgramStop if code == 0 else canon.OptionalProgramStop
                 self.emit(cls(source=self.loc))
         return any(code in m for code in (2, 17, 30))
+
+    def _corner(self, vals: Values, start: tuple[float, ...], moved: bool) -> None:
+        """CHF= / CHR= / RND= (this block's corner) and RNDM= (every corner until RNDM=0)
+        after a contour move (840D fundamentals, "Chamfer, rounding"): the runner cuts it
+        when the next move comes (gcode.core.corners). As the 840D does, a corner too large
+        for its moves is made smaller, and none is cut before a rapid, a move off the
+        plane or the end."""
+        s, v = self.s, vals.v
+        if "RNDM" in v:
+            if v["RNDM"] < 0:
+                raise Diagnostic("SIEM-NEGATIVE", "negative RNDM=", self.at(vals, "RNDM"))
+            s.rounding = v["RNDM"]
+        asked = [k for k in ("CHF", "CHR", "RND") if k in v]
+        if len(asked) > 1:
+            asked.sort(key=lambda k: vals.cols.get(k, 0))
+            raise Diagnostic(
+                "SIEM-CORNER", f"{asked[0]}= and {asked[1]}= in one block", self.at(vals, asked[1])
+            )
+        if asked:
+            key = asked[0]
+            size = v[key]
+            if size < 0:
+                raise Diagnostic("SIEM-NEGATIVE", f"negative {key}=", self.at(vals, key))
+            if not moved:
+                raise Diagnostic(
+                    "SIEM-CORNER", f"{key}= belongs to a block that moves", self.at(vals, key)
+                )
+        elif s.rounding > 0 and moved:
+            key, size = "RNDM", s.rounding
+        else:
+            return
+        if size == 0 or s.motion not in (1, 2, 3):
+            return
+        if not _turns_in_plane(s.frame.m, PLANES[s.plane][1][2]):
+            raise Diagnostic(
+                "SIEM-CORNER",
+                f"{key}= under SCALE or a rotation out of the plane is not read",
+                self.at(vals, key),
+            )
+        kind = {"CHF": "chamfer_length", "CHR": "chamfer"}.get(key, "round")
+        at = self.at(vals, key)
+        self.corner = CornerRequest(
+            kind, size, start, PLANES[s.plane][0], at, shrink=True, lenient=True
+        )
 
     # ------------------------------------------------------------------ state words
     def _feed_mode(self, code: int) -> None:
@@ -524,3 +574,15 @@ class Executor(Machine):
             return
         tol = s.adis if code == 641 else 0.0
         self.emit(canon.SetMotionControlMode(canon.MotionMode.CONTINUOUS, tol, source=self.loc))
+
+
+def _turns_in_plane(m: tuple[tuple[float, float, float], ...], normal: int) -> bool:
+    """True when the frame's matrix ``m`` turns or mirrors within the plane of ``normal``
+    (or is none): lengths, angles and the plane stay as programmed, so the corner cut in
+    the IR is the programmed one, moved."""
+    for r in range(3):
+        for c in range(3):
+            dot = sum(m[r][k] * m[c][k] for k in range(3))
+            if not math.isclose(dot, 1.0 if r == c else 0.0, abs_tol=1e-12):
+                return False
+    return math.isclose(m[normal][normal], 1.0, abs_tol=1e-12)

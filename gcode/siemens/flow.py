@@ -28,6 +28,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
+from gcode.core.corners import CornerError, CornerFilter
 from gcode.core.loopguard import LoopGuard, RepeatGuard
 from gcode.siemens.blocks import Block, Word
 from gcode.siemens.cycles import STANDARD_CYCLES, check_cycle, run_cycle
@@ -100,6 +101,7 @@ class Runner:
         self.guard = LoopGuard(opts.max_blocks, opts.max_idle_blocks)
         #: (cycle name, calling program) -> whether a program file of that name is found
         self.cycle_files: dict[tuple[str, str], bool] = {}
+        self.corners = CornerFilter()  # CHF/CHR/RND: the asking move waits for the next one
 
     def run(self) -> Iterator[canon.Command]:
         ex = self.ex
@@ -132,7 +134,7 @@ class Runner:
                             self._modal_call(level)
                         if out:
                             guard.output += len(out)
-                            yield from out
+                            yield from self._released(out)
                             out.clear()
                     if level.sections and level.sections[-1].end == index:
                         self._section_end(level)
@@ -155,14 +157,28 @@ class Runner:
                     self._section_end(level)
                 if out:
                     guard.output += len(out)
-                    yield from out
+                    yield from self._released(out)
                     out.clear()
         except Diagnostic:
             yield from out
             out.clear()
             raise
-        yield from out
+        yield from self._released(out)
         out.clear()
+        yield from self.corners.finish()
+
+    def _released(self, out: list[canon.Command]) -> list[canon.Command]:
+        """The commands of the block just run that may go out now: a move that asked for a
+        chamfer or rounding waits for the next move (gcode.core.corners)."""
+        ex = self.ex
+        request, ex.corner = ex.corner, None
+        if request is None and not self.corners.pending:
+            return out
+        try:
+            return self.corners.push(out, request)
+        except CornerError as exc:
+            out.clear()  # the failing block's commands without the move they follow
+            raise Diagnostic("SIEM-CORNER", str(exc), exc.location) from None
 
     # ------------------------------------------------------------------ levels
     def _return(self, level: Level, block: Block | None) -> bool:

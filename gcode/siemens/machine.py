@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from gcode.core.corners import CornerRequest
 from gcode.ngc.interpreter import InterpreterOptions
 from gcode.siemens.state import State
 from kernel.diagnostics import Location
@@ -44,6 +45,8 @@ class Machine:
         self.input_reads = 0  # reads of the PLC inputs $A_IN / $A_INA
         #: a block moved under ``MCALL NAME``: the runner calls NAME after the block
         self.modal_call_due = False
+        #: the CHF/CHR/RND/RNDM corner the block just run asks for (the runner cuts it)
+        self.corner: CornerRequest | None = None
 
     def emit(self, cmd: canon.Command) -> None:
         """Append one IR command to the block's output."""

@@ -50,3 +50,4 @@ class State:
     mcall: tuple[str, tuple | None, bool] | None = None
     probing: bool = False
     diameter: int = 0  # 0 DIAMOF, 1 DIAMON, 90 DIAM90 (X as a diameter)
+    rounding: float = 0.0  # RNDM= modal rounding radius (0: off)
