@@ -17,7 +17,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gcode.core.corners import CornerError, CornerRequest, cut_corner
+from gcode.core.corners import CornerError, CornerRequest, cut_corner, round_with_arcs
 from gcode.fanuc.reader import interpret_text as fanuc
 from gcode.haas.reader import interpret_text as haas
 from gcode.siemens.reader import interpret_text as siemens
@@ -122,6 +122,82 @@ def test_a_corner_of_lines_that_leave_the_plane_is_refused():
         cut_corner(req, canon.StraightFeed(10, 0, -1), canon.StraightFeed(10, 10, -1))
 
 
+@settings(max_examples=300, deadline=None)
+@given(
+    st.floats(5, 60),
+    st.floats(-80, 80),
+    st.floats(5, 60),
+    st.sampled_from([1, -1]),
+    st.floats(10, 170),
+    st.floats(0.05, 0.5),
+    st.booleans(),
+)
+def test_a_fillet_beside_a_circle_touches_it_and_the_line(
+    length, angle, rho, turn, sweep, share, arc_first
+):
+    """A line then an arc (or the arc then the line, run backwards): the fillet's centre is
+    R from the line and R + or - rho from the circle's centre (tangent from outside or
+    inside), its ends lie on the line and the circle, and the first move ends where the
+    fillet starts."""
+    a = math.radians(angle)
+    corner = (length, 0.0)
+    # the circle starts at the corner, its centre rho to one side of a direction `a`
+    ux, uy = math.cos(a), math.sin(a)
+    centre = (corner[0] - turn * rho * uy, corner[1] + turn * rho * ux)
+    b0 = math.atan2(corner[1] - centre[1], corner[0] - centre[0])
+    b1 = b0 + turn * math.radians(sweep)
+    end = (centre[0] + rho * math.cos(b1), centre[1] + rho * math.sin(b1))
+    r = share * min(length, rho)
+    if arc_first:  # the same path backwards: arc from `end` to the corner, then the line
+        req = CornerRequest("round", r, (*end, 0, 0, 0, 0), Plane.XY, HERE)
+        one = canon.ArcFeed(*corner, *centre, -turn, 0.0)
+        two = canon.StraightFeed(0, 0, 0)
+    else:
+        req = CornerRequest("round", r, (0,) * 6, Plane.XY, HERE)
+        one = canon.StraightFeed(*corner, 0)
+        two = canon.ArcFeed(*end, *centre, turn, 0.0)
+    try:
+        out = round_with_arcs(req, one, two)
+    except CornerError as exc:
+        assert "does not fit" in str(exc) or "straight back" in str(exc)
+        return
+    fillets = [c for c in out if isinstance(c, canon.ArcFeed) and c.source is HERE]
+    if not fillets:  # tangent joint: nothing to cut
+        assert out == [one, two]
+        return
+    (fillet,) = fillets
+    f = (fillet.first_axis, fillet.second_axis)
+    assert abs(f[1]) == pytest.approx(r, abs=1e-7)  # R from the line y = 0
+    assert abs(math.dist(f, centre) - rho) == pytest.approx(r, abs=1e-7)
+    ends = [(fillet.first_end, fillet.second_end)]
+    before = out[out.index(fillet) - 1] if out.index(fillet) else None
+    start = (before.x, before.y) if isinstance(before, canon.StraightFeed) else None
+    if isinstance(before, canon.ArcFeed):
+        start = (before.first_end, before.second_end)
+    if start is not None:
+        ends.append(start)
+    for p in ends:  # each end on the line or on the circle
+        assert min(abs(p[1]), abs(math.dist(p, centre) - rho)) < 1e-7
+        assert math.dist(p, f) == pytest.approx(r, abs=1e-7)
+
+
+def test_fanuc_corner_r_between_a_clockwise_arc_and_a_line():
+    """By hand: G2 from (70,20) to (90,40) about (90,20), then G1 Y80 (a left turn from +X
+    to +Y): the fillet's centre is 20 + 3 from (90,20) (left of a clockwise arc is outward)
+    on x = 87, so y = 20 + sqrt(23^2 - 3^2); the arc ends on its radius through that centre,
+    20/23 of the way."""
+    text = "O1\nG21 G90 G0 X70. Y20.\nG2 X90. Y40. R20. F500. ,R3.\nG1 Y80.\nM30\n"
+    yc = 20 + math.sqrt(23**2 - 3**2)
+    t1 = (90 - 3 * 20 / 23, 20 + (yc - 20) * 20 / 23)
+    got = motions(list(fanuc(text, "a.nc")))[1:]
+    want = [
+        arc(*(round(v, 4) for v in t1), 90, 20, -1),
+        arc(90, round(yc, 4), 87, round(yc, 4), 1),
+        feed(90, 80, 0),
+    ]
+    assert got == want
+
+
 # ----------------------------------------------------------------------------- Fanuc, Haas
 SQUARE = """O1000
 G21 G90 G17 G40 G80
@@ -181,7 +257,8 @@ def test_fanuc_incremental_corner_r_turning_right():
         ("G0 X50. ,R5.\nY5.\n", 2, 9, "G01, G02 or G03"),
         ("G1 X50. ,C1. ,R5. F500.\nY5.\n", 2, 9, "both"),
         ("G1 X50. ,A30. F500.\nY5.\n", 2, 9, ",A angle"),
-        ("G1 X50. ,R5. F500.\nG3 X60. Y10. R10.\n", 3, 1, "circular move"),
+        ("G1 X50. ,C5. F500.\nG3 X60. Y10. R10.\n", 2, 9, "circular move"),
+        ("G1 X50. ,R5. F500.\nG3 X40. Y0. R5.\n", 2, 9, "does not fit"),
         ("G1 X50. ,R5. F500.\nM30\n", 3, 1, "next block"),
         ("G41 D0 G1 X50. ,R5. F500.\nY5.\n", 2, 16, "cutter compensation"),
     ],
@@ -231,7 +308,7 @@ def test_siemens_rounding_before_an_infeed_off_the_plane_is_not_cut():
     [
         ("G1 X10 F100 RND=1 CHF=1\nY5\n", 19, "in one block"),
         ("RND=1\nG1 X1 F100\n", 1, "moves"),
-        ("G1 X10 F100 RND=1\nG2 X20 Y0 CR=5\n", 1, "circular"),
+        ("G1 X10 F100 CHR=1\nG2 X20 Y0 CR=5\n", 13, "circular"),
         ("SCALE X2 Y2\nG1 X10 F100 RND=1\nY5\n", 13, "SCALE"),
     ],
 )
