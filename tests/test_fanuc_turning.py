@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from gcode.fanuc.turning.cycles import CycleSettings, LatheMove, ProfileStep, cycle_moves
@@ -745,6 +745,17 @@ def test_type_ii_still_needs_a_monotone_cutting_axis() -> None:
     escape=st.floats(0.0, 1.0),
     ua=st.floats(0.0, 0.8),
     ub=st.floats(0.0, 0.8),
+)
+@example(  # walls slanted by 1e-9: a span's middle fell in a wall's sliver, cut through
+    segs=[(-2.5, 1.0), (1.0, 1e-09), (0.0, 1.0), (1.0, 1e-09), (0.0, 1.0)],
+    facing=True,
+    sa=1.0,
+    sb=1.0,
+    margin=1.0,
+    depth=1.0,
+    escape=0.0,
+    ua=0.0,
+    ub=0.0,
 )
 def test_type_ii_roughing_never_enters_the_allowance_contour(
     segs: list[tuple[float, float]],

@@ -214,7 +214,10 @@ def material_intervals(
     level."""
     if b_last >= b0 - EPS:
         return []
-    marks = [b0, b_last, b_first] + crossings(pieces, level)
+    # every vertex too: an interval then lies on one piece, and its middle cannot fall in
+    # the sliver of a wall slanted by less than EPS (where no piece gives a height)
+    vertices = [b for seg in pieces for b in (seg.b0, seg.b1)]
+    marks = [b0, b_last, b_first] + crossings(pieces, level) + vertices
     marks = sorted({m for m in marks if b_last - EPS <= m <= b0 + EPS}, reverse=True)
     points: list[float] = []
     for m in marks:
