@@ -192,6 +192,46 @@ def test_cycle83_in_inch_takes_the_mm_defaults_converted() -> None:
     ]
 
 
+def test_cycle83_as_fusion_360s_840d_post_writes_it() -> None:
+    """The Fusion 360 840D post's chip breaking (its cycle parameters in order: FDEP =
+    stock - peck, DAM 0, FRF 1, VARI 0, _MDEP = peck, _VRT = chip-break distance, _DTD,
+    _DIS1 0, and with extended cycles _GMODE 0, _DMODE 0, _AMODE 1001110): with absolute
+    DP and FDEP and no dwell in revolutions every _AMODE digit 0/1 reads as the
+    compatible form. Strokes of 5 from -5: -10, -15, -20, then the rest 2: -22; after
+    each intermediate depth G1 back _VRT 1; at the depth G0 to RTP 20."""
+    call = "MCALL CYCLE83(20, 0, 2, -22, , -5, , 0, , , 1, 0, , 5, 1, 0, 0, 0, 0, 1001110)"
+    got = motions(HEAD + call + "\nX10 Y10\nMCALL\nM30\n")
+    assert got == [
+        "G0 10 10 20",
+        "G0 10 10 2",
+        "G1 10 10 -5",
+        "G1 10 10 -4",
+        "G1 10 10 -10",
+        "G1 10 10 -9",
+        "G1 10 10 -15",
+        "G1 10 10 -14",
+        "G1 10 10 -20",
+        "G1 10 10 -19",
+        "G1 10 10 -22",
+        "G0 10 10 20",
+    ]
+
+
+def test_extended_cycle81_82_85_86_calls_read_as_the_short_form() -> None:
+    """The same post's extended CYCLE81/82 (``..., 0, 0, 10)``), CYCLE85 and CYCLE86
+    (``..., 0, 0, 0)`` / ``10)``) give the motions of the short form."""
+    for short, extended in (
+        ("CYCLE81(10, 0, 2, -5, )", "CYCLE81(10, 0, 2, -5, , 0, 0, 10)"),
+        ("CYCLE82(10, 0, 2, -5, , 1)", "CYCLE82(10, 0, 2, -5, , 1, 0, 0, 10)"),
+        ("CYCLE85(10, 0, 2, -5, , 1, 50, 200)", "CYCLE85(10, 0, 2, -5, , 1, 50, 200, 0, 0, 0)"),
+        (
+            "CYCLE86(10, 0, 2, -5, , , 3, 0, 0, 0, 0)",
+            "CYCLE86(10, 0, 2, -5, , , 3, 0, 0, 0, 0, 0, 0, 10)",
+        ),
+    ):
+        assert motions(HEAD + extended + "\nM30\n") == motions(HEAD + short + "\nM30\n")
+
+
 # ---------------------------------------------------------------------------- patterns
 DRILL = "MCALL CYCLE81(10, 0, 2, -5)\n"
 
@@ -437,6 +477,13 @@ def test_cycle840_with_and_without_encoder() -> None:
             "_DMODE",
         ),
         ("CYCLE83(20, 0, 2, -900, , -0.01, , 0, , , , 0)", "SIEM-CYCLE-ARGS", "strokes"),
+        (
+            "CYCLE83(20, 0, 2, -22, , -5, , 0, , , 1, 0, , 5, 1, 0, 0, 0, 0, 1002110)",
+            "SIEM-CYCLE-UNSUPPORTED",
+            "_AMODE",
+        ),
+        ("CYCLE81(10, 0, 2, , 5, 0, 0, 10)", "SIEM-CYCLE-UNSUPPORTED", "_AMODE"),
+        ("CYCLE82(10, 0, 2, -5, , 1, 1, 0, 0)", "SIEM-CYCLE-UNSUPPORTED", "_GMODE"),
         ("CYCLE83(20, 0, 2, 5, , -5)", "SIEM-CYCLE-ARGS", "depth"),
         ("HOLES2(50, 50, 20, 0, 90, 0)", "SIEM-CYCLE-ARGS", "NUM"),
         ("HOLES2(50, 50, 0, 0, 90, 4)", "SIEM-CYCLE-ARGS", "RAD"),

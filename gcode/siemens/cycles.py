@@ -57,14 +57,16 @@ STANDARD_CYCLES = frozenset(
     ("HOLES1", "HOLES2", "LONGHOLE", "SLOT1", "SLOT2", "POCKET1", "POCKET2", "POCKET3", "POCKET4")
 )
 _DRILL = ("RTP", "RFP", "SDIS", "DP", "DPR")
+#: the parameters the later cycle versions add (geometry, display and alternative modes)
+_MODES = ("_GMODE", "_DMODE", "_AMODE")
 #: cycle -> its parameters, in call order
 PARAMETERS: dict[str, tuple[str, ...]] = {
-    "CYCLE81": _DRILL,
-    "CYCLE82": (*_DRILL, "DTB"),
+    "CYCLE81": (*_DRILL, *_MODES),
+    "CYCLE82": (*_DRILL, "DTB", *_MODES),
     "CYCLE83": (
         *_DRILL,
         *("FDEP", "FDPR", "DAM", "DTB", "DTS", "FRF", "VARI", "_AXN", "_MDEP", "_VRT"),
-        *("_DTD", "_DIS1", "_GMODE", "_DMODE", "_AMODE"),
+        *("_DTD", "_DIS1", *_MODES),
     ),
     "CYCLE84": (
         *_DRILL,
@@ -75,8 +77,8 @@ PARAMETERS: dict[str, tuple[str, ...]] = {
         *_DRILL,
         *("DTB", "SDR", "SDAC", "ENC", "MPIT", "PIT", "_AXN", "_PTAB", "_TECHNO"),
     ),
-    "CYCLE85": (*_DRILL, "DTB", "FFR", "RFF"),
-    "CYCLE86": (*_DRILL, "DTB", "SDIR", "RPA", "RPO", "RPAP", "POSS"),
+    "CYCLE85": (*_DRILL, "DTB", "FFR", "RFF", *_MODES),
+    "CYCLE86": (*_DRILL, "DTB", "SDIR", "RPA", "RPO", "RPAP", "POSS", *_MODES),
     "CYCLE87": (*_DRILL, "SDIR"),
     "CYCLE88": (*_DRILL, "DTB", "SDIR"),
     "CYCLE89": (*_DRILL, "DTB"),
@@ -86,9 +88,6 @@ PARAMETERS: dict[str, tuple[str, ...]] = {
 }
 #: the position patterns: they run the modally called cycle at each position
 PATTERNS = frozenset(("HOLES1", "HOLES2", "CYCLE801"))
-#: CYCLE83's parameters of the later cycle versions (alternative units and display modes
-#: chosen digit by digit): only their value 0, the compatible behaviour, is read
-_MODES = ("_GMODE", "_DMODE", "_AMODE")
 #: most strokes one CYCLE83 may make (a far smaller first depth than the hole is a mistake)
 MAX_STROKES = 10_000
 MM = 25.4  # mm per inch
@@ -194,6 +193,46 @@ class Drill:
         index = int(axn) - 1 if axn else PLANES[ex.s.plane][1][2]
         self.axis = "XYZ"[index]
         self.inch = ex.s.units is canon.Units.INCHES
+        if "_AMODE" in p:
+            self.modes()
+
+    def modes(self) -> None:
+        """The later cycle versions' ``_GMODE, _DMODE, _AMODE`` (CAM posts write them, e.g.
+        Fusion 360's 840D post ``..., 0, 0, 1001110)``). _GMODE 0 (drill to the tip) and
+        _DMODE 0 (the programmed plane) are the compatible readings, and are read. An
+        _AMODE digit chooses how one parameter is read: 0 compatible, 1 absolute depth,
+        value, seconds (the post's choice for its absolute DP and FDEP). With digits 0 and 1
+        and a call that gives no relative depth (DPR, FDPR), no degression factor and no
+        dwell in revolutions, every reading is the compatible one; anything else is
+        refused naming the parameter."""
+        p, ex, name = self.p, self.ex, self.name
+        for key in ("_GMODE", "_DMODE"):
+            if p[key]:
+                raise Diagnostic(
+                    "SIEM-CYCLE-UNSUPPORTED",
+                    f"{name} {key}={p[key]:g}: only 0 (drilling to the tip in the programmed "
+                    "plane) is read",
+                    ex.loc,
+                )
+        amode = p["_AMODE"]
+        if not amode:
+            return
+        digits = f"{amode:.0f}"
+        signed = [p.get(k, 0.0) for k in ("DAM", "DTB", "DTS", "_DTD")]
+        if (
+            amode != int(amode)
+            or amode < 0
+            or set(digits) - {"0", "1"}
+            or p["DPR"]
+            or p.get("FDPR", 0.0)
+            or min(signed) < 0
+        ):
+            raise Diagnostic(
+                "SIEM-CYCLE-UNSUPPORTED",
+                f"{name} _AMODE={amode:g}: alternative parameter readings (digits 2, or with "
+                "DPR/FDPR, a degression factor or dwells in revolutions) are not read",
+                ex.loc,
+            )
 
     def run(self) -> None:
         s = self.ex.s
@@ -275,14 +314,6 @@ class Drill:
 
     def _cycle83(self) -> None:
         p, ex = self.p, self.ex
-        for key in _MODES:
-            if p[key]:
-                raise Diagnostic(
-                    "SIEM-CYCLE-UNSUPPORTED",
-                    f"CYCLE83 {key}={p[key]:g}: the alternative units and modes of the later "
-                    "cycle versions are not read (only 0, the compatible behaviour)",
-                    ex.loc,
-                )
         if p["VARI"] not in (0.0, 1.0):
             raise _bad(ex, "CYCLE83", f"VARI={p['VARI']:g}: 0 (chip breaking) or 1 (swarf removal)")
         frf = p["FRF"] or 1.0
