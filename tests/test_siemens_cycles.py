@@ -439,6 +439,37 @@ def test_cycle84_with_dwell_and_retraction_speed() -> None:
     ]
 
 
+def test_cycle84_in_strokes_chip_breaking_and_swarf_removal() -> None:
+    """Fusion 360's "tapping with chip breaking": CYCLE84(20, 0, 2, -10, , 0, 3, , PIT 1,
+    0, 300, 300, 0, 0, 0, _VARI 1, _DAM 5, _VRT 0.5). From RFP + SDIS = 2 strokes of 5:
+    -3, -8, then the depth -10. After each intermediate depth M4 and synchronised back by
+    0.5 (-2.5, -7.5), M3 and on; at the depth M4, out to 2, G0 RTP, S and SDAC. _VARI 2
+    comes back to 2 each time instead."""
+    call = "CYCLE84(20, 0, 2, -10, , 0, 3, , 1, 0, 1000, 1000, 0, 0, 0, {}, 5, 0.5)"
+    got = [m for m in motions(HEAD + call.format(1) + "\nM30\n") if m[0] in "GM"]
+    assert got == [
+        "G0 10 10 2",
+        "M3",
+        "G1 10 10 -3",
+        "M4",
+        "G1 10 10 -2.5",
+        "M3",
+        "G1 10 10 -8",
+        "M4",
+        "G1 10 10 -7.5",
+        "M3",
+        "G1 10 10 -10",
+        "M4",
+        "G1 10 10 2",
+        "G0 10 10 20",
+        "M3",
+    ]
+    got = [m for m in motions(HEAD + call.format(2) + "\nM30\n") if m.startswith("G1")]
+    assert got == ["G1 10 10 -3", "G1 10 10 2", "G1 10 10 -8", "G1 10 10 2", "G1 10 10 -10"] + [
+        "G1 10 10 2"
+    ]
+
+
 def test_cycle840_with_and_without_encoder() -> None:
     """CYCLE840(20, 0, 2, -10, , DTB 0.5, SDR 0, SDAC 3, ENC 0, , PIT 1.25): with the
     encoder in synchronised (G33) at 1.25, dwell, reversed automatically (M3 -> M4), out,
@@ -498,10 +529,11 @@ def test_cycle840_with_and_without_encoder() -> None:
         ("CYCLE84(20, 0, 2, -10, , 0, 3, 8, 1.5, 0, 300)", "SIEM-CYCLE-ARGS", "61001"),
         ("CYCLE84(20, 0, 2, -10, , 0, 7, 8, , 0, 300)", "SIEM-CYCLE-ARGS", "SDAC"),
         (
-            "CYCLE84(20, 0, 2, -10, , 0, 3, 8, , 0, 300, , , , , 1, 2, 1)",
-            "SIEM-CYCLE-UNSUPPORTED",
+            "CYCLE84(20, 0, 2, -10, , 0, 3, 8, , 0, 300, , , , , 3, 2, 1)",
+            "SIEM-CYCLE-ARGS",
             "_VARI",
         ),
+        ("CYCLE84(20, 0, 2, -10, , 0, 3, 8, , 0, 300, , , , , 1, 0, 1)", "SIEM-CYCLE-ARGS", "_DAM"),
         ("CYCLE840(20, 0, 2, -10, , 0, 0, 3, 2, 8)", "SIEM-CYCLE-UNSUPPORTED", "ENC"),
         ("M5\nCYCLE840(20, 0, 2, -10, , 0, 0, 3, 0, 8)", "SIEM-CYCLE-ARGS", "spindle"),
         ("CYCLE89(10, 0, 2, -5, , 1, 2)", "SIEM-CYCLE-ARGS", "at most 6"),

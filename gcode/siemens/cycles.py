@@ -23,6 +23,9 @@ given). All begin with G0 to ``RFP + SDIS`` and end at ``RTP``:
 * ``CYCLE87(..., SDIR)`` and ``CYCLE88(..., DTB, SDIR)``: spindle SDIR, G1 in, (88: dwell),
   M5 and M0 (the operator), G0 to RTP.
 * ``CYCLE89(..., DTB)``: G1 in, dwell, G1 out to RFP + SDIS at the same feed.
+* ``CYCLE84(..., DTB, SDAC, MPIT, PIT, POSS, SST, SST1, _AXN, _PTAB, _TECHNO, _VARI, _DAM,
+  _VRT)``: rigid tapping (RIGID_TAP, or synchronised strokes), see :meth:`Drill._cycle84`.
+* ``CYCLE840(..., DTB, SDR, SDAC, ENC, MPIT, PIT, ...)``: tapping with compensating chuck.
 
 The cycles' own feeds (FRF, FFR, RFF) hold inside the cycle: the feed in force before it
 is programmed again at its end. Dwells given negative are spindle revolutions.
@@ -431,15 +434,17 @@ class Drill:
         """Rigid tapping: G0 to RFP + SDIS, oriented stop at POSS (the spindle becomes an
         axis), tap to the depth at speed SST, dwell DTB, back to RFP + SDIS reversed at
         SST1, G0 to RTP, then the speed of before in the direction SDAC. Without dwell and
-        at one speed the tap is the IR's RIGID_TAP (as G33.1); else synchronised in and out."""
+        at one speed the tap is the IR's RIGID_TAP (as G33.1); else synchronised in and out.
+        _VARI 1 (chip breaking) / 2 (swarf removal) tap in strokes of _DAM: after each
+        intermediate depth the spindle reverses and the tap comes back by _VRT (0: 1 mm) /
+        to RFP + SDIS, synchronised, and reverses again to go on."""
         p, ex = self.p, self.ex
-        if p["_VARI"]:
-            raise Diagnostic(
-                "SIEM-CYCLE-UNSUPPORTED",
-                f"CYCLE84 _VARI={p['_VARI']:g}: tapping in strokes (chip breaking, swarf "
-                "removal) is not expanded by this reader",
-                ex.loc,
-            )
+        if p["_VARI"] not in (0.0, 1.0, 2.0):
+            raise _bad(ex, "CYCLE84", f"_VARI={p['_VARI']:g}: 0, 1 or 2")
+        if p["_VARI"] and p["_DAM"] <= 0:
+            raise _bad(ex, "CYCLE84", "tapping in strokes (_VARI 1, 2) needs _DAM above 0")
+        if p["_VRT"] < 0:
+            raise _bad(ex, "CYCLE84", "_VRT is given without sign")
         if p["SDAC"] not in (3.0, 4.0, 5.0):
             raise _bad(ex, "CYCLE84", f"SDAC={p['SDAC']:g}: the direction after is 3, 4 or 5")
         if not 0.0 <= p["POSS"] < 360.0:
@@ -450,21 +455,36 @@ class Drill:
         if tap <= 0:
             raise _bad(ex, "CYCLE84", "no tapping speed (SST and S are 0)")
         out = p["SST1"] or tap
+        forward, backward = (3.0, 4.0) if lead > 0 else (4.0, 3.0)
+        levels = [self.depth]
+        if p["_VARI"]:
+            count = math.ceil((self.top - self.depth) / p["_DAM"] - 1e-9)
+            if count > MAX_STROKES:
+                raise _bad(ex, "CYCLE84", f"more than {MAX_STROKES} strokes to the depth")
+            levels = [max(self.top - i * p["_DAM"], self.depth) for i in range(1, count + 1)]
         self.move(0, self.top)
         ex.s.direction = canon.Direction.STOPPED
         ex.emit(canon.OrientSpindle(p["POSS"], canon.Direction.CLOCKWISE, source=ex.loc))
         self.speed(tap)
-        self.turn(3.0 if lead > 0 else 4.0)
-        if p["DTB"] == 0 and out == tap:
+        self.turn(forward)
+        if p["DTB"] == 0 and out == tap and not p["_VARI"]:
             _, _, end = motion.ends(ex, Values(v={self.axis: self.depth}))
             ex.emit(canon.StartSpeedFeedSynch(abs(lead), False, source=ex.loc))
             ex.emit(canon.RigidTap(end[0], end[1], end[2], source=ex.loc))
             ex.emit(canon.StopSpeedFeedSynch(source=ex.loc))
         else:
+            back = p["_VRT"] or self.mm(1.0)
+            for level in levels[:-1]:
+                self.synchronised(level, abs(lead))
+                self.turn(backward)
+                self.synchronised(
+                    min(level + back, self.top) if p["_VARI"] == 1 else self.top, abs(lead)
+                )
+                self.turn(forward)
             self.synchronised(self.depth, abs(lead))
             self.dwell(p["DTB"], "DTB")
             self.speed(out)
-            self.turn(4.0 if lead > 0 else 3.0)
+            self.turn(backward)
             self.synchronised(self.top, abs(lead))
         self.move(0, p["RTP"])
         self.speed(before)
