@@ -291,6 +291,14 @@ def test_patterns_without_mcall_only_position_and_work_in_g19() -> None:
     assert got == ["G0 10 10 0", "G0 10 0 10"]
 
 
+def test_a_pattern_called_modally_only_positions() -> None:
+    """MCALL CYCLE801(...): the grid runs after each block that moves; the blocks of a
+    modally called program call nothing themselves (job planning, "Modal subprogram
+    call"), so the grid's own moves drill nothing and do not call the grid again."""
+    text = HEAD + "MCALL CYCLE801(0, 0, 0, 10, 10, 2, 1)\nX30\nMCALL\nM30\n"
+    assert motions(text) == ["G0 30 10 20", "G0 0 0 20", "G0 10 0 20"]
+
+
 def test_pattern_runs_the_modal_cycle82_and_cycle83() -> None:
     """The pattern runs whatever cycle MCALL selected: CYCLE82 dwells DTB at each hole;
     CYCLE83 drills its strokes at each."""

@@ -633,6 +633,8 @@ def _pattern(ex: Machine, name: str, p: dict[str, float], scope: Variables) -> N
     """G0 to each position in the plane; the MCALLed cycle runs there."""
     s = ex.s
     call = s.mcall
+    if call is not None and call[0] in PATTERNS:
+        call = None  # a pattern called modally: its own moves call nothing (job planning)
     if call is not None and call[2]:
         raise Diagnostic(
             "SIEM-CYCLE-UNSUPPORTED",
