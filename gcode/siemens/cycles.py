@@ -107,8 +107,8 @@ def check_cycle(ex: Machine, name: str, args: tuple[Node | None, ...]) -> None:
     if name not in PARAMETERS:
         raise Diagnostic(
             "SIEM-CYCLE-UNSUPPORTED",
-            f"{name} is not expanded by this reader (CYCLE81-CYCLE83, CYCLE85-CYCLE89, "
-            "HOLES1, HOLES2, CYCLE801 are)",
+            f"{name} is not expanded by this reader (CYCLE81-CYCLE89, CYCLE840, HOLES1, "
+            "HOLES2, CYCLE801 are)",
             ex.loc,
         )
     if len(args) > len(PARAMETERS[name]):
