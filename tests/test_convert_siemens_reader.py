@@ -110,9 +110,11 @@ def test_a_program_start_character_on_the_first_line_is_not_a_block() -> None:
 
 
 def test_a_standard_cycle_without_a_program_file_is_refused_as_a_cycle() -> None:
-    """HOLES2 is one of the 840D's own cycles: without a HOLES2.SPF on the search path the
-    refusal names it as a cycle that is not expanded, not as a missing subprogram."""
+    """LONGHOLE is one of the 840D's own cycles: without a LONGHOLE.SPF on the search path
+    the refusal names it as a cycle that is not expanded, not as a missing subprogram.
+    (HOLES2, the example here before, is now expanded: tests/test_siemens_cycles.py.)"""
+    text = "G1 X0 Y0 F100\nLONGHOLE(10, 0, 2, -5, , 2, 20, 50, 50, 30, 0, 180)\nM30\n"
     with pytest.raises(Diagnostic) as info:
-        list(interpret_text("G1 X0 Y0 F100\nHOLES2(50, 50, 20, 0, 90, 4)\nM30\n", "p.mpf"))
-    assert info.value.code == "SIEM-CYCLE-UNSUPPORTED" and "HOLES2" in info.value.message
+        list(interpret_text(text, "p.mpf"))
+    assert info.value.code == "SIEM-CYCLE-UNSUPPORTED" and "LONGHOLE" in info.value.message
     assert info.value.location.line == 2

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 from gcode.core.corners import CornerError, CornerFilter
 from gcode.core.loopguard import LoopGuard, RepeatGuard
 from gcode.siemens.blocks import Block, Word
-from gcode.siemens.cycles import STANDARD_CYCLES, check_cycle, run_cycle
+from gcode.siemens.cycles import PATTERNS, STANDARD_CYCLES, check_cycle, run_cycle
 from gcode.siemens.executor import Executor
 from gcode.siemens.expr import Variables, evaluate
 from gcode.siemens.fastpath import plain_words
@@ -252,6 +252,9 @@ class Runner:
             raise Diagnostic("SIEM-CALL-DEPTH", f"more than {MAX_DEPTH} program levels", ex.loc)
         path = find_subprogram(name, ex.options.search_path, level.program.name)
         if path is None:
+            if name in PATTERNS:
+                run_cycle(ex, name, args, level.scope)  # HOLES1, HOLES2: the control's own
+                return
             if name in STANDARD_CYCLES:
                 check_cycle(ex, name, args)  # the control's cycle, which is not expanded
             raise Diagnostic("SIEM-SUBPROGRAM", f"subprogram {name} ({name}.SPF) not found", ex.loc)
