@@ -318,3 +318,15 @@ def test_siemens_corners_not_read_are_located_errors(text, column, words):
     assert info.value.code == "SIEM-CORNER"
     assert words in info.value.message
     assert info.value.location.column == column
+
+
+def test_a_corner_in_a_lathe_cycle_contour_is_refused_not_dropped():
+    """G71/G70 contour blocks are read by the cycle, not run: a ,C there would be lost."""
+    text = (
+        "O1\nG18 G21 G99\nT0101\nG0 X50. Z2.\nG71 U1. R0.5\nG71 P10 Q20 U0.5 W0.1 F0.2\n"
+        "N10 G0 X20.\nG1 Z-10. ,C1.\nX40.\nN20 Z-30.\nG70 P10 Q20\nM30\n"
+    )
+    with pytest.raises(Diagnostic) as info:
+        list(fanuc(text, "l.nc", lathe=True))
+    assert info.value.code == "FANUC-CORNER"
+    assert (info.value.location.line, info.value.location.column) == (8, 10)

@@ -421,7 +421,13 @@ class Reader:
                 raise Diagnostic("FANUC-CYCLE-CONTOUR", "macro statement in a contour", at)
             raw: dict[str, int | float] = {}
             gs: list[int] = []
-            for letter, word, _ in blk.words:
+            for letter, word, index in blk.words:
+                if letter[0] == ",":
+                    raise Diagnostic(
+                        "FANUC-CORNER",
+                        f"{letter} (chamfer or corner R) in a G70-G73 contour is not read",
+                        Location(fr.src.path, blk.line, blk.column(index)),
+                    )
                 val = evaluate(word, self.vars, at) if isinstance(word, tuple) else word
                 if val is None:
                     continue
