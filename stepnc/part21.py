@@ -381,7 +381,13 @@ class _Reader:
                 pos = m.end()
                 nxt = self.token(pos)
                 if nxt.lastindex == _PUNCT and nxt.group(_PUNCT) == "(":
-                    _, pos = self.params(pos, None)  # DATA(name, schemas) of Part 21 ed. 3
+                    try:  # DATA(name, schemas) of Part 21 ed. 3
+                        _, pos = self.params(pos, None)
+                    except _Abort as ab:  # collect mode: reported; the section starts after ';'
+                        at_end = self.text[ab.pos - 1 : ab.pos] == ";"
+                        pos = ab.pos if at_end else self.skip_statement(ab.pos)
+                        pos = self.data(pos, out)
+                        continue
                 pos = self.expect_semicolon(pos, "DATA")
                 pos = self.data(pos, out)
                 continue
