@@ -33,7 +33,7 @@ _HASH_SLOTS = 1 << 16
 MAX_CHARS = (1 << 31) - 1
 #: rows decoded in the first and the largest chunks when all are iterated
 _CHUNK = 4096
-_MAX_CHUNK = 1 << 16
+_MAX_CHUNK = 1 << 14
 
 
 class Instances(MutableMapping[int, Instance]):
