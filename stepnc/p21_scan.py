@@ -95,9 +95,7 @@ class Instances(MutableMapping[int, Instance]):
             self._add_names(n_names)
             if status == _FULL:
                 self._grow_rows()
-            elif status == _ID_BIG and self._grow_ids(big):
-                continue
-            elif status != _FULL:
+            elif status != _ID_BIG or not self._grow_ids(big):
                 return pos, line_no, last_nl
 
     def _add_names(self, n_names: int) -> None:
