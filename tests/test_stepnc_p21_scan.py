@@ -12,12 +12,16 @@ falls back to the pure-Python path.
 
 from __future__ import annotations
 
+import os
 import random
+import subprocess
+import sys
 from pathlib import Path
 from types import ModuleType
 
 import pytest
 
+from kernel import aot
 from kernel.aot import cache_dir
 from kernel.diagnostics import Diagnostic
 from stepnc import p21_scan, part21
@@ -207,3 +211,65 @@ def test_a_long_number_across_the_digit_checks_pieces_is_found_whole(shift: int)
         1,
         at + 1,
     )
+
+
+@pytest.mark.slow  # imports numba
+def test_a_failed_build_falls_back_to_jit_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    calls = []
+
+    def no_compiler(directory: Path, name: str) -> tuple[bool, str]:
+        calls.append(name)
+        return False, "error: command 'gcc' failed: No such file or directory"
+
+    kernels = p21_scan.KERNELS
+    monkeypatch.setattr(kernels, "build_aot", no_compiler)
+    monkeypatch.setattr(aot, "cache_dir", lambda: tmp_path)
+    monkeypatch.delenv("CNC_P21_JIT", raising=False)
+    monkeypatch.setattr(kernels, "_loaded", None)
+    assert kernels.mode() == "jit"
+    assert kernels.module() is kernels.load_jit()
+    assert (tmp_path / (kernels.aot_name() + ".failed")).read_text().startswith("error:")
+    assert kernels.load_aot(tmp_path) is None  # remembered: no second build attempt
+    assert len(calls) == 1
+
+
+@pytest.mark.slow  # two interpreters
+def test_the_one_off_build_is_announced_on_stderr_once(tmp_path: Path) -> None:
+    """A user whose first large file builds the kernels is told so on stderr, before the
+    wait; a later command (the build remembered) says nothing."""
+    probe = (
+        "import sys; from pathlib import Path; from stepnc.p21_scan import KERNELS; "
+        "KERNELS.build_aot = lambda directory, name: (False, 'no compiler'); "
+        "print(KERNELS.load_aot(Path(sys.argv[1])))"
+    )
+    env = dict(os.environ)
+    env.pop("CNC_P21_JIT", None)
+    runs = [
+        subprocess.run(
+            [sys.executable, "-c", probe, str(tmp_path)],
+            env=env, capture_output=True, text=True, check=True,
+        )
+        for _ in range(2)
+    ]  # fmt: skip
+    assert runs[0].stdout.strip() == runs[1].stdout.strip() == "None"
+    assert runs[0].stderr.startswith("building fast Part 21 kernels, once, ~30 s")
+    assert str(tmp_path) in runs[0].stderr
+    assert runs[1].stderr == ""
+
+
+@pytest.mark.slow  # an interpreter
+def test_loading_the_aot_module_imports_no_numba(tmp_path: Path) -> None:
+    if p21_scan.KERNELS.load_aot(cache_dir()) is None:
+        pytest.skip("no AOT build of the Part 21 kernels (no C compiler)")
+    probe = (
+        "import sys; from stepnc.p21_scan import KERNELS; "
+        "print(KERNELS.module().__name__, 'numba' in sys.modules)"
+    )
+    env = dict(os.environ, CNC_CACHE_DIR=str(cache_dir()))
+    env.pop("CNC_P21_JIT", None)
+    out = subprocess.run(
+        [sys.executable, "-c", probe], env=env, capture_output=True, text=True, check=True
+    )
+    assert out.stdout.split() == [p21_scan.KERNELS.aot_name(), "False"]
