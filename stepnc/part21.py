@@ -94,6 +94,8 @@ _TOKEN = re.compile(
 )
 _DIGITS_TO_ZERO = bytes.maketrans(b"123456789", b"000000000")
 _DIGIT_PIECE = 1 << 20
+#: the most instances the fast path takes between two tries of the compiled scanner
+_SCAN_BACKOFF = 1024
 _INSTANCE_START = re.compile(r"\n[ \t]*#\d+[ \t]*=")
 _REF, _REAL, _INT, _STR, _ENUM, _BIN, _KW, _PUNCT, _EOF, _BAD = range(1, 11)
 
@@ -347,6 +349,10 @@ class _Reader:
     _inst_pos = 0
     _truncated = False
     _swallowed = -1
+    #: instances left to the Python reader before the compiled scanner is tried again, and
+    #: the next such wait (doubling while the scanner takes nothing)
+    _scan_wait = 0
+    _scan_backoff = 1
 
     # -- file structure
     def expect_word(self, pos: int, word: str, code: str) -> int:
@@ -455,12 +461,23 @@ class _Reader:
             return self.fast_run(pos, instances)
         text = self.text
         while True:
-            if pos < self.line_pos:
-                self.line_pos, self.line_no = 0, 1
-            line_no = self.line_no + text.count("\n", self.line_pos, pos)
-            pos, self.line_no, _ = instances.scan(pos, line_no, text.rfind("\n", 0, pos))
-            self.line_pos = pos
-            after = self.fast_run(pos, instances, 1)
+            took = False
+            if self._scan_wait <= 0:
+                if pos < self.line_pos:
+                    self.line_pos, self.line_no = 0, 1
+                line_no = self.line_no + text.count("\n", self.line_pos, pos)
+                before = len(instances)
+                pos, self.line_no, _ = instances.scan(pos, line_no, text.rfind("\n", 0, pos))
+                self.line_pos = pos
+                took = len(instances) > before
+                if took:
+                    self._scan_backoff = 1
+                else:  # instances the scanner leaves: try it again less and less often
+                    self._scan_wait = self._scan_backoff
+                    self._scan_backoff = min(2 * self._scan_backoff, _SCAN_BACKOFF)
+            before = len(instances)
+            after = self.fast_run(pos, instances, max(1, self._scan_wait))
+            self._scan_wait -= max(1, len(instances) - before)
             if after == pos:
                 return pos
             pos = after

@@ -95,6 +95,10 @@ def test_every_corpus_file_reads_the_same_scanned(
         "#1=A(1,\n#2=B(2);\n#3=C(3);\n",  # unterminated
         "#1=A('never closed);\n#2=B(2);\n",
         "#1=A(1);\n#2=B(2)\n",  # no ';' and no ENDSEC
+        # runs the scanner leaves (typed parameters, ids beyond its table) between its own
+        "".join(f"#{i}=X(LENGTH({i}.5));\n#{i + 10**12}=P({i});\n" for i in range(1, 90))
+        + "".join(f"#{i + 500}=Q({i}, #{i});\n" for i in range(1, 90))
+        + "#7=DUP(7);\n",
     ],
 )
 def test_scanned_and_python_instances_mix_in_file_order(
