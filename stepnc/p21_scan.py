@@ -146,7 +146,7 @@ class Instances(MutableMapping[int, Instance]):
             return -1
         k = int(key)
         if 0 <= k < len(self._seen):
-            return int(self._seen[k]) - 1
+            return int(self._seen.item(k)) - 1
         return -1
 
     def _new_cache(self) -> list[Instance | None]:
@@ -195,6 +195,9 @@ class Instances(MutableMapping[int, Instance]):
         return self._over[key]
 
     def __contains__(self, key: object) -> bool:
+        seen = self._seen
+        if type(key) is int and 0 <= key < len(seen):  # -1: in _over
+            return bool(seen.item(key))
         return self._row(key) >= 0 or key in self._over
 
     def __setitem__(self, key: int, value: Instance) -> None:

@@ -349,8 +349,9 @@ class _Reader:
     _inst_pos = 0
     _truncated = False
     _swallowed = -1
-    #: instances left to the Python reader before the compiled scanner is tried again, and
-    #: the next such wait (doubling while the scanner takes nothing)
+    #: turns (each an instance or a run of them) left to the Python reader before the
+    #: compiled scanner is tried again, and the next such wait (doubling while the scanner
+    #: takes nothing)
     _scan_wait = 0
     _scan_backoff = 1
 
@@ -475,9 +476,8 @@ class _Reader:
                 else:  # instances the scanner leaves: try it again less and less often
                     self._scan_wait = self._scan_backoff
                     self._scan_backoff = min(2 * self._scan_backoff, _SCAN_BACKOFF)
-            before = len(instances)
             after = self.fast_run(pos, instances, max(1, self._scan_wait))
-            self._scan_wait -= max(1, len(instances) - before)
+            self._scan_wait -= 1
             if after == pos:
                 return pos
             pos = after
