@@ -184,7 +184,7 @@ def test_aot_and_jit_scanners_fill_identical_arrays(monkeypatch: pytest.MonkeyPa
         return [[rows], *(a[:rows].tolist() for a in (*arrays, table._cols))]
 
     got = run(aot)
-    assert got[0][0] > 200  # most rows are the scanner's
+    assert got[0][0] > 50  # the scanner took rows between the Python reader's
     assert got == run(jit)
 
 
