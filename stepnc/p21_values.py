@@ -3,7 +3,7 @@ of Part 21 tokens to these Python values) and the string escapes of ISO 10303-21
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, MutableMapping
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
@@ -87,7 +87,8 @@ class Part21File:
     """A read exchange structure: header entities in order, data instances by id."""
 
     header: list[tuple[str, tuple]] = field(default_factory=list)
-    instances: dict[int, Instance] = field(default_factory=dict)
+    #: a ``dict``, or the reader's lazy table for a large file (:mod:`stepnc.p21_scan`)
+    instances: MutableMapping[int, Instance] = field(default_factory=dict)
     file: str | None = None
     #: ids of unterminated instances kept with the parameters read before the break
     salvaged: set[int] = field(default_factory=set)

@@ -34,10 +34,14 @@ from __future__ import annotations
 import gc
 import re
 import sys
+from collections.abc import MutableMapping
+
+import numpy as np
 
 import kernel.limits as limits
 from kernel.diagnostics import Diagnostic, Location
 from stepnc.p21_fast import FAST_INSTANCE, fast_params
+from stepnc.p21_scan import KERNELS, MAX_CHARS, Instances
 from stepnc.p21_values import (
     DERIVED,
     Binary,
@@ -89,6 +93,9 @@ _TOKEN = re.compile(
     re.VERBOSE | re.DOTALL,
 )
 _DIGITS_TO_ZERO = bytes.maketrans(b"123456789", b"000000000")
+_DIGIT_PIECE = 1 << 20
+#: the most instances the fast path takes between two tries of the compiled scanner
+_SCAN_BACKOFF = 1024
 _INSTANCE_START = re.compile(r"\n[ \t]*#\d+[ \t]*=")
 _REF, _REAL, _INT, _STR, _ENUM, _BIN, _KW, _PUNCT, _EOF, _BAD = range(1, 11)
 
@@ -129,13 +136,20 @@ class _Reader:
             lim = limits.nesting_error(self.file, line, col)
             raise Diagnostic(lim.code, lim.message, Location(self.file, line, col, entity=entity))
 
-    def check_digits(self) -> None:
-        """LIMIT-DIGITS at the first number longer than ``kernel.limits`` allows."""
+    def check_digits(self, raw: bytes) -> None:
+        """LIMIT-DIGITS at the first number longer than ``kernel.limits`` allows (``raw``:
+        the text as latin-1 bytes, one byte a character)."""
         limit = limits.current().digits
         # every digit made '0' by a C-level table, then one substring search: a tenth of the
-        # time of a regular expression over the whole file
-        flat = self.text.encode("latin-1", "replace").translate(_DIGITS_TO_ZERO)
-        at = flat.find(b"0" * (limit + 1))
+        # time of a regular expression over the whole file; in pieces that overlap by the
+        # limit (a run across two pieces is found whole), so no copy of the whole file
+        zeros = b"0" * (limit + 1)
+        at = -1
+        for start in range(0, len(raw), _DIGIT_PIECE):
+            at = raw[start : start + _DIGIT_PIECE + limit].translate(_DIGITS_TO_ZERO).find(zeros)
+            if at >= 0:
+                at += start
+                break
         m = None if at < 0 else re.compile(r"\d+").match(self.text, at)
         if m is not None:
             line, col = self.line_col(m.start())
@@ -335,6 +349,11 @@ class _Reader:
     _inst_pos = 0
     _truncated = False
     _swallowed = -1
+    #: turns (each an instance or a run of them) left to the Python reader before the
+    #: compiled scanner is tried again, and the next such wait (doubling while the scanner
+    #: takes nothing)
+    _scan_wait = 0
+    _scan_backoff = 1
 
     # -- file structure
     def expect_word(self, pos: int, word: str, code: str) -> int:
@@ -351,8 +370,11 @@ class _Reader:
         self.error("P21-SYNTAX", f"missing ';' after {after}", self.tok_start(m))
         return pos
 
-    def read(self) -> Part21File:
+    def read(self, raw: bytes) -> Part21File:
         out = Part21File(file=self.file)
+        table = _scan_table(self.text, raw)
+        if table is not None:
+            out.instances = table
         pos = self.expect_word(0, "ISO-10303-21", "P21-MAGIC")
         pos = self.expect_semicolon(pos, "ISO-10303-21")
         pos = self.expect_word(pos, "HEADER", "P21-HEADER")
@@ -366,7 +388,13 @@ class _Reader:
                 pos = m.end()
                 nxt = self.token(pos)
                 if nxt.lastindex == _PUNCT and nxt.group(_PUNCT) == "(":
-                    _, pos = self.params(pos, None)  # DATA(name, schemas) of Part 21 ed. 3
+                    try:  # DATA(name, schemas) of Part 21 ed. 3
+                        _, pos = self.params(pos, None)
+                    except _Abort as ab:  # collect mode: reported; the section starts after ';'
+                        at_end = self.text[ab.pos - 1 : ab.pos] == ";"
+                        pos = ab.pos if at_end else self.skip_statement(ab.pos)
+                        pos = self.data(pos, out)
+                        continue
                 pos = self.expect_semicolon(pos, "DATA")
                 pos = self.data(pos, out)
                 continue
@@ -384,6 +412,8 @@ class _Reader:
             pos = self.skip_statement(m.end())
         if not data_seen:
             self.error("P21-NO-DATA", "file has no DATA section", len(self.text))
+        if table is not None:
+            table.finish()
         return out
 
     def skip_statement(self, pos: int) -> int:
@@ -425,9 +455,37 @@ class _Reader:
                 bad_reported = True
             pos = m.end()
 
-    def fast_run(self, pos: int, instances: dict[int, Instance]) -> int:
-        """Read the well-formed simple instances from ``pos`` on through the fast path;
-        return the position of the first one it cannot take (or of ENDSEC)."""
+    def bulk(self, pos: int, instances: MutableMapping[int, Instance]) -> int:
+        """Read the instances from ``pos`` on that the compiled scanner or the fast path
+        take; return the position of the first one neither takes (or of ENDSEC)."""
+        if not isinstance(instances, Instances):
+            return self.fast_run(pos, instances)
+        text = self.text
+        while True:
+            took = False
+            if self._scan_wait <= 0:
+                if pos < self.line_pos:
+                    self.line_pos, self.line_no = 0, 1
+                line_no = self.line_no + text.count("\n", self.line_pos, pos)
+                before = len(instances)
+                pos, self.line_no, _ = instances.scan(pos, line_no, text.rfind("\n", 0, pos))
+                self.line_pos = pos
+                took = len(instances) > before
+                if took:
+                    self._scan_backoff = 1
+                else:  # instances the scanner leaves: try it again less and less often
+                    self._scan_wait = self._scan_backoff
+                    self._scan_backoff = min(2 * self._scan_backoff, _SCAN_BACKOFF)
+            after = self.fast_run(pos, instances, max(1, self._scan_wait))
+            self._scan_wait -= 1
+            if after == pos:
+                return pos
+            pos = after
+
+    def fast_run(self, pos: int, instances: MutableMapping[int, Instance], limit: int = -1) -> int:
+        """Read the well-formed simple instances from ``pos`` on through the fast path (at
+        most ``limit`` of them when positive); return the position of the first one it
+        cannot take (or of ENDSEC)."""
         text = self.text
         fast_match = FAST_INSTANCE.match
         count_nl = text.count
@@ -436,7 +494,8 @@ class _Reader:
         line_pos, line_no = self.line_pos, self.line_no
         if pos < line_pos:
             line_pos, line_no = 0, 1
-        while True:
+        while limit:
+            limit -= 1
             f = fast_match(text, pos)
             if f is None:
                 break
@@ -460,7 +519,7 @@ class _Reader:
         text = self.text
         instances = out.instances
         while True:
-            pos = self.fast_run(pos, instances)
+            pos = self.bulk(pos, instances)
             m = _TOKEN.match(text, pos)
             assert m is not None
             k = m.lastindex
@@ -518,7 +577,9 @@ class _Reader:
         end = text.find("ENDSEC", err)
         return end if end >= 0 else len(text)
 
-    def instance(self, pos: int, ident: int, start: int, instances: dict[int, Instance]) -> int:
+    def instance(
+        self, pos: int, ident: int, start: int, instances: MutableMapping[int, Instance]
+    ) -> int:
         text = self.text
         m = _TOKEN.match(text, pos)
         assert m is not None
@@ -578,19 +639,45 @@ class _Abort(Exception):
         self.name: str | None = None
 
 
+#: texts from this many characters on are scanned by the compiled scanner
+#: (:mod:`stepnc.p21_scan`) when its kernels load (below it, loading numpy and the kernels
+#: costs more than it saves); 0 scans every text, None none (the equivalence tests use both)
+SCAN_MIN_CHARS: int | None = 1 << 17
+
+
+def _scan_table(text: str, raw: bytes) -> Instances | None:
+    """An empty compiled-scanner table for ``text`` (``raw``: its latin-1 bytes), or None
+    where the pure-Python reader reads it (a small text, or no kernels)."""
+    if SCAN_MIN_CHARS is None or not SCAN_MIN_CHARS <= len(text) <= MAX_CHARS:
+        return None
+    try:
+        KERNELS.module()
+    except ImportError:
+        return None
+    buf = np.frombuffer(raw, dtype=np.uint8)
+    return Instances(text, buf, raw.count(b";") + 1)
+
+
 def parse(
     text: str, file: str | None = None, diagnostics: list[Diagnostic] | None = None
 ) -> Part21File:
     """Read Part 21 text. Strict (raises the first :class:`Diagnostic`) unless a list is given
     for ``diagnostics``, in which case defects are salvaged and recorded there."""
+    return _parse(text, text.encode("latin-1", "replace"), file, diagnostics)
+
+
+def _parse(
+    text: str, raw: bytes, file: str | None, diagnostics: list[Diagnostic] | None
+) -> Part21File:
+    """:func:`parse` of ``text`` whose latin-1 bytes (one a character) are ``raw``."""
     # a parse allocates millions of small tuples and no cycles: the cyclic collector would
     # only rescan them (about a third of the run time on large files)
     enabled = gc.isenabled()
     gc.disable()
     try:
         reader = _Reader(text, file, diagnostics)
-        reader.check_digits()
-        return reader.read()
+        reader.check_digits(raw)
+        return reader.read(raw)
     finally:
         if enabled:
             gc.enable()
@@ -598,9 +685,14 @@ def parse(
 
 def read_file(path: str, diagnostics: list[Diagnostic] | None = None) -> Part21File:
     """Read a Part 21 file (I/O errors propagate as :class:`OSError`)."""
-    with open(path, encoding="latin-1") as fh:
-        text = fh.read()
-    return parse(text, path, diagnostics)
+    with open(path, "rb") as fh:
+        raw = fh.read()
+    if b"\r" in raw:  # universal newlines, as a file opened in text mode reads them
+        text = raw.decode("latin-1").replace("\r\n", "\n").replace("\r", "\n")
+        raw = text.encode("latin-1")
+    else:
+        text = raw.decode("latin-1")
+    return _parse(text, raw, path, diagnostics)
 
 
 def check_references(p21: Part21File, diagnostics: list[Diagnostic] | None = None) -> None:

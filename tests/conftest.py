@@ -1,4 +1,5 @@
-"""Suite-wide set-up: the fast lane's compiled kernels are built before any test runs.
+"""Suite-wide set-up: the compiled kernels (the fast lane's and the Part 21 scanner's) are
+built before any test runs.
 
 The first use of the kernels builds them once (``gcode.ngc.lane.fastlane.load_aot``, ~30 s) and says
 so on stderr; building them here, in the controlling process, keeps that one-off notice and
@@ -14,5 +15,7 @@ def pytest_configure(config: pytest.Config) -> None:
     if hasattr(config, "workerinput"):  # an xdist worker: the controller built them
         return
     from gcode.ngc.lane import fastlane
+    from stepnc import p21_scan
 
     fastlane.kernel_mode()
+    p21_scan.KERNELS.mode()

@@ -169,3 +169,20 @@ def test_strict_mode_raises_only_diagnostics(junk):
         part21.parse(wrap(junk), "g.stp")
     except Diagnostic as d:
         assert d.code.startswith("P21-") and d.location.line >= 6
+
+
+@pytest.mark.parametrize(("data", "column"), [("DATA(1 2);", 35), ("DATA(1;", 34)])
+def test_a_defect_in_the_data_sections_parameters_is_located_and_the_section_still_read(
+    data: str, column: int
+) -> None:
+    """Collect mode gave an internal exception (a traceback) here."""
+    text = f"ISO-10303-21;HEADER;ENDSEC;{data}\n#1=A(1);ENDSEC;END-ISO-10303-21;"
+    diags: list[Diagnostic] = []
+    f = part21.parse(text, "f.stp", diags)
+    assert [(d.code, d.location.line, d.location.column) for d in diags] == [
+        ("P21-SYNTAX", 1, column)  # the '2', the ';'
+    ]
+    assert list(f.instances) == [1]
+    with pytest.raises(Diagnostic) as exc:
+        part21.parse(text, "f.stp")
+    assert exc.value.code == "P21-SYNTAX"
