@@ -25,7 +25,7 @@ import dataclasses
 import types
 from collections.abc import Callable
 from operator import attrgetter
-from typing import Any, TypeVar, cast
+from typing import Any, TypeVar, cast, dataclass_transform
 
 T = TypeVar("T", bound=type)
 
@@ -160,6 +160,7 @@ def _setstate(self: Any, state: list[object]) -> None:
         setter(self, value)
 
 
+@dataclass_transform(frozen_default=True, field_specifiers=(dataclasses.field, dataclasses.Field))
 def record(cls: T) -> T:
     """The class ``@dataclass(frozen=True, slots=True)`` would make of ``cls`` (see the
     module's docstring for what it supports)."""
