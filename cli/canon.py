@@ -48,6 +48,8 @@ from kernel.tooltable import ToolTable
 _BATCH = 4096
 _WRITE_CHARS = 1 << 18  # text is written in blocks of about this size (fewer, larger writes)
 _MOVE = "%5d N..... %s(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)"
+#: a move without rotary axes (most): three numbers fewer to format; -0.0 prints 0.0000 too
+_MOVE_XYZ = "%5d N..... %s(%.4f, %.4f, %.4f, 0.0000, 0.0000, 0.0000)"
 _RATE = "%5d N..... SET_FEED_RATE(%.4f)"
 _ARC = "%5d N..... ARC_FEED(%.4f, %.4f, %.4f, %.4f, %d, %.4f, %.4f, %.4f, %.4f)"
 _FLOATS = {float}
@@ -132,7 +134,11 @@ def fast_text(
     forms = _LINUXCNC_FORMS if linuxcnc else {}
     for cmd in commands:
         if type(cmd) is feed or type(cmd) is trav:  # exact types: a subclass prints its own
-            s = _MOVE % (n, cmd.NAME, cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)
+            a, b, c = cmd.a, cmd.b, cmd.c
+            if a == 0.0 and b == 0.0 and c == 0.0 and type(a) is type(b) is type(c) is float:
+                s = _MOVE_XYZ % (n, cmd.NAME, cmd.x, cmd.y, cmd.z)
+            else:
+                s = _MOVE % (n, cmd.NAME, cmd.x, cmd.y, cmd.z, a, b, c)
         elif type(cmd) is rate:
             s = _RATE % (n, cmd.rate)
         else:

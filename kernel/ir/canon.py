@@ -32,9 +32,10 @@ from __future__ import annotations
 import json
 import math
 import re
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import field, fields
 from enum import Enum
+from operator import attrgetter
 from typing import Any, ClassVar
 
 import kernel.limits as limits
@@ -144,7 +145,10 @@ class Command:
 
     def args(self) -> tuple[object, ...]:
         """The arguments in NISTIR order (without ``source``)."""
-        return tuple(getattr(self, f.name) for f in fields(self) if f.name != "source")
+        getter = _ARGS.get(type(self))
+        if getter is None:
+            getter = _ARGS[type(self)] = _args_getter(type(self))
+        return getter(self)
 
     def to_text(self) -> str:
         """``NAME(arg, ...)`` with numbers to four decimals, as the NIST print functions do."""
@@ -173,6 +177,21 @@ class Command:
                 if v not in (None, 0)
             }
         return out
+
+
+#: per command class: its arguments' getter (a class's fields are read once, not per command)
+_ARGS: dict[type, Callable[[Any], tuple[object, ...]]] = {}
+
+
+def _args_getter(cls: type) -> Callable[[Any], tuple[object, ...]]:
+    names = [f.name for f in fields(cls) if f.name != "source"]
+    if not names:
+        return lambda cmd: ()
+    if len(names) == 1:
+        one = attrgetter(names[0])
+        return lambda cmd: (one(cmd),)
+    many: Callable[[Any], tuple[object, ...]] = attrgetter(*names)
+    return many
 
 
 def named_field(cmd: Command, name: str) -> Any:
