@@ -48,7 +48,26 @@ from kernel.tooltable import ToolTable
 _BATCH = 4096
 _WRITE_CHARS = 1 << 18  # text is written in blocks of about this size (fewer, larger writes)
 _MOVE = "%5d N..... %s(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)"
+#: a move without rotary axes (most): three numbers fewer to format; -0.0 prints 0.0000 too
+_MOVE_XYZ = "%5d N..... %s(%.4f, %.4f, %.4f, 0.0000, 0.0000, 0.0000)"
 _RATE = "%5d N..... SET_FEED_RATE(%.4f)"
+
+
+class _Numbers(dict[float, str]):
+    """Numbers as the text form prints them (four decimals, ``-0.0000`` as ``0.0000``),
+    kept: a program's coordinates repeat (depths, grids, contours cut again one level
+    lower), and a look-up costs less than formatting. Bounded: cleared at 65,536 numbers."""
+
+    def __missing__(self, value: float) -> str:
+        if len(self) >= 65536:
+            self.clear()
+        text = f"{value:.4f}"
+        if text == "-0.0000":
+            text = "0.0000"
+        self[value] = text
+        return text
+
+
 _ARC = "%5d N..... ARC_FEED(%.4f, %.4f, %.4f, %.4f, %d, %.4f, %.4f, %.4f, %.4f)"
 _FLOATS = {float}
 INCH = 25.4  # mm: the unit rs274 reads a tool table in, canon's default (--tool-units)
@@ -107,6 +126,9 @@ _LINUXCNC_FORMS: dict[str, Callable[[Any], str]] = {
 }
 
 
+_NUMBERS = _Numbers()
+
+
 def _arc_text(n: int, c: canon.ArcFeed) -> str | None:
     """``ARC_FEED`` formatted inline, or None unless its numbers are floats and its turn
     count an int (the generic writer prints an int without decimals)."""
@@ -130,9 +152,22 @@ def fast_text(
     feed, trav, rate = canon.StraightFeed, canon.StraightTraverse, canon.SetFeedRate
     arc = canon.ArcFeed
     forms = _LINUXCNC_FORMS if linuxcnc else {}
+    nums = _NUMBERS
     for cmd in commands:
         if type(cmd) is feed or type(cmd) is trav:  # exact types: a subclass prints its own
-            s = _MOVE % (n, cmd.NAME, cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)
+            a, b, c = cmd.a, cmd.b, cmd.c
+            if a == 0.0 and b == 0.0 and c == 0.0 and type(a) is type(b) is type(c) is float:
+                x, y, z = cmd.x, cmd.y, cmd.z
+                if type(x) is type(y) is type(z) is float:
+                    yield (
+                        f"{n:5d} N..... {cmd.NAME}({nums[x]}, {nums[y]}, {nums[z]}, "
+                        "0.0000, 0.0000, 0.0000)"
+                    )
+                    n += 1
+                    continue
+                s = _MOVE_XYZ % (n, cmd.NAME, x, y, z)
+            else:
+                s = _MOVE % (n, cmd.NAME, cmd.x, cmd.y, cmd.z, a, b, c)
         elif type(cmd) is rate:
             s = _RATE % (n, cmd.rate)
         else:

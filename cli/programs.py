@@ -31,11 +31,11 @@ from gcode.readers import read, read_chunks, read_text, text_findings
 from gcode.registry import DEFAULT_INPUT, guess_dialect
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location, Severity
 from kernel.ir import canon
-from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine
 from kernel.tooltable import ToolTable, header_units, read_tool_table
 
 if TYPE_CHECKING:
     from kernel.check.batch import Moves
+    from kernel.machine import Machine
 
 KINDS = ("gcode", "canon", "jsonl", "part21")
 #: the files a folder given to ``cnc check`` or ``cnc convert`` contributes
@@ -447,7 +447,12 @@ jobs_option = click.option(
 
 
 def load_machine(path: str | None) -> Machine:
-    """The machine profile at ``path`` (TOML), or the built-in 3-axis mill for None."""
+    """The machine profile at ``path`` (TOML), or the built-in 3-axis mill for None.
+
+    ``kernel.machine`` (and its TOML reader) is imported here, not at start-up: ``cnc canon``
+    without a profile never needs it."""
+    from kernel.machine import DEFAULT_MACHINE, parse_machine
+
     if path is None:
         return DEFAULT_MACHINE
     with open(path, encoding="utf-8") as fh:

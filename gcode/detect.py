@@ -23,10 +23,23 @@ Decision (:func:`guess`):
 
 from __future__ import annotations
 
+import importlib
 import re
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from functools import cache
+from typing import Any
+
+try:  # the re module's parser (Python 3.11+): only to find what a hint's pattern needs
+    _sre = importlib.import_module("re._constants")
+    _sre_parse = importlib.import_module("re._parser")
+    _PARSE: Callable[[str, int], Any] | None = _sre_parse.parse
+    _LITERAL, _SUBPATTERN, _BRANCH = _sre.LITERAL, _sre.SUBPATTERN, _sre.BRANCH
+    _IN, _RANGE = _sre.IN, _sre.RANGE
+    _REPEATS = (_sre.MAX_REPEAT, _sre.MIN_REPEAT, _sre.POSSESSIVE_REPEAT)
+    _ZERO_WIDTH = (_sre.AT, _sre.ASSERT, _sre.ASSERT_NOT)
+except (ImportError, AttributeError):  # another Python: every pattern is searched
+    _PARSE = None
 
 #: score at which content names a dialect
 THRESHOLD = 3
@@ -63,6 +76,115 @@ class Hint:
 @cache
 def _compiled(pattern: str) -> re.Pattern[str]:
     return re.compile(pattern, re.I | re.M)
+
+
+@cache
+def _needles(pattern: str) -> frozenset[str] | None:
+    """Lower-case strings of which every match of ``pattern`` contains one, or None when
+    its parse gives none.
+
+    A program's head rarely holds the words most hints look for (``TRANS``, ``GOTOF``,
+    ``G154 P``...): checking for them with ``in`` first spares compiling and searching
+    those patterns, which took 20-25 ms of every program's start-up. Read from the
+    pattern's parse by the ``re`` module's own parser; where that parser is not there
+    (another Python), no pattern has needles and every one is searched as before.
+    """
+    if _PARSE is None:
+        return None
+    try:
+        found = _required(_PARSE(pattern, re.I | re.M))
+    except Exception:  # a parser that changed shape: search the pattern itself
+        return None
+    if found is None:
+        return None
+    # a string holding another of the set adds nothing ("atrans" holds "trans")
+    return frozenset(s for s in found if not any(t != s and t in s for t in found))
+
+
+#: most strings a run of items may expand to (``G0?7[0-2]``: six)
+_MAX_STRINGS = 32
+
+
+def _required(items: Iterable[tuple[Any, Any]]) -> frozenset[str] | None:
+    """What a match of the sequence ``items`` (a parsed pattern) must contain: the most
+    selective (longest shortest string) of its requirements. Consecutive items that match
+    few strings (characters, small classes, optional ones, short alternations) make one
+    requirement, their strings joined (``G0?7[0-2]``: g070 ... g72); zero-width items
+    (``\\b``, ``^``, lookarounds) do not break such a run, and require nothing. Of any other
+    item, a group or a repeat of at least one requires its content's requirement, an
+    alternation one of its branches'."""
+    best: frozenset[str] | None = None
+
+    def consider(found: frozenset[str] | None) -> None:
+        nonlocal best
+        if found and min(map(len, found)) > (0 if best is None else min(map(len, best))):
+            best = found
+
+    run: frozenset[str] = frozenset({""})
+    for op, av in items:
+        if op in _ZERO_WIDTH:
+            continue
+        strings = _strings(op, av)
+        if strings is not None and len(run) * len(strings) <= _MAX_STRINGS:
+            run = frozenset(a + b for a in run for b in strings)
+            continue
+        consider(run)
+        run = frozenset({""}) if strings is None else strings
+        if op == _SUBPATTERN:
+            consider(_required(av[3]))
+        elif op in _REPEATS and av[0] >= 1:
+            consider(_required(av[2]))
+        elif op == _BRANCH:
+            branches = [_required(b) for b in av[1]]
+            if all(b is not None for b in branches):
+                consider(frozenset(n for b in branches if b is not None for n in b))
+    consider(run)
+    return best
+
+
+def _strings(op: Any, av: Any) -> frozenset[str] | None:
+    """The few strings (lower case, ASCII) one parsed item matches, or None."""
+    if op == _LITERAL:
+        return frozenset({chr(av).lower()}) if av < 128 else None
+    if op == _IN:
+        chars: set[str] = set()
+        for kind, value in av:
+            if kind == _LITERAL and value < 128:
+                chars.add(chr(value).lower())
+            elif kind == _RANGE and value[1] < 128 and value[1] - value[0] < 10:
+                chars.update(chr(c).lower() for c in range(value[0], value[1] + 1))
+            else:  # a negation, a category (digits, ...), a wide range
+                return None
+        return frozenset(chars)
+    if op == _SUBPATTERN:
+        return _sequence_strings(av[3])
+    if op == _BRANCH:
+        out: set[str] = set()
+        for branch in av[1]:
+            strings = _sequence_strings(branch)
+            if strings is None:
+                return None
+            out |= strings
+        return frozenset(out) if len(out) <= _MAX_STRINGS else None
+    if op in _REPEATS and av[0] in (0, 1) and av[1] == 1:
+        strings = _sequence_strings(av[2])
+        if strings is None:
+            return None
+        return strings | {""} if av[0] == 0 else strings
+    return None
+
+
+def _sequence_strings(items: Iterable[tuple[Any, Any]]) -> frozenset[str] | None:
+    """The few strings a parsed sequence matches, or None."""
+    out = frozenset({""})
+    for op, av in items:
+        if op in _ZERO_WIDTH:
+            continue
+        strings = _strings(op, av)
+        if strings is None or len(out) * len(strings) > _MAX_STRINGS:
+            return None
+        out = frozenset(a + b for a in out for b in strings)
+    return out
 
 
 @dataclass(frozen=True, slots=True)
@@ -116,17 +238,26 @@ class _Head:
     and with comments blanked, each pattern searched once however many dialects share it
     (the Fanuc-family hints appear in four rows)."""
 
-    __slots__ = ("raw", "code", "found")
+    __slots__ = ("raw", "code", "found", "lower")
 
     def __init__(self, head: str) -> None:
         self.raw = _bounded(head)
         self.code = _COMMENTS.sub(lambda m: " " * len(m.group()), self.raw)
         self.found: dict[tuple[str, bool], bool] = {}
+        #: raw and code in lower case, for the needles; None unless ASCII (in other text
+        #: ``re.I`` folds more than ``lower`` does: ``ſ`` matches ``s``)
+        self.lower = (self.raw.lower(), self.code.lower()) if self.raw.isascii() else None
 
     def matches(self, hint: Hint) -> bool:
         key = (hint.pattern, hint.raw)
         hit = self.found.get(key)
         if hit is None:
+            needles = _needles(hint.pattern) if self.lower is not None else None
+            if needles is not None and self.lower is not None:
+                text = self.lower[0] if hint.raw else self.lower[1]
+                if not any(n in text for n in needles):
+                    self.found[key] = False
+                    return False
             hit = _compiled(hint.pattern).search(self.raw if hint.raw else self.code) is not None
             self.found[key] = hit
         return hit

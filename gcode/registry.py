@@ -14,11 +14,14 @@ from __future__ import annotations
 import importlib
 from dataclasses import dataclass
 from types import ModuleType
+from typing import TYPE_CHECKING
 
 from gcode import detect
 from gcode.detect import Hint
-from gcode.write.spec import Dialect
 from kernel.diagnostics import Diagnostic
+
+if TYPE_CHECKING:  # the writers' vocabulary: loaded with a dialect's module, not at start-up
+    from gcode.write.spec import Dialect
 
 
 @dataclass(frozen=True)

@@ -18,6 +18,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from enum import Enum
 
+from kernel.record import record
+
 
 class Severity(str, Enum):
     """How bad a diagnostic is; ``check`` reports all three, errors make the exit code 1."""
@@ -27,7 +29,7 @@ class Severity(str, Enum):
     NOTE = "note"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Location:
     """Where something came from: a file, 1-based line and column, or a Part 21 entity id."""
 

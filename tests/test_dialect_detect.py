@@ -192,3 +192,63 @@ def test_a_lathe_profile_tips_a_close_fanuc_call_to_the_lathe_reader(tmp_path: P
     assert "read as fanuc (" in res.stderr
     res = cnc("check", "-m", str(profile), str(src))
     assert "read as fanuc_lathe (" in res.stderr
+
+
+def _sample_heads() -> list[str]:
+    """Heads of every dialect: the detection programs and the start of a few of each
+    corpus (4 KiB: a whole head of every file costs seconds of searching)."""
+    heads = [head(p) for p in sorted(PROGRAMS.glob("*.*")) if p.suffix != ".md"]
+    for folder in ("dialects/fanuc", "dialects/siemens840d", "dialects/mach3", "realworld/ngc"):
+        files = sorted(p for p in (HERE / folder).rglob("*") if p.is_file() and p.suffix != ".md")
+        heads += [head(p)[:4096] for p in files[:3]]
+    # a non-ASCII head: the long s folds to "s" under re.I, which lower() does not do
+    heads.append("%\nO0001\nTRAN\u017f X1\nG154 P\u017f\n\u017fUPA\nM30\n%\n")
+    return heads
+
+
+def test_hint_needles_are_what_the_patterns_need() -> None:
+    """The strings a hint's pattern cannot match without (read from the pattern by hand)."""
+    needles = detect._needles
+    assert needles(r"\bM6[2-8][ \t]*P") == {f"m6{d}" for d in range(2, 9)}
+    assert needles(r"\bG0?5\.1[ \t]*Q") == {"g05.1", "g5.1"}
+    assert needles(r"\b(?:A?TRANS|A?ROT|A?SCALE|A?MIRROR)\b") == {"trans", "rot", "scale", "mirror"}
+    assert needles(r"\bIF[ \t]*\[[^\n]*\][ \t]*(?:GOTO|THEN)") == {"goto", "then"}
+    assert needles(r"#<[_a-z]") == {"#<"}
+    assert needles(r"(?<![A-Z#])[UW][ \t]*-?\.?\d") == {"u", "w"}
+    assert needles(r"(?:G1|\d)X") == {"x"}
+    for nothing in (r"", r"\A(?![\s\S]*Y)(?=[\s\S]*Z)", r"[^\n]*\d+", r"(?:G1|\d)?"):
+        assert needles(nothing) is None
+
+
+def test_hint_needles_never_hide_a_match() -> None:
+    """Wherever a hint's pattern matches a head, one of its needles is in that head, and
+    every guess (with each dialect's score and matched hints) is the one made without
+    needles."""
+    heads = _sample_heads()
+    patterns = {(h.pattern, h.raw) for entry in REGISTRY for h in entry.hints}
+    for text in heads:
+        view = detect._Head(text)
+        for pattern, raw in patterns:
+            found = detect._compiled(pattern).search(view.raw if raw else view.code)
+            wanted = detect._needles(pattern)
+            if found and wanted is not None and view.lower is not None:
+                lowered = view.lower[0] if raw else view.lower[1]
+                assert any(n in lowered for n in wanted), (pattern, text[:80])
+
+    def guesses() -> list[tuple[object, ...]]:
+        out: list[tuple[object, ...]] = []
+        for text in heads:
+            for lathe in (False, True):
+                g = guess_dialect(text, ".nc", lathe)
+                out.append((g, [(c.name, c.score, c.matched) for c in g.candidates]))
+        return out
+
+    with_needles = guesses()
+    saved = detect._PARSE
+    detect._needles.cache_clear()
+    try:
+        detect._PARSE = None
+        assert guesses() == with_needles
+    finally:
+        detect._PARSE = saved
+        detect._needles.cache_clear()

@@ -76,5 +76,12 @@ def test_fast_writer_prints_exactly_what_the_ir_writer_prints() -> None:
         lines, _ = run_program(prog)
         cmds = list(canon.read_commands(lines))
         assert list(fast_text(cmds)) == list(canon.write_text(cmds))
-    tricky = [canon.StraightFeed(-0.00001, 1e-9, -2.5, 0.0, 0.0, 0.0), canon.SetFeedRate(-0.0)]
+    tricky = [
+        canon.StraightFeed(-0.00001, 1e-9, -2.5, 0.0, 0.0, 0.0),
+        canon.SetFeedRate(-0.0),
+        canon.StraightTraverse(-0.0, 0.00005, -0.00005, -0.0, 0.0, -0.0),
+        canon.StraightTraverse(-0.00001, -0.00005, 1.00005, 0.0, 1e-5, 0.0),
+        canon.StraightFeed(float("nan"), float("inf"), -float("inf"), 0.0, 0.0, 0.0),
+        canon.StraightFeed(-0.00001, 1e-9, -2.5, 0.0, 0.0, 0.0),
+    ]
     assert list(fast_text(tricky)) == list(canon.write_text(tricky))

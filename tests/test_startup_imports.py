@@ -31,6 +31,10 @@ HEAVY = (
     "numpy",
 )
 
+#: our own modules (and what they alone import) that ``cnc canon`` without a machine profile
+#: or a target dialect has no use for: the machine profile and its TOML reader, the writers
+LAZY = ("kernel.machine", "tomllib", "gcode.write")
+
 _PROBE = """
 import json, sys, runpy, io, contextlib
 sys.argv = ["cnc", *sys.argv[1:]]
@@ -80,6 +84,8 @@ def test_canon_loads_no_heavy_module(tmp_path: Path, program: str) -> None:
     assert isinstance(modules, list)
     loaded = sorted({m.split(".")[0] for m in modules} & set(HEAVY))
     assert loaded == [], f"cnc canon of a small program imported {loaded}"
+    own = sorted(m for m in modules if m.startswith(LAZY))
+    assert own == [], f"cnc canon of a small program imported {own}"
 
 
 def test_version_loads_no_front_end(tmp_path: Path) -> None:

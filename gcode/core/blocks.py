@@ -80,33 +80,50 @@ def evaluate_block(
         items += [(a[2], a) for a in block.assignments]
         items.sort(key=lambda item: item[0])
     assigns: list[Assignment] = []
+    g, m, values, columns = words.g, words.m, words.values, words.columns
     for col, item in items:
-        loc = Location(file, line, col)
-        if isinstance(item, tuple):
-            target, value, _ = item
-            assert isinstance(target, tuple)  # the lexer's ("<", name) or ("#", node)
-            val = evaluate(value, params, loc)
-            if target[0] == "<":
-                # LinuxCNC creates a new named parameter (value 0) as soon as the line is
-                # read; its value, like a numbered one's, is set after the line's reads
-                name: str = target[1]
-                if not params.exists(name):
-                    params.set_named(name, 0.0, loc)
-                assigns.append(Assignment(name, val, loc))
+        if not isinstance(item, tuple):
+            # a word: its Location is made only where something can fail with it
+            v = item.value
+            if type(v) is not float:
+                v = evaluate(v, params, Location(file, line, col))
+            letter = item.letter
+            if letter == "g":
+                code = round(v * 10)
+                group = G_GROUPS.get(code)
+                if group is None or group in g or abs(v * 10 - code) > 1e-3:
+                    loc = Location(file, line, col)
+                    add_g(words, g_code(v, loc, block.text), loc)
+                else:
+                    g[group] = code
+            elif letter == "m":
+                code = round(v)
+                group = M_GROUPS.get(code, 10 if 100 <= code <= 199 else None)
+                if group is None or group in m or len(m) >= 4 or abs(v - code) > 1e-4:
+                    loc = Location(file, line, col)
+                    add_m(words, m_code(v, loc, block.text), loc)
+                else:
+                    m[group] = code
+            elif letter in values:
+                add_value(words, letter, v, Location(file, line, col))  # NGC-DUPLICATE-WORD
             else:
-                idx = evaluate(target[1], params, loc)
-                assigns.append(Assignment(idx, val, loc))
+                values[letter] = v
+                columns[letter] = col
             continue
-        v = item.value
-        if type(v) is not float:
-            v = evaluate(v, params, loc)
-        letter = item.letter
-        if letter == "g":
-            add_g(words, g_code(v, loc, block.text), loc)
-        elif letter == "m":
-            add_m(words, m_code(v, loc, block.text), loc)
+        loc = Location(file, line, col)
+        target, value, _ = item
+        assert isinstance(target, tuple)  # the lexer's ("<", name) or ("#", node)
+        val = evaluate(value, params, loc)
+        if target[0] == "<":
+            # LinuxCNC creates a new named parameter (value 0) as soon as the line is
+            # read; its value, like a numbered one's, is set after the line's reads
+            name: str = target[1]
+            if not params.exists(name):
+                params.set_named(name, 0.0, loc)
+            assigns.append(Assignment(name, val, loc))
         else:
-            add_value(words, letter, v, loc)
+            idx = evaluate(target[1], params, loc)
+            assigns.append(Assignment(idx, val, loc))
     return words, assigns
 
 

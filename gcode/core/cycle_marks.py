@@ -10,13 +10,13 @@ marks exist only on that path: ``canon``, ``plan`` and ``run`` never see them.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import ClassVar
 
 from kernel.ir import canon
+from kernel.record import record
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class CycleStart(canon.Command):
     """One cycle block: ``code`` as in gcode.ngc.cycles (810 = G81), the first hole at
     (``first``, ``second``) in the plane, ``r`` and ``bottom`` absolute along the hole
@@ -35,7 +35,7 @@ class CycleStart(canon.Command):
     repeats: int
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class CycleEnd(canon.Command):
     """The end of a cycle block's expansion; ``position`` is where it leaves the tool."""
 

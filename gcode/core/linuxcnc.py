@@ -8,7 +8,6 @@ rs274's stand-alone canon (``saicanon.cc``) does.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import ClassVar
 
 from kernel.ir.canon import (  # noqa: F401 - re-exported: the interpreter emits them as lc.*
@@ -24,9 +23,10 @@ from kernel.ir.canon import (  # noqa: F401 - re-exported: the interpreter emits
     StartChange,
     format_arg,
 )
+from kernel.record import record
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ToolLengthOffsets(Command):
     """LinuxCNC's nine-value ``USE_TOOL_LENGTH_OFFSET`` (x y z, a b c, u v w)."""
 
@@ -38,7 +38,7 @@ class ToolLengthOffsets(Command):
         return f"{self.NAME}({' '.join(o[0:3])}, {' '.join(o[3:6])}, {' '.join(o[6:9])})"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class DigitalOutput(Command):
     """M62-M65: ``SET_/CLEAR_`` ``MOTION_`` (synchronised) or ``AUX_`` output bit."""
 
@@ -53,7 +53,7 @@ class DigitalOutput(Command):
         return f"{verb}_{kind}_OUTPUT_BIT({self.index})"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class AnalogOutput(Command):
     """M67 (synchronised) / M68 (immediate) analog output."""
 
@@ -67,7 +67,7 @@ class AnalogOutput(Command):
         return f"SET_{kind}_OUTPUT_VALUE({self.index},{self.value:.6f})"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class WaitOrientComplete(Command):
     """M19 wait for the spindle orientation (timeout seconds)."""
 

@@ -47,9 +47,15 @@ class ProgramFile:
                 ) from None
         self.line = 0
         self._offset = 0  # byte offset of the next line
+        #: where the file itself is: a seek is made only when a line must be read elsewhere
+        #: (a subroutine or loop body comes from the block cache, without reading, and
+        #: the return continues where the file still is)
+        self._pos = 0
         self.line_offset = 0  # byte offset of the line read last
         self.last_nonblank = 0  # number of the last line holding more than blanks
-        self._cache: OrderedDict[int, Block] = OrderedDict()
+        #: parsed lines by offset: the block, the offset of the next line, whether the line
+        #: holds more than blanks
+        self._cache: OrderedDict[int, tuple[Block, int, bool]] = OrderedDict()
         #: keep parsed blocks for re-reading (set while loops or subroutines are active)
         self.caching = True
 
@@ -61,7 +67,6 @@ class ProgramFile:
 
     def seek_to(self, offset: int, line: int) -> None:
         """Continue reading at byte ``offset``, which starts line ``line + 1``."""
-        self._fh.seek(offset)
         self._offset = offset
         self.line = line
         self.last_nonblank = line
@@ -71,17 +76,19 @@ class ProgramFile:
         return Position(self.path, self.line_offset, self.line - 1)
 
     def seek(self, pos: Position) -> None:
-        self._fh.seek(pos.offset)
         self._offset = pos.offset
         self.line = pos.line
 
     def next_raw(self) -> tuple[int, bytes] | None:
         """The next raw line with its offset, or None at end of file."""
         offset = self._offset
+        if self._pos != offset:
+            self._fh.seek(offset)
         data = self._fh.readline()
+        self._pos = offset + len(data)
         if not data:
             return None
-        self._offset = offset + len(data)
+        self._offset = self._pos
         self.line += 1
         self.line_offset = offset
         if not data.isspace():
@@ -95,29 +102,30 @@ class ProgramFile:
             return None
         self._fh.seek(self.line_offset)
         data = self._fh.readline()
-        self._fh.seek(self._offset)
+        self._pos = self.line_offset + len(data)
         return _decode(data, self.path, line)
 
     def next_block(self) -> Block | None:
+        cache = self._cache
+        if cache:
+            cached = cache.get(self._offset)
+            if cached is not None:  # read before (a loop or a subroutine): not read again
+                block, end, nonblank = cached
+                self.line_offset = self._offset
+                self._offset = end
+                self.line += 1
+                if nonblank:
+                    self.last_nonblank = self.line
+                return block
         raw = self.next_raw()
         if raw is None:
             return None
         offset, data = raw
-        cache = self._cache
-        if not self.caching:
-            if not cache:
-                return parse_line(_decode(data, self.path, self.line), self.line, self.path)
-            cached = cache.get(offset)
-            if cached is not None:
-                return cached
-            return parse_line(_decode(data, self.path, self.line), self.line, self.path)
-        cached = cache.get(offset)
-        if cached is not None:
-            return cached
         block = parse_line(_decode(data, self.path, self.line), self.line, self.path)
-        if len(cache) >= _CACHE_SIZE:
-            cache.popitem(last=False)
-        cache[offset] = block
+        if self.caching:
+            if len(cache) >= _CACHE_SIZE:
+                cache.popitem(last=False)
+            cache[offset] = (block, self._offset, self.last_nonblank == self.line)
         return block
 
     def next_oword_block(self, also: re.Pattern[bytes] | None = None) -> Block | None:
@@ -132,8 +140,8 @@ class ProgramFile:
                 return parse_line(_decode(data, self.path, self.line), self.line, self.path)
             if _OWORD_LINE_RE.match(data):
                 cached = self._cache.get(offset)
-                if cached is not None and cached.oword is not None:
-                    return cached
+                if cached is not None and cached[0].oword is not None:
+                    return cached[0]
                 block = parse_line(_decode(data, self.path, self.line), self.line, self.path)
                 if block.oword is not None:
                     return block

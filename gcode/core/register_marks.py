@@ -14,13 +14,13 @@ G10 L2/L20 setting of an offset's values, which no NISTIR command carries
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import ClassVar
 
 from kernel.ir import canon
+from kernel.record import record
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ToolLengthRegister(canon.Command):
     """The next tool length offset is ``code`` (``G43``: register ``register``;
     ``G43.2``: register ``register`` added to the current offset; ``G43.1``: by value,
@@ -38,7 +38,7 @@ class ToolLengthRegister(canon.Command):
 EXTENDED_WORK_OFFSETS = 100
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class WorkOffsetRegister(canon.Command):
     """The next SET_G5X_OFFSET selects work offset ``number`` (see
     :data:`EXTENDED_WORK_OFFSETS`): the IR's index names one of RS274/NGC's nine slots, and
@@ -48,7 +48,7 @@ class WorkOffsetRegister(canon.Command):
     number: int
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class WorkOffsetValues(canon.Command):
     """The program sets work offset ``number``'s values in the machine's table (G10 L2,
     G10 L20): the axes it changed (``axes``, letters of XYZABC) and their new values

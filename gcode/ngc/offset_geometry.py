@@ -44,9 +44,24 @@ def _long_double() -> tuple[Any, Any, Any]:
 def plus_pi(angle: float, k: float) -> float:
     """``angle + k * M_PIl`` as LinuxCNC's C++ computes it: its angle constants are long
     double, so the sum is long double until stored in a double. Matching that keeps our last
-    bit, and so rs274's rounding at a printed fourth decimal, the same."""
+    bit, and so rs274's rounding at a printed fourth decimal, the same.
+
+    numpy's long double scalars take about 3 us a sum; a contour's angles come back (each
+    lap or depth pass of a compensated contour), so results are kept (bounded)."""
+    key = (angle, k)
+    found = _PLUS_PI.get(key)
+    if found is not None:
+        return found
     _LD, _sin, _PI_LD = _long_double()
-    return float(_LD(angle) + _LD(k) * _PI_LD)
+    result = float(_LD(angle) + _LD(k) * _PI_LD)
+    if len(_PLUS_PI) >= 65536:
+        _PLUS_PI.clear()
+    _PLUS_PI[key] = result
+    return result
+
+
+#: :func:`plus_pi`'s results by (angle, k): a pure function of its two numbers
+_PLUS_PI: dict[tuple[float, float], float] = {}
 
 
 Point = tuple[float, float]

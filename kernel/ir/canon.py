@@ -32,13 +32,15 @@ from __future__ import annotations
 import json
 import math
 import re
-from collections.abc import Iterable, Iterator
-from dataclasses import dataclass, field, fields
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import field, fields
 from enum import Enum
+from operator import attrgetter
 from typing import Any, ClassVar
 
 import kernel.limits as limits
 from kernel.diagnostics import Diagnostic, Location
+from kernel.record import record
 
 Source = Location
 
@@ -134,7 +136,7 @@ _ENUM_BY_VALUE["CANON_DIRECTION_STOPPED"] = Direction.STOPPED
 
 
 # --------------------------------------------------------------------------- base class
-@dataclass(frozen=True, slots=True)
+@record
 class Command:
     """Base of every canonical command. ``NAME`` is the NISTIR spelling."""
 
@@ -143,7 +145,10 @@ class Command:
 
     def args(self) -> tuple[object, ...]:
         """The arguments in NISTIR order (without ``source``)."""
-        return tuple(getattr(self, f.name) for f in fields(self) if f.name != "source")
+        getter = _ARGS.get(type(self))
+        if getter is None:
+            getter = _ARGS[type(self)] = _args_getter(type(self))
+        return getter(self)
 
     def to_text(self) -> str:
         """``NAME(arg, ...)`` with numbers to four decimals, as the NIST print functions do."""
@@ -174,6 +179,21 @@ class Command:
         return out
 
 
+#: per command class: its arguments' getter (a class's fields are read once, not per command)
+_ARGS: dict[type, Callable[[Any], tuple[object, ...]]] = {}
+
+
+def _args_getter(cls: type) -> Callable[[Any], tuple[object, ...]]:
+    names = [f.name for f in fields(cls) if f.name != "source"]
+    if not names:
+        return lambda cmd: ()
+    if len(names) == 1:
+        one = attrgetter(names[0])
+        return lambda cmd: (one(cmd),)
+    many: Callable[[Any], tuple[object, ...]] = attrgetter(*names)
+    return many
+
+
 def named_field(cmd: Command, name: str) -> Any:
     """Field ``name`` of ``cmd``, read by name: for the commands the kernel knows by NAME
     only (LinuxCNC additions a front end defines), whose classes it cannot name."""
@@ -199,24 +219,24 @@ def format_arg(v: object) -> str:
 
 
 # --------------------------------------------------------------------------- NISTIR 5970 §3.2
-@dataclass(frozen=True, slots=True)
+@record
 class InitCanon(Command):
     NAME: ClassVar[str] = "INIT_CANON"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class EndCanon(Command):
     NAME: ClassVar[str] = "END_CANON"
 
 
 # --------------------------------------------------------------------------- §3.3 representation
-@dataclass(frozen=True, slots=True)
+@record
 class SelectPlane(Command):
     NAME: ClassVar[str] = "SELECT_PLANE"
     plane: Plane
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SetOriginOffsets(Command):
     """Program origin in absolute coordinates (G92 + G54..G59.3 combined)."""
 
@@ -229,20 +249,20 @@ class SetOriginOffsets(Command):
     c: float = 0.0
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class UseLengthUnits(Command):
     NAME: ClassVar[str] = "USE_LENGTH_UNITS"
     units: Units
 
 
 # --------------------------------------------------------------------------- §3.4 free-space motion
-@dataclass(frozen=True, slots=True)
+@record
 class SetTraverseRate(Command):
     NAME: ClassVar[str] = "SET_TRAVERSE_RATE"
     rate: float
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StraightTraverse(Command):
     NAME: ClassVar[str] = "STRAIGHT_TRAVERSE"
     x: float
@@ -254,19 +274,19 @@ class StraightTraverse(Command):
 
 
 # ---------------------------------------------------------------------- §3.5 machining attributes
-@dataclass(frozen=True, slots=True)
+@record
 class SetFeedRate(Command):
     NAME: ClassVar[str] = "SET_FEED_RATE"
     rate: float
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SetFeedReference(Command):
     NAME: ClassVar[str] = "SET_FEED_REFERENCE"
     reference: FeedReference
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SetMotionControlMode(Command):
     """G61.1 / G61 / G64; ``tolerance`` is the G64 P blending tolerance (0: as fast as possible)."""
 
@@ -275,7 +295,7 @@ class SetMotionControlMode(Command):
     tolerance: float = 0.0
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SetNaivecamTolerance(Command):
     """G64 Q: collinear-segment merging tolerance (LinuxCNC)."""
 
@@ -283,7 +303,7 @@ class SetNaivecamTolerance(Command):
     tolerance: float
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SetFeedMode(Command):
     """G94 / G93 / G95: the program's feed mode, and how ``SET_FEED_RATE`` numbers read.
 
@@ -298,7 +318,7 @@ class SetFeedMode(Command):
     mode: FeedMode
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SetSpindleMode(Command):
     """G97 (``css_max`` 0) or G96 constant surface speed with a maximum rpm (G96 D)."""
 
@@ -307,7 +327,7 @@ class SetSpindleMode(Command):
     css: bool = False
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StartSpeedFeedSynch(Command):
     """Spindle-synchronised motion (G33, G76, G33.1): ``feed_per_revolution`` in length units."""
 
@@ -316,13 +336,13 @@ class StartSpeedFeedSynch(Command):
     velocity_mode: bool = False
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StopSpeedFeedSynch(Command):
     NAME: ClassVar[str] = "STOP_SPEED_FEED_SYNCH"
 
 
 # ---------------------------------------------------------------------- §3.6 machining functions
-@dataclass(frozen=True, slots=True)
+@record
 class ArcFeed(Command):
     """Helical arc: in-plane end, centre, signed turns, end on the plane normal (§3.6.1).
 
@@ -341,13 +361,13 @@ class ArcFeed(Command):
     c: float = 0.0
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Dwell(Command):
     NAME: ClassVar[str] = "DWELL"
     seconds: float
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class EllipseFeed(Command):
     """Elliptical helix; ``major``/``minor`` are full axis lengths (§3.6.3)."""
 
@@ -366,12 +386,12 @@ class EllipseFeed(Command):
     c: float = 0.0
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Stop(Command):
     NAME: ClassVar[str] = "STOP"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StraightFeed(Command):
     NAME: ClassVar[str] = "STRAIGHT_FEED"
     x: float
@@ -382,7 +402,7 @@ class StraightFeed(Command):
     c: float = 0.0
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StraightProbe(Command):
     NAME: ClassVar[str] = "STRAIGHT_PROBE"
     x: float
@@ -393,7 +413,7 @@ class StraightProbe(Command):
     c: float = 0.0
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class NurbsFeed(Command):
     """Planar rational B-spline at feed rate (App. A.7; G5.2/G5.3, book ch. 2 ``G06.2``).
 
@@ -422,57 +442,57 @@ class NurbsFeed(Command):
 
 
 # --------------------------------------------------------------------------- §3.7 spindle functions
-@dataclass(frozen=True, slots=True)
+@record
 class OrientSpindle(Command):
     NAME: ClassVar[str] = "ORIENT_SPINDLE"
     orientation: float
     direction: Direction
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SetSpindleSpeed(Command):
     NAME: ClassVar[str] = "SET_SPINDLE_SPEED"
     speed: float
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SpindleRetract(Command):
     NAME: ClassVar[str] = "SPINDLE_RETRACT"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SpindleRetractTraverse(Command):
     NAME: ClassVar[str] = "SPINDLE_RETRACT_TRAVERSE"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StartSpindleClockwise(Command):
     NAME: ClassVar[str] = "START_SPINDLE_CLOCKWISE"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StartSpindleCounterclockwise(Command):
     NAME: ClassVar[str] = "START_SPINDLE_COUNTERCLOCKWISE"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StopSpindleTurning(Command):
     NAME: ClassVar[str] = "STOP_SPINDLE_TURNING"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class UseNoSpindleForce(Command):
     NAME: ClassVar[str] = "USE_NO_SPINDLE_FORCE"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class UseSpindleForce(Command):
     NAME: ClassVar[str] = "USE_SPINDLE_FORCE"
     force: float
 
 
 # --------------------------------------------------------------------------- §3.8 tool functions
-@dataclass(frozen=True, slots=True)
+@record
 class ChangeTool(Command):
     """Load the tool of ``slot``. ``name`` is an optional tool identifier (STEP-NC)."""
 
@@ -484,142 +504,142 @@ class ChangeTool(Command):
         return f"{self.NAME}({self.name if self.name else self.slot})"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SelectTool(Command):
     NAME: ClassVar[str] = "SELECT_TOOL"
     slot: int
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class UseToolLengthOffset(Command):
     NAME: ClassVar[str] = "USE_TOOL_LENGTH_OFFSET"
     length: float
 
 
 # --------------------------------------------------------------------------- §3.9 miscellaneous
-@dataclass(frozen=True, slots=True)
+@record
 class ClampAxis(Command):
     NAME: ClassVar[str] = "CLAMP_AXIS"
     axis: Axis
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Comment(Command):
     NAME: ClassVar[str] = "COMMENT"
     text: str
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class DisableFeedOverride(Command):
     NAME: ClassVar[str] = "DISABLE_FEED_OVERRIDE"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class DisableSpeedOverride(Command):
     NAME: ClassVar[str] = "DISABLE_SPEED_OVERRIDE"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class EnableFeedOverride(Command):
     NAME: ClassVar[str] = "ENABLE_FEED_OVERRIDE"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class EnableSpeedOverride(Command):
     NAME: ClassVar[str] = "ENABLE_SPEED_OVERRIDE"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class FloodOff(Command):
     NAME: ClassVar[str] = "FLOOD_OFF"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class FloodOn(Command):
     NAME: ClassVar[str] = "FLOOD_ON"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Message(Command):
     NAME: ClassVar[str] = "MESSAGE"
     text: str
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class MistOff(Command):
     NAME: ClassVar[str] = "MIST_OFF"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class MistOn(Command):
     NAME: ClassVar[str] = "MIST_ON"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class PalletShuttle(Command):
     NAME: ClassVar[str] = "PALLET_SHUTTLE"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ThroughToolOff(Command):
     NAME: ClassVar[str] = "THROUGH_TOOL_OFF"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ThroughToolOn(Command):
     NAME: ClassVar[str] = "THROUGH_TOOL_ON"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class TurnProbeOff(Command):
     NAME: ClassVar[str] = "TURN_PROBE_OFF"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class TurnProbeOn(Command):
     NAME: ClassVar[str] = "TURN_PROBE_ON"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class UnclampAxis(Command):
     NAME: ClassVar[str] = "UNCLAMP_AXIS"
     axis: Axis
 
 
 # --------------------------------------------------------------------------- App. A.8 proposal
-@dataclass(frozen=True, slots=True)
+@record
 class SetCutterRadiusCompensation(Command):
     NAME: ClassVar[str] = "SET_CUTTER_RADIUS_COMPENSATION"
     radius: float
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StartCutterRadiusCompensation(Command):
     NAME: ClassVar[str] = "START_CUTTER_RADIUS_COMPENSATION"
     side: CompSide
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StopCutterRadiusCompensation(Command):
     NAME: ClassVar[str] = "STOP_CUTTER_RADIUS_COMPENSATION"
 
 
 # --------------------------------------------------------------------------- program flow (v3)
-@dataclass(frozen=True, slots=True)
+@record
 class ProgramStop(Command):
     """M0 (and M60 after the pallet shuttle)."""
 
     NAME: ClassVar[str] = "PROGRAM_STOP"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class OptionalProgramStop(Command):
     """M1."""
 
     NAME: ClassVar[str] = "OPTIONAL_PROGRAM_STOP"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ProgramEnd(Command):
     """M2 / M30."""
 
@@ -627,7 +647,7 @@ class ProgramEnd(Command):
 
 
 # --------------------------------------------------------------------------- machine functions
-@dataclass(frozen=True, slots=True)
+@record
 class MachineFunction(Command):
     """An M code the control passes to the machine (its PLC): ``code`` with the block's
     optional P and Q values. Our extension; the machine profile's ``[m_codes]`` names it
@@ -660,7 +680,7 @@ class MachineFunction(Command):
 # the readers of reference outputs use (offsets, rotation, rigid tapping, tool-table edits).
 # The interpreter emits them in its LinuxCNC-compatible mode so ``cnc canon`` reads like
 # rs274; print-only variants (I/O bits, nine-value tool offsets) live in gcode/core/linuxcnc.py.
-@dataclass(frozen=True, slots=True)
+@record
 class SetG5xOffset(Command):
     """Active work offset: index 1..9 (G54..G59.3) and its x y z a b c."""
 
@@ -674,7 +694,7 @@ class SetG5xOffset(Command):
     c: float = 0.0
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SetG92Offset(Command):
     NAME: ClassVar[str] = "SET_G92_OFFSET"
     x: float
@@ -685,7 +705,7 @@ class SetG92Offset(Command):
     c: float = 0.0
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SetXYRotation(Command):
     """G10 L2 R: rotation of the work coordinate system about Z, degrees."""
 
@@ -693,19 +713,19 @@ class SetXYRotation(Command):
     angle: float
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class OnReset(Command):
     NAME: ClassVar[str] = "ON_RESET"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class StartChange(Command):
     """M6 begins: LinuxCNC's hook before ``CHANGE_TOOL``."""
 
     NAME: ClassVar[str] = "START_CHANGE"
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class ChangeToolNumber(Command):
     """M61 Q: declare the tool in the spindle without a change."""
 
@@ -713,7 +733,7 @@ class ChangeToolNumber(Command):
     number: int
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class SetToolTableEntry(Command):
     """G10 L1/L10/L11: a tool-table row rewritten (offsets x y z a b c u v w)."""
 
@@ -735,7 +755,7 @@ class SetToolTableEntry(Command):
         )
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class RigidTap(Command):
     """G33.1: feed to (x, y, z) synchronised with the spindle, reverse, and come back."""
 
@@ -745,7 +765,7 @@ class RigidTap(Command):
     z: float
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class Finish(Command):
     """End of the canonical stream after program end (LinuxCNC)."""
 
@@ -804,7 +824,7 @@ def write_text(commands: Iterable[Command], start: int = 1) -> Iterator[str]:
         n += 1
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class TextCommand:
     """One line of a canonical text file as read: the name and raw argument strings.
 

@@ -17,16 +17,16 @@ it.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import ClassVar
 
 from gcode.ngc.comp.cutter_comp import CutterCompensator
 from gcode.ngc.comp.rules import LEFT, ToolLookup, comp_setting
 from kernel.diagnostics import Location
 from kernel.ir import canon
+from kernel.record import record
 
 
-@dataclass(frozen=True, slots=True)
+@record
 class CompRegister(canon.Command):
     """Where a kept G41/G42 takes its radius: the tool-table entry / offset register
     ``register`` (G41 D n, or the tool in the spindle without D), or None for a radius
