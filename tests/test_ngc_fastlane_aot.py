@@ -25,6 +25,7 @@ import gcode.ngc.interpreter as interp
 from cli.canon import fast_text
 from cli.main import cli
 from gcode.ngc.lane import fastlane
+from kernel import aot as aot_loader
 from kernel.ir import canon
 
 ROOT = Path(__file__).resolve().parent
@@ -62,7 +63,7 @@ def cam_bytes(tmp_path_factory: pytest.TempPathFactory) -> np.ndarray:
 
 
 def _use(monkeypatch: pytest.MonkeyPatch, module: ModuleType) -> None:
-    monkeypatch.setattr(fastlane, "_loaded", module)
+    monkeypatch.setattr(fastlane.KERNELS, "_loaded", module)
 
 
 def _runs(buf: np.ndarray, max_events: int) -> list[fastlane.Run]:
@@ -166,10 +167,10 @@ def test_a_failed_build_falls_back_to_jit_once(
         calls.append(name)
         return False, "error: command 'gcc' failed: No such file or directory"
 
-    monkeypatch.setattr(fastlane, "build_aot", no_compiler)
-    monkeypatch.setattr(fastlane, "cache_dir", lambda: tmp_path)
+    monkeypatch.setattr(fastlane.KERNELS, "build_aot", no_compiler)
+    monkeypatch.setattr(aot_loader, "cache_dir", lambda: tmp_path)
     monkeypatch.delenv("CNC_FASTLANE_JIT", raising=False)
-    monkeypatch.setattr(fastlane, "_loaded", None)
+    monkeypatch.setattr(fastlane.KERNELS, "_loaded", None)
     assert fastlane._kernels() is jit
     assert fastlane.kernel_mode() == "jit"
     assert (tmp_path / (fastlane.aot_name() + ".failed")).read_text().startswith("error:")
@@ -192,9 +193,9 @@ def test_without_aot_module_or_numba_the_general_interpreter_does_everything(
 
     prog = write_program(tmp_path / "cam.ngc", 300)
     expected = list(interp.interpret(prog, interp.InterpreterOptions(fast_lane=False)))
-    monkeypatch.setattr(fastlane, "_loaded", None)
-    monkeypatch.setattr(fastlane, "load_aot", lambda directory: None)
-    monkeypatch.setattr(fastlane, "load_jit", no_numba)
+    monkeypatch.setattr(fastlane.KERNELS, "_loaded", None)
+    monkeypatch.setattr(fastlane.KERNELS, "load_aot", lambda directory: None)
+    monkeypatch.setattr(fastlane.KERNELS, "load_jit", no_numba)
     monkeypatch.setattr(interp, "LANE_MIN_BYTES", 0)
     chunks = list(interp.interpret_chunks(prog))
     assert all(isinstance(c, canon.Command) for c in chunks)
@@ -207,7 +208,7 @@ def test_a_build_without_a_working_compiler_reports_failure_and_leaves_no_module
     monkeypatch.setenv("CC", str(tmp_path / "no-such-cc"))
     monkeypatch.setenv("CXX", str(tmp_path / "no-such-cc"))
     name = fastlane.aot_name()
-    ok, error = fastlane.build_aot(tmp_path, name)
+    ok, error = fastlane.KERNELS.build_aot(tmp_path, name)
     assert not ok and error
     assert [p.name for p in tmp_path.iterdir()] == []  # no module, no build leftovers
 
@@ -252,7 +253,7 @@ def test_the_one_off_build_is_announced_on_stderr_once(tmp_path: Path) -> None:
     a later command (the build remembered) says nothing."""
     probe = (
         "import sys; from pathlib import Path; from gcode.ngc.lane import fastlane; "
-        "fastlane.build_aot = lambda directory, name: (False, 'no compiler'); "
+        "fastlane.KERNELS.build_aot = lambda directory, name: (False, 'no compiler'); "
         "print(fastlane.load_aot(Path(sys.argv[1])))"
     )
     env = dict(os.environ)

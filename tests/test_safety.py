@@ -206,6 +206,6 @@ def test_the_kernel_cache_is_private_and_overridable(
     shared.mkdir()
     shared.chmod(0o777)
     assert not fastlane.private_dir(shared)  # never load code others could have put there
-    ok, error = fastlane.build_aot(shared, "x")
+    ok, error = fastlane.KERNELS.build_aot(shared, "x")
     assert not ok and "not a private directory" in error
     assert list(shared.iterdir()) == []

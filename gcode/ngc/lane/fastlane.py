@@ -34,14 +34,6 @@ interpreter uses the lane only for large programs either way.
 
 from __future__ import annotations
 
-import contextlib
-import importlib.util
-import logging
-import os
-import stat
-import sys
-import sysconfig
-import zlib
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
@@ -49,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from kernel import aot
 from kernel.ir import canon
 
 #: event kinds
@@ -359,121 +352,27 @@ def sandia_text(
 
 
 # ---------------------------------------------------------------- loading the kernels
-_KERNEL_SOURCE = Path(__file__).with_name("fastlane_kernels.py")
-_loaded: Any = None
-#: Warnings reach stderr through logging's last-resort handler when nobody configured one.
-_log = logging.getLogger("cnc.fastlane")
-#: What a user is told before the one-off build (measured: 8 s of CPU, 25 s on a busy 2-core
-#: machine).
-BUILD_NOTICE = "building fast kernels, once, ~30 s (cached in %s)"
-
-
-def cache_dir() -> Path:
-    """Where the AOT kernel module is kept: ``$CNC_CACHE_DIR`` when set, else
-    ``$XDG_CACHE_HOME/cnc-toolchain`` (default ``~/.cache/cnc-toolchain``)."""
-    own = os.environ.get("CNC_CACHE_DIR")
-    if own:
-        return Path(own)
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "cnc-toolchain"
-
-
-def private_dir(directory: Path) -> bool:
-    """Make ``directory`` (mode 0700 when created) and say whether code may be loaded from
-    it: it must be ours and writable by nobody else, or another user could plant a module."""
-    try:
-        directory.mkdir(mode=0o700, parents=True, exist_ok=True)
-        st = directory.stat()
-    except OSError:
-        return False
-    mine = not hasattr(os, "getuid") or st.st_uid == os.getuid()
-    return mine and not st.st_mode & (stat.S_IWGRP | stat.S_IWOTH)
+#: the compiled kernels (kernel.aot: built once into the user's cache, JIT fallback)
+KERNELS = aot.Kernels(
+    "gcode.ngc.lane.fastlane_kernels", "_fastlane_aot", "fast kernels", "CNC_FASTLANE_JIT"
+)
+cache_dir = aot.cache_dir
+private_dir = aot.private_dir
 
 
 def aot_name() -> str:
-    """Module name of the AOT build of the current kernel source for this Python and numpy.
-
-    The key is two 32-bit checksums (zlib: no OpenSSL to load at start-up).
-    """
-    data = _KERNEL_SOURCE.read_bytes() + (
-        f"|{sys.version}|{np.__version__}|{sysconfig.get_platform()}".encode()
-    )
-    return f"_fastlane_aot_{zlib.crc32(data):08x}{zlib.adler32(data):08x}"
-
-
-def build_aot(directory: Path, name: str) -> tuple[bool, str]:
-    """Build the AOT module ``name`` into ``directory`` in a child process (its compiler
-    output never reaches ours); the file appears atomically. Returns (ok, error text).
-
-    Builds of other kernel sources stay (another checkout may share the cache).
-    """
-    import subprocess
-    import tempfile
-
-    suffix = sysconfig.get_config_var("EXT_SUFFIX")
-    package_root = str(_KERNEL_SOURCE.parents[3])  # gcode/ngc/lane/ -> the checkout
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (package_root, env.get("PYTHONPATH")) if p)
-    if not private_dir(directory):
-        return (
-            False,
-            f"{directory}: not a private directory (owned by another user or writable by others)",
-        )
-    try:
-        with tempfile.TemporaryDirectory(dir=directory, prefix=".build-") as tmp:
-            proc = subprocess.run(
-                [sys.executable, "-m", "gcode.ngc.lane.fastlane_kernels", tmp, name],
-                capture_output=True,
-                env=env,
-                timeout=600,
-                stdin=subprocess.DEVNULL,
-            )
-            built = Path(tmp) / (name + suffix)
-            if proc.returncode != 0 or not built.is_file():
-                return False, (proc.stderr or proc.stdout).decode(errors="replace")[-2000:]
-            os.replace(built, directory / (name + suffix))
-    except (OSError, subprocess.SubprocessError) as exc:
-        return False, str(exc)
-    return True, ""
+    """Module name of the AOT build of the current kernel source (kernel.aot)."""
+    return KERNELS.aot_name()
 
 
 def load_aot(directory: Path) -> ModuleType | None:
-    """The AOT kernel module from ``directory``, built there first if missing; None when it
-    cannot be built (the failure is remembered in ``NAME.failed``: delete it to retry)."""
-    name = aot_name()
-    path = directory / (name + sysconfig.get_config_var("EXT_SUFFIX"))
-    failed = directory / (name + ".failed")
-    if not private_dir(directory):
-        _log.warning(
-            "not loading fast kernels from %s: owned by another user or writable by others",
-            directory,
-        )
-        return None
-    if not path.is_file():
-        if failed.exists():
-            return None
-        _log.warning(BUILD_NOTICE, directory)
-        ok, error = build_aot(directory, name)
-        if not ok:
-            with contextlib.suppress(OSError):
-                failed.write_text(error)
-            return None
-    try:
-        spec = importlib.util.spec_from_file_location(name, path)
-        if spec is None or spec.loader is None:
-            return None
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-    except ImportError:
-        return None
-    return module
+    """The AOT kernel module from ``directory``, built there first if missing (kernel.aot)."""
+    return KERNELS.load_aot(directory)
 
 
 def load_jit() -> ModuleType:
     """The kernels through numba's JIT (imports numba)."""
-    from gcode.ngc.lane import fastlane_kernels
-
-    return fastlane_kernels
+    return KERNELS.load_jit()
 
 
 def kernel_mode() -> str:
@@ -481,13 +380,9 @@ def kernel_mode() -> str:
 
     Raises ImportError when neither an AOT module nor numba is available.
     """
-    return "jit" if _kernels() is sys.modules.get("gcode.ngc.lane.fastlane_kernels") else "aot"
+    return KERNELS.mode()
 
 
 def _kernels() -> Any:
     """The kernel module in use: AOT if possible, else JIT (loaded once per process)."""
-    global _loaded
-    if _loaded is None:
-        aot = None if os.environ.get("CNC_FASTLANE_JIT") else load_aot(cache_dir())
-        _loaded = aot if aot is not None else load_jit()
-    return _loaded
+    return KERNELS.module()
