@@ -10,7 +10,7 @@ kernel source and the Python and numpy versions, and says so once on stderr. Loa
 built module takes under a millisecond and imports no numba. Where it cannot be built (no
 C compiler, a cache directory that is not private), the same source runs through numba's
 JIT; where numba is missing too, :meth:`Kernels.module` raises ImportError and the caller
-takes its pure-Python path. This is the scheme of :mod:`gcode.ngc.lane.fastlane`.
+takes its pure-Python path. The RS274/NGC fast lane and the Part 21 scanner load theirs so.
 """
 
 from __future__ import annotations
