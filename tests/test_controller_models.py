@@ -242,6 +242,36 @@ def test_linuxcnc_model_helix_stop_keeps_the_axis_acceleration_limit():
     assert np.abs(s.acceleration).max() <= 200.0 * (1 + 1e-6)
 
 
+def test_linuxcnc_model_line_arc_blend_keeps_the_axis_speed_limit():
+    """Found by the property test: in the parabolic blend of a steep line into a circle the
+    line's X share (it is slowing down) and the circle's (speeding up and turning toward X)
+    add up; their sum peaked between the nodes of the grid the overlap was checked on, 2e-5
+    over the X limit. The peak is now searched between the nodes."""
+    limits = ((20.0, 354.0), (20.0, 354.0), (20.0, 200.0))
+    axes = tuple(
+        AxisLimits(n, velocity=v, acceleration=a, jerk=20000.0)
+        for n, (v, a) in zip("xyz", limits, strict=True)
+    )
+    machine = with_controller(Machine("random", axes, Controller()), model="linuxcnc")
+    cmds = [
+        canon.SetFeedRate(1173.0),
+        canon.StraightFeed(1.0, 0.0, 11.0),
+        canon.ArcFeed(
+            4.8257965696611285,
+            -0.2713057680711408,
+            2.6645873461885694,
+            -3.637189707302727,
+            -1,
+            11.0,
+        ),
+    ]
+    _, p = plan_program(cmds, machine)
+    assert p.overlap is not None and p.overlap[0] > 0  # the corner is a parabolic blend
+    s = sample(p)
+    for j, (v, _) in enumerate(limits):
+        assert np.abs(s.velocity[:, j]).max() <= v * (1 + 1e-9)
+
+
 def test_difference_peaks_of_a_recorded_ramp() -> None:
     """Closed form: x = a t^2 / 2 sampled every T has second differences a T^2 and first
     differences a (k + 1/2) T^2; positions rounded to a resolution r move the acceleration by

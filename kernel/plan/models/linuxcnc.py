@@ -1077,6 +1077,42 @@ def _tangents(table: np.ndarray, rows: np.ndarray, s: np.ndarray) -> np.ndarray:
     return out
 
 
+def _overlap_ratio(
+    table: np.ndarray,
+    p: np.ndarray,
+    move: tuple[np.ndarray, ...],
+    vmax: np.ndarray,
+    tau: np.ndarray,
+) -> np.ndarray:
+    """The axis speeds over their limits at times ``tau`` (a row of times per row, from the
+    start of the overlap) while move ``p`` (from ``v_on`` down to a stop at ``a_p``) and
+    ``p + 1`` (from rest at ``a_q`` up to ``vq``; ``move = (v_on, a_p, a_q, vq)``) run
+    together: the largest over the axes where ``p`` adds to the speed ``p + 1`` has alone
+    (``p + 1`` alone keeps its own limits: only the overlap's sum is the blend's to cap)."""
+    v_on, a_p, a_q, vq = (x[:, None] for x in move)
+    v1 = np.maximum(v_on - a_p * tau, 0.0)
+    left = v1 * v1 / (2.0 * a_p)  # what p has still to go
+    t_up = vq / a_q
+    v2 = np.minimum(a_q * tau, vq)
+    ramp = 0.5 * a_q * tau * tau
+    gone = np.where(tau < t_up, ramp, 0.5 * vq * t_up + vq * (tau - t_up))
+    u1 = _tangents(table, p, table["length"][p][:, None] - left)
+    u2 = _tangents(table, p + 1, gone)
+    alone = u2 * v2[..., None]
+    w = np.abs(u1 * v1[..., None] + alone)
+    w = np.where(w > np.abs(alone), w, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(vmax > 0, w / np.where(vmax > 0, vmax, 1.0), 0.0)
+    return ratio.max(axis=2)
+
+
+_GRID = 32  # overlap grid intervals (at least)
+_GRID_ANGLE = 0.05  # rad: the most an arc turns between two grid nodes
+_NEAR = 1e-2  # grid maxima this close to the limit are refined
+_GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+_GOLDEN_STEPS = 48  # brackets shrink to 0.618^48 ~ 1e-10 of two grid intervals
+
+
 def _axis_speed_ratio(
     table: np.ndarray,
     p: np.ndarray,
@@ -1086,24 +1122,63 @@ def _axis_speed_ratio(
     vq: np.ndarray,
     vmax: np.ndarray,
 ) -> np.ndarray:
-    """The largest axis speed over its limit while move ``p`` (from ``v_on`` down to a stop
-    at ``a_p``) and ``p + 1`` (from rest at ``a_q`` up to ``vq``) run together, on a grid
-    over the overlap and where ``p + 1`` reaches ``vq`` (where the sum peaks on lines)."""
-    t_end = (v_on / a_p)[:, None]
-    grid = t_end * np.linspace(0.0, 1.0, 17)[None, :]
-    tau = np.concatenate([grid, np.minimum(vq / a_q, t_end[:, 0])[:, None]], axis=1)
-    v1 = np.maximum(v_on[:, None] - a_p[:, None] * tau, 0.0)
-    left = v1 * v1 / (2.0 * a_p[:, None])  # what p has still to go
-    t_up = (vq / a_q)[:, None]
-    v2 = np.minimum(a_q[:, None] * tau, vq[:, None])
-    ramp = 0.5 * a_q[:, None] * tau * tau
-    gone = np.where(tau < t_up, ramp, 0.5 * vq[:, None] * t_up + vq[:, None] * (tau - t_up))
-    u1 = _tangents(table, p, table["length"][p][:, None] - left)
-    u2 = _tangents(table, p + 1, gone)
-    w = np.abs(u1 * v1[..., None] + u2 * v2[..., None])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(vmax > 0, w / np.where(vmax > 0, vmax, 1.0), 0.0)
-    return ratio.max(axis=(1, 2))
+    """The largest axis speed over its limit that the overlap of moves ``p`` and ``p + 1``
+    makes (:func:`_overlap_ratio`): on a grid over the overlap, fine enough that an arc
+    turns at most ``_GRID_ANGLE`` between two nodes, with the time ``p + 1`` reaches ``vq``
+    as a node (where the sum peaks on lines); every grid maximum near the limit is refined
+    by golden-section search between its neighbours (on arcs the peak lies between nodes,
+    and a grid alone missed it by 2e-5 of the limit)."""
+    t_end = v_on / a_p
+    t_up = vq / a_q
+    went = np.where(t_end < t_up, 0.5 * a_q * t_end * t_end, 0.5 * vq * t_up + vq * (t_end - t_up))
+    # how far the arcs turn over the overlap: p over what it has left, p + 1 over what it goes
+    turn = np.zeros(p.size)
+    for rows, dist in ((p, 0.5 * v_on * t_end), (p + 1, went)):
+        arc = table["kind"][rows] == ARC
+        if arc.any():
+            r = np.minimum(table["radius"][rows], table["radius_end"][rows])
+            turn = np.where(arc, turn + dist / np.maximum(r, _TINY), turn)
+    steps = np.maximum(np.ceil(turn / _GRID_ANGLE), _GRID)
+    steps = np.minimum(2.0 ** np.ceil(np.log2(steps)), 1 << 14).astype(np.int64)
+    out = np.zeros(p.size)
+    for m in np.unique(steps).tolist():
+        rows = np.flatnonzero(steps == m)
+        move = (v_on[rows], a_p[rows], a_q[rows], vq[rows])
+        te = t_end[rows][:, None]
+        nodes = te * np.linspace(0.0, 1.0, m + 1)[None, :]
+        tau = np.sort(np.concatenate([nodes, np.minimum(t_up[rows][:, None], te)], axis=1))
+        ratio = _overlap_ratio(table, p[rows], move, vmax, tau)
+        out[rows] = ratio.max(axis=1)
+        # the grid's local maxima near the limit: search between their neighbours
+        pad = np.pad(ratio, ((0, 0), (1, 1)), constant_values=-1.0)
+        peak = (ratio >= pad[:, :-2]) & (ratio >= pad[:, 2:]) & (ratio > 1.0 - _NEAR)
+        ri, ci = np.nonzero(peak)
+        if not ri.size:
+            continue
+        lo = tau[ri, np.maximum(ci - 1, 0)]
+        hi = tau[ri, np.minimum(ci + 1, tau.shape[1] - 1)]
+        g = rows[ri]
+        one = (v_on[g], a_p[g], a_q[g], vq[g])
+
+        def at(x: np.ndarray, g: np.ndarray = g, one: tuple[np.ndarray, ...] = one) -> np.ndarray:
+            return _overlap_ratio(table, p[g], one, vmax, x[:, None])[:, 0]
+
+        x1, x2 = hi - _GOLDEN * (hi - lo), lo + _GOLDEN * (hi - lo)
+        f1, f2 = at(x1), at(x2)
+        best = np.maximum(f1, f2)
+        for _ in range(_GOLDEN_STEPS):
+            left = f1 >= f2  # the maximum lies in [lo, x2]
+            hi = np.where(left, x2, hi)
+            lo = np.where(left, lo, x1)
+            x1, x2 = (
+                np.where(left, hi - _GOLDEN * (hi - lo), x2),
+                np.where(left, x1, lo + _GOLDEN * (hi - lo)),
+            )
+            f = at(np.where(left, x1, x2))
+            f1, f2 = np.where(left, f, f2), np.where(left, f1, f)
+            best = np.maximum(best, f)
+        np.maximum.at(out, g, best)
+    return out
 
 
 def _blend_overlap(
