@@ -24,8 +24,9 @@ from kernel.interp.interpolate import sample
 from kernel.interp.samples import Samples
 from kernel.ir import canon
 from kernel.machine import AxisLimits, Controller, Machine, parse_machine, with_controller
+from kernel.plan.models import linuxcnc
 from kernel.plan.models.grbl import arc_chords, junction_speed
-from kernel.plan.strategy import plan_program
+from kernel.plan.strategy import build, plan_program
 from kernel.report.measure import difference_peaks
 from kernel.simulation import simulate
 
@@ -270,6 +271,43 @@ def test_linuxcnc_model_line_arc_blend_keeps_the_axis_speed_limit():
     s = sample(p)
     for j, (v, _) in enumerate(limits):
         assert np.abs(s.velocity[:, j]).max() <= v * (1 + 1e-9)
+
+
+def _join_arrays(name: str, compiled: bool) -> list[np.ndarray]:
+    """Every array of the LinuxCNC model's join decisions on a golden program, by numpy or
+    by the compiled loops (kernel.plan.models.lcnc_joins)."""
+    machine = _machine(str(LCNC))
+    prog = LCNC / "ngc" / f"{name}.ngc"
+    built = build(list(read(prog, "rs274ngc")), machine)
+    assert built.prepared is not None
+    seg = built.path.segments
+    src = np.clip(seg["source"], 0, len(built.prepared.term) - 1)
+    term, tol = built.prepared.term[src], built.prepared.tolerance[src]
+    lim = linuxcnc._limits(built.path, machine)
+    j = linuxcnc._joins(seg, lim, term, tol, machine, compiled=compiled)
+    return [j.kind, j.kink_vel, j.kink_red, j.radius, j.arc_vel, j.arc_acc, j.arc_req, j.trim]
+
+
+# lines, G64 P, circles beside lines and circles, an arc-built spiral, helices
+_JOIN_PROGRAMS = [
+    "lcnc_arc-arc-convex.native",
+    "lcnc_cradek_accel_issue.G64P",
+    "lcnc_helix_slowdown.native",
+    "own_arc_spiral.G64P",
+    "own_pocket_rings.native",
+    "own_sine_0p5_f3000.native",
+    "real_fusion_1014.G64P",
+]
+
+
+@pytest.mark.parametrize("name", _JOIN_PROGRAMS)
+def test_linuxcnc_compiled_joins_decide_bit_for_bit_as_numpy(name: str) -> None:
+    """The compiled join loops (used from COMPILED_JOINS joins on) give the numpy
+    formulation's numbers exactly, on programs with every kind of join."""
+    ours = _join_arrays(name, compiled=True)
+    ref = _join_arrays(name, compiled=False)
+    for x, y in zip(ours, ref, strict=True):
+        assert x.dtype == y.dtype and np.array_equal(x, y, equal_nan=True)
 
 
 def test_difference_peaks_of_a_recorded_ramp() -> None:

@@ -77,6 +77,21 @@ from kernel.machine import Machine
 from kernel.path.blend import insert_blend_arcs, kept_after_blending
 from kernel.path.geometry import arc_tangent
 from kernel.path.segments import ARC, HOLD, LINE, RAPID, Path
+from kernel.plan.models import lcnc_joins
+from kernel.plan.models.lcnc_joins import (
+    ACC_RATIO_NORMAL,
+    ACC_RATIO_TAN,
+    COMPILED_JOINS,
+    EXACT,
+    KINK_RATIO,
+    PARABOLIC,
+    STOP,
+    TANGENT,
+)
+from kernel.plan.models.lcnc_joins import ARC_JOIN as _ARC_JOIN
+from kernel.plan.models.lcnc_joins import SHARP as _SHARP
+from kernel.plan.models.lcnc_joins import TINY as _TINY
+from kernel.plan.models.lcnc_joins import VIRTUAL as _VIRTUAL
 from kernel.plan.planner import (
     Plan,
     Profiles,
@@ -86,25 +101,14 @@ from kernel.plan.planner import (
     trapezoids,
 )
 
-# terminal conditions (LinuxCNC's TC_TERM_COND_*): how a segment ends
-STOP = 0  # G61.1 exact stop
-EXACT = 1  # G61 exact path
-PARABOLIC = 2  # G64
-TANGENT = 3
-
-KINK_RATIO = 0.1  # [TRAJ] ARC_BLEND_KINK_RATIO default (initraj.cc)
 OPT_DEPTH = 50  # [TRAJ] ARC_BLEND_OPTIMIZATION_DEPTH
 RAMP_FREQ = 100.0  # [TRAJ] ARC_BLEND_RAMP_FREQ, Hz
 GAP_CYCLES = 4  # [TRAJ] ARC_BLEND_GAP_CYCLES
-ACC_RATIO_TAN = 0.5  # blendmath.h BLEND_ACC_RATIO_TANGENTIAL
-ACC_RATIO_NORMAL = math.sqrt(1.0 - ACC_RATIO_TAN**2)
 MIN_SEGMENT_CYCLES = 1.02  # tp_types.h TP_MIN_SEGMENT_CYCLES
 # discretisation of the per-period planner, in servo periods: measured on the goldens
 # (tests/data/lcnc_tp: ~0.8 period per stop over 1-200 stops, ~1.5 per program)
 STOP_CYCLES = 0.8
 START_CYCLES = 1.5
-_SHARP = (math.pi * 2.0 / 180.0) ** 2  # tp.c SHARP_CORNER_DEG = 2, small-angle squared
-_TINY = 1e-12
 _GONE = 1e-9  # mm: a line blending leaves shorter than this is dropped
 
 
@@ -360,10 +364,6 @@ class _Joins:
     trim: np.ndarray  # blend arc tangent length on the lines (d_plan)
 
 
-_ARC_JOIN = 4
-_VIRTUAL = 5  # a blend arc next to a circle: modelled on the line beside it
-
-
 def _tri_vel(acc: np.ndarray, length: np.ndarray) -> np.ndarray:
     """blendmath.h ``findVPeak``: top of a triangle over ``length``."""
     return np.sqrt(np.maximum(acc * length, 0.0))
@@ -513,10 +513,15 @@ def _joins(
     term: np.ndarray,
     tol: np.ndarray,
     machine: Machine,
+    compiled: bool | None = None,
 ) -> _Joins:
-    """Decide every join as tp.c ``tpHandleBlendArc`` does when the next move is queued."""
+    """Decide every join as tp.c ``tpHandleBlendArc`` does when the next move is queued;
+    from :data:`COMPILED_JOINS` joins on (or as ``compiled`` says) in compiled loops
+    (:func:`_joins_compiled`, the same numbers)."""
     n = len(seg)
     m = max(n - 1, 0)
+    if m and (compiled if compiled is not None else m >= COMPILED_JOINS):
+        return _joins_compiled(seg, lim, term, tol, machine)
     period = machine.controller.interpolation_period
     vmax = np.array(machine.limit_vector("velocity"))[:3]
     amax = np.array(machine.limit_vector("acceleration"))[:3]
@@ -693,6 +698,165 @@ def _joins(
     arc_vel[use_arc] = perf_arc[use_arc]
     arc_acc[use_arc] = a_max[use_arc]
     arc_req[use_arc] = v_req[use_arc]
+    return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, trim)
+
+
+def _joins_compiled(
+    seg: np.ndarray,
+    lim: _Limits,
+    term: np.ndarray,
+    tol: np.ndarray,
+    machine: Machine,
+) -> _Joins:
+    """:func:`_joins` by the loops of :mod:`kernel.plan.models.lcnc_joins`, with numpy's
+    inverse cosines and tangents between them (the same numbers, bit for bit)."""
+    n = len(seg)
+    m = n - 1
+    period = machine.controller.interpolation_period
+    vmax = np.array(machine.limit_vector("velocity"))[:3]
+    amax = np.array(machine.limit_vector("acceleration"))[:3]
+    kind = np.full(m, STOP, dtype=np.int8)
+    kink_vel = np.full(m, -1.0)
+    kink_red = np.zeros(m)
+    radius = np.zeros(m)
+    arc_vel = np.zeros(m)
+    arc_acc = np.zeros(m)
+    arc_req = np.zeros(m)
+    trim = np.zeros(m)
+    u1, u2 = np.zeros((m, 3)), np.zeros((m, 3))
+    dot = np.zeros(m)
+    blend = np.zeros(m, dtype=bool)
+    vt, maxvel = np.zeros(n), np.zeros(n)
+    skind = np.ascontiguousarray(seg["kind"])
+    length = np.ascontiguousarray(seg["length"])
+    lcnc_joins.tangent_joins(
+        skind,
+        np.ascontiguousarray(seg["u_end"]),
+        np.ascontiguousarray(seg["u_start"]),
+        length,
+        np.ascontiguousarray(lim.maxvel, dtype=float),
+        np.ascontiguousarray(lim.reqvel, dtype=float),
+        np.ascontiguousarray(lim.maxacc, dtype=float),
+        np.ascontiguousarray(term, dtype=np.int8),
+        vmax,
+        amax,
+        period,
+        kind,
+        kink_vel,
+        kink_red,
+        u1,
+        u2,
+        dot,
+        blend,
+        vt,
+        maxvel,
+    )
+    if not blend.any():
+        return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, trim)
+    theta0 = np.arccos(-dot) / 2.0
+    theta, l1, l2, tolerance = np.zeros(m), np.zeros(m), np.zeros(m), np.zeros(m)
+    ok = np.zeros(m, dtype=bool)
+    arcs = np.flatnonzero(skind == ARC)
+    # the arc fields of the arc rows only (zero elsewhere)
+    fields = {}
+    for f in ("radius", "radius_end", "sweep", "centre", "normal", "start", "end"):
+        col = seg[f] if f in ("radius", "radius_end", "sweep") else seg[f][:, :3]
+        arr = np.zeros((n, *col.shape[1:]))
+        arr[arcs] = col[arcs]
+        fields[f] = arr
+    tolv = np.ascontiguousarray(tol, dtype=float)
+    lcnc_joins.blend_angles(
+        blend,
+        theta0,
+        skind,
+        length,
+        tolv,
+        fields["radius"],
+        fields["radius_end"],
+        fields["sweep"],
+        fields["start"],
+        fields["end"],
+        fields["centre"],
+        u1,
+        u2,
+        theta,
+        l1,
+        l2,
+        tolerance,
+        ok,
+    )
+    tan_theta = np.tan(theta)
+    binormal = np.zeros((m, 3))
+    a_max, v_req, v_plan, r_plan, s_arc = (np.zeros(m) for _ in range(5))
+    lcnc_joins.blend_arcs(
+        blend,
+        ok,
+        theta,
+        tan_theta,
+        u1,
+        u2,
+        skind,
+        maxvel,
+        vt,
+        l1,
+        l2,
+        tolerance,
+        fields["normal"],
+        vmax,
+        amax,
+        binormal,
+        a_max,
+        v_req,
+        v_plan,
+        r_plan,
+        s_arc,
+    )
+    a, b = slice(0, m), slice(1, n)
+    both = ok & (skind[a] == ARC) & (skind[b] == ARC)
+    if both.any():
+        fails, s_exact = _arc_arc_blend(
+            seg, np.arange(m), np.arange(1, n), u1, u2, binormal, r_plan, tolerance, theta0, both
+        )
+        ok &= ~fails
+        s_arc = np.where(both, s_exact, s_arc)
+    # the parabolic estimate's angle between the directions of acceleration (blended joins)
+    theta_acc = np.zeros(m)
+    jb = np.flatnonzero(blend)
+    nb = jb + 1
+    theta_acc[jb] = _accel_half_angle(
+        u1[jb],
+        u2[jb],
+        skind[nb] == ARC,
+        fields["centre"][nb] - fields["start"][nb],
+        fields["radius"][nb],
+        lim.maxacc[nb] * (1.0 - KINK_RATIO) * 0.5,
+        lim.reqvel[nb],
+    )
+    lcnc_joins.blend_choice(
+        blend,
+        ok,
+        v_plan,
+        s_arc,
+        period,
+        skind,
+        length,
+        np.ascontiguousarray(lim.maxacc, dtype=float),
+        vt,
+        tolv,
+        theta_acc,
+        r_plan,
+        tan_theta,
+        a_max,
+        v_req,
+        kind,
+        kink_vel,
+        kink_red,
+        radius,
+        trim,
+        arc_vel,
+        arc_acc,
+        arc_req,
+    )
     return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, trim)
 
 
