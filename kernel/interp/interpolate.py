@@ -285,7 +285,10 @@ def _arc_rows(seg: np.ndarray, kind: np.ndarray) -> dict[str, np.ndarray]:
     """The fields the compiled arc kernel reads, of the arc rows only (contiguous), their
     cubes as numpy computes them, and ``arc_of``: each segment's place among them."""
     rows = np.flatnonzero(kind == ARC)
-    arcs = seg[rows]
+    # the arc rows gathered as bytes (a structured gather goes field by field)
+    size = seg.dtype.itemsize
+    raw = np.ascontiguousarray(seg).view(np.uint8).reshape(len(seg), size)
+    arcs = raw.take(rows, axis=0).view(seg.dtype).reshape(rows.size)
     out = {
         f: np.ascontiguousarray(arcs[f])
         for f in ("sweep", "radius", "radius_end", "length", "axial", "e1", "e2", "normal")

@@ -75,7 +75,6 @@ import kernel.ir.canon as canon
 from kernel.interp.bulk import bulk_array
 from kernel.machine import Machine
 from kernel.path.blend import insert_blend_arcs, kept_after_blending
-from kernel.path.geometry import arc_tangent
 from kernel.path.segments import ARC, HOLD, LINE, RAPID, Path
 from kernel.plan.models import lcnc_joins
 from kernel.plan.models.lcnc_joins import (
@@ -1231,13 +1230,26 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
 
 def _tangents(table: np.ndarray, rows: np.ndarray, s: np.ndarray) -> np.ndarray:
     """Unit tangents (6 axes) of ``rows`` at path positions ``s`` (one row of positions
-    per row)."""
+    per row); on arcs d position / ds as kernel.path.geometry computes it (XYZ, rotary
+    zero), each arc's fields gathered once for all its positions."""
     out = np.repeat(table["u_start"][rows][:, None, :], s.shape[1], axis=1)
     arc = np.flatnonzero(table["kind"][rows] == ARC)
     if arc.size:
-        r = np.repeat(rows[arc], s.shape[1])
-        lam = np.clip(s[arc].ravel() / np.maximum(table["length"][r], _TINY), 0.0, 1.0)
-        out[arc] = arc_tangent(table[r], lam).reshape(arc.size, s.shape[1], -1)
+        g = table[rows[arc]]
+        length = g["length"][:, None]
+        lam = np.clip(s[arc] / np.maximum(length, _TINY), 0.0, 1.0)
+        sweep = g["sweep"][:, None]
+        dr = (g["radius_end"] - g["radius"])[:, None]
+        psi = sweep * lam
+        c, sn = np.cos(psi)[..., None], np.sin(psi)[..., None]
+        e1, e2, n = g["e1"][:, None, :], g["e2"][:, None, :], g["normal"][:, None, :]
+        w = c * e1 + sn * e2
+        wp = -sn * e1 + c * e2
+        rho = g["radius"][:, None] + dr * lam
+        ax = g["axial"][:, None, None]
+        d1 = (dr[..., None] * w + (rho * sweep)[..., None] * wp + ax * n) / length[..., None]
+        out[arc, :, :3] = d1
+        out[arc, :, 3:] = 0.0
     return out
 
 
@@ -1289,7 +1301,7 @@ def _axis_speed_ratio(
     """The largest axis speed over its limit that the overlap of moves ``p`` and ``p + 1``
     makes (:func:`_overlap_ratio`): on a grid over the overlap, fine enough that an arc
     turns at most ``_GRID_ANGLE`` between two nodes, with the time ``p + 1`` reaches ``vq``
-    as a node (where the sum peaks on lines); every grid maximum near the limit is refined
+    as a node (where the sum peaks between two lines); every grid maximum near the limit is refined
     by golden-section search between its neighbours (on arcs the peak lies between nodes,
     and a grid alone missed it by 2e-5 of the limit)."""
     t_end = v_on / a_p
@@ -1297,12 +1309,16 @@ def _axis_speed_ratio(
     went = np.where(t_end < t_up, 0.5 * a_q * t_end * t_end, 0.5 * vq * t_up + vq * (t_end - t_up))
     # how far the arcs turn over the overlap: p over what it has left, p + 1 over what it goes
     turn = np.zeros(p.size)
+    curved = np.zeros(p.size, dtype=bool)
     for rows, dist in ((p, 0.5 * v_on * t_end), (p + 1, went)):
         arc = table["kind"][rows] == ARC
         if arc.any():
             r = np.minimum(table["radius"][rows], table["radius_end"][rows])
             turn = np.where(arc, turn + dist / np.maximum(r, _TINY), turn)
-    steps = np.maximum(np.ceil(turn / _GRID_ANGLE), _GRID)
+            curved |= arc
+    # between two lines the speeds are linear between the start, t_up and the end: those
+    # nodes hold the peak exactly
+    steps = np.maximum(np.ceil(turn / _GRID_ANGLE), np.where(curved, _GRID, 2))
     steps = np.minimum(2.0 ** np.ceil(np.log2(steps)), 1 << 14).astype(np.int64)
     out = np.zeros(p.size)
     for m in np.unique(steps).tolist():
