@@ -273,6 +273,25 @@ def test_linuxcnc_model_line_arc_blend_keeps_the_axis_speed_limit():
         assert np.abs(s.velocity[:, j]).max() <= v * (1 + 1e-9)
 
 
+def test_linuxcnc_model_helix_blend_keeps_the_axis_acceleration_limit():
+    """Found by the property test: in the parabolic blends around a helix (a line up Z
+    into it, out of it into a line back to the start) the helix's acceleration toward its
+    centre adds to the other move's along X, 2e-4 over the X limit; such a blend now starts
+    at the speed that keeps the sum within it."""
+    axes = tuple(AxisLimits(n, velocity=20.0, acceleration=200.0, jerk=20000.0) for n in "xyz")
+    machine = with_controller(Machine("random", axes, Controller()), model="linuxcnc")
+    cmds = [
+        canon.SetFeedRate(580.0),
+        canon.StraightFeed(0.0, 0.0, 2.0),
+        canon.ArcFeed(-1.9899924966004454, 0.1411200080598672, -1.0, 0.0, 1, 0.0),
+        canon.StraightFeed(0.0, 0.0, 0.0),
+    ]
+    _, p = plan_program(cmds, machine)
+    assert p.overlap is not None and (p.overlap[:2] > 0).all()  # both joins blend
+    s = sample(p)
+    assert np.abs(s.acceleration).max() <= 200.0 * (1 + 1e-9)
+
+
 def _join_arrays(name: str, compiled: bool) -> list[np.ndarray]:
     """Every array of the LinuxCNC model's join decisions on a golden program, by numpy or
     by the compiled loops (kernel.plan.models.lcnc_joins)."""

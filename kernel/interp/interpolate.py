@@ -457,8 +457,9 @@ class _Blends:
         a = self.a[which][pick]
         v = self.v0[which][pick] + a * tau
         s = self.s0[which][pick] + self.v0[which][pick] * tau + 0.5 * a * tau * tau
-        q = self.q[which]
-        seg = sampler.plan.path.segments
+        # the later moves' rows only (evaluate's caches are per row: not of the whole table)
+        moves, q = np.unique(self.q[which], return_inverse=True)
+        seg = sampler.plan.path.segments[moves]
         s = np.clip(s, 0.0, seg["length"][q])
         ctl, cols = sampler.ctl, sampler.cols
         p, d1, curved, d2, d3 = evaluate(seg, q, s, ctl.circle_method, ctl.chord_tolerance, cols)

@@ -314,7 +314,7 @@ def _limits(path: Path, machine: Machine) -> _Limits:
     vmax = np.array(machine.limit_vector("velocity"))
     amax = np.array(machine.limit_vector("acceleration"))
     feed = commanded_feed(path, ctl)
-    u = seg["u_start"]
+    u = np.ascontiguousarray(seg["u_start"])  # read twice: one pass over the packed table
     maxvel = ratio_min(vmax, u)
     maxacc = ratio_min(amax, u)
     r_eff = np.full(len(seg), np.inf)
@@ -1211,8 +1211,11 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     cap = np.where(ramp, np.maximum(v[:-1], v[1:]), cap)
     cap = np.where(moving, cap, 0.0)
     prof = trapezoids(length, v[:-1], v[1:], np.where(moving, cap, 0.0), acc_plan)
-    vlim = np.array(machine.limit_vector("velocity"), dtype=float)
-    overlap = _blend_overlap(prof, par_at, blend_vel, table, vlim)
+    limits = (
+        np.array(machine.limit_vector("velocity"), dtype=float),
+        np.array(machine.limit_vector("acceleration"), dtype=float),
+    )
+    overlap = _blend_overlap(prof, par_at, blend_vel, table, limits)
     duration = np.where(moving, prof.duration, table["duration"]) - overlap
     # the planner runs once per servo period: every stop costs about STOP_CYCLES periods
     # more than the continuous profile, and a program START_CYCLES (tp.c
@@ -1228,11 +1231,13 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     return Plan(out_path, machine, v, cap, prof, pause, duration, t_start, s[:-1], 0.0, overlap)
 
 
-def _tangents(table: np.ndarray, rows: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """Unit tangents (6 axes) of ``rows`` at path positions ``s`` (one row of positions
-    per row); on arcs d position / ds as kernel.path.geometry computes it (XYZ, rotary
-    zero), each arc's fields gathered once for all its positions."""
+def _tangents(table: np.ndarray, rows: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """d position / ds and d2 position / ds2 (6 axes) of ``rows`` at path positions ``s``
+    (one row of positions per row): on lines the unit direction and zero, on arcs as
+    kernel.path.geometry computes them (XYZ, rotary zero), each arc's fields gathered once
+    for all its positions."""
     out = np.repeat(table["u_start"][rows][:, None, :], s.shape[1], axis=1)
+    out2 = np.zeros_like(out)
     arc = np.flatnonzero(table["kind"][rows] == ARC)
     if arc.size:
         g = table[rows[arc]]
@@ -1248,23 +1253,29 @@ def _tangents(table: np.ndarray, rows: np.ndarray, s: np.ndarray) -> np.ndarray:
         rho = g["radius"][:, None] + dr * lam
         ax = g["axial"][:, None, None]
         d1 = (dr[..., None] * w + (rho * sweep)[..., None] * wp + ax * n) / length[..., None]
+        d2 = (2 * (dr * sweep)[..., None] * wp - (rho * sweep**2)[..., None] * w) / (length**2)[
+            ..., None
+        ]
         out[arc, :, :3] = d1
         out[arc, :, 3:] = 0.0
-    return out
+        out2[arc, :, :3] = d2
+    return out, out2
 
 
 def _overlap_ratio(
     table: np.ndarray,
     p: np.ndarray,
     move: tuple[np.ndarray, ...],
-    vmax: np.ndarray,
+    limits: tuple[np.ndarray, np.ndarray],
     tau: np.ndarray,
 ) -> np.ndarray:
-    """The axis speeds over their limits at times ``tau`` (a row of times per row, from the
-    start of the overlap) while move ``p`` (from ``v_on`` down to a stop at ``a_p``) and
-    ``p + 1`` (from rest at ``a_q`` up to ``vq``; ``move = (v_on, a_p, a_q, vq)``) run
-    together: the largest over the axes where ``p`` adds to the speed ``p + 1`` has alone
-    (``p + 1`` alone keeps its own limits: only the overlap's sum is the blend's to cap)."""
+    """The axis speeds and accelerations over their limits (``limits``: speeds,
+    accelerations) at times ``tau`` (a row of times per row, from the start of the overlap)
+    while move ``p`` (from ``v_on`` down to a stop at ``a_p``) and ``p + 1`` (from rest at
+    ``a_q`` up to ``vq``; ``move = (v_on, a_p, a_q, vq)``) run together: the largest over
+    the axes where ``p`` adds to the speed ``p + 1`` has alone, or where the two add to more
+    acceleration than either has alone (each alone keeps its own limits: only the overlap's
+    sum is the blend's to cap)."""
     v_on, a_p, a_q, vq = (x[:, None] for x in move)
     v1 = np.maximum(v_on - a_p * tau, 0.0)
     left = v1 * v1 / (2.0 * a_p)  # what p has still to go
@@ -1272,14 +1283,22 @@ def _overlap_ratio(
     v2 = np.minimum(a_q * tau, vq)
     ramp = 0.5 * a_q * tau * tau
     gone = np.where(tau < t_up, ramp, 0.5 * vq * t_up + vq * (tau - t_up))
-    u1 = _tangents(table, p, table["length"][p][:, None] - left)
-    u2 = _tangents(table, p + 1, gone)
+    u1, k1 = _tangents(table, p, table["length"][p][:, None] - left)
+    u2, k2 = _tangents(table, p + 1, gone)
     alone = u2 * v2[..., None]
     w = np.abs(u1 * v1[..., None] + alone)
     w = np.where(w > np.abs(alone), w, 0.0)
+    # the accelerations: along the path (p slowing while it moves, p + 1 speeding up to vq)
+    # and toward the centre on arcs; the sum counts where it is more than either alone
+    acc1 = u1 * np.where(v1 > 0, -a_p, 0.0)[..., None] + k1 * (v1 * v1)[..., None]
+    acc2 = u2 * np.where(tau < t_up, a_q, 0.0)[..., None] + k2 * (v2 * v2)[..., None]
+    total = np.abs(acc1 + acc2)
+    total = np.where(total > np.maximum(np.abs(acc1), np.abs(acc2)), total, 0.0)
+    vmax, amax = limits
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(vmax > 0, w / np.where(vmax > 0, vmax, 1.0), 0.0)
-    return ratio.max(axis=2)
+        ratio_a = np.where(amax > 0, total / np.where(amax > 0, amax, 1.0), 0.0)
+    return np.maximum(ratio.max(axis=2), ratio_a.max(axis=2))
 
 
 _GRID = 32  # overlap grid intervals (at least)
@@ -1296,14 +1315,15 @@ def _axis_speed_ratio(
     a_p: np.ndarray,
     a_q: np.ndarray,
     vq: np.ndarray,
-    vmax: np.ndarray,
+    limits: tuple[np.ndarray, np.ndarray],
 ) -> np.ndarray:
-    """The largest axis speed over its limit that the overlap of moves ``p`` and ``p + 1``
-    makes (:func:`_overlap_ratio`): on a grid over the overlap, fine enough that an arc
-    turns at most ``_GRID_ANGLE`` between two nodes, with the time ``p + 1`` reaches ``vq``
-    as a node (where the sum peaks between two lines); every grid maximum near the limit is refined
-    by golden-section search between its neighbours (on arcs the peak lies between nodes,
-    and a grid alone missed it by 2e-5 of the limit)."""
+    """The largest axis speed or acceleration over its limit that the overlap of moves ``p``
+    and ``p + 1`` makes (:func:`_overlap_ratio`; ``limits``: speeds, accelerations): on a
+    grid over the overlap, fine enough that an arc turns at most ``_GRID_ANGLE`` between
+    two nodes, with the time ``p + 1`` reaches ``vq`` as a node (between two lines the
+    peaks are at the nodes); every grid maximum near the limit is refined by golden-section
+    search between its neighbours (on arcs the peak lies between nodes, and a grid alone
+    missed it by 2e-5 of the limit)."""
     t_end = v_on / a_p
     t_up = vq / a_q
     went = np.where(t_end < t_up, 0.5 * a_q * t_end * t_end, 0.5 * vq * t_up + vq * (t_end - t_up))
@@ -1327,7 +1347,7 @@ def _axis_speed_ratio(
         te = t_end[rows][:, None]
         nodes = te * np.linspace(0.0, 1.0, m + 1)[None, :]
         tau = np.sort(np.concatenate([nodes, np.minimum(t_up[rows][:, None], te)], axis=1))
-        ratio = _overlap_ratio(table, p[rows], move, vmax, tau)
+        ratio = _overlap_ratio(table, p[rows], move, limits, tau)
         out[rows] = ratio.max(axis=1)
         # the grid's local maxima near the limit: search between their neighbours
         pad = np.pad(ratio, ((0, 0), (1, 1)), constant_values=-1.0)
@@ -1341,7 +1361,7 @@ def _axis_speed_ratio(
         one = (v_on[g], a_p[g], a_q[g], vq[g])
 
         def at(x: np.ndarray, g: np.ndarray = g, one: tuple[np.ndarray, ...] = one) -> np.ndarray:
-            return _overlap_ratio(table, p[g], one, vmax, x[:, None])[:, 0]
+            return _overlap_ratio(table, p[g], one, limits, x[:, None])[:, 0]
 
         x1, x2 = hi - _GOLDEN * (hi - lo), lo + _GOLDEN * (hi - lo)
         f1, f2 = at(x1), at(x2)
@@ -1362,7 +1382,11 @@ def _axis_speed_ratio(
 
 
 def _blend_overlap(
-    prof: Profiles, par_at: np.ndarray, blend_vel: np.ndarray, table: np.ndarray, vmax: np.ndarray
+    prof: Profiles,
+    par_at: np.ndarray,
+    blend_vel: np.ndarray,
+    table: np.ndarray,
+    limits: tuple[np.ndarray, np.ndarray],
 ) -> np.ndarray:
     """How long each move that ends in a parabolic blend runs on into the next one's slot
     (tc.c ``tcIsBlending``, tp.c ``tpUpdateBlend``, ``tpDoParabolicBlending``): once the move
@@ -1374,9 +1398,10 @@ def _blend_overlap(
     tpUpdateBlend gives it is used by position-synchronised moves only, tp.c
     ``tpGetRealTargetVel``), so where it speeds up faster than this one slows, an axis both
     move along in the same sense could pass its velocity limit (LinuxCNC checks nothing
-    there); the model then starts that blend at the lower speed that keeps the axis within
-    its limit. A move is shared with at most one neighbour at a time (the next move blends
-    on only once this one has ended)."""
+    there), and on arcs their accelerations toward the centre add to the two moves' own;
+    the model then starts that blend at the lower speed that keeps every axis within its
+    speed and acceleration limits. A move is shared with at most one neighbour at a time
+    (the next move blends on only once this one has ended)."""
     overlap = np.zeros(len(prof.v_peak))
     if not par_at.size:
         return overlap
@@ -1387,13 +1412,13 @@ def _blend_overlap(
     # the axis speeds u1 v1 + u2 v2 over the overlap, checked on a grid; where one passes
     # its limit the blend starts at a lower speed (bisection)
     vq = prof.v_peak[q]
-    over = _axis_speed_ratio(table, p, v_on, a_p, a_q, vq, vmax) > 1.0 + 1e-9
+    over = _axis_speed_ratio(table, p, v_on, a_p, a_q, vq, limits) > 1.0 + 1e-9
     if over.any():
         k = np.flatnonzero(over)
         lo, hi = np.zeros(k.size), v_on[k].copy()
         for _ in range(12):
             mid = 0.5 * (lo + hi)
-            bad = _axis_speed_ratio(table, p[k], mid, a_p[k], a_q[k], vq[k], vmax) > 1.0 + 1e-9
+            bad = _axis_speed_ratio(table, p[k], mid, a_p[k], a_q[k], vq[k], limits) > 1.0 + 1e-9
             hi = np.where(bad, mid, hi)
             lo = np.where(bad, lo, mid)
         v_on[k] = lo
