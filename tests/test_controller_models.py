@@ -273,21 +273,43 @@ def test_linuxcnc_model_line_arc_blend_keeps_the_axis_speed_limit():
         assert np.abs(s.velocity[:, j]).max() <= v * (1 + 1e-9)
 
 
-def test_linuxcnc_model_helix_blend_keeps_the_axis_acceleration_limit():
-    """Found by the property test: in the parabolic blends around a helix (a line up Z
-    into it, out of it into a line back to the start) the helix's acceleration toward its
-    centre adds to the other move's along X, 2e-4 over the X limit; such a blend now starts
-    at the speed that keeps the sum within it."""
-    axes = tuple(AxisLimits(n, velocity=20.0, acceleration=200.0, jerk=20000.0) for n in "xyz")
-    machine = with_controller(Machine("random", axes, Controller()), model="linuxcnc")
-    cmds = [
+_HELIX_BLENDS = {
+    # a line up Z into a helix, out of it into a line back to the start: the helix's
+    # acceleration toward its centre added to the other move's along X, 2e-4 over
+    "line-helix-line": [
         canon.SetFeedRate(580.0),
         canon.StraightFeed(0.0, 0.0, 2.0),
         canon.ArcFeed(-1.9899924966004454, 0.1411200080598672, -1.0, 0.0, 1, 0.0),
         canon.StraightFeed(0.0, 0.0, 0.0),
-    ]
-    _, p = plan_program(cmds, machine)
-    assert p.overlap is not None and (p.overlap[:2] > 0).all()  # both joins blend
+    ],
+    # a line along Y into a helix: the line's deceleration at the very end of the overlap
+    # and the helix's acceleration, 1e-3 over along Y
+    "line-helix": [
+        canon.SetFeedRate(1135.0),
+        canon.StraightFeed(0.0, -3.0, 0.0),
+        canon.StraightFeed(0.0, -4.0, 0.0),
+        canon.StraightFeed(0.0, 0.0, 0.0),
+        canon.ArcFeed(
+            -1.5302948024685852,
+            -0.7003509767480293,
+            -0.5403023058681398,
+            -0.8414709848078965,
+            1,
+            1.0,
+        ),
+    ],
+}
+
+
+@pytest.mark.parametrize("name", sorted(_HELIX_BLENDS))
+def test_linuxcnc_model_helix_blend_keeps_the_axis_acceleration_limit(name: str) -> None:
+    """Found by the property test: in a parabolic blend next to a helix the two moves'
+    accelerations added up past an axis limit; such a blend now starts at the speed that
+    keeps the sum within it."""
+    axes = tuple(AxisLimits(n, velocity=20.0, acceleration=200.0, jerk=20000.0) for n in "xyz")
+    machine = with_controller(Machine("random", axes, Controller()), model="linuxcnc")
+    _, p = plan_program(_HELIX_BLENDS[name], machine)
+    assert p.overlap is not None and (p.overlap > 0).any()  # the helix is blended
     s = sample(p)
     assert np.abs(s.acceleration).max() <= 200.0 * (1 + 1e-9)
 

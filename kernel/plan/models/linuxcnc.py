@@ -46,7 +46,9 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   ``tpDoParabolicBlending``): each runs to a stop, and the next starts once the first is on
   its final deceleration below the blend speed; the plan's ``overlap`` says for how long,
   and the sampler adds the two motions there (kernel.interp.interpolate), as LinuxCNC's
-  axis positions are the sum of both.
+  axis positions are the sum of both. Where that sum would take an axis past its speed or
+  acceleration limit (LinuxCNC checks nothing there) the overlap starts later, at the
+  speed that keeps every axis within them (found by the property tests; no golden moves).
 * **Look-ahead** (tp.c ``tpRunOptimization``): backwards over ``ARC_BLEND_OPTIMIZATION_DEPTH``
   (50) tangent segments; non-tangent joins stop it.
 * **Ramped short segments** (tp.c ``tpActivateSegment``, ``tpCalculateRampAccel``): a
@@ -1290,8 +1292,10 @@ def _overlap_ratio(
     w = np.where(w > np.abs(alone), w, 0.0)
     # the accelerations: along the path (p slowing while it moves, p + 1 speeding up to vq)
     # and toward the centre on arcs; the sum counts where it is more than either alone
-    acc1 = u1 * np.where(v1 > 0, -a_p, 0.0)[..., None] + k1 * (v1 * v1)[..., None]
-    acc2 = u2 * np.where(tau < t_up, a_q, 0.0)[..., None] + k2 * (v2 * v2)[..., None]
+    # (at the overlap's end and where p + 1 reaches vq a sample may still see the piece
+    # before: both accelerations count there)
+    acc1 = u1 * (-a_p)[..., None] + k1 * (v1 * v1)[..., None]
+    acc2 = u2 * np.where(tau <= t_up, a_q, 0.0)[..., None] + k2 * (v2 * v2)[..., None]
     total = np.abs(acc1 + acc2)
     total = np.where(total > np.maximum(np.abs(acc1), np.abs(acc2)), total, 0.0)
     vmax, amax = limits
