@@ -285,7 +285,10 @@ def _arc_rows(seg: np.ndarray, kind: np.ndarray) -> dict[str, np.ndarray]:
     """The fields the compiled arc kernel reads, of the arc rows only (contiguous), their
     cubes as numpy computes them, and ``arc_of``: each segment's place among them."""
     rows = np.flatnonzero(kind == ARC)
-    arcs = seg[rows]
+    # the arc rows gathered as bytes (a structured gather goes field by field)
+    size = seg.dtype.itemsize
+    raw = np.ascontiguousarray(seg).view(np.uint8).reshape(len(seg), size)
+    arcs = raw.take(rows, axis=0).view(seg.dtype).reshape(rows.size)
     out = {
         f: np.ascontiguousarray(arcs[f])
         for f in ("sweep", "radius", "radius_end", "length", "axial", "e1", "e2", "normal")
@@ -454,8 +457,9 @@ class _Blends:
         a = self.a[which][pick]
         v = self.v0[which][pick] + a * tau
         s = self.s0[which][pick] + self.v0[which][pick] * tau + 0.5 * a * tau * tau
-        q = self.q[which]
-        seg = sampler.plan.path.segments
+        # the later moves' rows only (evaluate's caches are per row: not of the whole table)
+        moves, q = np.unique(self.q[which], return_inverse=True)
+        seg = sampler.plan.path.segments[moves]
         s = np.clip(s, 0.0, seg["length"][q])
         ctl, cols = sampler.ctl, sampler.cols
         p, d1, curved, d2, d3 = evaluate(seg, q, s, ctl.circle_method, ctl.chord_tolerance, cols)

@@ -16,10 +16,62 @@ from __future__ import annotations
 import numpy as np
 
 from kernel.interp.bulk import bulk_array
-from kernel.path.segments import ARC, LINE, Path
+from kernel.path.segments import ARC, LINE, SEGMENT_DTYPE, Path
 
 _MIN_ANGLE = 1e-6
 _MIN_RADIUS = 1e-6
+# the segment table's float fields from ``start`` to ``duration`` lie back to back: one
+# (rows, 43) float block, each field's first column in it
+_BLOCK_FIELDS = [
+    f for f in SEGMENT_DTYPE.names if SEGMENT_DTYPE.fields[f][1] >= SEGMENT_DTYPE.fields["start"][1]
+][: SEGMENT_DTYPE.names.index("duration") - SEGMENT_DTYPE.names.index("start") + 1]
+_BLOCK_START = SEGMENT_DTYPE.fields["start"][1]
+_BLOCK_COLUMNS = {f: (SEGMENT_DTYPE.fields[f][1] - _BLOCK_START) // 8 for f in _BLOCK_FIELDS}
+_BLOCK_WIDTH = (SEGMENT_DTYPE.fields["duration"][1] + 8 - _BLOCK_START) // 8
+
+
+def _float_block(table: np.ndarray) -> np.ndarray:
+    """The fields ``start`` .. ``duration`` of every row of a contiguous segment table as one
+    (unaligned) float view (rows, 43): writing a row's floats at once instead of field by
+    field (a packed 367-byte row makes each field write a pass over the whole table)."""
+    return np.ndarray(
+        (len(table), _BLOCK_WIDTH),
+        np.float64,
+        buffer=table,
+        offset=_BLOCK_START,
+        strides=(table.dtype.itemsize, 8),
+    )
+
+
+_KIND = SEGMENT_DTYPE.fields["kind"][1]
+_CATEGORY = SEGMENT_DTYPE.fields["category"][1]
+_TAIL_START = _BLOCK_START + 8 * _BLOCK_WIDTH  # exact_stop, blend, source, line
+_TAIL_BYTES = SEGMENT_DTYPE.itemsize - _TAIL_START
+
+
+def _bytes(table: np.ndarray, lo: int, hi: int) -> np.ndarray:
+    """Bytes ``lo:hi`` of every row of a contiguous segment table, one item per row."""
+    return np.ndarray(
+        (len(table),), f"V{hi - lo}", buffer=table, offset=lo, strides=(table.dtype.itemsize,)
+    )
+
+
+def _check_block() -> None:
+    """The block really is back-to-back float64 fields (the layout of SEGMENT_DTYPE)."""
+    at = _BLOCK_START
+    for f in _BLOCK_FIELDS:
+        base, offset = SEGMENT_DTYPE.fields[f][:2]
+        if offset != at or base.base != np.dtype(np.float64):
+            raise TypeError(f"segment field {f} is not in the float block")
+        at += base.itemsize
+    if SEGMENT_DTYPE.names[:2] != ("kind", "category") or _BLOCK_START != 2:
+        raise TypeError("the segment table no longer starts with kind, category")
+    tail = SEGMENT_DTYPE.names[SEGMENT_DTYPE.names.index("duration") + 1 :]
+    if tail != ("exact_stop", "blend", "source", "line"):
+        raise TypeError("the segment table no longer ends with exact_stop .. line")
+
+
+_check_block()
 
 
 def blend_corners(path: Path) -> Path:
@@ -119,7 +171,8 @@ def insert_blend_arcs(
     moved, at = _placed(n, corners)
     before, after = moved[corners], moved[corners + 1]
     raw = np.dtype((np.void, seg.dtype.itemsize))  # rows copied as bytes, not field by field
-    src = np.ascontiguousarray(seg).view(raw)
+    contiguous = np.ascontiguousarray(seg)
+    src = contiguous.view(raw)
     size = n + k
     if keep is not None:  # rows of the result renumbered, the dropped ones left out
         final = np.cumsum(keep) - 1
@@ -133,25 +186,42 @@ def insert_blend_arcs(
         cut_end = cut_start = np.ones(k, dtype=bool)
     out = bulk_array(size + 1, seg.dtype)
     out.view(raw)[moved] = src
-    arcs = bulk_array(k, seg.dtype)
-    arcs["kind"] = ARC
-    arcs["category"] = seg["category"][corners]
-    arcs["start"] = seg["end"][corners]
-    arcs["end"] = seg["end"][corners]
-    arcs["start"][:, :3], arcs["end"][:, :3] = start, end
-    arcs["length"] = r * theta
-    arcs["centre"], arcs["normal"], arcs["e1"], arcs["e2"] = centre, normal, e1, e2
-    arcs["radius"] = arcs["radius_end"] = r
-    arcs["sweep"] = theta
-    arcs["u_start"][:, :3], arcs["u_end"][:, :3] = v1, v2
-    arcs["feed"] = np.minimum(seg["feed"][corners], seg["feed"][corners + 1])
-    arcs["blend"] = seg["blend"][corners]
-    arcs["source"] = seg["source"][corners + 1]
-    arcs["line"] = seg["line"][corners + 1]
-    out.view(raw)[at] = arcs.view(raw)
+    # the arcs' float fields as one contiguous block per row, written at once
+    f = _float_block(out)
+    cols = _BLOCK_COLUMNS
+    rows = np.zeros((k, f.shape[1]))
+    ends = seg["end"][corners]
+    for name in ("start", "end"):
+        c0 = cols[name]
+        rows[:, c0 : c0 + 6] = ends
+        rows[:, c0 : c0 + 3] = start if name == "start" else end
+    rows[:, cols["length"]] = r * theta
+    for name, value in (("centre", centre), ("normal", normal), ("e1", e1), ("e2", e2)):
+        rows[:, cols[name] : cols[name] + 3] = value
+    rows[:, cols["radius"]] = r
+    rows[:, cols["radius_end"]] = r
+    rows[:, cols["sweep"]] = theta
+    rows[:, cols["u_start"] : cols["u_start"] + 3] = v1
+    rows[:, cols["u_end"] : cols["u_end"] + 3] = v2
+    rows[:, cols["feed"]] = np.minimum(seg["feed"][corners], seg["feed"][corners + 1])
+    f[at] = rows
+    # the fields before the block (kind, category) and after it (exact_stop: False, blend,
+    # source, line) as one byte string each per row
+    head = np.zeros((k, _BLOCK_START), np.uint8)
+    head[:, _KIND] = ARC
+    head[:, _CATEGORY] = seg["category"][corners].view(np.uint8)
+    _bytes(out, 0, _BLOCK_START)[at] = head.view(f"V{_BLOCK_START}")[:, 0]
+    tail = np.zeros((k, _TAIL_BYTES), np.uint8)
+    for name, rows_of in (("blend", corners), ("source", corners + 1), ("line", corners + 1)):
+        lo = SEGMENT_DTYPE.fields[name][1]
+        hi = lo + SEGMENT_DTYPE.fields[name][0].itemsize
+        got = _bytes(contiguous, lo, hi)[rows_of]
+        tail[:, lo - _TAIL_START : hi - _TAIL_START] = got.view(np.uint8).reshape(k, hi - lo)
+    _bytes(out, _TAIL_START, SEGMENT_DTYPE.itemsize)[at] = tail.view(f"V{_TAIL_BYTES}")[:, 0]
     # shorten the lines on both sides
-    out["end"][before, :3] = start[cut_end]
-    out["length"][before] -= d[cut_end]
-    out["start"][after, :3] = end[cut_start]
-    out["length"][after] -= d[cut_start]
+    e0, s0, ln = cols["end"], cols["start"], cols["length"]
+    f[before, e0 : e0 + 3] = start[cut_end]
+    f[before, ln] -= d[cut_end]
+    f[after, s0 : s0 + 3] = end[cut_start]
+    f[after, ln] -= d[cut_start]
     return out[:size]

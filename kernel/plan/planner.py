@@ -249,7 +249,14 @@ def ratio_min(limit: np.ndarray, comp: np.ndarray) -> np.ndarray:
     c = np.abs(comp)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(c > _TINY, limit / np.where(c > _TINY, c, 1.0), np.inf)
-    return r.min(axis=-1)
+    if r.ndim != 2 or not 0 < r.shape[1] <= 8:
+        return r.min(axis=-1)
+    # a few axes: the minimum column by column (a reduction over a short inner axis is an
+    # order of magnitude slower; the minimum is the same in any order)
+    out = r[:, 0].copy()
+    for col in range(1, r.shape[1]):
+        np.minimum(out, r[:, col], out=out)
+    return out
 
 
 def commanded_feed(path: Path, ctl: Controller) -> np.ndarray:

@@ -46,7 +46,9 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   ``tpDoParabolicBlending``): each runs to a stop, and the next starts once the first is on
   its final deceleration below the blend speed; the plan's ``overlap`` says for how long,
   and the sampler adds the two motions there (kernel.interp.interpolate), as LinuxCNC's
-  axis positions are the sum of both.
+  axis positions are the sum of both. Where that sum would take an axis past its speed or
+  acceleration limit (LinuxCNC checks nothing there) the overlap starts later, at the
+  speed that keeps every axis within them (found by the property tests; no golden moves).
 * **Look-ahead** (tp.c ``tpRunOptimization``): backwards over ``ARC_BLEND_OPTIMIZATION_DEPTH``
   (50) tangent segments; non-tangent joins stop it.
 * **Ramped short segments** (tp.c ``tpActivateSegment``, ``tpCalculateRampAccel``): a
@@ -75,8 +77,22 @@ import kernel.ir.canon as canon
 from kernel.interp.bulk import bulk_array
 from kernel.machine import Machine
 from kernel.path.blend import insert_blend_arcs, kept_after_blending
-from kernel.path.geometry import arc_tangent
 from kernel.path.segments import ARC, HOLD, LINE, RAPID, Path
+from kernel.plan.models import lcnc_joins
+from kernel.plan.models.lcnc_joins import (
+    ACC_RATIO_NORMAL,
+    ACC_RATIO_TAN,
+    COMPILED_JOINS,
+    EXACT,
+    KINK_RATIO,
+    PARABOLIC,
+    STOP,
+    TANGENT,
+)
+from kernel.plan.models.lcnc_joins import ARC_JOIN as _ARC_JOIN
+from kernel.plan.models.lcnc_joins import SHARP as _SHARP
+from kernel.plan.models.lcnc_joins import TINY as _TINY
+from kernel.plan.models.lcnc_joins import VIRTUAL as _VIRTUAL
 from kernel.plan.planner import (
     Plan,
     Profiles,
@@ -86,25 +102,14 @@ from kernel.plan.planner import (
     trapezoids,
 )
 
-# terminal conditions (LinuxCNC's TC_TERM_COND_*): how a segment ends
-STOP = 0  # G61.1 exact stop
-EXACT = 1  # G61 exact path
-PARABOLIC = 2  # G64
-TANGENT = 3
-
-KINK_RATIO = 0.1  # [TRAJ] ARC_BLEND_KINK_RATIO default (initraj.cc)
 OPT_DEPTH = 50  # [TRAJ] ARC_BLEND_OPTIMIZATION_DEPTH
 RAMP_FREQ = 100.0  # [TRAJ] ARC_BLEND_RAMP_FREQ, Hz
 GAP_CYCLES = 4  # [TRAJ] ARC_BLEND_GAP_CYCLES
-ACC_RATIO_TAN = 0.5  # blendmath.h BLEND_ACC_RATIO_TANGENTIAL
-ACC_RATIO_NORMAL = math.sqrt(1.0 - ACC_RATIO_TAN**2)
 MIN_SEGMENT_CYCLES = 1.02  # tp_types.h TP_MIN_SEGMENT_CYCLES
 # discretisation of the per-period planner, in servo periods: measured on the goldens
 # (tests/data/lcnc_tp: ~0.8 period per stop over 1-200 stops, ~1.5 per program)
 STOP_CYCLES = 0.8
 START_CYCLES = 1.5
-_SHARP = (math.pi * 2.0 / 180.0) ** 2  # tp.c SHARP_CORNER_DEG = 2, small-angle squared
-_TINY = 1e-12
 _GONE = 1e-9  # mm: a line blending leaves shorter than this is dropped
 
 
@@ -311,7 +316,7 @@ def _limits(path: Path, machine: Machine) -> _Limits:
     vmax = np.array(machine.limit_vector("velocity"))
     amax = np.array(machine.limit_vector("acceleration"))
     feed = commanded_feed(path, ctl)
-    u = seg["u_start"]
+    u = np.ascontiguousarray(seg["u_start"])  # read twice: one pass over the packed table
     maxvel = ratio_min(vmax, u)
     maxacc = ratio_min(amax, u)
     r_eff = np.full(len(seg), np.inf)
@@ -358,10 +363,6 @@ class _Joins:
     arc_acc: np.ndarray  # blend arc (plane) acceleration
     arc_req: np.ndarray  # blend arc requested speed
     trim: np.ndarray  # blend arc tangent length on the lines (d_plan)
-
-
-_ARC_JOIN = 4
-_VIRTUAL = 5  # a blend arc next to a circle: modelled on the line beside it
 
 
 def _tri_vel(acc: np.ndarray, length: np.ndarray) -> np.ndarray:
@@ -513,10 +514,15 @@ def _joins(
     term: np.ndarray,
     tol: np.ndarray,
     machine: Machine,
+    compiled: bool | None = None,
 ) -> _Joins:
-    """Decide every join as tp.c ``tpHandleBlendArc`` does when the next move is queued."""
+    """Decide every join as tp.c ``tpHandleBlendArc`` does when the next move is queued;
+    from :data:`COMPILED_JOINS` joins on (or as ``compiled`` says) in compiled loops
+    (:func:`_joins_compiled`, the same numbers)."""
     n = len(seg)
     m = max(n - 1, 0)
+    if m and (compiled if compiled is not None else m >= COMPILED_JOINS):
+        return _joins_compiled(seg, lim, term, tol, machine)
     period = machine.controller.interpolation_period
     vmax = np.array(machine.limit_vector("velocity"))[:3]
     amax = np.array(machine.limit_vector("acceleration"))[:3]
@@ -693,6 +699,165 @@ def _joins(
     arc_vel[use_arc] = perf_arc[use_arc]
     arc_acc[use_arc] = a_max[use_arc]
     arc_req[use_arc] = v_req[use_arc]
+    return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, trim)
+
+
+def _joins_compiled(
+    seg: np.ndarray,
+    lim: _Limits,
+    term: np.ndarray,
+    tol: np.ndarray,
+    machine: Machine,
+) -> _Joins:
+    """:func:`_joins` by the loops of :mod:`kernel.plan.models.lcnc_joins`, with numpy's
+    inverse cosines and tangents between them (the same numbers, bit for bit)."""
+    n = len(seg)
+    m = n - 1
+    period = machine.controller.interpolation_period
+    vmax = np.array(machine.limit_vector("velocity"))[:3]
+    amax = np.array(machine.limit_vector("acceleration"))[:3]
+    kind = np.full(m, STOP, dtype=np.int8)
+    kink_vel = np.full(m, -1.0)
+    kink_red = np.zeros(m)
+    radius = np.zeros(m)
+    arc_vel = np.zeros(m)
+    arc_acc = np.zeros(m)
+    arc_req = np.zeros(m)
+    trim = np.zeros(m)
+    u1, u2 = np.zeros((m, 3)), np.zeros((m, 3))
+    dot = np.zeros(m)
+    blend = np.zeros(m, dtype=bool)
+    vt, maxvel = np.zeros(n), np.zeros(n)
+    skind = np.ascontiguousarray(seg["kind"])
+    length = np.ascontiguousarray(seg["length"])
+    lcnc_joins.tangent_joins(
+        skind,
+        np.ascontiguousarray(seg["u_end"]),
+        np.ascontiguousarray(seg["u_start"]),
+        length,
+        np.ascontiguousarray(lim.maxvel, dtype=float),
+        np.ascontiguousarray(lim.reqvel, dtype=float),
+        np.ascontiguousarray(lim.maxacc, dtype=float),
+        np.ascontiguousarray(term, dtype=np.int8),
+        vmax,
+        amax,
+        period,
+        kind,
+        kink_vel,
+        kink_red,
+        u1,
+        u2,
+        dot,
+        blend,
+        vt,
+        maxvel,
+    )
+    if not blend.any():
+        return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, trim)
+    theta0 = np.arccos(-dot) / 2.0
+    theta, l1, l2, tolerance = np.zeros(m), np.zeros(m), np.zeros(m), np.zeros(m)
+    ok = np.zeros(m, dtype=bool)
+    arcs = np.flatnonzero(skind == ARC)
+    # the arc fields of the arc rows only (zero elsewhere)
+    fields = {}
+    for f in ("radius", "radius_end", "sweep", "centre", "normal", "start", "end"):
+        col = seg[f] if f in ("radius", "radius_end", "sweep") else seg[f][:, :3]
+        arr = np.zeros((n, *col.shape[1:]))
+        arr[arcs] = col[arcs]
+        fields[f] = arr
+    tolv = np.ascontiguousarray(tol, dtype=float)
+    lcnc_joins.blend_angles(
+        blend,
+        theta0,
+        skind,
+        length,
+        tolv,
+        fields["radius"],
+        fields["radius_end"],
+        fields["sweep"],
+        fields["start"],
+        fields["end"],
+        fields["centre"],
+        u1,
+        u2,
+        theta,
+        l1,
+        l2,
+        tolerance,
+        ok,
+    )
+    tan_theta = np.tan(theta)
+    binormal = np.zeros((m, 3))
+    a_max, v_req, v_plan, r_plan, s_arc = (np.zeros(m) for _ in range(5))
+    lcnc_joins.blend_arcs(
+        blend,
+        ok,
+        theta,
+        tan_theta,
+        u1,
+        u2,
+        skind,
+        maxvel,
+        vt,
+        l1,
+        l2,
+        tolerance,
+        fields["normal"],
+        vmax,
+        amax,
+        binormal,
+        a_max,
+        v_req,
+        v_plan,
+        r_plan,
+        s_arc,
+    )
+    a, b = slice(0, m), slice(1, n)
+    both = ok & (skind[a] == ARC) & (skind[b] == ARC)
+    if both.any():
+        fails, s_exact = _arc_arc_blend(
+            seg, np.arange(m), np.arange(1, n), u1, u2, binormal, r_plan, tolerance, theta0, both
+        )
+        ok &= ~fails
+        s_arc = np.where(both, s_exact, s_arc)
+    # the parabolic estimate's angle between the directions of acceleration (blended joins)
+    theta_acc = np.zeros(m)
+    jb = np.flatnonzero(blend)
+    nb = jb + 1
+    theta_acc[jb] = _accel_half_angle(
+        u1[jb],
+        u2[jb],
+        skind[nb] == ARC,
+        fields["centre"][nb] - fields["start"][nb],
+        fields["radius"][nb],
+        lim.maxacc[nb] * (1.0 - KINK_RATIO) * 0.5,
+        lim.reqvel[nb],
+    )
+    lcnc_joins.blend_choice(
+        blend,
+        ok,
+        v_plan,
+        s_arc,
+        period,
+        skind,
+        length,
+        np.ascontiguousarray(lim.maxacc, dtype=float),
+        vt,
+        tolv,
+        theta_acc,
+        r_plan,
+        tan_theta,
+        a_max,
+        v_req,
+        kind,
+        kink_vel,
+        kink_red,
+        radius,
+        trim,
+        arc_vel,
+        arc_acc,
+        arc_req,
+    )
     return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, trim)
 
 
@@ -1048,8 +1213,11 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     cap = np.where(ramp, np.maximum(v[:-1], v[1:]), cap)
     cap = np.where(moving, cap, 0.0)
     prof = trapezoids(length, v[:-1], v[1:], np.where(moving, cap, 0.0), acc_plan)
-    vlim = np.array(machine.limit_vector("velocity"), dtype=float)
-    overlap = _blend_overlap(prof, par_at, blend_vel, table, vlim)
+    limits = (
+        np.array(machine.limit_vector("velocity"), dtype=float),
+        np.array(machine.limit_vector("acceleration"), dtype=float),
+    )
+    overlap = _blend_overlap(prof, par_at, blend_vel, table, limits)
     duration = np.where(moving, prof.duration, table["duration"]) - overlap
     # the planner runs once per servo period: every stop costs about STOP_CYCLES periods
     # more than the continuous profile, and a program START_CYCLES (tp.c
@@ -1065,16 +1233,83 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     return Plan(out_path, machine, v, cap, prof, pause, duration, t_start, s[:-1], 0.0, overlap)
 
 
-def _tangents(table: np.ndarray, rows: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """Unit tangents (6 axes) of ``rows`` at path positions ``s`` (one row of positions
-    per row)."""
+def _tangents(table: np.ndarray, rows: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """d position / ds and d2 position / ds2 (6 axes) of ``rows`` at path positions ``s``
+    (one row of positions per row): on lines the unit direction and zero, on arcs as
+    kernel.path.geometry computes them (XYZ, rotary zero), each arc's fields gathered once
+    for all its positions."""
     out = np.repeat(table["u_start"][rows][:, None, :], s.shape[1], axis=1)
+    out2 = np.zeros_like(out)
     arc = np.flatnonzero(table["kind"][rows] == ARC)
     if arc.size:
-        r = np.repeat(rows[arc], s.shape[1])
-        lam = np.clip(s[arc].ravel() / np.maximum(table["length"][r], _TINY), 0.0, 1.0)
-        out[arc] = arc_tangent(table[r], lam).reshape(arc.size, s.shape[1], -1)
-    return out
+        g = table[rows[arc]]
+        length = g["length"][:, None]
+        lam = np.clip(s[arc] / np.maximum(length, _TINY), 0.0, 1.0)
+        sweep = g["sweep"][:, None]
+        dr = (g["radius_end"] - g["radius"])[:, None]
+        psi = sweep * lam
+        c, sn = np.cos(psi)[..., None], np.sin(psi)[..., None]
+        e1, e2, n = g["e1"][:, None, :], g["e2"][:, None, :], g["normal"][:, None, :]
+        w = c * e1 + sn * e2
+        wp = -sn * e1 + c * e2
+        rho = g["radius"][:, None] + dr * lam
+        ax = g["axial"][:, None, None]
+        d1 = (dr[..., None] * w + (rho * sweep)[..., None] * wp + ax * n) / length[..., None]
+        d2 = (2 * (dr * sweep)[..., None] * wp - (rho * sweep**2)[..., None] * w) / (length**2)[
+            ..., None
+        ]
+        out[arc, :, :3] = d1
+        out[arc, :, 3:] = 0.0
+        out2[arc, :, :3] = d2
+    return out, out2
+
+
+def _overlap_ratio(
+    table: np.ndarray,
+    p: np.ndarray,
+    move: tuple[np.ndarray, ...],
+    limits: tuple[np.ndarray, np.ndarray],
+    tau: np.ndarray,
+) -> np.ndarray:
+    """The axis speeds and accelerations over their limits (``limits``: speeds,
+    accelerations) at times ``tau`` (a row of times per row, from the start of the overlap)
+    while move ``p`` (from ``v_on`` down to a stop at ``a_p``) and ``p + 1`` (from rest at
+    ``a_q`` up to ``vq``; ``move = (v_on, a_p, a_q, vq)``) run together: the largest over
+    the axes where ``p`` adds to the speed ``p + 1`` has alone, or where the two add to more
+    acceleration than either has alone (each alone keeps its own limits: only the overlap's
+    sum is the blend's to cap)."""
+    v_on, a_p, a_q, vq = (x[:, None] for x in move)
+    v1 = np.maximum(v_on - a_p * tau, 0.0)
+    left = v1 * v1 / (2.0 * a_p)  # what p has still to go
+    t_up = vq / a_q
+    v2 = np.minimum(a_q * tau, vq)
+    ramp = 0.5 * a_q * tau * tau
+    gone = np.where(tau < t_up, ramp, 0.5 * vq * t_up + vq * (tau - t_up))
+    u1, k1 = _tangents(table, p, table["length"][p][:, None] - left)
+    u2, k2 = _tangents(table, p + 1, gone)
+    alone = u2 * v2[..., None]
+    w = np.abs(u1 * v1[..., None] + alone)
+    w = np.where(w > np.abs(alone), w, 0.0)
+    # the accelerations: along the path (p slowing while it moves, p + 1 speeding up to vq)
+    # and toward the centre on arcs; the sum counts where it is more than either alone
+    # (at the overlap's end and where p + 1 reaches vq a sample may still see the piece
+    # before: both accelerations count there)
+    acc1 = u1 * (-a_p)[..., None] + k1 * (v1 * v1)[..., None]
+    acc2 = u2 * np.where(tau <= t_up, a_q, 0.0)[..., None] + k2 * (v2 * v2)[..., None]
+    total = np.abs(acc1 + acc2)
+    total = np.where(total > np.maximum(np.abs(acc1), np.abs(acc2)), total, 0.0)
+    vmax, amax = limits
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(vmax > 0, w / np.where(vmax > 0, vmax, 1.0), 0.0)
+        ratio_a = np.where(amax > 0, total / np.where(amax > 0, amax, 1.0), 0.0)
+    return np.maximum(ratio.max(axis=2), ratio_a.max(axis=2))
+
+
+_GRID = 32  # overlap grid intervals (at least)
+_GRID_ANGLE = 0.05  # rad: the most an arc turns between two grid nodes
+_NEAR = 1e-2  # grid maxima this close to the limit are refined
+_GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+_GOLDEN_STEPS = 48  # brackets shrink to 0.618^48 ~ 1e-10 of two grid intervals
 
 
 def _axis_speed_ratio(
@@ -1084,30 +1319,78 @@ def _axis_speed_ratio(
     a_p: np.ndarray,
     a_q: np.ndarray,
     vq: np.ndarray,
-    vmax: np.ndarray,
+    limits: tuple[np.ndarray, np.ndarray],
 ) -> np.ndarray:
-    """The largest axis speed over its limit while move ``p`` (from ``v_on`` down to a stop
-    at ``a_p``) and ``p + 1`` (from rest at ``a_q`` up to ``vq``) run together, on a grid
-    over the overlap and where ``p + 1`` reaches ``vq`` (where the sum peaks on lines)."""
-    t_end = (v_on / a_p)[:, None]
-    grid = t_end * np.linspace(0.0, 1.0, 17)[None, :]
-    tau = np.concatenate([grid, np.minimum(vq / a_q, t_end[:, 0])[:, None]], axis=1)
-    v1 = np.maximum(v_on[:, None] - a_p[:, None] * tau, 0.0)
-    left = v1 * v1 / (2.0 * a_p[:, None])  # what p has still to go
-    t_up = (vq / a_q)[:, None]
-    v2 = np.minimum(a_q[:, None] * tau, vq[:, None])
-    ramp = 0.5 * a_q[:, None] * tau * tau
-    gone = np.where(tau < t_up, ramp, 0.5 * vq[:, None] * t_up + vq[:, None] * (tau - t_up))
-    u1 = _tangents(table, p, table["length"][p][:, None] - left)
-    u2 = _tangents(table, p + 1, gone)
-    w = np.abs(u1 * v1[..., None] + u2 * v2[..., None])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(vmax > 0, w / np.where(vmax > 0, vmax, 1.0), 0.0)
-    return ratio.max(axis=(1, 2))
+    """The largest axis speed or acceleration over its limit that the overlap of moves ``p``
+    and ``p + 1`` makes (:func:`_overlap_ratio`; ``limits``: speeds, accelerations): on a
+    grid over the overlap, fine enough that an arc turns at most ``_GRID_ANGLE`` between
+    two nodes, with the time ``p + 1`` reaches ``vq`` as a node (between two lines the
+    peaks are at the nodes); every grid maximum near the limit is refined by golden-section
+    search between its neighbours (on arcs the peak lies between nodes, and a grid alone
+    missed it by 2e-5 of the limit)."""
+    t_end = v_on / a_p
+    t_up = vq / a_q
+    went = np.where(t_end < t_up, 0.5 * a_q * t_end * t_end, 0.5 * vq * t_up + vq * (t_end - t_up))
+    # how far the arcs turn over the overlap: p over what it has left, p + 1 over what it goes
+    turn = np.zeros(p.size)
+    curved = np.zeros(p.size, dtype=bool)
+    for rows, dist in ((p, 0.5 * v_on * t_end), (p + 1, went)):
+        arc = table["kind"][rows] == ARC
+        if arc.any():
+            r = np.minimum(table["radius"][rows], table["radius_end"][rows])
+            turn = np.where(arc, turn + dist / np.maximum(r, _TINY), turn)
+            curved |= arc
+    # between two lines the speeds are linear between the start, t_up and the end: those
+    # nodes hold the peak exactly
+    steps = np.maximum(np.ceil(turn / _GRID_ANGLE), np.where(curved, _GRID, 2))
+    steps = np.minimum(2.0 ** np.ceil(np.log2(steps)), 1 << 14).astype(np.int64)
+    out = np.zeros(p.size)
+    for m in np.unique(steps).tolist():
+        rows = np.flatnonzero(steps == m)
+        move = (v_on[rows], a_p[rows], a_q[rows], vq[rows])
+        te = t_end[rows][:, None]
+        nodes = te * np.linspace(0.0, 1.0, m + 1)[None, :]
+        tau = np.sort(np.concatenate([nodes, np.minimum(t_up[rows][:, None], te)], axis=1))
+        ratio = _overlap_ratio(table, p[rows], move, limits, tau)
+        out[rows] = ratio.max(axis=1)
+        # the grid's local maxima near the limit: search between their neighbours
+        pad = np.pad(ratio, ((0, 0), (1, 1)), constant_values=-1.0)
+        peak = (ratio >= pad[:, :-2]) & (ratio >= pad[:, 2:]) & (ratio > 1.0 - _NEAR)
+        ri, ci = np.nonzero(peak)
+        if not ri.size:
+            continue
+        lo = tau[ri, np.maximum(ci - 1, 0)]
+        hi = tau[ri, np.minimum(ci + 1, tau.shape[1] - 1)]
+        g = rows[ri]
+        one = (v_on[g], a_p[g], a_q[g], vq[g])
+
+        def at(x: np.ndarray, g: np.ndarray = g, one: tuple[np.ndarray, ...] = one) -> np.ndarray:
+            return _overlap_ratio(table, p[g], one, limits, x[:, None])[:, 0]
+
+        x1, x2 = hi - _GOLDEN * (hi - lo), lo + _GOLDEN * (hi - lo)
+        f1, f2 = at(x1), at(x2)
+        best = np.maximum(f1, f2)
+        for _ in range(_GOLDEN_STEPS):
+            left = f1 >= f2  # the maximum lies in [lo, x2]
+            hi = np.where(left, x2, hi)
+            lo = np.where(left, lo, x1)
+            x1, x2 = (
+                np.where(left, hi - _GOLDEN * (hi - lo), x2),
+                np.where(left, x1, lo + _GOLDEN * (hi - lo)),
+            )
+            f = at(np.where(left, x1, x2))
+            f1, f2 = np.where(left, f, f2), np.where(left, f1, f)
+            best = np.maximum(best, f)
+        np.maximum.at(out, g, best)
+    return out
 
 
 def _blend_overlap(
-    prof: Profiles, par_at: np.ndarray, blend_vel: np.ndarray, table: np.ndarray, vmax: np.ndarray
+    prof: Profiles,
+    par_at: np.ndarray,
+    blend_vel: np.ndarray,
+    table: np.ndarray,
+    limits: tuple[np.ndarray, np.ndarray],
 ) -> np.ndarray:
     """How long each move that ends in a parabolic blend runs on into the next one's slot
     (tc.c ``tcIsBlending``, tp.c ``tpUpdateBlend``, ``tpDoParabolicBlending``): once the move
@@ -1119,9 +1402,10 @@ def _blend_overlap(
     tpUpdateBlend gives it is used by position-synchronised moves only, tp.c
     ``tpGetRealTargetVel``), so where it speeds up faster than this one slows, an axis both
     move along in the same sense could pass its velocity limit (LinuxCNC checks nothing
-    there); the model then starts that blend at the lower speed that keeps the axis within
-    its limit. A move is shared with at most one neighbour at a time (the next move blends
-    on only once this one has ended)."""
+    there), and on arcs their accelerations toward the centre add to the two moves' own;
+    the model then starts that blend at the lower speed that keeps every axis within its
+    speed and acceleration limits. A move is shared with at most one neighbour at a time
+    (the next move blends on only once this one has ended)."""
     overlap = np.zeros(len(prof.v_peak))
     if not par_at.size:
         return overlap
@@ -1132,13 +1416,13 @@ def _blend_overlap(
     # the axis speeds u1 v1 + u2 v2 over the overlap, checked on a grid; where one passes
     # its limit the blend starts at a lower speed (bisection)
     vq = prof.v_peak[q]
-    over = _axis_speed_ratio(table, p, v_on, a_p, a_q, vq, vmax) > 1.0 + 1e-9
+    over = _axis_speed_ratio(table, p, v_on, a_p, a_q, vq, limits) > 1.0 + 1e-9
     if over.any():
         k = np.flatnonzero(over)
         lo, hi = np.zeros(k.size), v_on[k].copy()
         for _ in range(12):
             mid = 0.5 * (lo + hi)
-            bad = _axis_speed_ratio(table, p[k], mid, a_p[k], a_q[k], vq[k], vmax) > 1.0 + 1e-9
+            bad = _axis_speed_ratio(table, p[k], mid, a_p[k], a_q[k], vq[k], limits) > 1.0 + 1e-9
             hi = np.where(bad, mid, hi)
             lo = np.where(bad, lo, mid)
         v_on[k] = lo
