@@ -39,6 +39,7 @@ def words(text: str, lathe: bool = False) -> list[tuple[str, float, str]]:
         ("G83 X10. Y10. Z-20. R2. Q2500 F100.\n", [("Q2500", 2.5, "mm")]),
         ("G65 P9000 X2500\n", [("X2500", 2.5, "mm")]),  # G65 arguments follow their address
         ("G02 X10. Y0 I5 J0\n", [("I5", 0.005, "mm")]),
+        ("G01 X50. ,R5000 F500.\n", [(",R5000", 5.0, "mm")]),  # corner R and chamfer too
     ],
 )
 def test_lengths_angles_and_dwell_x_without_a_point_are_found(text: str, found: list) -> None:

@@ -7,13 +7,13 @@ and 0.0100 in in G20 (0.0001 in), ``B90`` 0.09 degree, ``G04 X5`` 0.005 s. The r
 programmer who wrote ``X100`` almost always meant 100 mm.
 
 Only the addresses the increment rule scales are judged (docs/readers/fanuc.md,
-"Numbers"): X Y Z U V W I J K R Q and A B C. Words that are integers by their meaning
-never are: G M N O P (dwell ms, program and sequence numbers) T D H L S F E, and per code
-``G51`` P I J K (magnification), a milling cycle's K (repeat count), the lathe cycles'
-P and Q (``G70``-``G73`` sequence numbers; ``G74``-``G76`` P and Q are written without a
-point by definition), ``G73`` R (number of divisions) and ``G06.2`` K R P (knots, weights,
-order). Zero is the same either way, and values from ``#`` variables and ``[...]``
-expressions carry their own value.
+"Numbers"): X Y Z U V W I J K R Q, A B C and the corner words ,C ,R. Words that are
+integers by their meaning never are: G M N O P (dwell ms, program and sequence numbers) T
+D H L S F E, and per code ``G51`` P I J K (magnification), a milling cycle's K (repeat
+count), the lathe cycles' P and Q (``G70``-``G73`` sequence numbers; ``G74``-``G76`` P and
+Q are written without a point by definition), ``G73`` R (number of divisions) and
+``G06.2`` K R P (knots, weights, order). Zero is the same either way, and values from
+``#`` variables and ``[...]`` expressions carry their own value.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from kernel.diagnostics import Diagnostic
 
 #: addresses whose point-less value counts increments (E, the thread lead, is left out:
 #: it is written with a point by every post and G187 E is a tolerance)
-JUDGED = frozenset("XYZUVWIJKRQ") | ANGLES
+JUDGED = frozenset("XYZUVWIJKRQ") | ANGLES | {",C", ",R"}  # and the corner lengths
 #: lathe cycles (round(G*10)): G70-G76
 LATHE_CYCLES = frozenset({700, 710, 720, 730, 740, 750, 760})
 
@@ -44,7 +44,7 @@ class BareNumber:
 
     def message(self, more: int = 0) -> str:
         """The finding's text (``more``: further such words in the program)."""
-        integer = self.word[1:]
+        integer = self.word.lstrip(",")[1:]
         read = f"{self.value:.4f}".rstrip("0").rstrip(".")
         text = (
             f"{self.word} has no decimal point: the control reads {read} {self.unit} "
