@@ -113,3 +113,50 @@ def test_the_fast_lanes_arrays_judge_as_its_commands(
     bulk = check_stream(items, ctx, str(prog))
     assert bulk == check_stream(read(prog, "rs274ngc"), ctx, str(prog), batched=False)
     assert bulk
+
+
+def _mixed_program(n: int) -> str:
+    """Plain lines the fast lane takes, with a feed change, an arc either way (some a
+    little off their radius) or an A move every few lines."""
+    lines = ["G21 G17", "T1 M6", "S9000 M3", "G0 X0 Y0 Z5", "G1 Z-1 F300"]
+    x = y = 0.0
+    for i in range(n):
+        if i % 7 == 3:
+            lines.append(f"F{(300, 900, 2500, 40000)[i % 4]}")
+        elif i % 11 == 5:
+            r = 2.0 + (i % 3)
+            off = (0.0, 0.001, 0.01)[i % 3]
+            lines.append(f"{('G2', 'G3')[i % 2]} X{x + 2 * r + off:.4f} Y{y:.4f} I{r:.4f} J0")
+            lines.append("G1")
+            x += 2 * r + off
+        elif i % 13 == 6:
+            lines.append(f"A{i % 40}")
+        else:
+            x, y = x + 0.5 + (i % 5) / 10, (i % 9) / 10
+            lines.append(f"X{x:.4f} Y{y:.4f} Z{-1 - (i % 4) / 10:.4f}")
+    return "\n".join([*lines, "G0 Z5", "M5", "M2"]) + "\n"
+
+
+def test_the_fast_lanes_runs_with_feed_changes_and_arcs_judge_as_their_commands(
+    tmp_path: Path, short_runs: None, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Runs span SET_FEED_RATEs (the feed is judged per row) and arcs (screened from their
+    arrays); cut short so that runs start and end everywhere."""
+    import gcode.ngc.interpreter as interp
+    from cli.programs import check_input_bulk
+    from gcode.readers import read
+    from kernel.check import config_from_dict
+
+    monkeypatch.setattr(interp, "LANE_MIN_BYTES", 0)
+    prog = tmp_path / "mixed.ngc"
+    prog.write_text(_mixed_program(300))
+    table = {"unsupported": ["G2"], "arc_tolerance": "mach3", "max_feed": 30000.0}
+    strict = config_from_dict(table, set(check.RULES))
+    contexts = [CONTEXTS["default"], CheckContext(DEFAULT_MACHINE, strict, default_machine=True)]
+    for ctx in contexts:
+        items, _ = check_input_bulk(str(prog), "rs274ngc", -1, bulk=True)
+        bulk = check_stream(items, ctx, str(prog))
+        assert bulk == check_stream(read(prog, "rs274ngc"), ctx, str(prog), batched=False)
+        rules = {f.rule for f in bulk}
+        assert {"CNC102", "CNC103"} <= rules  # the A moves, the fast feed
+    assert {"CNC301", "CNC701"} <= rules  # the arcs off their radius, the G2s
