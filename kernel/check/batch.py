@@ -4,23 +4,23 @@ A CAM program is mostly consecutive STRAIGHT_FEED, STRAIGHT_TRAVERSE and ARC_FEE
 with a SET_FEED_RATE now and then, and between two other commands only the position and the
 feed rate change: units, offsets, tool, spindle, plane and the rest of
 :class:`~kernel.check.state.CheckState` stay the same. :class:`Judge` says, for one rule and
-such a run (:class:`StraightRun`), which of its commands the rule finds fault with, without
-calling the rule once per command. The run's rows fall in *groups*, one per feed state
-(rate, and whether one was set) the rows are judged in; the groups' states differ only in
-the feed, so a rule's verdict that depends on the state is asked once per group:
+such a run (:class:`StraightRun`, which holds each row's start and end point and the feed
+rate it is judged in), which of its commands the rule finds fault with, without calling the
+rule once per command:
 
-* *state* rules depend only on the state and the command's type (and an arc's turning
-  direction: G2/G3 are different codes): asked once per group for the first command of each
-  type, and the answer holds for the group's others;
+* *state* rules depend only on the state (the feed rate aside) and the command's type (and
+  an arc's turning direction: G2 and G3 are different codes): asked once for the first
+  command of each type, and the answer holds for the others;
 * *cutting* rules find fault only with a move that cuts (:func:`~kernel.check.rules.is_cutting`)
-  and otherwise depend only on the state: asked once per group, for its first cutting move;
-* the rules that judge the position (travel limits, missing axes, feed against the axis
-  velocities, rapids against the stock and the safe height) are computed from the arrays of
-  the run's start and end points (and the arcs' centres and turns), with the same
-  floating-point operations, in the same order, as the per-command rule. Where an arc's
-  verdict needs the rule's own trigonometry (the quadrant points of a travel limit, the radii
-  of an arc tolerance), the arrays only screen: an arc whose answer is certain either way
-  with a wide margin is decided from them, the few near the limit are asked.
+  and otherwise depend only on the state: asked once, for the first cutting move;
+* the rules that judge the position or the feed rate (travel limits, missing axes, feed
+  against the axis velocities, zero feed, rapids against the stock and the safe height) are
+  computed from the arrays of the run's points and feed rates (and the arcs' centres and
+  turns), with the same floating-point operations, in the same order, as the per-command
+  rule. Where an arc's verdict needs the rule's own trigonometry (the quadrant points of a
+  travel limit, the radii of an arc tolerance), the arrays only screen: an arc whose answer
+  is certain either way with a wide margin is decided from them, the few near the limit
+  are asked.
 
 A rule not listed here, or a run its arrays cannot judge exactly (a non-finite coordinate),
 is asked command by command, as :func:`kernel.check.check_stream` does without runs: the
@@ -458,12 +458,19 @@ def _rapid_below_safe(run: StraightRun, st: CheckState, ctx: CheckContext) -> Bo
     return None
 
 
+def _feed_zero(run: StraightRun, st: CheckState, ctx: CheckContext) -> Bools | None:
+    if st.synch or st.feed_mode == canon.FeedMode.INVERSE_TIME:
+        return np.zeros(len(run), dtype=np.bool_)
+    return run.rate <= 0.0
+
+
 #: rules judged on the straight moves from the run's arrays; None from one: ask it command
 #: by command
 ARRAY_RULES: dict[str, Callable[[StraightRun, CheckState, CheckContext], Bools | None]] = {
     "CNC101": _soft_limit,
     "CNC102": _axis_missing,
     "CNC103": _feed_too_fast,
+    "CNC104": _feed_zero,
     "CNC401": _rapid_into_stock,
     "CNC402": _rapid_below_safe,
 }
@@ -541,6 +548,13 @@ def _feed_too_fast_arcs(
     return over, none
 
 
+def _feed_zero_arcs(run: StraightRun, st: CheckState, ctx: CheckContext, rows: Ints) -> ArcVerdict:
+    """CNC104 of arcs: the feed rate each is judged in."""
+    zero = _feed_zero(run, st, ctx)
+    assert zero is not None
+    return zero[rows], np.zeros(len(rows), dtype=np.bool_)
+
+
 def _arc_radius_arcs(run: StraightRun, st: CheckState, ctx: CheckContext, rows: Ints) -> ArcVerdict:
     """CNC301: the radii at both ends against the tolerance, decided where the margin
     leaves no doubt."""
@@ -582,18 +596,24 @@ ARC_RULES: dict[str, Callable[[StraightRun, CheckState, CheckContext, Ints], Arc
     "CNC101": _soft_limit_arcs,
     "CNC102": _axis_missing_arcs,
     "CNC103": _feed_too_fast_arcs,
+    "CNC104": _feed_zero_arcs,
     "CNC301": _arc_radius_arcs,
     "CNC801": _comp_gouge_arcs,
 }
 #: rules whose verdict on a move or SET_FEED_RATE depends only on the state and the
-#: command's type (st.moved is true inside a run)
-STATE_RULES = frozenset({"CNC030", "CNC104", "CNC105", "CNC502", "CNC701"})
-#: rules that find fault only with a cutting move, and then depend only on the state
+#: command's type (st.moved is true inside a run), never on the feed rate: the one part of
+#: the state that changes inside a run
+STATE_RULES = frozenset({"CNC030", "CNC105", "CNC502", "CNC701"})
+#: rules that find fault only with a cutting move, and then depend only on the state (the
+#: feed rate aside)
 CUTTING_RULES = frozenset({"CNC202", "CNC203", "CNC204", "CNC504", "CNC505", "CNC601"})
 
 
 #: the state a state or cutting rule's verdict depends on: every field but the position
-STATE_FIELDS = tuple(f.name for f in fields(CheckState) if f.name not in ("position", "extra"))
+#: and the feed rate
+STATE_FIELDS = tuple(
+    f.name for f in fields(CheckState) if f.name not in ("position", "extra", "feed", "feed_set")
+)
 
 
 def state_key(st: CheckState) -> tuple[object, ...]:
@@ -603,14 +623,10 @@ def state_key(st: CheckState) -> tuple[object, ...]:
 
 #: a verdict not known yet
 _UNKNOWN = "?"
-#: the kinds of rows a state rule answers for alike in one group: straight feed, traverse,
-#: arc clockwise or not (G2, G3), SET_FEED_RATE
+#: the kinds of rows a state rule answers for alike: straight feed, traverse, arc clockwise
+#: or not (G2, G3), SET_FEED_RATE
 Tag = bool | tuple[str, bool] | str
 FEED_TAG, TRAVERSE_TAG, SET_TAG = True, False, "set"
-
-
-#: the verdicts known for one state, by rule and kind of row
-Known = dict[tuple[str, Tag], "str | None"]
 
 
 class Judge:
@@ -618,53 +634,27 @@ class Judge:
     are kept per state (a CAM program's runs share a few states), so a rule that cannot find
     fault with a run costs nothing."""
 
-    #: states remembered (a bound for programs whose feed changes at every move)
+    #: states remembered (a bound for programs whose state changes all the time)
     MAX_STATES = 256
 
     def __init__(self, st: CheckState, ctx: CheckContext) -> None:
         self.st, self.ctx = st, ctx
-        self.verdicts: dict[tuple[object, ...], Known] = {}
-        self.groups: list[Known] = []
+        self.verdicts: dict[tuple[object, ...], dict[tuple[str, Tag], str | None]] = {}
 
     def start(self, run: StraightRun) -> None:
         """Begin judging ``run`` (the state is the one before its first row)."""
         self.run = run
         self._cuts: Bools | None = None
-        self._present: dict[Tag, list[int]] = {}
+        self._present: dict[Tag, bool] = {}
         self._arc_finite: bool | None = None
         self._arc_verdicts: dict[str, tuple[Bools, Message]] = {}
-        st = self.st
-        n = len(run)
-        if not run.setfeed[: n - 1].any():
-            self.gid = np.zeros(n, dtype=np.int64)
-            self.groups = [self._known(st.feed, st.feed_set)]
-            return
-        # a group per feed state: segments end at the SET_FEED_RATE rows
-        firsts = np.concatenate(([0], np.flatnonzero(run.setfeed[: n - 1]) + 1))
-        _, codes = np.unique(run.rate[firsts], return_inverse=True)
-        codes = codes.astype(np.int64).reshape(-1)
-        if not run.rate_set[0]:  # no feed set yet: a state of its own
-            codes[0] = -1
-        _, first, group = np.unique(codes, return_index=True, return_inverse=True)
-        self.gid = np.repeat(group.reshape(-1), np.diff(np.concatenate((firsts, [n]))))
-        self.groups = [
-            self._known(float(run.rate[row]), bool(run.rate_set[row]))
-            for row in firsts[first].tolist()
-        ]
-
-    def _known(self, feed: float, feed_set: bool) -> Known:
-        """The verdicts known for the state with this feed."""
-        st = self.st
-        keep = st.feed, st.feed_set
-        st.feed, st.feed_set = feed, feed_set
-        key = state_key(st)
-        st.feed, st.feed_set = keep
+        key = state_key(self.st)
         known = self.verdicts.get(key)
         if known is None:
             if len(self.verdicts) >= self.MAX_STATES:
                 self.verdicts.clear()
             known = self.verdicts[key] = {}
-        return known
+        self.known = known
 
     def cuts(self) -> Bools:
         if self._cuts is None:
@@ -705,51 +695,36 @@ class Judge:
             rule.id in CUTTING_RULES and rule.kinds == FEEDS and self.ctx.config.stock is None
         )
 
-    def present(self, tag: Tag) -> list[int]:
-        """The groups that have rows of kind ``tag``."""
+    def present(self, tag: Tag) -> bool:
+        """Whether the run has rows of kind ``tag``."""
         got = self._present.get(tag)
         if got is None:
-            rows = self._rows(tag)
-            if len(self.groups) == 1:
-                got = [0] if rows.any() else []
-            else:
-                got = np.unique(self.gid[rows]).tolist()
-            self._present[tag] = got
+            got = self._present[tag] = bool(self._rows(tag).any())
         return got
 
-    def _table(self, rule: Rule, tag: Tag, pick: Bools) -> list[str | None]:
-        """A state rule's verdict per group on its rows of kind ``tag`` among ``pick``,
-        asked at the group's first such row if not known (None for a group without one)."""
-        out: list[str | None] = [None] * len(self.groups)
-        rows = np.flatnonzero(pick & self._rows(tag))
-        if not len(rows):
-            return out
-        if len(self.groups) == 1:
-            firsts = [(0, int(rows[0]))]
-        else:
-            gs, at = np.unique(self.gid[rows], return_index=True)
-            firsts = list(zip(gs.tolist(), rows[at].tolist(), strict=True))
+    def _verdict(self, rule: Rule, tag: Tag, pick: Bools) -> str | None:
+        """A state rule's verdict on the rows of kind ``tag`` among ``pick``, asked at the
+        first of them if not known (None when there is none)."""
         key = (rule.id, tag)
-        for g, i in firsts:
-            known = self.groups[g]
-            v = known.get(key, _UNKNOWN)
-            if v is _UNKNOWN:
-                v = known[key] = _ask(rule, self.run, self.st, self.ctx, i)
-            out[g] = v
-        return out
+        v = self.known.get(key, _UNKNOWN)
+        if v is not _UNKNOWN:
+            return v
+        rows = pick & self._rows(tag)
+        if not rows.any():
+            return None  # no such row here: nothing learnt about the state
+        v = self.known[key] = _ask(rule, self.run, self.st, self.ctx, int(rows.argmax()))
+        return v
 
     def quiet(self, rule: Rule) -> bool:
         """True when the rule certainly finds fault with none of the run's rows (a state or
-        cutting rule whose verdicts for the run's states are known to be None)."""
+        cutting rule whose verdicts for this state are known to be None)."""
         if rule.id not in STATE_RULES and rule.id not in CUTTING_RULES:
             return False
         if arc_kind(rule) and not self._arcs_by_state(rule) and self.run.arc.any():
             return False
         for tag in self._tags(rule):
-            key = (rule.id, tag)
-            for g in self.present(tag):
-                if self.groups[g].get(key, _UNKNOWN) is not None:
-                    return False
+            if self.present(tag) and self.known.get((rule.id, tag), _UNKNOWN) is not None:
+                return False
         return True
 
     def offences(self, rule: Rule) -> tuple[Bools, Bools, Message]:
@@ -780,36 +755,31 @@ class Judge:
         return mask, off, message
 
     def _by_state(self, rule: Rule, mask: Bools) -> tuple[Bools, Message]:
-        """A state or cutting rule's offences: each group's verdict per kind of row (for a
-        cutting rule, the straight feeds that cut)."""
+        """A state or cutting rule's offences: its verdict per kind of row (for a cutting
+        rule, on the straight feeds that cut)."""
         run = self.run
-        n = len(run)
-        out = np.zeros(n, dtype=np.bool_)
-        tables: dict[Tag, list[str | None]] = {}
+        out = np.zeros(len(run), dtype=np.bool_)
+        verdicts: dict[Tag, str | None] = {}
         for tag in self._tags(rule):
             pick = mask
             if rule.id in CUTTING_RULES and tag is FEED_TAG:
                 pick = mask & self.cuts()
-            table = tables[tag] = self._table(rule, tag, pick)
-            bad = [v is not None for v in table]
-            if any(bad):
-                rows = pick & self._rows(tag)
-                out |= rows & np.array(bad)[self.gid]
+            v = verdicts[tag] = self._verdict(rule, tag, pick)
+            if v is not None:
+                out |= pick & self._rows(tag)
 
         def message(i: int) -> str | None:
             if run.arc[i]:
-                tag: Tag = ("arc", bool(run.turns[i] < 0))
-            elif run.setfeed[i]:
-                tag = SET_TAG
-            else:
-                tag = bool(run.feed[i])
-            return tables[tag][int(self.gid[i])]
+                return verdicts[("arc", bool(run.turns[i] < 0))]
+            if run.setfeed[i]:
+                return verdicts[SET_TAG]
+            return verdicts[bool(run.feed[i])]
 
         return out, message
 
     def _straight(self, rule: Rule, mask: Bools) -> tuple[Bools, Message]:
-        """The offences of the straight moves of a rule judged by position (False on the
-        other rows)."""
+        """The offences of the straight moves of a rule judged by position or feed (False
+        on the other rows)."""
         run, st, ctx = self.run, self.st, self.ctx
         straight = mask & (run.feed | run.traverse)
         if not straight.any():
