@@ -33,6 +33,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, fields
+from functools import cached_property
 from typing import Protocol, TypeVar
 
 import numpy as np
@@ -159,10 +160,11 @@ class StraightRun:
         new = moves.feed[a:b]
         if setfeed.any():
             # a SET_FEED_RATE leaves the point where the move before it did
-            moved = np.where(setfeed, -1, np.arange(n))
-            last = np.maximum.accumulate(moved)
-            here = np.array(st.position, dtype=np.float64)
-            end = np.where((last >= 0)[:, None], end[np.maximum(last, 0)], here)
+            last = np.maximum.accumulate(np.where(setfeed, -1, np.arange(n)))
+            rows = np.flatnonzero(setfeed)
+            src = last[rows]
+            end[rows[src >= 0]] = end[src[src >= 0]]
+            end[rows[src < 0]] = st.position
             after = (float(new[np.flatnonzero(setfeed)[-1]]), True)
         rate, rate_set = _rates(setfeed, new, st)
         return cls(
@@ -184,7 +186,9 @@ class StraightRun:
     def __len__(self) -> int:
         return len(self.start)
 
+    @cached_property
     def finite(self) -> bool:
+        """Whether every point of the run is finite (its arrays judge as the rules do)."""
         return bool(np.isfinite(self.start).all() and np.isfinite(self.end).all())
 
     def carry(self, st: CheckState) -> None:
@@ -785,7 +789,7 @@ class Judge:
         if not straight.any():
             return np.zeros(len(run), dtype=np.bool_), _none
         fn = ARRAY_RULES.get(rule.id)
-        if fn is not None and run.finite():
+        if fn is not None and run.finite:
             arr = fn(run, st, ctx)
             if arr is not None:
                 return arr & straight, lambda i: _ask(rule, run, st, ctx, i)
@@ -829,7 +833,7 @@ class Judge:
         """Whether every arc of the run has finite points and centre (its arrays judge)."""
         if self._arc_finite is None:
             a = self.run.arc
-            self._arc_finite = bool(self.run.finite() and np.isfinite(self.run.centre[a]).all())
+            self._arc_finite = bool(self.run.finite and np.isfinite(self.run.centre[a]).all())
         return self._arc_finite
 
 
