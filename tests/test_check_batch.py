@@ -10,6 +10,8 @@ work offset and a tool length offset.
 from __future__ import annotations
 
 import contextlib
+import math
+import random
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -19,6 +21,7 @@ import kernel.check as check
 from bench.cam_program import cam_lines
 from cli.check import load_context
 from kernel.check import CheckContext, check_stream
+from kernel.diagnostics import Location
 from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE
 from tests.data_paths import CORPUS_NGC
@@ -160,3 +163,77 @@ def test_the_fast_lanes_runs_with_feed_changes_and_arcs_judge_as_their_commands(
         rules = {f.rule for f in bulk}
         assert {"CNC102", "CNC103"} <= rules  # the A moves, the fast feed
     assert {"CNC301", "CNC701"} <= rules  # the arcs off their radius, the G2s
+
+
+_NUMBERS = (0.0, -1.0, 399.9999999, 400.0, 400.000001, 1e308, -1e308, math.inf, math.nan, 1e-7)
+
+
+def _random_stream(rng: random.Random, n: int) -> list[canon.Command]:
+    """Moves, arcs (either way, several turns, none), feed rates (zero, negative, NaN) and
+    the state changes between them, with now and then a number at a limit or beyond."""
+
+    def num() -> float:
+        return rng.choice(_NUMBERS) if rng.random() < 0.1 else rng.uniform(-50.0, 450.0)
+
+    def at(i: int) -> Location:
+        return Location("r.canon", i + 2, 1)
+
+    out: list[canon.Command] = [canon.ChangeTool(1, "", source=at(-1))]
+    for i in range(n):
+        r = rng.random()
+        if r < 0.35:
+            out.append(canon.StraightFeed(num(), num(), num(), 0.0, 0.0, 0.0, source=at(i)))
+        elif r < 0.5:
+            a = rng.choice((0.0, 0.0, 5.0))
+            out.append(canon.StraightTraverse(num(), num(), num(), a, 0.0, 0.0, source=at(i)))
+        elif r < 0.65:
+            turns = rng.choice((-2, -1, 0, 1, 1, 2))
+            arc = (num(), num(), num(), num(), turns, num(), 0.0, 0.0, 0.0)
+            out.append(canon.ArcFeed(*arc, source=at(i)))
+        elif r < 0.77:
+            rate = rng.choice((0.0, 100.0, 5000.0, 1e6, math.nan, -5.0, 300.0))
+            out.append(canon.SetFeedRate(rate, source=at(i)))
+        else:
+            out.append(
+                rng.choice(
+                    (
+                        canon.SelectPlane(rng.choice(list(canon.Plane)), source=at(i)),
+                        canon.UseLengthUnits(rng.choice(list(canon.Units)), source=at(i)),
+                        canon.StartSpindleClockwise(source=at(i)),
+                        canon.StopSpindleTurning(source=at(i)),
+                        canon.SetSpindleSpeed(rng.choice((0.0, 9000.0)), source=at(i)),
+                        canon.SetCutterRadiusCompensation(rng.choice((2.0, 50.0)), source=at(i)),
+                        canon.StartCutterRadiusCompensation(
+                            rng.choice(list(canon.CompSide)), source=at(i)
+                        ),
+                        canon.StopCutterRadiusCompensation(source=at(i)),
+                        canon.SetFeedMode(rng.choice(list(canon.FeedMode)), source=at(i)),
+                        canon.UseToolLengthOffset(rng.choice((0.0, 10.0)), source=at(i)),
+                    )
+                )
+            )
+    return [*out, canon.ProgramEnd(source=at(n))]
+
+
+def test_random_streams_judge_as_command_by_command(short_runs: None) -> None:
+    """Runs of moves, arcs and feed changes with limits, non-finite numbers, zero feeds and
+    compensation: the arrays (and the arcs' screens) give the rules' own findings."""
+    from kernel.check import config_from_dict
+
+    table = {
+        "unsupported": ["G2"],
+        "arc_tolerance": "grbl",
+        "max_feed": 3000.0,
+        "safe_z": 2.0,
+        "stock": {"min": [0.0, 0.0, -10.0], "max": [50.0, 50.0, 0.0]},
+    }
+    strict = config_from_dict(table, set(check.RULES))
+    contexts = [CONTEXTS["default"], CheckContext(DEFAULT_MACHINE, strict, default_machine=True)]
+    found = set()
+    for seed in range(6):
+        cmds = _random_stream(random.Random(seed), 120)
+        for ctx in contexts:
+            batched = check_stream(cmds, ctx, "r.canon")
+            assert batched == check_stream(cmds, ctx, "r.canon", batched=False), seed
+            found |= {f.rule for f in batched}
+    assert {"CNC101", "CNC104", "CNC301", "CNC701"} <= found
