@@ -21,7 +21,7 @@ import os
 import re
 from array import array
 from collections import OrderedDict
-from itertools import accumulate
+from typing import BinaryIO
 
 from cli.explanations import EXPLANATIONS
 from kernel.diagnostics import Diagnostic, DiagnosticRecord, Location
@@ -36,7 +36,7 @@ _CACHE_FILES = 4
 
 _texts: dict[str, list[str]] = {}
 _files: OrderedDict[str, list[str]] = OrderedDict()
-_offsets: dict[str, array[int]] = {}
+_offsets: dict[str, _Index] = {}
 
 _NUMBER = re.compile(r"[ \t]*[-+]?[ \t]*(?:\d+\.?\d*|\.\d+)")
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.]*")
@@ -88,33 +88,74 @@ def _lines(name: str) -> list[str] | None:
     return lines
 
 
-def _line_starts(name: str) -> array[int] | None:
-    """Byte offsets of the line starts of a file too big to keep as text, found in one pass
-    and kept (a check of a large program may excerpt thousands of its lines)."""
-    if name in _offsets:
-        return _offsets[name]
-    starts = array("q", [0])
-    carry = 0  # bytes of the line the last block ended in
-    try:
-        with open(name, "rb") as fh:
-            while block := fh.read(1 << 22):
-                parts = block.split(b"\n")
-                ends = [len(part) + 1 for part in parts[:-1]]  # each ends at a newline
-                if ends:
-                    ends[0] += carry
-                    starts.extend(accumulate(ends, initial=starts[-1]))
-                    del starts[-len(ends) - 1]  # the initial value, already there
-                    carry = len(parts[-1])
-                else:
-                    carry += len(parts[-1])
-    except OSError:
+class _Index:
+    """Where every :data:`_STRIDE`-th line of a file too big to keep starts, found as far
+    into the file as the lines asked for: a check of a large program may excerpt thousands
+    of its lines, most of them near its start, and the work and memory grow with the last
+    line asked for (8 bytes per :data:`_STRIDE` lines), not with the file."""
+
+    def __init__(self) -> None:
+        self.marks = array("q", [0])  # marks[k]: offset of the line k * _STRIDE (0-based)
+        self.lines = 0  # newlines before ``pos``
+        self.pos = 0  # bytes scanned
+        self.done = False  # the whole file scanned
+
+    def mark(self, fh: BinaryIO, index: int) -> tuple[int, int] | None:
+        """(offset, line) of the last mark at or before the 0-based line ``index``,
+        scanning on as far as needed; None when the file ends first."""
+        import numpy as np  # large files only: small ones are read whole without it
+
+        k = index // _STRIDE
+        while len(self.marks) <= k and not self.done:
+            fh.seek(self.pos)
+            block = fh.read(_BLOCK)
+            if not block:
+                self.done = True
+                break
+            newlines = np.flatnonzero(np.frombuffer(block, dtype=np.uint8) == 10)
+            # the line after newline j of the block is line self.lines + j + 1 (0-based)
+            first = -(self.lines + 1) % _STRIDE
+            self.marks.extend((newlines[first::_STRIDE] + (self.pos + 1)).tolist())
+            self.lines += len(newlines)
+            self.pos += len(block)
+        if len(self.marks) <= k:
+            return None
+        return self.marks[k], k * _STRIDE
+
+
+#: a large file's index marks the start of every _STRIDE-th line
+_STRIDE = 1024
+#: bytes a large file is scanned by for its index
+_BLOCK = 1 << 22
+
+
+def _read_line(name: str, number: int) -> bytes | None:
+    """Line ``number`` (1-based) of the file ``name`` without its newline, read from the
+    nearest mark of its :class:`_Index`; None past the end."""
+    index = _offsets.get(name)
+    if index is None:
+        index = _offsets[name] = _Index()
+        if len(_offsets) > 2:
+            del _offsets[next(iter(_offsets))]
+    with open(name, "rb") as fh:
+        found = index.mark(fh, number - 1)
+        if found is None:
+            return None
+        offset, line = found
+        skip = number - 1 - line  # whole lines between the mark and the one asked for
+        fh.seek(offset)
+        data = b""
+        while True:
+            more = fh.read(1 << 16)
+            data += more
+            if not more or data.count(b"\n") > skip:
+                break
+    parts = data.split(b"\n", skip + 1)
+    if len(parts) <= skip:
         return None
-    if carry:
-        starts.append(starts[-1] + carry)
-    _offsets[name] = starts
-    if len(_offsets) > 2:
-        del _offsets[next(iter(_offsets))]
-    return starts
+    if len(parts) == skip + 1 and not parts[skip]:
+        return None  # the end of a file whose last line ends with a newline
+    return parts[skip]
 
 
 def _line_of(name: str, number: int) -> str | None:
@@ -122,16 +163,13 @@ def _line_of(name: str, number: int) -> str | None:
     lines = _lines(name)
     if lines is not None:
         return lines[number - 1] if 0 < number <= len(lines) else None
-    if name in ("-", "<stdin>", "<input>") or name in _texts:
-        return None
-    starts = _line_starts(name)
-    if starts is None or not 0 < number < len(starts):
+    if name in ("-", "<stdin>", "<input>") or name in _texts or number < 1:
         return None
     try:
-        with open(name, "rb") as fh:
-            fh.seek(starts[number - 1])
-            data = fh.read(starts[number] - starts[number - 1])
+        data = _read_line(name, number)
     except OSError:
+        return None
+    if data is None:
         return None
     try:
         return data.decode("utf-8").rstrip("\r\n")

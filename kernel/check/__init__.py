@@ -18,22 +18,13 @@ import numpy as np
 
 import kernel.ir.canon as canon
 from kernel.check import rules_tooling  # noqa: F401 - registers the remaining rules
-from kernel.check.batch import (
-    SET_FEED,
-    Judge,
-    Message,
-    Moves,
-    StraightRun,
-    arc_kind,
-    kinds_mask,
-    straight_kinds,
-)
+from kernel.check.batch import Judge, Message, Moves, StraightRun, called, kinds_mask
 from kernel.check.config import CheckConfig, config_from_dict
 from kernel.check.findings import Finding
 from kernel.check.rules import RULES, CheckContext, Rule
 from kernel.check.state import CheckState, Vec6, advance, motion_end
 from kernel.diagnostics import Diagnostic, Location, Severity
-from kernel.ir.canon import ArcFeed, StraightFeed, StraightTraverse
+from kernel.ir.canon import ArcFeed, SetFeedRate, StraightFeed, StraightTraverse
 
 __all__ = [
     "RULES",
@@ -60,10 +51,10 @@ def _active(ctx: CheckContext) -> list[tuple[Rule, Severity]]:
     return out
 
 
-#: moves judged together (kernel.check.batch); bounds the memory of a run
-BATCH = 4096
-#: the commands a run is made of: between them only the position changes
-RUN_KINDS = frozenset({StraightFeed, StraightTraverse, ArcFeed})
+#: commands judged together (kernel.check.batch); bounds the memory of a run
+BATCH = 8192
+#: the commands a run is made of: between them only the position and the feed rate change
+RUN_KINDS = frozenset({StraightFeed, StraightTraverse, ArcFeed, SetFeedRate})
 
 
 class _Book:
@@ -146,14 +137,14 @@ def check_stream(
     straight = [
         (i, r, sev)
         for i, (r, _, sev) in enumerate(per_cmd)
-        if any(straight_kinds(r)) or arc_kind(r)
+        if any(called(r, kind) for kind in RUN_KINDS)
     ]
 
     def flush() -> None:
         if run_cmds:
-            run = StraightRun.of(run_cmds, run_ends, run_locs, st.position)
+            run = StraightRun.of(run_cmds, run_ends, run_locs, st)
             _judge_run(judge, run, straight, book)
-            st.position = run_ends[-1]
+            run.carry(st)
             run_cmds.clear()
             run_ends.clear()
             run_locs.clear()
@@ -171,22 +162,19 @@ def check_stream(
         advance(st, cmd)
 
     def moves(m: Moves) -> None:
-        """A block of moves as arrays: runs between its SET_FEED events."""
+        """A block of moves as arrays: one by one until the first motion, then runs of up to
+        :data:`BATCH` events."""
         a, n = 0, len(m)
-        for b in [*np.flatnonzero(m.kind == SET_FEED).tolist(), n]:
-            if a < b and not st.moved:
-                cmd = m.command(a)
-                one(cmd, cmd.source or Location(m.file))
-                a += 1
-            if a < b:
-                run = StraightRun.of_moves(m, a, b, st.position, st.plane)
-                _judge_run(judge, run, straight, book)
-                p = run.end[-1].tolist()
-                st.position = (p[0], p[1], p[2], p[3], p[4], p[5])
-            if b < n:
-                cmd = m.command(b)
-                one(cmd, cmd.source or Location(m.file))
-            a = b + 1
+        while a < n and not st.moved:
+            cmd = m.command(a)
+            one(cmd, cmd.source or Location(m.file))
+            a += 1
+        while a < n:
+            b = min(n, a + BATCH)
+            run = StraightRun.of_moves(m, a, b, st)
+            _judge_run(judge, run, straight, book)
+            run.carry(st)
+            a = b
 
     items: Iterable[canon.Command | Moves] = commands if batched else _expanded(commands)
     try:
@@ -203,10 +191,12 @@ def check_stream(
             if loc.line >= last_loc.line or loc.file != last_loc.file:
                 last_loc = loc
             kind = type(cmd)
-            if batched and st.moved and kind in RUN_KINDS:
+            if batched and st.moved and kind in RUN_KINDS and _plain(cmd):
                 if kind is ArcFeed:
                     end = motion_end(st, cmd, run_ends[-1] if run_ends else st.position)
                     assert end is not None
+                elif kind is SetFeedRate:
+                    end = run_ends[-1] if run_ends else st.position
                 else:
                     move = cast(StraightFeed, cmd)
                     end = (move.x, move.y, move.z, move.a, move.b, move.c)
@@ -238,6 +228,12 @@ def check_stream(
     return _folded(findings, book.repeats)
 
 
+def _plain(cmd: canon.Command) -> bool:
+    """Whether a run's arrays hold the command's numbers as they are (a feed rate that is
+    not a float, such as an integer too large for one, is judged on its own)."""
+    return type(cmd) is not SetFeedRate or type(cast(SetFeedRate, cmd).rate) is float
+
+
 def _expanded(items: Iterable[canon.Command | Moves]) -> Iterator[canon.Command]:
     """The commands of a stream whose blocks of moves are arrays."""
     for item in items:
@@ -254,10 +250,10 @@ def _judge_run(
     straight: list[tuple[int, Rule, Severity]],
     book: _Book,
 ) -> None:
-    """Every rule over a run of straight moves: each rule's stretches of offending commands
-    and the commands that end them, applied in stream order (command, then rule order) as
-    the command-by-command loop would. ``straight``: the rules called for straight moves,
-    with their order among all rules."""
+    """Every rule over a run: each rule's stretches of offending commands and the commands
+    that end them, applied in stream order (command, then rule order) as the
+    command-by-command loop would. ``straight``: the rules called for the commands of a
+    run, with their order among all rules."""
     judge.start(run)
     # (command index, rule order, rule, severity, stretch length or 0 for an end, message)
     events: list[tuple[int, int, str, Severity, int, Message]] = []
