@@ -73,13 +73,18 @@ from kernel.interp.interpolate import (
 )
 from kernel.machine import Machine, with_controller
 from kernel.path.blend import blend_corners, blend_radii
-from kernel.path.builder import _BATCH, PathBuilder
+from kernel.path.builder import PathBuilder
 from kernel.path.segments import FEED, HOLD, LINE, PROBE, RAPID, SEGMENT_DTYPE, Path
 from kernel.plan.models import grbl
 from kernel.plan.planner import Plan, junction_caps, range_min, segment_limits, trapezoids
 from kernel.plan.strategy import no_blend, plan_program
 from kernel.report.breakdown import _PARTS, Mark, StretchSums
 from kernel.report.measure import CycleTime, Report, SampleReductions, measure_windows
+
+
+#: commands read per window: about 10 MB of segment table and plan, a few hundred ms of
+#: motion of a CAM program (its samples are made WINDOW at a time)
+BATCH = 1 << 14
 
 
 def streams(machine: Machine) -> bool:
@@ -257,7 +262,7 @@ def plan_windows(
     commands: Iterable[canon.Command],
     machine: Machine,
     file: str | None = None,
-    batch: int = _BATCH,
+    batch: int = BATCH,
 ) -> Iterator[Plan]:
     """The plan of ``commands`` on ``machine`` (a model :func:`streams` plans) as
     consecutive windows of rows, each with its start times and path positions from the
@@ -373,7 +378,7 @@ def measure_streamed(
     file: str | None = None,
     tools: list[Mark] | None = None,
     operations: list[Mark] | None = None,
-    batch: int = _BATCH,
+    batch: int = BATCH,
 ) -> StreamedPlan:
     """:func:`kernel.simulation.plan_and_measure`'s report and cycle time, planned and
     sampled window by window (:func:`plan_windows`; ``machine`` a model :func:`streams`
