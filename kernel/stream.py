@@ -6,8 +6,9 @@ each batch's rows of the segment table are made, blended, planned, sampled and r
 forgotten. What is kept between windows is a few numbers per quantity:
 
 * **Rows** (kernel.path.builder ``take``): the rows of one batch of commands. ``G64 P``
-  corner blending (kernel.path.blend) reads the two rows of a corner only, so a batch is cut
-  after the last corner that is not blended; the rows after it wait for the next batch.
+  corner blending (kernel.path.blend) reads the two rows of a corner only and trims a line
+  by the corners at its two ends, so a window's rows are blended with the row before them
+  and the row after them at hand (the last row waits for the next batch).
 * **Look-ahead** (the backward pass of :func:`kernel.plan.planner.lookahead`): the end
   speed of row ``i`` is ``min(x_{i+1} .. x_{i+N-1}, G_{i+N}) - G_{i+1}`` with
   ``x_k = c_k^2 + G_k``, ``c_k`` the junction caps and ``G`` the running sum of ``2 A L``
@@ -72,15 +73,14 @@ from kernel.interp.interpolate import (
     sample_windows,
 )
 from kernel.machine import Machine, with_controller
-from kernel.path.blend import blend_corners, blend_radii
+from kernel.path.blend import blend_rows
 from kernel.path.builder import PathBuilder
-from kernel.path.segments import FEED, HOLD, LINE, PROBE, RAPID, SEGMENT_DTYPE, Path
+from kernel.path.segments import FEED, HOLD, PROBE, RAPID, SEGMENT_DTYPE, Path
 from kernel.plan.models import grbl
 from kernel.plan.planner import Plan, junction_caps, range_min, segment_limits, trapezoids
 from kernel.plan.strategy import no_blend, plan_program
 from kernel.report.breakdown import _PARTS, Mark, StretchSums
 from kernel.report.measure import CycleTime, Report, SampleReductions, measure_windows
-
 
 #: commands read per window: about 10 MB of segment table and plan, a few hundred ms of
 #: motion of a CAM program (its samples are made WINDOW at a time)
@@ -119,13 +119,13 @@ class _Model:
     def commands(self, commands: Iterable[canon.Command]) -> Iterable[canon.Command]:
         return no_blend(commands) if self.name == "grbl" else commands
 
-    def rows(self, raw: np.ndarray, file: str | None) -> np.ndarray:
-        """Raw rows (cut where no corner blends) as the planner plans them."""
+    def rows(self, raw: np.ndarray, a: int, b: int, file: str | None) -> np.ndarray:
+        """Raw rows ``a .. b - 1`` as the planner plans them (``raw[a - 1]`` and
+        ``raw[b]``, where there, are their neighbours: the corners blended on either side)."""
         if self.name == "grbl":
-            return grbl.segment_arcs(
-                Path(raw, file), self.planning.controller.arc_tolerance
-            ).segments
-        return blend_corners(Path(raw, file)).segments
+            path = Path(raw[a:b], file)
+            return grbl.segment_arcs(path, self.planning.controller.arc_tolerance).segments
+        return blend_rows(raw, a, b)
 
     def limits(self, path: Path) -> tuple[np.ndarray, np.ndarray]:
         """Every row's speed cap and (raw) path acceleration."""
@@ -212,19 +212,6 @@ class _Errors:
             self.rank, self.error = rank, error
 
 
-def _blend_cut(raw: np.ndarray) -> int:
-    """How many of ``raw`` (the rows so far, more to come) blend as they will in the whole
-    table: those before the last corner that is not blended (kernel.path.blend); the corner
-    after the last row is not blended if that row cannot start a blend."""
-    if not len(raw):
-        return 0
-    tail = raw[-1]
-    if not (tail["kind"] == LINE and tail["blend"] > 0 and not tail["exact_stop"]):
-        return len(raw)
-    free = np.flatnonzero(blend_radii(raw) == 0)
-    return int(free[-1]) + 1 if free.size else 0
-
-
 @dataclass(slots=True)
 class _Clock:
     """Running sums over the planned rows: start time, path position."""
@@ -273,7 +260,10 @@ def plan_windows(
     look = _Lookahead(model.window)
     errors = _Errors()
     clock = _Clock()
-    held = np.zeros(0, SEGMENT_DTYPE)  # raw rows after the last corner not blended
+    # raw rows not planned yet (the last one waits for the corner after it), after the
+    # last one planned (``held_context``: the corner before the first waiting one)
+    held = np.zeros(0, SEGMENT_DTYPE)
+    held_context = False
     last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # row, cap, acc
     it, idx = iter(model.commands(commands)), 0
     end = False
@@ -296,9 +286,10 @@ def plan_windows(
         if errors.rank <= 3:
             continue
         raw = np.concatenate([held, raw]) if len(held) else raw
-        cut = len(raw) if end else _blend_cut(raw)
-        held = raw[cut:]
-        rows = model.rows(raw[:cut], file)
+        first = 1 if len(held) and held_context else 0
+        cut = len(raw) if end else max(len(raw) - 1, first)
+        rows = model.rows(raw, first, cut, file)
+        held, held_context = raw[max(cut - 1, 0) :], cut > 0
         if len(rows):
             try:
                 cap, acc = model.limits(Path(rows, file))

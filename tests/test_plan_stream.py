@@ -28,7 +28,7 @@ from kernel.diagnostics import Diagnostic
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine, with_controller
 from kernel.report.breakdown import Stretches, breakdown
 from kernel.simulation import plan_and_measure
-from kernel.stream import measure_streamed, streams
+from kernel.stream import measure_streamed, plan_windows, streams
 
 ROOT = Path(__file__).parent.parent
 GOLDEN = ROOT / "tests" / "golden" / "ngc"
@@ -179,6 +179,16 @@ def test_the_first_error_is_the_whole_programs() -> None:
             with pytest.raises(Diagnostic) as got:
                 streamed(cmds, DEFAULT_MACHINE, batch)
             assert (got.value.code, got.value.location) == (ref.value.code, ref.value.location)
+
+
+@pytest.mark.parametrize("model", ["short", "long"])
+def test_windows_stay_small_in_a_run_of_blends(model: str) -> None:
+    """A run of blended corners with no stop is planned as it comes: by the look-ahead of
+    three rows, or with an unbounded look-ahead by the stopping distance."""
+    cmds = blended_zigzag(120)[:121]
+    windows = list(plan_windows(iter(cmds), MACHINES[model], "p", batch=10))
+    assert len(windows) > 10
+    assert max(len(w.path.segments) for w in windows) <= 60
 
 
 def test_models_that_plan_whole() -> None:
