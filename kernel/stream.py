@@ -79,7 +79,7 @@ from kernel.path.segments import FEED, HOLD, PROBE, RAPID, SEGMENT_DTYPE, Path
 from kernel.plan.models import grbl
 from kernel.plan.planner import Plan, junction_caps, range_min, segment_limits, trapezoids
 from kernel.plan.strategy import no_blend, plan_program
-from kernel.report.breakdown import _PARTS, Mark, StretchSums
+from kernel.report.breakdown import PARTS, Mark, StretchSums
 from kernel.report.measure import CycleTime, Report, SampleReductions, measure_windows
 
 #: commands read per window: about 10 MB of segment table and plan, a few hundred ms of
@@ -380,7 +380,7 @@ def measure_streamed(
     period = model.planning.controller.interpolation_period
     tool_sums = StretchSums(tools) if tools is not None else None
     op_sums = StretchSums(operations) if operations is not None else None
-    parts = [0.0] * len(_PARTS)
+    parts = [0.0] * len(PARTS)
     feed_length = rapid_length = 0.0
     rows = 0
     next_k = 0
@@ -393,7 +393,7 @@ def measure_streamed(
             next_k = max(next_k, k)
         seg = plan.path.segments
         cat, d, length = seg["category"], plan.duration, seg["length"]
-        for j, kinds in enumerate(_PARTS):
+        for j, kinds in enumerate(PARTS):
             parts[j] += float(d[np.isin(cat, kinds)].sum())
         feed_length += float(length[(cat == FEED) | (cat == PROBE)].sum())
         rapid_length += float(length[cat == RAPID].sum())

@@ -123,7 +123,7 @@ class Share:
 
 
 #: categories summed into each field of CycleTime (the rest of cycle_time's split)
-_PARTS = (
+PARTS = (
     (FEED, PROBE),
     (RAPID,),
     (DWELL,),
@@ -151,7 +151,7 @@ def breakdown(
     dur = plan.duration
     parts = [
         np.bincount(group, weights=np.where(np.isin(cat, kinds), dur, 0.0), minlength=n)
-        for kinds in _PARTS
+        for kinds in PARTS
     ]
     count = np.bincount(group, minlength=n)
     first = np.zeros(n, dtype=np.int64)
@@ -205,7 +205,7 @@ class StretchSums:
 
     def __init__(self, marks: list[Mark]) -> None:
         self.marks = marks
-        self.parts = [np.zeros(0) for _ in _PARTS]
+        self.parts = [np.zeros(0) for _ in PARTS]
         self.count = np.zeros(0, dtype=np.int64)
         self.firsts: list[tuple[int, int, float]] = []
 
@@ -224,7 +224,7 @@ class StretchSums:
         group = _groups(seg, marks)
         cat = seg["category"]
         dur = plan.duration
-        for p, kinds in zip(self.parts, _PARTS, strict=True):
+        for p, kinds in zip(self.parts, PARTS, strict=True):
             np.add.at(p, group, np.where(np.isin(cat, kinds), dur, 0.0))
         present, at = np.unique(group, return_index=True)
         for g, k in zip(present.tolist(), at.tolist(), strict=True):
