@@ -72,7 +72,8 @@ from kernel.interp.interpolate import (
     sample_span,
     sample_windows,
 )
-from kernel.machine import Machine, with_controller
+from kernel.interp.samples import Samples
+from kernel.machine import AXIS_NAMES, Machine, with_controller
 from kernel.path.blend import blend_rows
 from kernel.path.builder import PathBuilder
 from kernel.path.segments import FEED, HOLD, PROBE, RAPID, SEGMENT_DTYPE, Path
@@ -345,12 +346,54 @@ class StreamedPlan:
     operations: StretchSums | None = None
 
 
-def _sample(plan: Plan, lo: int, hi: int, last: bool, red: SampleReductions) -> None:
-    """Sample and reduce samples ``lo .. hi - 1`` of ``plan``'s window (the first window
-    of samples is not joined to the last one: they lie on other rows)."""
-    seg = plan.path.segments
-    for k, w in enumerate(sample_span(plan, lo, hi, last)):
-        red.add(seg, w, k > 0)
+class _Sampling:
+    """Samples of the windows, reduced one sample late: the last sample made so far is held
+    back, for it may be the program's last (the end point, at rest) even when it lies in an
+    earlier window than the last (every later window lasting no time)."""
+
+    def __init__(self, red: SampleReductions) -> None:
+        self.red = red
+        self.held: tuple[np.ndarray, Samples, bool] | None = None
+
+    def add(self, plan: Plan, lo: int, hi: int, last: bool) -> None:
+        """Sample and reduce samples ``lo .. hi - 1`` of ``plan``'s window (the first of
+        them is not joined to the sample before: that one lies on other rows)."""
+        seg = plan.path.segments
+        for k, w in enumerate(sample_span(plan, lo, hi, last)):
+            if self.held is not None:
+                self.red.add(*self.held)
+            n = len(w)
+            if n > 1:
+                self.red.add(seg, _rows(w, 0, n - 1), k > 0)
+            self.held = (seg, _rows(w, n - 1, n), n > 1 or k > 0)
+
+    def finish(self, end: np.ndarray, columns: list[int]) -> None:
+        """Reduce the held sample as the program's last: at ``end`` (the last row's end
+        point, the machine's axes ``columns``), at rest."""
+        if self.held is None:
+            return
+        seg, w, joined = self.held
+        w.position[-1] = end[columns]
+        w.velocity[-1] = w.acceleration[-1] = 0.0
+        if w.jerk[-1].any():
+            w.jerk[-1] = 0.0
+        self.red.add(seg, w, joined)
+        self.held = None
+
+
+def _rows(w: Samples, a: int, b: int) -> Samples:
+    """Rows ``a .. b - 1`` of ``w`` (views)."""
+    return Samples(
+        w.period,
+        w.t[a:b],
+        w.position[a:b],
+        w.velocity[a:b],
+        w.acceleration[a:b],
+        w.jerk[a:b],
+        w.segment[a:b],
+        w.source_line[a:b],
+        w.axes,
+    )
 
 
 def _samples_before(t_end: float, period: float) -> int:
@@ -385,11 +428,12 @@ def measure_streamed(
     rows = 0
     next_k = 0
     pending: Plan | None = None
+    sampling = _Sampling(red)
     total = 0.0
     for plan in plan_windows(commands, machine, file, batch):
         if pending is not None:
             k = _samples_before(pending.total_time, period)
-            _sample(pending, next_k, k, False, red)
+            sampling.add(pending, next_k, k, False)
             next_k = max(next_k, k)
         seg = plan.path.segments
         cat, d, length = seg["category"], plan.duration, seg["length"]
@@ -408,7 +452,9 @@ def measure_streamed(
         report = measure_windows(pl, sample_windows(pl))
         return StreamedPlan(report, pl.total_time, tool_sums, op_sums)
     count = int(math.ceil(total / period - 1e-9)) + 1
-    _sample(pending, next_k, count, True, red)
+    sampling.add(pending, next_k, count, True)
+    last_row = pending.path.segments[-1]
+    sampling.finish(last_row["end"], [AXIS_NAMES.index(a) for a in pending.machine.axis_names])
     cycle = CycleTime(total, *parts)
     report = red.report(cycle, feed_length, rapid_length, rows)
     return StreamedPlan(report, total, tool_sums, op_sums)
