@@ -1,11 +1,14 @@
 """Peak memory of the CLI against program length (issue 19, bounded memory).
 
 Generates CAM programs (bench/cam_program.py) of each length given, runs ``cnc COMMAND`` on
-each in a fresh process and prints its peak resident set size (``ru_maxrss`` of the child)
-and CPU time, with the growth per line between the first and the last length. The promise
-under test is a peak that does not grow with the program: the same for 10**5 and 10**7 lines.
+each in a fresh process and prints its peak resident set size and CPU time (``/usr/bin/time
+-v`` where installed, else ``ru_maxrss`` of the child), with the growth per line between the
+first and the last length. The promise under test is a peak that does not grow with the
+program: the same for 10**5 and 10**7 lines (kernel.stream plans ``cnc plan`` window by
+window). ``--machine`` passes a profile (another controller model).
 
-Usage: python bench/bench_memory.py [--command plan] [LINES ...]   (default 100000 1000000)
+Usage: python bench/bench_memory.py [--command plan] [--machine M.toml] [LINES ...]
+(default 1e5 1e6; ``1e7`` works too, and writes a 10**7-line program of ~300 MB to --tmp)
 """
 
 from __future__ import annotations
@@ -25,8 +28,28 @@ sys.path.insert(0, str(HERE))
 from cam_program import cam_lines  # noqa: E402
 
 
+def time_v(command: list[str]) -> tuple[float, float, float, int]:
+    """:func:`peak` by ``/usr/bin/time -v``: its maximum resident set size and times."""
+    t = time.perf_counter()
+    p = subprocess.run(
+        ["/usr/bin/time", "-v", *command],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    fields = {}
+    for line in p.stderr.splitlines():
+        key, _, value = line.strip().rpartition(": ")
+        fields[key] = value
+    rss = float(fields["Maximum resident set size (kbytes)"]) / 1024
+    cpu = float(fields["User time (seconds)"]) + float(fields["System time (seconds)"])
+    return rss, cpu, time.perf_counter() - t, p.returncode
+
+
 def peak(command: list[str]) -> tuple[float, float, float, int]:
     """(peak RSS in MB, CPU seconds, wall seconds, exit code) of ``command`` run alone."""
+    if os.path.exists("/usr/bin/time"):
+        return time_v(command)
     code = (
         "import resource, subprocess, sys, json, time\n"
         "t = time.perf_counter()\n"
@@ -44,19 +67,22 @@ def peak(command: list[str]) -> tuple[float, float, float, int]:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("lines", nargs="*", type=int, default=[100_000, 1_000_000])
+    ap.add_argument("lines", nargs="*", type=lambda v: int(float(v)), default=[10**5, 10**6])
     ap.add_argument("--command", default="plan", help="cnc subcommand (plan, check, canon)")
+    ap.add_argument("--machine", default=None, help="machine profile (TOML) for the command")
+    ap.add_argument("--tmp", default=None, help="directory for the generated programs")
     args = ap.parse_args()
     env_cnc = [sys.executable, "-m", "cli.main"]
+    extra = ["--machine", args.machine] if args.machine else []
     rows = []
-    with tempfile.TemporaryDirectory() as tmp:
+    with tempfile.TemporaryDirectory(dir=args.tmp) as tmp:
         for n in args.lines:
             prog = Path(tmp) / f"cam_{n}.ngc"
             with open(prog, "w") as fh:
                 for line in cam_lines(n):
                     fh.write(line + "\n")
             t0 = time.perf_counter()
-            rss, cpu, wall, rc = peak([*env_cnc, args.command, str(prog)])
+            rss, cpu, wall, rc = peak([*env_cnc, args.command, str(prog), *extra])
             rows.append((n, rss, cpu, wall, rc))
             print(
                 f"cnc {args.command} {n:>10,d} lines: peak RSS {rss:8.1f} MB, "

@@ -17,14 +17,14 @@ from cli.errors import guarded
 from cli.main import verbosity
 from cli.options import machine_option, program_argument, tool_table_option, tool_units_option
 from cli.programs import dialect_option, machine_tools, program_commands
-from cli.times import print_shares, shares, times_doc
+from cli.times import print_shares, shares, summed_shares, times_object
 from kernel.machine import CONTROLLER_MODELS, Machine, with_controller
-from kernel.plan.planner import Plan
 from kernel.report.breakdown import Share, Stretches
 from kernel.report.clock import clock, fixed
 from kernel.report.compare import Stretch, differing_stretches, line_times
 from kernel.report.measure import Report
 from kernel.simulation import measure_program, plan_and_measure, simulate
+from kernel.stream import measure_streamed, streams
 from kernel.tooltable import ToolTable
 
 
@@ -38,6 +38,8 @@ def run(
     """Plan, sample and measure ``program`` (the command's work, without printing);
     ``tools`` (lengths in units of ``tool_mm_per_unit`` mm) go to the G-code reader."""
     commands = program_commands(program, tools, tool_mm_per_unit, dialect, machine=machine)
+    if streams(machine):
+        return measure_streamed(commands, machine, program).report
     return measure_program(commands, machine, program)
 
 
@@ -47,13 +49,21 @@ def run_with_times(
     dialect: str | None = None,
     tools: ToolTable | None = None,
     tool_mm_per_unit: float = 1.0,
-) -> tuple[Report, Plan, Stretches]:
-    """:func:`run`, with the plan and the tool and workingstep marks the time per tool and
-    per operation is summed by (cli.times)."""
+) -> tuple[Report, float, list[Share], list[Share]]:
+    """:func:`run`, with the cycle time and the time per tool and per operation
+    (cli.times). A model kernel.stream plans is planned window by window (memory does not
+    grow with the program); the others whole."""
     stretches = Stretches()
     commands = program_commands(program, tools, tool_mm_per_unit, dialect, machine=machine)
-    plan, report = plan_and_measure(stretches.watch(commands), machine, program)
-    return report, plan, stretches
+    watched = stretches.watch(commands)
+    if streams(machine):
+        got = measure_streamed(watched, machine, program, stretches.tools, stretches.operations)
+        assert got.tools is not None and got.operations is not None
+        per_tool, ops = summed_shares(got.tools, got.operations, stretches, program)
+        return got.report, got.total_time, per_tool, ops
+    plan, report = plan_and_measure(watched, machine, program)
+    per_tool, ops = shares(plan, stretches, program)
+    return report, plan.total_time, per_tool, ops
 
 
 def compare(
@@ -262,10 +272,9 @@ def command(
         else:
             _compare_text(reports, stretches, program, Console())
         return
-    report, plan, marks = run_with_times(program, machine, dialect, tools, tool_mm)
+    report, cycle, per_tool, ops = run_with_times(program, machine, dialect, tools, tool_mm)
     if fmt == "json":
-        times = times_doc(plan, marks, program)
+        times = times_object(cycle, per_tool, ops)
         click.echo(json.dumps({"program": program, **report.to_dict(), "times": times}, indent=2))
     else:
-        per_tool, ops = shares(plan, marks, program)
         _text(report, program, Console(), per_tool, ops)

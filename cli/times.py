@@ -19,7 +19,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from kernel.plan.planner import Plan
-from kernel.report.breakdown import Share, Stretches, breakdown
+from kernel.report.breakdown import Share, Stretches, StretchSums, breakdown
 from kernel.report.clock import clock
 
 
@@ -53,12 +53,27 @@ def shares(plan: Plan, stretches: Stretches, program: str) -> tuple[list[Share],
     return tools, ops
 
 
+def summed_shares(
+    tools: StretchSums, operations: StretchSums, stretches: Stretches, program: str
+) -> tuple[list[Share], list[Share]]:
+    """:func:`shares` of a program planned window by window (kernel.stream): the sums
+    kept over the marks of ``stretches``."""
+    keys = {m.key for m in stretches.operations if m.key is not None}
+    names = workingstep_names(program, keys) if keys else {}
+    return tools.shares(), operations.shares(names, stretches.tools)
+
+
 def times_doc(plan: Plan, stretches: Stretches, program: str) -> dict[str, Any]:
     """The ``times`` object of a JSON report."""
     tools, ops = shares(plan, stretches, program)
+    return times_object(plan.total_time, tools, ops)
+
+
+def times_object(cycle: float, tools: list[Share], ops: list[Share]) -> dict[str, Any]:
+    """The ``times`` object of a JSON report: the cycle time and the shares."""
     return {
-        "cycle": plan.total_time,
-        "cycle_hms": clock(plan.total_time),
+        "cycle": cycle,
+        "cycle_hms": clock(cycle),
         "tools": [s.to_dict() for s in tools],
         "operations": [s.to_dict() for s in ops],
     }
@@ -98,4 +113,12 @@ def print_shares(tools: list[Share], ops: list[Share], console: Console) -> None
         console.print(share_table("time per operation (workingstep)", ops, "operation"))
 
 
-__all__ = ["print_shares", "share_table", "shares", "times_doc", "workingstep_names"]
+__all__ = [
+    "print_shares",
+    "share_table",
+    "shares",
+    "summed_shares",
+    "times_doc",
+    "times_object",
+    "workingstep_names",
+]

@@ -481,10 +481,18 @@ def check_moves(plan: Plan, period: float) -> None:
     """Before sampling: ``PLAN-TRAVEL`` for a move longer along a linear axis than that
     axis' whole travel (it cannot stay inside it), and ``LIMIT-COUNT`` for a move that would
     take more than ``kernel.limits``' ``samples_per_move`` samples (an arc of 1e9 turns)."""
+    if not len(plan.path.segments):
+        return
+    check_travel(plan)
+    steps, i = move_steps(plan, period)
+    check_steps(plan, steps, i)
+
+
+def check_travel(plan: Plan) -> None:
+    """``PLAN-TRAVEL`` at the first move longer along a linear axis than its travel."""
     seg = plan.path.segments
     if not len(seg):
         return
-    file = plan.path.file
     machine = plan.machine
     span = np.asarray(machine.limit_vector("max")) - np.asarray(machine.limit_vector("min"))
     linear = np.isfinite(span) & np.array([n not in "abc" for n in AXIS_NAMES])
@@ -504,18 +512,29 @@ def check_moves(plan: Plan, period: float) -> None:
             raise Diagnostic(
                 "PLAN-TRAVEL",
                 f"move longer along {names} than the machine's travel: {values}",
-                Location(file, int(seg["line"][i])),
+                Location(plan.path.file, int(seg["line"][i])),
             )
+
+
+def move_steps(plan: Plan, period: float) -> tuple[float, int]:
+    """The most samples one move of ``plan`` takes and its row (the first such; a plan
+    with rows only)."""
     steps = (plan.duration + plan.pause) / period
     i = int(np.argmax(steps))
+    return float(steps[i]), i
+
+
+def check_steps(plan: Plan, steps: float, i: int) -> None:
+    """``LIMIT-COUNT`` when row ``i``'s ``steps`` samples (:func:`move_steps`) are over
+    ``kernel.limits``' ``samples_per_move``."""
     limit = limits.current().samples_per_move
-    if not steps[i] <= limit:
+    if not steps <= limit:
         raise limits.count_error(
             "interpolation samples of one move",
-            float(steps[i]),
+            steps,
             limit,
             "samples_per_move",
-            Location(file, int(seg["line"][i])),
+            Location(plan.path.file, int(plan.path.segments["line"][i])),
         )
 
 
@@ -588,6 +607,34 @@ def sample_windows(
         sampler.run(range(lo, hi, chunk), out, offset=lo, count=count)
         t, pos, vel, acc, jerk, seg_out, line_out = out
         if hi == count:
+            pos[-1] = seg["end"][-1][_columns(machine)]
+            vel[-1] = acc[-1] = 0.0
+            if jerk[-1].any():
+                jerk[-1] = 0.0
+        yield Samples(period, t, pos, vel, acc, jerk, seg_out, line_out, machine.axis_names)
+
+
+def sample_span(
+    plan: Plan, lo: int, hi: int, last: bool, window: int = WINDOW, chunk: int = CHUNK
+) -> Iterator[Samples]:
+    """Samples ``lo .. hi - 1`` (``t_k = k T`` from the program's start) of a plan that is
+    one window of a longer one (kernel.stream: ``t_start`` from the program's start, and
+    every ``t_k`` within the window's time), ``window`` rows at a time, each row computed
+    as :func:`sample` computes it. ``last``: the program's last window, whose last sample
+    is the end point at rest. The samples' ``segment`` indexes the window's rows."""
+    machine = plan.machine
+    period = machine.controller.interpolation_period
+    nax = len(machine.axis_names)
+    seg = plan.path.segments
+    if hi <= lo:
+        return
+    sampler = _Sampler(plan, period, chunk)
+    for a in range(lo, hi, window):
+        b = min(hi, a + window)
+        out = _outputs(b - a, nax)
+        sampler.run(range(a, b, chunk), out, offset=a, count=b)
+        t, pos, vel, acc, jerk, seg_out, line_out = out
+        if last and b == hi:
             pos[-1] = seg["end"][-1][_columns(machine)]
             vel[-1] = acc[-1] = 0.0
             if jerk[-1].any():

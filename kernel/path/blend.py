@@ -80,6 +80,41 @@ def blend_corners(path: Path) -> Path:
     n = len(seg)
     if n < 2 or not np.any(seg["blend"] > 0):
         return path
+    r = blend_radii(seg)
+    corners = np.flatnonzero(r > 0)
+    if not corners.size:
+        return path
+    out = insert_blend_arcs(seg, corners, r[corners])
+    # a line shortened from both ends by half its length is gone (not -1e-16 long)
+    gone = (out["kind"] == LINE) & (out["length"] <= 1e-12)
+    if gone.any():
+        out = out[~gone]
+    return Path(out, path.file)
+
+
+def blend_rows(seg: np.ndarray, a: int, b: int) -> np.ndarray:
+    """The rows :func:`blend_corners` makes of ``seg``'s rows ``a .. b - 1`` and of the
+    corners after them: those rows of the blended table, whatever comes before row
+    ``a - 1`` or after row ``b`` (each corner reads its two rows only, each line is trimmed
+    by the corners at its two ends). A table planned in windows (kernel.stream) is blended
+    so with one row of context on either side."""
+    n = len(seg)
+    if n < 2 or not np.any(seg["blend"] > 0):
+        return seg[a:b]
+    r = blend_radii(seg)
+    corners = np.flatnonzero(r > 0)
+    if not corners.size:
+        return seg[a:b]
+    out = insert_blend_arcs(seg, corners, r[corners])
+    moved, _ = _placed(n, corners)
+    part = out[int(moved[a]) : int(moved[b]) if b < n else len(out)]
+    gone = (part["kind"] == LINE) & (part["length"] <= 1e-12)
+    return part[~gone] if gone.any() else part
+
+
+def blend_radii(seg: np.ndarray) -> np.ndarray:
+    """The blend arc's radius at the corner after each row but the last (0: the corner is
+    not blended). A corner's decision reads its two rows only."""
     a, b = seg[:-1], seg[1:]
     u1, u2 = a["u_end"][:, :3], b["u_start"][:, :3]
     cos = np.clip(np.einsum("ij,ij->i", u1, u2), -1.0, 1.0)
@@ -99,16 +134,7 @@ def blend_corners(path: Path) -> Path:
     r_tol = a["blend"] / np.maximum(1 / np.cos(half) - 1, 1e-300)
     r_len = 0.5 * np.minimum(a["length"], b["length"]) / np.tan(half)
     r = np.where(ok, np.minimum(r_tol, r_len), 0.0)
-    ok &= r > _MIN_RADIUS
-    corners = np.flatnonzero(ok)
-    if not corners.size:
-        return path
-    out = insert_blend_arcs(seg, corners, r[corners])
-    # a line shortened from both ends by half its length is gone (not -1e-16 long)
-    gone = (out["kind"] == LINE) & (out["length"] <= 1e-12)
-    if gone.any():
-        out = out[~gone]
-    return Path(out, path.file)
+    return np.where(r > _MIN_RADIUS, r, 0.0)
 
 
 def _corner_trims(

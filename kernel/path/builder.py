@@ -473,6 +473,21 @@ class PathBuilder:
             self.line_to(cmd, start, FEED, idx)
             st.exact_stop = saved
 
+    def feed_commands(self, cmds: list[canon.Command], idx0: int) -> None:
+        """Walk one batch of a streamed program, ``cmds[0]`` being command ``idx0``: what
+        :meth:`feed_all` does with each batch it draws (kernel.stream feeds batch by batch)."""
+        self._feed_batch(cmds, idx0)
+
+    def take(self) -> np.ndarray:
+        """The rows made since the last call, vectorised, and forgotten here (a streamed
+        table; not for S-curve machines, whose lines are cut next to their neighbours): the
+        rows of :meth:`table` in order, in pieces, for a consumer that keeps none of them."""
+        if self.rows:
+            self.chunks.append(self.rows)
+            self.rows = []
+        chunks, self.chunks = self.chunks, []
+        return segment_table(chunks, self.machine, self.file)
+
     # ------------------------------------------------------------------ vectorised finish
     def table(self) -> np.ndarray:
         """The segment table; for an S-curve machine with its corners blended (G64 P,

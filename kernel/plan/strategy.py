@@ -39,7 +39,7 @@ def build(commands: Iterable[canon.Command], machine: Machine, file: str | None 
         return Built(model, build_path(prepared.commands, flat, file), prepared)
     if model == "grbl":
         flat = with_controller(machine, accdec="trapezoid", blend_tolerance=0.0)
-        return Built(model, build_path(_no_blend(commands), flat, file))
+        return Built(model, build_path(no_blend(commands), flat, file))
     return Built(model, build_path(commands, machine, file))
 
 
@@ -68,7 +68,7 @@ def plan_program(
     return (built.path, pl) if built.model == "book" else (pl.path, pl)
 
 
-def _no_blend(commands: Iterable[canon.Command]) -> Iterator[canon.Command]:
+def no_blend(commands: Iterable[canon.Command]) -> Iterator[canon.Command]:
     """The IR with G64 P tolerances dropped: Grbl has no blending, only junction speeds."""
     for cmd in commands:
         if isinstance(cmd, canon.SetMotionControlMode) and cmd.tolerance:
@@ -77,4 +77,4 @@ def _no_blend(commands: Iterable[canon.Command]) -> Iterator[canon.Command]:
             yield cmd
 
 
-__all__ = ["Built", "build", "plan_built", "plan_program"]
+__all__ = ["Built", "build", "no_blend", "plan_built", "plan_program"]

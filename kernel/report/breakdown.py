@@ -123,7 +123,7 @@ class Share:
 
 
 #: categories summed into each field of CycleTime (the rest of cycle_time's split)
-_PARTS = (
+PARTS = (
     (FEED, PROBE),
     (RAPID,),
     (DWELL,),
@@ -146,19 +146,42 @@ def breakdown(
         return []
     seg = plan.path.segments
     n = len(marks)
-    starts = np.array([m.index for m in marks], dtype=np.int64)
-    group = np.searchsorted(starts, seg["source"], side="right") - 1
-    group = np.clip(group, 0, n - 1)
+    group = _groups(seg, marks)
     cat = seg["category"]
     dur = plan.duration
     parts = [
         np.bincount(group, weights=np.where(np.isin(cat, kinds), dur, 0.0), minlength=n)
-        for kinds in _PARTS
+        for kinds in PARTS
     ]
     count = np.bincount(group, minlength=n)
     first = np.zeros(n, dtype=np.int64)
     present, at = np.unique(group, return_index=True)
     first[present] = at
+    firsts = [
+        (int(seg["source"][k]), int(seg["line"][k]), float(plan.t_start[k])) if c else (0, 0, 0.0)
+        for k, c in zip(first.tolist(), count.tolist(), strict=True)
+    ]
+    return _shares(marks, parts, count, firsts, names, tools)
+
+
+def _groups(seg: np.ndarray, marks: list[Mark]) -> np.ndarray:
+    """The stretch of every row: the last mark at or before its command."""
+    starts = np.array([m.index for m in marks], dtype=np.int64)
+    group = np.searchsorted(starts, seg["source"], side="right") - 1
+    return np.clip(group, 0, len(marks) - 1)
+
+
+def _shares(
+    marks: list[Mark],
+    parts: list[np.ndarray],
+    count: np.ndarray,
+    firsts: list[tuple[int, int, float]],
+    names: Mapping[int, str] | None,
+    tools: list[Mark] | None,
+) -> list[Share]:
+    """The shares of the stretches with time: ``parts`` (seconds per activity and
+    stretch), ``count`` (rows per stretch) and ``firsts`` (source, line and start time of
+    each stretch's first row)."""
     tool_marks = tools if tools is not None else marks
     tool_starts = np.array([m.index for m in tool_marks], dtype=np.int64)
     out = []
@@ -167,20 +190,64 @@ def breakdown(
         total = sum(values)
         if not count[g] or total <= 0.0:
             continue
-        k = int(first[g])
-        source = int(seg["source"][k])
+        source, line, start = firsts[g]
         t = max(int(np.searchsorted(tool_starts, source, side="right")) - 1, 0)
         label = names.get(mark.key, mark.label) if names and mark.key is not None else mark.label
-        out.append(
-            Share(
-                label,
-                tool_marks[t].label,
-                int(seg["line"][k]),
-                float(plan.t_start[k]),
-                CycleTime(total, *values),
-            )
-        )
+        out.append(Share(label, tool_marks[t].label, line, start, CycleTime(total, *values)))
     return out
 
 
-__all__ = ["OUTSIDE", "START", "Mark", "Share", "Stretches", "breakdown"]
+class StretchSums:
+    """:func:`breakdown` over a plan that comes window by window (kernel.stream): per
+    stretch of ``marks`` (a list the stream's :class:`Stretches` keeps growing), the
+    seconds per activity summed row by row in program order, as :func:`breakdown`'s
+    ``bincount`` sums them, so the shares are the same numbers."""
+
+    def __init__(self, marks: list[Mark]) -> None:
+        self.marks = marks
+        self.parts = [np.zeros(0) for _ in PARTS]
+        self.count = np.zeros(0, dtype=np.int64)
+        self.firsts: list[tuple[int, int, float]] = []
+
+    def add(self, plan: Plan) -> None:
+        """Add the rows of one window of the plan (``t_start`` from the program start)."""
+        marks = self.marks
+        seg = plan.path.segments
+        if not marks or not len(seg):
+            return
+        n = len(marks)
+        grow = n - self.count.size
+        if grow > 0:
+            self.parts = [np.concatenate([p, np.zeros(grow)]) for p in self.parts]
+            self.count = np.concatenate([self.count, np.zeros(grow, dtype=np.int64)])
+            self.firsts.extend([(0, 0, 0.0)] * grow)
+        group = _groups(seg, marks)
+        cat = seg["category"]
+        dur = plan.duration
+        for p, kinds in zip(self.parts, PARTS, strict=True):
+            np.add.at(p, group, np.where(np.isin(cat, kinds), dur, 0.0))
+        present, at = np.unique(group, return_index=True)
+        for g, k in zip(present.tolist(), at.tolist(), strict=True):
+            if not self.count[g]:
+                self.firsts[g] = (
+                    int(seg["source"][k]),
+                    int(seg["line"][k]),
+                    float(plan.t_start[k]),
+                )
+        np.add.at(self.count, group, 1)
+
+    def shares(
+        self, names: Mapping[int, str] | None = None, tools: list[Mark] | None = None
+    ) -> list[Share]:
+        """:func:`breakdown`'s shares of the rows added."""
+        marks = self.marks
+        if not marks:
+            return []
+        grow = len(marks) - self.count.size
+        parts = [np.concatenate([p, np.zeros(max(grow, 0))]) for p in self.parts]
+        count = np.concatenate([self.count, np.zeros(max(grow, 0), dtype=np.int64)])
+        firsts = self.firsts + [(0, 0, 0.0)] * max(grow, 0)
+        return _shares(marks, parts, count, firsts, names, tools)
+
+
+__all__ = ["OUTSIDE", "START", "Mark", "Share", "StretchSums", "Stretches", "breakdown"]

@@ -16,6 +16,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from kernel.interp.samples import Samples
+from kernel.machine import Machine
 from kernel.path.segments import (
     ARC,
     DWELL,
@@ -97,7 +98,11 @@ def cycle_time(plan: Plan) -> CycleTime:
 
 def chord_error(plan: Plan, samples: Samples) -> float:
     """Largest ``|R - |midpoint - centre||`` over consecutive samples on the same arc."""
-    seg = plan.path.segments
+    return segment_chord_error(plan.path.segments, samples)
+
+
+def segment_chord_error(seg: np.ndarray, samples: Samples) -> float:
+    """:func:`chord_error` with the segment table the samples' ``segment`` indexes."""
     k = samples.segment
     if len(k) < 2 or "x" not in samples.axes:
         return 0.0
@@ -333,43 +338,70 @@ def measure_windows(plan: Plan, windows: Iterable[Samples], max_hits: int = 50) 
     seg = plan.path.segments
     cat = seg["category"]
     length = seg["length"]
-    machine = plan.machine
-    names = ("position", "velocity", "acceleration", "jerk")
-    checks = ["velocity", "acceleration"]
-    if machine.controller.accdec == "scurve":
-        checks.append("jerk")
-    extremes: dict[str, tuple[np.ndarray, np.ndarray]] = {}
-    runs: list[tuple[int, str, _Runs]] = []
-    count, chord = 0, 0.0
-    last: Samples | None = None
-    axes: tuple[str, ...] = machine.axis_names
+    acc = SampleReductions(plan.machine, max_hits)
     for w in windows:
-        axes = w.axes
-        if not runs:
+        acc.add(seg, w, True)
+    return acc.report(
+        cycle_time(plan),
+        float(length[(cat == FEED) | (cat == PROBE)].sum()),
+        float(length[cat == RAPID].sum()),
+        len(seg),
+    )
+
+
+class SampleReductions:
+    """The running reductions of :func:`measure_windows` (extremes, chord error, the first
+    runs over each limit, the sample count), fed one window of samples at a time."""
+
+    def __init__(self, machine: Machine, max_hits: int = 50) -> None:
+        self.machine, self.max_hits = machine, max_hits
+        self.checks = ["velocity", "acceleration"]
+        if machine.controller.accdec == "scurve":
+            self.checks.append("jerk")
+        self.extremes: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+        self.runs: list[tuple[int, str, _Runs]] = []
+        self.count, self.chord = 0, 0.0
+        self.last: Samples | None = None
+        self.axes: tuple[str, ...] = machine.axis_names
+
+    def add(self, seg: np.ndarray, w: Samples, joined: bool) -> None:
+        """Reduce window ``w``, whose ``segment`` indexes ``seg``; ``joined``: the last
+        window's samples index ``seg`` too (the pair across the boundary may lie on one
+        arc), else they belong to other rows."""
+        machine, checks = self.machine, self.checks
+        axes = self.axes = w.axes
+        if not self.runs:
             for j, name in enumerate(axes):
                 ax = machine.axis(name)
                 for kind in checks:
                     lim = float(getattr(ax, kind))
-                    runs.append((j, kind, _Runs(name, kind, lim, True, max_hits)))
-                runs.append((j, "max", _Runs(name, "travel", float(ax.max), True, max_hits)))
-                runs.append((j, "min", _Runs(name, "travel", float(ax.min), False, max_hits)))
+                    self.runs.append((j, kind, _Runs(name, kind, lim, True, self.max_hits)))
+                self.runs.append(
+                    (j, "max", _Runs(name, "travel", float(ax.max), True, self.max_hits))
+                )
+                self.runs.append(
+                    (j, "min", _Runs(name, "travel", float(ax.min), False, self.max_hits))
+                )
         if not len(w):
-            continue
-        count += len(w)
-        for name in names:
+            return
+        self.count += len(w)
+        extremes = self.extremes
+        for name in ("position", "velocity", "acceleration", "jerk"):
             hi, lo = _column_extremes(getattr(w, name))
             if name in extremes:
                 hi, lo = np.maximum(extremes[name][0], hi), np.minimum(extremes[name][1], lo)
             extremes[name] = (hi, lo)
-        chord = max(chord, chord_error(plan, w))
-        if last is not None:  # the pair of samples across the boundary
+        chord = max(self.chord, segment_chord_error(seg, w))
+        last = self.last
+        if last is not None and joined:  # the pair of samples across the boundary
             pair = Samples(
                 w.period,
                 *(np.concatenate([getattr(last, f)[-1:], getattr(w, f)[:1]]) for f in _FIELDS),
                 axes,
             )
-            chord = max(chord, chord_error(plan, pair))
-        for j, kind, acc in runs:
+            chord = max(chord, segment_chord_error(seg, pair))
+        self.chord = chord
+        for j, kind, acc in self.runs:
             if kind == "max":
                 col = w.position[:, j]
                 mask = col > acc.limit + ATOL
@@ -380,29 +412,35 @@ def measure_windows(plan: Plan, windows: Iterable[Samples], max_hits: int = 50) 
                 col = np.abs(getattr(w, kind)[:, j])
                 mask = col > acc.limit * (1 + RTOL) + ATOL
             acc.add(col, mask, w)
-        last = w
+        self.last = w
 
-    def peaks(name: str) -> dict[str, float]:
-        if name not in extremes:
-            return {a: 0.0 for a in axes}
-        m = _peak(extremes[name])
-        return {a: float(v) for a, v in zip(axes, m, strict=True)}
+    def report(
+        self, cycle: CycleTime, feed_length: float, rapid_length: float, segments: int
+    ) -> Report:
+        """The :class:`Report` of the windows seen, with the plan's own figures."""
+        axes, extremes = self.axes, self.extremes
 
-    hits = [h for _, _, acc in runs for h in acc.hits()]
-    hits.sort(key=lambda h: h.time)
-    return Report(
-        cycle=cycle_time(plan),
-        feed_length=float(length[(cat == FEED) | (cat == PROBE)].sum()),
-        rapid_length=float(length[cat == RAPID].sum()),
-        segments=len(seg),
-        samples=count,
-        peak_velocity=peaks("velocity"),
-        peak_acceleration=peaks("acceleration"),
-        peak_jerk=peaks("jerk"),
-        chord_error=chord,
-        hits=hits[:max_hits],
-        hits_total=sum(acc.total for _, _, acc in runs),
-    )
+        def peaks(name: str) -> dict[str, float]:
+            if name not in extremes:
+                return {a: 0.0 for a in axes}
+            m = _peak(extremes[name])
+            return {a: float(v) for a, v in zip(axes, m, strict=True)}
+
+        hits = [h for _, _, acc in self.runs for h in acc.hits()]
+        hits.sort(key=lambda h: h.time)
+        return Report(
+            cycle=cycle,
+            feed_length=feed_length,
+            rapid_length=rapid_length,
+            segments=segments,
+            samples=self.count,
+            peak_velocity=peaks("velocity"),
+            peak_acceleration=peaks("acceleration"),
+            peak_jerk=peaks("jerk"),
+            chord_error=self.chord,
+            hits=hits[: self.max_hits],
+            hits_total=sum(acc.total for _, _, acc in self.runs),
+        )
 
 
 _FIELDS = ("t", "position", "velocity", "acceleration", "jerk", "segment", "source_line")

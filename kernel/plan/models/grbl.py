@@ -110,26 +110,45 @@ def junction_speed(
     return np.where(cos < -_COS_STRAIGHT, np.inf, v)
 
 
-def plan(path: Path, machine: Machine) -> Plan:
-    """Plan ``path`` as Grbl 1.1 does (its arcs become chords first)."""
-    ctl = machine.controller
-    path = segment_arcs(path, ctl.arc_tolerance)
+def block_limits(path: Path, machine: Machine) -> tuple[np.ndarray, np.ndarray]:
+    """planner.c ``plan_buffer_line``: every block's nominal speed (0 for holds) and
+    acceleration, each from its own row (the path already in chords)."""
     seg = path.segments
-    n = len(seg)
     vmax = np.array(machine.limit_vector("velocity"))
     amax = np.array(machine.limit_vector("acceleration"))
     moving = seg["kind"] != HOLD
     u = seg["u_start"]
     rapid_rate = ratio_min(vmax, u)
     acc = ratio_min(amax, u)
-    feed = commanded_feed(path, ctl)
+    feed = commanded_feed(path, machine.controller)
     nominal = np.where(moving, np.minimum(feed, rapid_rate), 0.0)
+    return nominal, acc
+
+
+def junction_caps(seg: np.ndarray, nominal: np.ndarray, machine: Machine) -> np.ndarray:
+    """The speed allowed at each junction between consecutive rows of ``seg`` (n - 1):
+    junction deviation, never above either block's nominal speed, 0 next to a hold."""
+    amax = np.array(machine.limit_vector("acceleration"))
+    moving = seg["kind"] != HOLD
+    v_j = junction_speed(
+        seg["u_end"][:-1], seg["u_start"][1:], amax, machine.controller.junction_deviation
+    )
+    inner = np.minimum.reduce([v_j, nominal[:-1], nominal[1:]])
+    ok = moving[:-1] & moving[1:]
+    return np.where(ok, inner, 0.0)
+
+
+def plan(path: Path, machine: Machine) -> Plan:
+    """Plan ``path`` as Grbl 1.1 does (its arcs become chords first)."""
+    ctl = machine.controller
+    path = segment_arcs(path, ctl.arc_tolerance)
+    seg = path.segments
+    n = len(seg)
+    moving = seg["kind"] != HOLD
+    nominal, acc = block_limits(path, machine)
     jcap = np.zeros(n + 1)
     if n > 1:
-        v_j = junction_speed(seg["u_end"][:-1], seg["u_start"][1:], amax, ctl.junction_deviation)
-        inner = np.minimum.reduce([v_j, nominal[:-1], nominal[1:]])
-        ok = moving[:-1] & moving[1:]
-        jcap[1:-1] = np.where(ok, inner, 0.0)
+        jcap[1:-1] = junction_caps(seg, nominal, machine)
     acc_plan = np.where(moving, acc, 0.0)
     window = None if n <= BLOCK_BUFFER - 1 else BLOCK_BUFFER - 1
     length = seg["length"]
@@ -141,4 +160,12 @@ def plan(path: Path, machine: Machine) -> Plan:
     return Plan(path, machine, v, nominal, prof, np.zeros(n), duration, t_start, s[:-1], 0.0)
 
 
-__all__ = ["BLOCK_BUFFER", "arc_chords", "junction_speed", "plan", "segment_arcs"]
+__all__ = [
+    "BLOCK_BUFFER",
+    "arc_chords",
+    "block_limits",
+    "junction_caps",
+    "junction_speed",
+    "plan",
+    "segment_arcs",
+]

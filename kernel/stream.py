@@ -1,0 +1,463 @@
+"""``cnc plan`` in bounded memory: the program planned and measured window by window
+(issue 19), with the numbers of the whole-program pipeline (kernel.simulation).
+
+The IR is read as a stream, a batch of commands at a time (kernel.path.builder's batches);
+each batch's rows of the segment table are made, blended, planned, sampled and reduced, and
+forgotten. What is kept between windows is a few numbers per quantity:
+
+* **Rows** (kernel.path.builder ``take``): the rows of one batch of commands. ``G64 P``
+  corner blending (kernel.path.blend) reads the two rows of a corner only and trims a line
+  by the corners at its two ends, so a window's rows are blended with the row before them
+  and the row after them at hand (the last row waits for the next batch).
+* **Look-ahead** (the backward pass of :func:`kernel.plan.planner.lookahead`): the end
+  speed of row ``i`` is ``min(x_{i+1} .. x_{i+N-1}, G_{i+N}) - G_{i+1}`` with
+  ``x_k = c_k^2 + G_k``, ``c_k`` the junction caps and ``G`` the running sum of ``2 A L``
+  (``N``: the planner's look-ahead, ``[controller] lookahead`` for the book, Grbl's 15
+  blocks). A row's end speed is final, and the row is planned and handed on, as soon as
+  either
+
+  - the ``N - 1`` junctions after it are known (a bounded look-ahead: the whole-program
+    planner reads no further), or
+  - the smallest ``x`` known after it is at most ``G`` at the last known junction (the
+    stopping-distance rule: every later ``x_k`` is at least ``G_k``, which only grows, so no
+    later junction can lower the minimum; a stop, ``c = 0``, makes every row before it final
+    at once);
+
+  the program's end is a stop. Memory holds the rows within the look-ahead of the last final
+  one: ``N`` rows, or fewer where a stop or the stopping distance comes first.
+* **Forward pass, times, path positions**: running sums and minima carried from window to
+  window in the order the whole-program planner adds them (``numpy.cumsum`` adds in
+  sequence), so junction speeds, profiles, ``t_start`` and ``s_start`` are bit for bit
+  those of planning the whole program.
+* **Samples** (kernel.interp.interpolate): every sample ``t_k = k T`` belongs to the last
+  piece starting at or before it, so the samples before the next window's first start time
+  are this window's; they are made in windows of ``WINDOW`` samples and reduced
+  (kernel.report.measure ``SampleReductions``), and the time per tool and operation is
+  summed row by row (kernel.report.breakdown ``StretchSums``).
+
+The report is the whole-program report bit for bit, except the cycle-time parts (cutting,
+rapid, dwell, tool change, other) and the feed and rapid lengths: numpy sums a whole array
+pairwise, here the windows' sums are added, so these can differ in the last bits (about
+1e-15 relative; never in the printed digits of the text report). The cycle total, time per
+tool and operation, peaks, chord error and limit hits are identical.
+
+Which errors a program with several gets is the whole-program order too: an error of the
+IR stream or the builder's walk first, then ``PLAN-AXIS``, ``PLAN-FEED``, ``PLAN-LIMIT``,
+``PLAN-TRAVEL`` (each at its first row) and ``LIMIT-COUNT`` (at the move with the most
+samples): after a first error, windows are still built and planned (not sampled) as far
+as a later error could still come first.
+
+Planned this way: the ``book`` model with trapezoidal acc/dec and the ``grbl`` model. The
+book's S-curve (its smoothing reach is set by the fastest move anywhere in the program) and
+the ``linuxcnc`` model (blend arcs and merged runs across joins, kernel.plan.models) are
+planned whole (:func:`streams` says which).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+from itertools import islice
+
+import numpy as np
+
+import kernel.ir.canon as canon
+from kernel.axes.accdec import planning_machine
+from kernel.diagnostics import Diagnostic
+from kernel.interp.interpolate import (
+    check_steps,
+    check_travel,
+    move_steps,
+    sample_span,
+    sample_windows,
+)
+from kernel.interp.samples import Samples
+from kernel.machine import AXIS_NAMES, Machine, with_controller
+from kernel.path.blend import blend_rows
+from kernel.path.builder import PathBuilder
+from kernel.path.segments import FEED, HOLD, PROBE, RAPID, SEGMENT_DTYPE, Path
+from kernel.plan.models import grbl
+from kernel.plan.planner import Plan, junction_caps, range_min, segment_limits, trapezoids
+from kernel.plan.strategy import no_blend, plan_program
+from kernel.report.breakdown import PARTS, Mark, StretchSums
+from kernel.report.measure import CycleTime, Report, SampleReductions, measure_windows
+
+#: commands read per window: about 10 MB of segment table and plan, a few hundred ms of
+#: motion of a CAM program (its samples are made WINDOW at a time)
+BATCH = 1 << 14
+
+
+def streams(machine: Machine) -> bool:
+    """Whether :func:`plan_windows` plans ``machine``'s model (else plan it whole)."""
+    model = machine.controller.model
+    if model == "grbl":
+        return True
+    if model != "book":
+        return False
+    planning = planning_machine(machine)
+    return machine.controller.accdec != "scurve" and planning.controller.accdec != "scurve"
+
+
+@dataclass(frozen=True, slots=True)
+class _Model:
+    """What the windowed pipeline needs of a planner strategy (kernel.plan.strategy)."""
+
+    name: str
+    build: Machine  # the machine the path is built for
+    planning: Machine  # the machine the planner plans on (the plan's machine)
+    window: int  # look-ahead N
+
+    @classmethod
+    def of(cls, machine: Machine) -> _Model:
+        planning = planning_machine(machine)
+        if machine.controller.model == "grbl":
+            flat = with_controller(machine, accdec="trapezoid", blend_tolerance=0.0)
+            plan_on = with_controller(planning, accdec="trapezoid")
+            return cls("grbl", flat, plan_on, grbl.BLOCK_BUFFER - 1)
+        return cls("book", machine, planning, planning.controller.lookahead)
+
+    def commands(self, commands: Iterable[canon.Command]) -> Iterable[canon.Command]:
+        return no_blend(commands) if self.name == "grbl" else commands
+
+    def rows(self, raw: np.ndarray, a: int, b: int, file: str | None) -> np.ndarray:
+        """Raw rows ``a .. b - 1`` as the planner plans them (``raw[a - 1]`` and
+        ``raw[b]``, where there, are their neighbours: the corners blended on either side)."""
+        if self.name == "grbl":
+            path = Path(raw[a:b], file)
+            return grbl.segment_arcs(path, self.planning.controller.arc_tolerance).segments
+        return blend_rows(raw, a, b)
+
+    def limits(self, path: Path) -> tuple[np.ndarray, np.ndarray]:
+        """Every row's speed cap and (raw) path acceleration."""
+        if self.name == "grbl":
+            return grbl.block_limits(path, self.planning)
+        return segment_limits(path, self.planning)
+
+    def junctions(self, seg: np.ndarray, cap: np.ndarray, acc: np.ndarray) -> np.ndarray:
+        """The caps at the junctions between consecutive rows of ``seg`` (n - 1)."""
+        if self.name == "grbl":
+            return grbl.junction_caps(seg, cap, self.planning)
+        return junction_caps(Path(seg), self.planning, cap, acc)[1:-1]
+
+
+class _Lookahead:
+    """The rows not yet final: their caps, planning accelerations, the squared cap at the
+    junction each starts at, ``G`` at those junctions (and at the last one's end), and the
+    forward pass's running minimum and speed at the first of them."""
+
+    def __init__(self, window: int) -> None:
+        self.window = window
+        self.rows = np.zeros(0, SEGMENT_DTYPE)
+        self.cap = np.zeros(0)
+        self.acc = np.zeros(0)  # planning acceleration (0 for holds)
+        self.c2 = np.zeros(0)
+        self.g = np.zeros(1)
+        self.fmin = 0.0  # min of (v^2 - G) over the final junctions, as the forward pass
+        self.v0 = 0.0  # speed at the first pending junction
+
+    def push(self, rows: np.ndarray, cap: np.ndarray, acc: np.ndarray, c2: np.ndarray) -> None:
+        terms = 2.0 * acc * rows["length"]
+        g = np.cumsum(np.concatenate([self.g[-1:], terms]))[1:]
+        self.rows = np.concatenate([self.rows, rows])
+        self.cap = np.concatenate([self.cap, cap])
+        self.acc = np.concatenate([self.acc, acc])
+        self.c2 = np.concatenate([self.c2, c2])
+        self.g = np.concatenate([self.g, g])
+
+    def pop(self, end: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+        """The rows now final (all at the program's ``end``): rows, caps, planning
+        accelerations and junction speeds (one more than rows); ``None`` if none is."""
+        p = len(self.rows)
+        if not p:
+            return None
+        n_win, g = self.window, self.g
+        x = self.c2 + g[:p]
+        if end:
+            x = np.concatenate([x, 0.0 + g[p:]])
+            f = p
+        else:
+            suffix = np.minimum.accumulate(x[::-1])[::-1]
+            by_distance = int(np.count_nonzero(suffix[1:] <= g[p]))
+            f = max(p - n_win + 1, by_distance)
+            if f <= 0:
+                return None
+        i = np.arange(f)
+        inner = range_min(x, i + 1, np.minimum(i + n_win - 1, len(x) - 1))
+        end2 = np.minimum(inner, g[np.minimum(i + n_win, p)]) - g[1 : f + 1]
+        run = np.minimum.accumulate(np.concatenate([[self.fmin], end2 - g[1 : f + 1]]))
+        w = run[1:] + g[1 : f + 1]
+        v = np.concatenate([[self.v0], np.sqrt(np.clip(w, 0.0, None))])
+        self.fmin, self.v0 = float(run[-1]), float(v[-1])
+        out = (self.rows[:f], self.cap[:f], self.acc[:f], v)
+        self.rows, self.cap, self.acc = self.rows[f:], self.cap[f:], self.acc[f:]
+        self.c2, self.g = self.c2[f:], g[f:]
+        return out
+
+
+#: the order in which a whole-program run reports errors (kernel.simulation): the builder's
+#: table (PLAN-AXIS over all rows before PLAN-FEED), the planner, the checks before sampling
+_RANK = {"PLAN-AXIS": 2, "PLAN-FEED": 3, "PLAN-LIMIT": 4, "PLAN-TRAVEL": 5, "LIMIT-COUNT": 6}
+
+
+@dataclass(slots=True)
+class _Errors:
+    """The error a whole-program run would raise, among those found so far."""
+
+    rank: int = 99
+    error: Diagnostic | None = None
+    steps: float = -math.inf  # LIMIT-COUNT: the most samples of one move so far
+
+    def note(self, error: Diagnostic, rank: int) -> None:
+        if rank < self.rank:
+            self.rank, self.error = rank, error
+
+
+@dataclass(slots=True)
+class _Clock:
+    """Running sums over the planned rows: start time, path position."""
+
+    t: float = 0.0
+    s: float = 0.0
+    rows: int = 0
+
+
+def _window_plan(
+    model: _Model,
+    file: str | None,
+    rows: np.ndarray,
+    cap: np.ndarray,
+    acc: np.ndarray,
+    v: np.ndarray,
+    clock: _Clock,
+) -> Plan:
+    """The plan of final rows, as the whole-program planner computes them."""
+    length = rows["length"]
+    moving = rows["kind"] != HOLD
+    prof = trapezoids(length, v[:-1], v[1:], cap, acc)
+    duration = np.where(moving, prof.duration, rows["duration"])
+    t = np.cumsum(np.concatenate([[clock.t], duration]))
+    s = np.cumsum(np.concatenate([[clock.s], length]))
+    clock.t, clock.s = float(t[-1]), float(s[-1])
+    clock.rows += len(rows)
+    n = len(rows)
+    return Plan(
+        Path(rows, file), model.planning, v, cap, prof, np.zeros(n), duration, t[:-1], s[:-1], 0.0
+    )
+
+
+def plan_windows(
+    commands: Iterable[canon.Command],
+    machine: Machine,
+    file: str | None = None,
+    batch: int = BATCH,
+) -> Iterator[Plan]:
+    """The plan of ``commands`` on ``machine`` (a model :func:`streams` plans) as
+    consecutive windows of rows, each with its start times and path positions from the
+    program's start. Raises the error planning the whole program would raise, once the
+    windows before it have been given. ``batch``: commands read at a time (the window)."""
+    model = _Model.of(machine)
+    builder = PathBuilder(model.build, file)
+    look = _Lookahead(model.window)
+    errors = _Errors()
+    clock = _Clock()
+    # raw rows not planned yet (the last one waits for the corner after it), after the
+    # last one planned (``held_context``: the corner before the first waiting one)
+    held = np.zeros(0, SEGMENT_DTYPE)
+    held_context = False
+    last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # row, cap, acc
+    it, idx = iter(model.commands(commands)), 0
+    end = False
+    while not end:
+        cmds: list[canon.Command] = []
+        try:
+            cmds.extend(islice(it, batch))
+        except Exception:
+            builder.feed_commands(cmds, idx)
+            raise
+        end = not cmds
+        if cmds:
+            builder.feed_commands(cmds, idx)
+            idx += len(cmds)
+        try:
+            raw = builder.take()
+        except Diagnostic as diag:
+            errors.note(diag, 2 if diag.code != "PLAN-FEED" else 3)
+            continue
+        if errors.rank <= 3:
+            continue
+        raw = np.concatenate([held, raw]) if len(held) else raw
+        first = 1 if len(held) and held_context else 0
+        cut = len(raw) if end else max(len(raw) - 1, first)
+        rows = model.rows(raw, first, cut, file)
+        held, held_context = raw[max(cut - 1, 0) :], cut > 0
+        if len(rows):
+            try:
+                cap, acc = model.limits(Path(rows, file))
+            except Diagnostic as diag:
+                errors.note(diag, _RANK.get(diag.code, 4))
+                continue
+        if errors.rank <= 5:
+            continue
+        if len(rows):
+            c2 = np.zeros(len(rows))
+            if last is not None:
+                seg = np.concatenate([last[0], rows])
+                caps = model.junctions(
+                    seg, np.concatenate([last[1], cap]), np.concatenate([last[2], acc])
+                )
+                c2 = np.square(caps)
+            else:
+                c2[1:] = np.square(model.junctions(rows, cap, acc))
+            last = (rows[-1:], cap[-1:], acc[-1:])
+            look.push(rows, cap, np.where(rows["kind"] != HOLD, acc, 0.0), c2)
+        final = look.pop(end)
+        if final is not None:
+            plan = _window_plan(model, file, *final, clock)
+            try:
+                check_travel(plan)
+            except Diagnostic as diag:
+                errors.note(diag, 5)
+            steps, row = move_steps(plan, plan.machine.controller.interpolation_period)
+            key = math.inf if math.isnan(steps) else steps
+            if key > errors.steps:
+                errors.steps = key
+                try:
+                    check_steps(plan, steps, row)
+                except Diagnostic as diag:
+                    if errors.rank == 6:  # a move with more samples than the last one's
+                        errors.error = diag
+                    errors.note(diag, 6)
+            if errors.error is None:
+                yield plan
+    if errors.error is not None:
+        raise errors.error
+
+
+@dataclass(slots=True)
+class StreamedPlan:
+    """What ``cnc plan`` reports of a program planned window by window: the report, the
+    cycle time, and the time per tool and per operation (``tools``, ``operations``: sums
+    over the marks of the stream's :class:`~kernel.report.breakdown.Stretches`)."""
+
+    report: Report
+    total_time: float
+    tools: StretchSums | None = None
+    operations: StretchSums | None = None
+
+
+class _Sampling:
+    """Samples of the windows, reduced one sample late: the last sample made so far is held
+    back, for it may be the program's last (the end point, at rest) even when it lies in an
+    earlier window than the last (every later window lasting no time)."""
+
+    def __init__(self, red: SampleReductions) -> None:
+        self.red = red
+        self.held: tuple[np.ndarray, Samples, bool] | None = None
+
+    def add(self, plan: Plan, lo: int, hi: int, last: bool) -> None:
+        """Sample and reduce samples ``lo .. hi - 1`` of ``plan``'s window (the first of
+        them is not joined to the sample before: that one lies on other rows)."""
+        seg = plan.path.segments
+        for k, w in enumerate(sample_span(plan, lo, hi, last)):
+            if self.held is not None:
+                self.red.add(*self.held)
+            n = len(w)
+            if n > 1:
+                self.red.add(seg, _rows(w, 0, n - 1), k > 0)
+            self.held = (seg, _rows(w, n - 1, n), n > 1 or k > 0)
+
+    def finish(self, end: np.ndarray, columns: list[int]) -> None:
+        """Reduce the held sample as the program's last: at ``end`` (the last row's end
+        point, the machine's axes ``columns``), at rest."""
+        if self.held is None:
+            return
+        seg, w, joined = self.held
+        w.position[-1] = end[columns]
+        w.velocity[-1] = w.acceleration[-1] = 0.0
+        if w.jerk[-1].any():
+            w.jerk[-1] = 0.0
+        self.red.add(seg, w, joined)
+        self.held = None
+
+
+def _rows(w: Samples, a: int, b: int) -> Samples:
+    """Rows ``a .. b - 1`` of ``w`` (views)."""
+    return Samples(
+        w.period,
+        w.t[a:b],
+        w.position[a:b],
+        w.velocity[a:b],
+        w.acceleration[a:b],
+        w.jerk[a:b],
+        w.segment[a:b],
+        w.source_line[a:b],
+        w.axes,
+    )
+
+
+def _samples_before(t_end: float, period: float) -> int:
+    """The number of samples ``k`` with ``float(k) * period < t_end``."""
+    k = max(int(math.ceil(t_end / period)), 0)
+    while k > 0 and float(k - 1) * period >= t_end:
+        k -= 1
+    while float(k) * period < t_end:
+        k += 1
+    return k
+
+
+def measure_streamed(
+    commands: Iterable[canon.Command],
+    machine: Machine,
+    file: str | None = None,
+    tools: list[Mark] | None = None,
+    operations: list[Mark] | None = None,
+    batch: int = BATCH,
+) -> StreamedPlan:
+    """:func:`kernel.simulation.plan_and_measure`'s report and cycle time, planned and
+    sampled window by window (:func:`plan_windows`; ``machine`` a model :func:`streams`
+    plans). ``tools`` and ``operations``: mark lists a
+    :class:`~kernel.report.breakdown.Stretches` fills as ``commands`` pass it, summed."""
+    model = _Model.of(machine)
+    red = SampleReductions(model.planning)
+    period = model.planning.controller.interpolation_period
+    tool_sums = StretchSums(tools) if tools is not None else None
+    op_sums = StretchSums(operations) if operations is not None else None
+    parts = [0.0] * len(PARTS)
+    feed_length = rapid_length = 0.0
+    rows = 0
+    next_k = 0
+    pending: Plan | None = None
+    sampling = _Sampling(red)
+    total = 0.0
+    for plan in plan_windows(commands, machine, file, batch):
+        if pending is not None:
+            k = _samples_before(pending.total_time, period)
+            sampling.add(pending, next_k, k, False)
+            next_k = max(next_k, k)
+        seg = plan.path.segments
+        cat, d, length = seg["category"], plan.duration, seg["length"]
+        for j, kinds in enumerate(PARTS):
+            parts[j] += float(d[np.isin(cat, kinds)].sum())
+        feed_length += float(length[(cat == FEED) | (cat == PROBE)].sum())
+        rapid_length += float(length[cat == RAPID].sum())
+        rows += len(seg)
+        for sums in (tool_sums, op_sums):
+            if sums is not None:
+                sums.add(plan)
+        total = plan.total_time
+        pending = plan
+    if pending is None:  # no rows: the whole-program pipeline's empty plan
+        _path, pl = plan_program([], machine, planning_machine(machine), file)
+        report = measure_windows(pl, sample_windows(pl))
+        return StreamedPlan(report, pl.total_time, tool_sums, op_sums)
+    count = int(math.ceil(total / period - 1e-9)) + 1
+    sampling.add(pending, next_k, count, True)
+    last_row = pending.path.segments[-1]
+    sampling.finish(last_row["end"], [AXIS_NAMES.index(a) for a in pending.machine.axis_names])
+    cycle = CycleTime(total, *parts)
+    report = red.report(cycle, feed_length, rapid_length, rows)
+    return StreamedPlan(report, total, tool_sums, op_sums)
+
+
+__all__ = ["StreamedPlan", "measure_streamed", "plan_windows", "streams"]
