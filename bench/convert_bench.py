@@ -6,9 +6,10 @@ Issue 7 asks that converting a 200,000-line program between any two dialects tak
 CAM-like program (G1 zig-zags with an R arc every fifth block) is written in FROM by our
 writer; then, in this process and on that file:
 
-* ``canon`` does what ``cnc canon FILE --dialect FROM -o OUT`` does (cli/canon.py: the
-  RS274/NGC interpreter's chunks with the compiled fast-lane formatter for rs274ngc, the
-  FROM reader's commands otherwise; canonical text written in large blocks);
+* ``canon`` does what ``cnc canon FILE --dialect FROM -o OUT`` does, through the command's
+  own functions (cli/canon.py ``file_chunks``: the RS274/NGC interpreter's chunks, arcs
+  included, with the compiled fast-lane formatter for rs274ngc, the FROM reader's commands
+  otherwise; canonical text written in large blocks);
 * ``convert`` does what ``cnc convert FILE --from FROM --to TO -o OUT`` does (cli/convert.py:
   the FROM reader's IR through the TO writer's text chunks (``gcode.write.writer.write_text``), and
   one note formatted per conversion-report entry, as the CLI prints them).
@@ -37,10 +38,12 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+from cli.canon import _options as canon_options
 from cli.canon import _write as canon_write
+from cli.canon import file_chunks
 from cli.verify import Recorder, Verification, reader_options, verified_output
 from gcode import readers, registry
-from gcode.ngc.interpreter import InterpreterOptions, interpret, interpret_chunks
+from gcode.ngc.interpreter import InterpreterOptions, interpret
 from gcode.registry import NAMES, get_dialect
 from gcode.write.report import ConversionReport
 from gcode.write.writer import WriterOptions, write, write_text
@@ -118,14 +121,11 @@ def source_file(folder: Path, lines: int, dialect: str, shape: str = "mill") -> 
 
 
 def canon_run(path: Path, dialect: str, sink: Path) -> None:
-    """``cnc canon PATH --dialect DIALECT -o SINK``."""
-    options = InterpreterOptions(search_path=(str(path.parent),))
-    if dialect == "rs274ngc":
-        chunks = interpret_chunks(path, options)
-    else:
-        chunks = iter(readers.read(path, dialect, options))
+    """``cnc canon PATH --dialect DIALECT -o SINK``: the command's own options and reading
+    (cli.canon.file_chunks: RS274/NGC's fast lane with arcs) and its text writer."""
+    options = canon_options(None, None, (str(path.parent),), False)
     with open(sink, "w", encoding="utf-8") as fh:
-        canon_write(chunks, str(path), "text", True, fh)
+        canon_write(file_chunks(str(path), dialect, options), str(path), "text", True, fh)
 
 
 def convert_run(

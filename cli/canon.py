@@ -227,6 +227,17 @@ def _text_blocks(chunks: Iterable[object], linuxcnc: bool) -> Iterator[str]:
         yield "".join(line + "\n" for line in fast_text(pending, n, linuxcnc))
 
 
+def file_chunks(program: str, language: str, options: InterpreterOptions) -> Iterator[object]:
+    """What ``cnc canon`` reads from a G-code file in ``language``: RS274/NGC as commands and
+    the compiled fast lane's runs (arcs included), formatted in bulk by :func:`_text_blocks`;
+    another dialect as its reader's commands (bench/convert_bench.py times this very path)."""
+    if language != "rs274ngc":
+        from gcode.readers import read
+
+        return iter(read(program, language, options))
+    return interpret_chunks(program, options, arcs=True)
+
+
 def _write(chunks: Iterator[object], path: str, fmt: str, linuxcnc: bool, out: TextIO) -> None:
     try:
         if fmt == "jsonl":
@@ -376,12 +387,8 @@ def command(
             from gcode.readers import read_text
 
             chunks = iter(read_text(stdin_text(), language, program, options))
-        elif language != "rs274ngc":
-            from gcode.readers import read
-
-            chunks = iter(read(program, language, options))
         else:
-            chunks = interpret_chunks(program, options, arcs=True)
+            chunks = file_chunks(program, language, options)
     if output is None:
         try:
             _write(chunks, program, fmt, linuxcnc, sys.stdout)

@@ -33,7 +33,7 @@ EXPLANATIONS: dict[str, str] = {
     "CONV-LINE-LENGTH": "a block longer than the target reads (Grbl: 80 characters); long comments are cut instead",
     "CONV-LOSS": "error: the conversion was not written because of the losses listed before it (exit 1, no output file, nothing on standard output); --allow-loss CODE,... accepts them by code",
     "CONV-MACHINE-FUNCTION": "a MACHINE_FUNCTION (an M code for the machine's PLC, docs/canonical-ir.md) the target cannot carry: RS274/NGC, NIST v3, Grbl and Sandia refuse M codes they do not define, and a target's own M code of that number means something else (Haas M97, Fanuc M98, ...); also its P or Q word on a target without them (Siemens). A loss: an error unless --allow-loss CONV-MACHINE-FUNCTION (then a comment in the output)",
-    "CONV-MESSAGE": "note: an operator message (MSG,...) written as a comment, or dropped (Sandia)",
+    "CONV-MESSAGE": 'note: an operator message (MSG,...) written as a comment, or dropped (Sandia), or written with \' or a blank for a character the target\'s message cannot hold (" in Siemens MSG("..."))',
     "CONV-MOTION-MODE": "loss: G61/G61.1 or a G64 P blending tolerance the target lacks (the machine would blend further from the path)",
     "CONV-NURBS": "a NURBS the target cannot state (refused), or LinuxCNC's NURBS_FEED(n, ...) without its data",
     "CONV-OPTION": "an impossible writer option (arc format, units, tolerance, decimals), a --allow-loss value that names no loss (a usage error: exit 2, located at the program), or several programs without -o FOLDER",

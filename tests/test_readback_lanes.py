@@ -2,10 +2,11 @@
 
 The check reads its output back with the target's reader in runs of arrays
 (``gcode.readers.read_chunks(..., arcs=True)``): the RS274/NGC lane with arcs for
-rs274ngc, Grbl and NIST v3, and the Fanuc lane (gcode/fanuc/lane.py) for the Fanuc and Haas
-mills. Here the lanes are forced on for every file (they normally start at
-``LANE_MIN_BYTES``), and what they give must be, command for command and source line for
-source line, what the general path of the same reader gives:
+rs274ngc, Grbl and NIST v3, the Fanuc lane (gcode/fanuc/lane.py) for the Fanuc and Haas
+mills, and the 840D lane (gcode/siemens/lane.py; its own tests:
+tests/test_readback_siemens_lane.py). Here the lanes are forced on for every file (they
+normally start at ``LANE_MIN_BYTES``), and what they give must be, command for command and
+source line for source line, what the general path of the same reader gives:
 
 * every hand-derived Fanuc program and real Fanuc/Haas shop program, read both ways
   (the same commands, or the same error at the same place);
@@ -29,6 +30,7 @@ from click.testing import CliRunner
 import cli.convert
 import gcode.fanuc.flow as fanuc_flow
 import gcode.ngc.interpreter as ngc_interpreter
+import gcode.siemens.reader as siemens_reader
 from cli.verify import _chunks, _resolution
 from gcode.fanuc.lane import FanucLane
 from gcode.fanuc.program import Source
@@ -58,6 +60,7 @@ LANE_TARGETS = [
     ("fanuc", "r"),
     ("haas", "r"),
     ("mach3", "ijk"),
+    ("siemens840d", "ijk"),
 ]
 
 Listing = tuple[list[tuple[str, int]], str | None]
@@ -69,6 +72,7 @@ def lanes_always(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
     their runs took, so a test can tell the compiled lane really ran."""
     monkeypatch.setattr(ngc_interpreter, "LANE_MIN_BYTES", 0)
     monkeypatch.setattr(fanuc_flow, "LANE_MIN_BYTES", 0)
+    monkeypatch.setattr(siemens_reader, "LANE_MIN_BYTES", 0)
     seen = {"opened": 0, "lines": 0}
     for_source, take = FanucLane.for_source, FanucLane.take
 

@@ -19,7 +19,7 @@ from gcode.fanuc.state import ExecutorState
 from gcode.ngc.comp.cutter_comp import CutterCompensator
 from gcode.ngc.offsets import load_system
 from kernel.diagnostics import Diagnostic, Location
-from kernel.ir.canon import Units
+from kernel.ir.canon import SetToolTableEntry, Units
 from kernel.tooltable import Tool
 
 _AXES = "XYZABC"
@@ -76,7 +76,22 @@ def _offset_memory(
     if table is ex.lengths:
         offset = list(base.offset)
         offset[2] = (entry[0] + entry[1]) / k
-        tools.tools[n] = replace(base, offset=tuple(offset))
+        new = tools.tools[n] = replace(base, offset=tuple(offset))
+        if ex.ip.options.register_marks:
+            # cnc convert: the program writes the machine's offset memory, which a converted
+            # program must write too (or the conversion says it cannot: gcode.write.extras)
+            ex.ip.emit(
+                SetToolTableEntry(
+                    new.pocket,
+                    n,
+                    new.offset,
+                    new.diameter,
+                    new.front_angle,
+                    new.back_angle,
+                    new.orientation,
+                    source=loc,
+                )
+            )
     else:
         tools.tools[n] = replace(base, diameter=2.0 * (entry[0] + entry[1]) / k)
 

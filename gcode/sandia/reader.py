@@ -15,7 +15,8 @@ arguments; ``#`` starts a comment. Mapping to the IR (§5.4):
   ``STRAIGHT_FEED`` at that speed (an error without one); world space, so no A/B/C;
 * ``MoveReact X= Y= Z=`` -> ``STRAIGHT_PROBE``; ``GetTool n`` -> ``SELECT_TOOL`` +
   ``CHANGE_TOOL``; ``PutTool n`` -> ``CHANGE_TOOL(0)`` (spindle empty);
-  ``SetToolLength L`` -> ``USE_TOOL_LENGTH_OFFSET``; ``StopMotion`` -> ``STOP``;
+  ``SetToolLength L`` -> ``USE_TOOL_LENGTH_OFFSET`` (a length by value: with register
+  marks, G43.1, or G49 for 0); ``StopMotion`` -> ``STOP``;
   ``Deactivate`` -> ``PROGRAM_END`` (the device goes inactive: nothing after it runs);
 * session commands with no machining meaning (``Lock``, ``Release``, ``Activate``,
   ``Configure``, ``ReportState``, ``ClearPath``, ``InitRecordFile``, ``CloseRecordFile``)
@@ -32,6 +33,7 @@ import re
 from collections.abc import Iterable, Iterator
 from typing import TextIO
 
+from gcode.core.register_marks import ToolLengthRegister
 from gcode.ngc.interpreter import InterpreterOptions
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
@@ -122,6 +124,7 @@ class Reader:
     def __init__(self, name: str, options: InterpreterOptions) -> None:
         self.name = name
         self.compat = options.linuxcnc_compat
+        self.marks = options.register_marks  # gcode.core.register_marks, for a writer
         self.units = canon.Units.MM
         self.pos = [0.0] * 6
         self.speed: float | None = None
@@ -308,7 +311,10 @@ class Reader:
             yield canon.ChangeTool(slot, label, source=src)
         elif name == "SetToolLength":
             token, value = self.single(parts, "length")
-            yield canon.UseToolLengthOffset(self.number(token, value), source=src)
+            length = self.number(token, value)
+            if self.marks:  # a length by value (G43.1), or none (G49): no register
+                yield ToolLengthRegister("G43.1" if length else "G49", None, source=src)
+            yield canon.UseToolLengthOffset(length, source=src)
         elif name == "StopMotion":
             self.no_args(parts)
             yield canon.Stop(source=src)

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, cast
 
 from gcode.core.corners import CornerError, CornerFilter
 from gcode.core.loopguard import LoopGuard, RepeatGuard
@@ -39,6 +40,10 @@ from gcode.siemens.frames import change
 from gcode.siemens.program import Program, find_subprogram
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
+
+if TYPE_CHECKING:  # numpy and the kernels load with the first large read-back
+    from gcode.ngc.lane.fastlane import Run
+    from gcode.siemens.lane import SiemensLane
 
 MAX_LOOPS = 1_000_000
 END = Block(0)  # the block that ended a level (M2/M17/M30), when read by the fast path
@@ -104,6 +109,13 @@ class Runner:
         self.corners = CornerFilter()  # CHF/CHR/RND: the asking move waits for the next one
 
     def run(self) -> Iterator[canon.Command]:
+        """The canonical commands of the program."""
+        return cast(Iterator[canon.Command], self.chunks(None))
+
+    def chunks(self, lane: SiemensLane | None) -> Iterator[canon.Command | Run]:
+        """The canonical commands, and with ``lane`` the runs of plain blocks of the main
+        program's top level as :class:`gcode.ngc.lane.fastlane.Run` arrays
+        (gcode.siemens.lane)."""
         ex = self.ex
         out = ex.out
         guard = self.guard
@@ -120,6 +132,19 @@ class Runner:
                         break
                     continue
                 index = level.index
+                if (
+                    lane is not None
+                    and len(self.levels) == 1
+                    and not level.sections
+                    and not level.structures
+                ):
+                    run = lane.take(ex, index)
+                    if run is not None:
+                        level.index += run.lines
+                        guard.blocks += run.lines
+                        guard.output += len(run)
+                        yield run
+                        continue
                 level.index += 1
                 guard.blocks += 1
                 words = plain_words(program.line(index))

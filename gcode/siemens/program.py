@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 from array import array
 from collections import OrderedDict
+from itertools import accumulate
 
 from gcode.core.search import find_in_dirs, search_dirs
 from gcode.siemens.blocks import Block, parse_block
@@ -61,6 +62,26 @@ class Program:
                 break
             starts.append(end + 1)
         return index + 1 < len(starts)
+
+    def index_lines(self) -> None:
+        """Find every line start at once, in C (str.split and accumulate): the fast lane
+        (gcode.siemens.lane) reads a large file by line offsets and skips whole runs of
+        lines, which the line-by-line search of :meth:`has_line` would then walk one by one."""
+        if self._complete:
+            return
+        text = self.text
+        starts = array("q", [0])
+        starts.extend(accumulate(map((1).__add__, map(len, text.split("\n")))))
+        if text.endswith("\n"):
+            starts.pop()  # the offset past the final line end starts no line
+        self._starts = starts
+        self._complete = True
+
+    def line_offset(self, index: int) -> int:
+        """Where line ``index`` (0-based, existing) starts in :attr:`text`."""
+        if not self.has_line(index):
+            raise IndexError(index)
+        return self._starts[index]
 
     def line(self, index: int) -> str:
         """The text of line ``index`` (0-based) without its line end."""

@@ -11,7 +11,7 @@ from __future__ import annotations
 import os
 from collections.abc import Iterator
 
-from gcode.ngc.interpreter import InterpreterOptions
+from gcode.ngc.interpreter import LANE_MIN_BYTES, InterpreterOptions
 from gcode.siemens.executor import Executor
 from gcode.siemens.flow import Runner
 from gcode.siemens.program import Program
@@ -25,6 +25,23 @@ def interpret(
     opts = options or InterpreterOptions()
     program = Program.load(os.fspath(path))
     return Runner(Executor(opts), program).run()
+
+
+def interpret_chunks(
+    path: str | os.PathLike[str], options: InterpreterOptions | None = None, *, arcs: bool = False
+) -> Iterator[object]:
+    """Like :func:`interpret`, with the runs of plain blocks of a large program as
+    :class:`gcode.ngc.lane.fastlane.Run` arrays (gcode.siemens.lane); ``arcs``: runs may
+    hold arcs. ``cnc convert`` reads its 840D output back through it."""
+    opts = options or InterpreterOptions()
+    program = Program.load(os.fspath(path))
+    lane = None
+    if opts.fast_lane and len(program.text) >= LANE_MIN_BYTES:
+        # imported here: numpy and the kernels load only for a large program
+        from gcode.siemens.lane import SiemensLane
+
+        lane = SiemensLane.for_program(program, arcs)
+    return Runner(Executor(opts), program).chunks(lane)
 
 
 def interpret_text(

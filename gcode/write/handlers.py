@@ -111,8 +111,16 @@ def message(w: WriterContext, c: canon.Message) -> None:
         w.comment(c.text)
         return
     text = c.text
-    for ch in w.d.comment_forbidden + ('"' if '"' in w.d.message else ""):
+    forbidden = w.d.comment_forbidden + ('"' if '"' in w.d.message else "")
+    for ch in forbidden:
         text = text.replace(ch, "'" if ch == '"' else " ")
+    if text != c.text:  # the operator reads another text: said, as for a message dropped
+        lost = "".join(ch for ch in forbidden if ch in c.text)
+        w.change(
+            "CONV-MESSAGE",
+            "substituted",
+            f"{w.d.title} messages cannot hold {lost}: (MSG,...) written with ' or a blank for it",
+        )
     w.block(w.d.message.format(text))
 
 
@@ -418,6 +426,12 @@ def feed(w: WriterContext, c: canon.StraightFeed) -> None:
             w.refuse("CONV-THREAD", f"{w.d.title} has no spindle-synchronised motion")
         code, lead = w.d.thread
         w.motion = None
+        # the feed rate in force at the thread is the source's: an F block of its own before
+        # a K lead (LinuxCNC refuses an F word in a G33 block); a Fanuc lead F is the feed
+        # rate itself (below)
+        fw = "" if lead == "F" else w.feed_word()
+        if fw:
+            w.block(fw)
         w.block(code, *(words or _first_axis(w)), lead + w.fmt.length(w.sync))
         if lead == "F":  # Fanuc: the lead F is the modal F too; the next feed restates it
             if abs(w.feed - w.sync) > 1e-12:

@@ -21,6 +21,7 @@ from collections.abc import Iterable, Iterator, Sequence
 import numpy as np
 
 from gcode.core import linuxcnc as lc
+from gcode.core.register_marks import ToolLengthRegister
 from gcode.ngc.lane import fastlane
 from gcode.ngc.lane.fastlane import FEED_MOVE, SET_FEED, Run
 from gcode.write import approximate
@@ -429,6 +430,13 @@ class SandiaWriter:
             self.ensure_units()
             self.line(f"SetToolLength {self.fmt.length(length * s)}")
             self.known = False
+        elif isinstance(c, ToolLengthRegister):
+            if c.register is not None:  # G43 H n, G43.2 H n: the machine's measured length
+                self.lacking(
+                    "CONV-TOOL-LENGTH",
+                    f"tool length register ({c.code} H{c.register}: the length the machine "
+                    "measured; SetToolLength sets a value)",
+                )
         elif isinstance(c, canon.PalletShuttle):
             self.pallet = True  # reported with the stop it comes with (M60), not with M30
         elif isinstance(c, canon.Stop):
@@ -479,7 +487,6 @@ class SandiaWriter:
                 "CANNED_CYCLE",
                 "CANNED_CYCLE_END",
                 "CUTTER_COMP_REGISTER",
-                "TOOL_LENGTH_REGISTER",
                 "WORK_OFFSET_REGISTER",
                 # G64 Q: the tolerance of LinuxCNC's naive-CAM merging of collinear moves,
                 # used only with G64 P (reported with SET_MOTION_CONTROL_MODE); nothing moves
