@@ -330,3 +330,22 @@ def test_a_corner_in_a_lathe_cycle_contour_is_refused_not_dropped():
         list(fanuc(text, "l.nc", lathe=True))
     assert info.value.code == "FANUC-CORNER"
     assert (info.value.location.line, info.value.location.column) == (8, 10)
+
+
+def test_siemens_corners_hold_through_the_fast_lane(tmp_path, monkeypatch):
+    """With the 840D fast lane taking plain blocks (as cnc convert's read-back does), a move
+    waiting for its rounding and every corner under RNDM come out as the general reader's."""
+    from gcode.siemens import reader as siemens_reader
+
+    text = (
+        "G90 G17 G0 X0 Y0\nG1 X50 F500 RND=5\nY50 \nX0 \nRNDM=2\nX20 \nY20 \nX40 \n"
+        "RNDM=0\nY40 \nX60 \nM30\n"
+    )
+    path = tmp_path / "lane.mpf"
+    path.write_text(text)
+    monkeypatch.setattr(siemens_reader, "LANE_MIN_BYTES", 0)
+    got = []
+    for item in siemens_reader.interpret_chunks(path, arcs=True):
+        got += [item] if isinstance(item, canon.Command) else item.commands(str(path))
+    assert motions(got) == motions(list(siemens(text, str(path))))
+    assert arc(50, 5, 45, 5, 1) in motions(got)

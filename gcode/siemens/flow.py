@@ -137,6 +137,8 @@ class Runner:
                     and len(self.levels) == 1
                     and not level.sections
                     and not level.structures
+                    and not self.corners.pending  # the held move waits for the next block
+                    and not ex.s.rounding  # RNDM: every corner is rounded, none is plain
                 ):
                     run = lane.take(ex, index)
                     if run is not None:
