@@ -609,20 +609,32 @@ def _worker(conn: Connection, progress: ctypes.c_int64, cpu: float, memory: int)
 
 @dataclass
 class Report:
+    """Failures of a campaign keyed by (kind, innermost frame), each with its smallest case
+    and the seeds that found it (``case(dialect, seed)`` gives the case back)."""
+
     cases: int = 0
     failures: Counter[tuple[str, str]] = field(default_factory=Counter)
     examples: dict[tuple[str, str], tuple[str, str, str]] = field(default_factory=dict)
+    seeds: dict[tuple[str, str], list[int]] = field(default_factory=dict)
 
-    def add(self, key: tuple[str, str], dialect: str, text: str, detail: str) -> None:
+    def add(
+        self, key: tuple[str, str], dialect: str, text: str, detail: str, seed: int | None = None
+    ) -> None:
         self.failures[key] += 1
         if key not in self.examples or len(text) < len(self.examples[key][1]):
             self.examples[key] = (dialect, text, detail)
+        if seed is not None:
+            self.seeds.setdefault(key, []).append(seed)
 
     def summary(self) -> str:
         lines = [f"{self.cases} cases, {sum(self.failures.values())} failures"]
         for key, n in self.failures.most_common():
             d, text, detail = self.examples[key]
             lines.append(f"  {n:6d}  {key[0]:16s} {key[1]}  [{d}] {detail[:120]!r}")
+            seeds = self.seeds.get(key, [])
+            if seeds:
+                more = f" (+{len(seeds) - 10})" if len(seeds) > 10 else ""
+                lines.append(f"          seeds: {', '.join(map(str, seeds[:10]))}{more}")
             lines.append(f"          smallest case: {text[:300]!r}")
         return "\n".join(lines)
 
@@ -727,7 +739,7 @@ class Pool:
                         self.restart()
                     return stop
                 _, seed, out = msg
-                report.add(out.key, dialect, case(dialect, seed), out.detail)
+                report.add(out.key, dialect, case(dialect, seed), out.detail, seed)
                 continue
             if not self.proc.is_alive():
                 break
@@ -741,7 +753,7 @@ class Pool:
         bad = max(self.progress.value, first)
         self.restart()
         report.cases += bad + 1 - first
-        report.add(key, dialect, case(dialect, bad), "")
+        report.add(key, dialect, case(dialect, bad), "", bad)
         return bad + 1
 
     def restart(self) -> None:
