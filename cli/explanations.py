@@ -424,7 +424,7 @@ EXPLANATIONS: dict[str, str] = {
     "STEPNC-CURVE": "a toolpath curve is malformed (polyline of one point, knot count, trims)",
     "STEPNC-CYCLE": "a STEP-NC workplan contains itself (directly or through other workplans)",
     "STEPNC-DRILL-DEPTH": "cutting depth, overcut or strategy depths of a drilling operation are inconsistent",
-    "STEPNC-ENTRY": "the approach (ramp, zigzag, helix) does not fit in the pocket",
+    "STEPNC-ENTRY": "the approach (ramp, zigzag, helix) does not fit in the pocket, or cannot descend: an angle outside (0, 90] degrees, a zigzag width or helix radius that is not positive",
     "STEPNC-FACE": "the pocket or face dimensions are impossible (width > length, no depth, ...)",
     "STEPNC-FILLET-EDGE": "a pocket bottom fillet radius is smaller than the tool edge radius",
     "STEPNC-FLUTE": "the hole is deeper than the tool's cutting edge length",

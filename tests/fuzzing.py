@@ -609,20 +609,32 @@ def _worker(conn: Connection, progress: ctypes.c_int64, cpu: float, memory: int)
 
 @dataclass
 class Report:
+    """Failures of a campaign keyed by (kind, innermost frame), each with its smallest case
+    and the seeds that found it (``case(dialect, seed)`` gives the case back)."""
+
     cases: int = 0
     failures: Counter[tuple[str, str]] = field(default_factory=Counter)
     examples: dict[tuple[str, str], tuple[str, str, str]] = field(default_factory=dict)
+    seeds: dict[tuple[str, str], list[int]] = field(default_factory=dict)
 
-    def add(self, key: tuple[str, str], dialect: str, text: str, detail: str) -> None:
+    def add(
+        self, key: tuple[str, str], dialect: str, text: str, detail: str, seed: int | None = None
+    ) -> None:
         self.failures[key] += 1
         if key not in self.examples or len(text) < len(self.examples[key][1]):
             self.examples[key] = (dialect, text, detail)
+        if seed is not None:
+            self.seeds.setdefault(key, []).append(seed)
 
     def summary(self) -> str:
         lines = [f"{self.cases} cases, {sum(self.failures.values())} failures"]
         for key, n in self.failures.most_common():
             d, text, detail = self.examples[key]
             lines.append(f"  {n:6d}  {key[0]:16s} {key[1]}  [{d}] {detail[:120]!r}")
+            seeds = self.seeds.get(key, [])
+            if seeds:
+                more = f" (+{len(seeds) - 10})" if len(seeds) > 10 else ""
+                lines.append(f"          seeds: {', '.join(map(str, seeds[:10]))}{more}")
             lines.append(f"          smallest case: {text[:300]!r}")
         return "\n".join(lines)
 
@@ -632,9 +644,24 @@ BATCH = 500
 #: cases after which a worker is replaced by a fresh one: the CLI's caches keep about 20 KB
 #: a case, which the 1 GB limit would otherwise meet after some 40,000 cases
 RECYCLE = 20_000
-#: a worker that makes no progress for this long (wall clock) is hung: generous for a busy
-#: machine, the per-case CPU timer is the real limit
-HANG_SECONDS = 120.0
+#: a worker that makes no progress for this long (wall clock) is blocked. CPU time, not wall
+#: time, decides a hang: under ``nice -n 19`` on a loaded machine a case of 1 s of CPU can
+#: take minutes of wall time
+HANG_SECONDS = 900.0
+
+
+def cpu_seconds(pid: int) -> float:
+    """User plus system CPU seconds process ``pid`` has used (Linux /proc; 0 elsewhere)."""
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            fields = fh.read().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+#: the failure of a worker that died under a case (killed, out of memory in native code)
+DEAD = ("dead", "worker killed or out of memory")
 
 
 class Pool:
@@ -658,17 +685,37 @@ class Pool:
         self.proc.start()
         child.close()
 
+    def _stuck(self, since: float, cpu0: float) -> tuple[str, str] | None:
+        """Why the worker, on the same case since wall time ``since`` and its CPU time
+        ``cpu0``, is hung, if it is: over 1.5 times the CPU limit (stuck in native code,
+        a regular expression or a huge integer, where the timer cannot stop it), or no
+        progress for :data:`HANG_SECONDS` (blocked)."""
+        if cpu_seconds(self.proc.pid or 0) - cpu0 > 1.5 * self.cpu + 2.0:
+            return ("hang", "over the CPU limit where the timer cannot stop it")
+        if time.monotonic() - since > max(HANG_SECONDS, 6 * self.cpu):
+            return ("hang", "no progress (blocked)")
+        return None
+
     def run(self, mode: str, dialect: str, text: str) -> Outcome:
         """One given text."""
         self.conn.send(("text", mode, dialect, text))
-        if self.conn.poll(max(HANG_SECONDS, 6 * self.cpu)):
-            try:
-                out: Outcome = self.conn.recv()
-                return out
-            except (EOFError, OSError):
-                pass
+        since, cpu0 = time.monotonic(), cpu_seconds(self.proc.pid or 0)
+        key = DEAD
+        while True:
+            if self.conn.poll(1.0):
+                try:
+                    out: Outcome = self.conn.recv()
+                    return out
+                except (EOFError, OSError):
+                    break
+            if not self.proc.is_alive():
+                break
+            stuck = self._stuck(since, cpu0)
+            if stuck is not None:
+                key = stuck
+                break
         self.restart()
-        return Outcome(False, ("dead", "worker killed, hung or out of memory"))
+        return Outcome(False, key)
 
     def run_seeds(self, mode: str, dialect: str, first: int, stop: int, report: Report) -> int:
         """Cases ``first .. stop`` of ``dialect`` generated and run in the worker, their
@@ -676,7 +723,9 @@ class Pool:
         after one that killed or hung the worker, which is then restarted)."""
         self.progress.value = first - 1
         self.conn.send(("seeds", mode, dialect, first, stop))
-        seen, since = self.progress.value, time.monotonic()
+        pid = self.proc.pid or 0
+        seen, since, cpu0 = self.progress.value, time.monotonic(), cpu_seconds(pid)
+        key = DEAD
         while True:
             if self.conn.poll(1.0):
                 try:
@@ -690,20 +739,21 @@ class Pool:
                         self.restart()
                     return stop
                 _, seed, out = msg
-                report.add(out.key, dialect, case(dialect, seed), out.detail)
+                report.add(out.key, dialect, case(dialect, seed), out.detail, seed)
                 continue
             if not self.proc.is_alive():
                 break
             if self.progress.value != seen:
-                seen, since = self.progress.value, time.monotonic()
-            elif time.monotonic() - since > max(HANG_SECONDS, 6 * self.cpu):
-                break
+                seen, since, cpu0 = self.progress.value, time.monotonic(), cpu_seconds(pid)
+            else:
+                stuck = self._stuck(since, cpu0)
+                if stuck is not None:
+                    key = stuck
+                    break
         bad = max(self.progress.value, first)
         self.restart()
         report.cases += bad + 1 - first
-        report.add(
-            ("dead", "worker killed, hung or out of memory"), dialect, case(dialect, bad), ""
-        )
+        report.add(key, dialect, case(dialect, bad), "", bad)
         return bad + 1
 
     def restart(self) -> None:

@@ -16,7 +16,8 @@ from click.testing import CliRunner
 
 import kernel.limits as limits
 from cli.main import cli
-from tests.fuzzing import case, check_one
+from kernel.diagnostics import Diagnostic
+from tests.fuzzing import case, check_one, run_reader
 
 PINNED = [
     # haas_lathe, seed 180982 of the reader campaign: G75 with 13,000 pecks at each of
@@ -68,6 +69,42 @@ def test_pinned_fuzz_failure_is_diagnosed(dialect: str, text: str) -> None:
     out = check_one("reader", dialect, text)
     assert out.ok, out
     assert time.process_time() - start < 5.0
+
+
+STEPNC = Path(__file__).parent / "stepnc"
+ZIGZAG = (STEPNC / "pocket_zigzag.stp").read_text()
+HELIX = (STEPNC / "pocket_finish_helix.stp").read_text()
+RAMP = (STEPNC / "pocket_ramp.stp").read_text()
+
+#: stepnc, seeds 24904 and 64859 of the slow reader campaign (start 1,000): a pocket's
+#: PLUNGE_ZIGZAG of -5 degrees climbed for ever while looking for its start (over the 10 s
+#: CPU limit). The same approach code failed on a zigzag of width 0 (a hang), a helix of
+#: radius 0 or a ramp of 0 degrees (ZeroDivisionError as STEPNC-UNSUPPORTED with no reason)
+#: and a helix of 1e-320 degrees (an OverflowError traceback): an approach angle must be in
+#: (0, 90] degrees and a width or radius positive (STEPNC-ENTRY), and the zigzag strokes or
+#: helix turns fit toolpath_passes (LIMIT-COUNT)
+PINNED_APPROACH = [
+    (ZIGZAG.replace("PLUNGE_ZIGZAG($,15.0,8.0)", "PLUNGE_ZIGZAG($,-5.0,8.0)"), "STEPNC-ENTRY"),
+    (ZIGZAG.replace("PLUNGE_ZIGZAG($,15.0,8.0)", "PLUNGE_ZIGZAG($,15.0,0.0)"), "STEPNC-ENTRY"),
+    (ZIGZAG.replace("PLUNGE_ZIGZAG($,15.0,8.0)", "PLUNGE_ZIGZAG($,1.0E-300,8.0)"), "LIMIT-COUNT"),
+    (HELIX.replace("PLUNGE_HELIX($,4.0,5.0)", "PLUNGE_HELIX($,0.0,5.0)"), "STEPNC-ENTRY"),
+    (HELIX.replace("PLUNGE_HELIX($,4.0,5.0)", "PLUNGE_HELIX($,4.0,1.0E-320)"), "LIMIT-COUNT"),
+    (RAMP.replace("PLUNGE_RAMP($,20.0)", "PLUNGE_RAMP($,0.0)"), "STEPNC-ENTRY"),
+]
+
+
+@pytest.mark.parametrize(("text", "code"), PINNED_APPROACH)
+def test_pinned_pocket_approach_is_diagnosed_at_its_operation(text: str, code: str) -> None:
+    assert text not in (ZIGZAG, HELIX, RAMP)  # the seed program did change
+    start = time.process_time()
+    with pytest.raises(Diagnostic) as info:
+        run_reader("stepnc", text)
+    assert time.process_time() - start < 2.0
+    assert info.value.code == code
+    # located at the pocket's milling operation: its instance and line
+    loc = info.value.location
+    assert text.splitlines()[loc.line - 1].startswith(f"#{loc.entity}=")
+    assert "_MILLING(" in text.splitlines()[loc.line - 1]
 
 
 def test_cases_are_reproducible_from_their_seed() -> None:

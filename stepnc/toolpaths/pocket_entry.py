@@ -11,11 +11,33 @@ from __future__ import annotations
 import math
 
 from stepnc.executor import TINY
-from stepnc.toolpaths.code import Code
+from stepnc.toolpaths.code import Code, check_count
 
 
 def tand(deg: float) -> float:
     return math.tan(math.radians(deg))
+
+
+def _check(kind: str, args: tuple, plunge: float) -> None:
+    """ValueError (STEPNC-ENTRY at the operation) for an approach that cannot descend: an
+    angle outside (0, 90] degrees, a zigzag width or helix radius that is not positive (a
+    zigzag of a negative angle climbed for ever); LIMIT-COUNT for more zigzag strokes
+    or helix turns than ``toolpath_passes`` (a zigzag of 1e-300 degrees)."""
+    if kind == "PLUNGE_TOOLAXIS":
+        return
+    angle = args[1] if kind == "PLUNGE_HELIX" else args[0]
+    if not 0.0 < angle <= 90.0:
+        raise ValueError(
+            f"a {angle:g} degree approach angle: it must be over 0 and at most 90 degrees"
+        )
+    if kind == "PLUNGE_ZIGZAG":
+        if not args[1] > 0.0:
+            raise ValueError(f"a zigzag of width {args[1]:g} mm")
+        check_count(plunge / (args[1] * tand(angle)), "zigzag strokes of the approach")
+    elif kind == "PLUNGE_HELIX":
+        if not args[0] > 0.0:
+            raise ValueError(f"a helix of radius {args[0]:g} mm")
+        check_count(plunge / (2 * math.pi * args[0] * tand(angle)), "helix turns of the approach")
 
 
 def plunge_start(
@@ -23,6 +45,7 @@ def plunge_start(
 ) -> tuple[float, float, float]:
     """(start_x, start_y, aux) for entering at (end_x, 0); aux = zigzag offset or turns."""
     kind, args = approach
+    _check(kind, args, plunge)
     end_x = (length - width) / -2.0
     if kind == "PLUNGE_TOOLAXIS":
         return end_x, 0.0, 0.0
