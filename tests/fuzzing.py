@@ -46,7 +46,9 @@ LOOP_PASSES = 2_000
 #: cnc check's CPU budget per program in CLI cases (--limit seconds)
 CLI_SECONDS = 5.0
 
-GCODE_DIALECTS = ("rs274ngc", "nist_v3", "grbl", "fanuc", "fanuc_lathe", "haas", "haas_lathe")
+GCODE_DIALECTS = (
+    "rs274ngc", "nist_v3", "grbl", "mach3", "fanuc", "fanuc_lathe", "haas", "haas_lathe",
+)  # fmt: skip
 DIALECTS = (*GCODE_DIALECTS, "siemens840d", "sandia", "stepnc", "canon")
 
 # ------------------------------------------------------------------------------ corpus
@@ -61,6 +63,7 @@ def corpus(dialect: str) -> list[str]:
             (HERE / "data" / "corpus" / "ngc", "*.ngc"),
         ],
         "fanuc": [(HERE / "dialects" / "fanuc", "*.nc")],
+        "mach3": [(HERE / "dialects" / "mach3", "*")],
         "siemens840d": [(HERE / "dialects" / "siemens840d", "*")],
         "sandia": [(HERE / "dialects" / "sandia", "*")],
         "stepnc": [(HERE / "stepnc", "*.stp")],
@@ -357,6 +360,7 @@ GENERATORS: dict[str, Callable[[random.Random], str]] = {
     "rs274ngc": gen_ngc,
     "nist_v3": gen_ngc,
     "grbl": gen_ngc,
+    "mach3": gen_ngc,
     "fanuc": gen_fanuc,
     "fanuc_lathe": gen_fanuc,
     "haas": gen_fanuc,
