@@ -1,8 +1,8 @@
 """Loading numba kernels compiled ahead of time (numba.pycc), for a front end's compiled
 readers, with numba's JIT as the fallback.
 
-A kernel source module (e.g. :mod:`stepnc.p21_kernels`) holds numba functions and a
-``build(directory, name)`` that compiles them with numba.pycc when run as
+A kernel source module (e.g. :mod:`stepnc.p21_kernels`) holds numba functions and their
+signatures, and compiles them with numba.pycc (:func:`build_module`) when run as
 ``python -m MODULE DIR NAME``. :class:`Kernels` builds that extension module once, in a
 child process (its compiler output never reaches ours), into the user's cache
 (``$CNC_CACHE_DIR``, else ``$XDG_CACHE_HOME/cnc-toolchain``), under a name keyed by the
@@ -28,6 +28,7 @@ import tempfile
 import zlib
 from pathlib import Path
 from types import ModuleType
+from typing import Any
 
 #: warnings reach stderr through logging's last-resort handler when nobody configured one
 _log = logging.getLogger("cnc.aot")
@@ -53,6 +54,19 @@ def private_dir(directory: Path) -> bool:
         return False
     mine = not hasattr(os, "getuid") or st.st_uid == os.getuid()
     return mine and not st.st_mode & (stat.S_IWGRP | stat.S_IWOTH)
+
+
+def build_module(directory: str, name: str, signatures: dict[str, tuple[Any, Any]]) -> None:
+    """Compile a kernel source's ``signatures`` (exported name -> (numba function, numba
+    signature)) ahead of time into extension module ``name`` in ``directory``; a kernel
+    source runs this as its ``__main__`` (numba.pycc, imported only here)."""
+    from numba.pycc import CC
+
+    cc = CC(name)
+    cc.output_dir = directory
+    for exported, (function, signature) in signatures.items():
+        cc.export(exported, signature)(function.py_func)
+    cc.compile()
 
 
 class Kernels:

@@ -23,6 +23,8 @@ import sys
 from numba import njit
 from numba import types as nt
 
+from kernel.aot import build_module
+
 #: why a scan returned
 STOP = 0  # the instance at ``pos`` is not one the scanner takes (or ENDSEC, or the end)
 FULL = 1  # the output arrays are full
@@ -361,16 +363,5 @@ SIGNATURES = {
 scan = _scan
 
 
-def build(directory: str, name: str) -> None:
-    """Compile the kernels ahead of time into extension module ``name`` in ``directory``."""
-    from numba.pycc import CC
-
-    cc = CC(name)
-    cc.output_dir = directory
-    for exported, (function, signature) in SIGNATURES.items():
-        cc.export(exported, signature)(function.py_func)
-    cc.compile()
-
-
-if __name__ == "__main__":
-    build(sys.argv[1], sys.argv[2])
+if __name__ == "__main__":  # python -m MODULE DIR NAME: the AOT build (kernel.aot)
+    build_module(sys.argv[1], sys.argv[2], SIGNATURES)

@@ -19,6 +19,8 @@ import numpy as np
 from numba import njit
 from numba import types as nt
 
+from kernel.aot import build_module
+
 
 @njit(cache=True)
 def _skip_blanks(buf, j, e):  # pragma: no cover - compiled
@@ -787,16 +789,5 @@ gcode = _gcode
 sandia = _sandia
 
 
-def build(directory: str, name: str) -> None:
-    """Compile the kernels ahead of time into extension module ``name`` in ``directory``."""
-    from numba.pycc import CC
-
-    cc = CC(name)
-    cc.output_dir = directory
-    for exported, (function, signature) in SIGNATURES.items():
-        cc.export(exported, signature)(function.py_func)
-    cc.compile()
-
-
-if __name__ == "__main__":
-    build(sys.argv[1], sys.argv[2])
+if __name__ == "__main__":  # python -m MODULE DIR NAME: the AOT build (kernel.aot)
+    build_module(sys.argv[1], sys.argv[2], SIGNATURES)
