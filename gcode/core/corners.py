@@ -20,7 +20,7 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from kernel.diagnostics import Location
+from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
 from kernel.ir.canon import Plane
 
@@ -346,6 +346,20 @@ class CornerFilter:
     def pending(self) -> bool:
         return self.request is not None
 
+    def released(
+        self, out: list[canon.Command], request: CornerRequest | None, code: str
+    ) -> list[canon.Command]:
+        """A reader's block output ``out`` (its ``request``, if it asked for a corner)
+        through :meth:`push`; a corner that cannot be cut is a Diagnostic with the reader's
+        ``code``, and ``out`` is then emptied (its commands follow a move never written)."""
+        if request is None and self.request is None:
+            return out
+        try:
+            return self.push(out, request)
+        except CornerError as exc:
+            out.clear()
+            raise Diagnostic(code, str(exc), exc.location) from None
+
     def push(
         self, commands: Iterable[canon.Command], request: CornerRequest | None = None
     ) -> list[canon.Command]:
@@ -430,12 +444,12 @@ class CornerFilter:
         self.request, self.held = None, []
         return out
 
-    def finish(self) -> list[canon.Command]:
-        """The program ended: a corner still waiting for its second move is an error, or
-        (``lenient``) the move runs as programmed."""
+    def finish(self, code: str) -> list[canon.Command]:
+        """The program ended: a corner still waiting for its second move is a Diagnostic
+        with the reader's ``code``, or (``lenient``) the move runs as programmed."""
         req = self.request
         if req is not None and not req.lenient:
-            raise CornerError(
-                "a chamfer or rounding needs a next move to cut the corner with", req.location
+            raise Diagnostic(
+                code, "a chamfer or rounding needs a next move to cut the corner with", req.location
             )
         return self._uncut()

@@ -15,7 +15,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
-from gcode.core.corners import CornerError, CornerFilter
+from gcode.core.corners import CornerFilter
 from gcode.core.loopguard import RepeatGuard
 from gcode.fanuc.executor import Action, Executor
 from gcode.fanuc.lathe import Lathe
@@ -194,22 +194,13 @@ class Reader:
                 self._statement(blk, fr, idx)
         yield from self._released(out)
         out.clear()
-        try:
-            yield from self.corners.finish()
-        except CornerError as exc:
-            raise Diagnostic("FANUC-CORNER", str(exc), exc.location) from None
+        yield from self.corners.finish("FANUC-CORNER")
 
     def _released(self, out: list[canon.Command]) -> list[canon.Command]:
         """The commands of the block just run that may go out now: a move that asked for a
         chamfer or corner R (``,C`` / ``,R``) waits for the next move (gcode.core.corners)."""
         request, self.ex.corner = self.ex.corner, None
-        if request is None and not self.corners.pending:
-            return out
-        try:
-            return self.corners.push(out, request)
-        except CornerError as exc:
-            out.clear()  # the failing block's commands without the move they follow
-            raise Diagnostic("FANUC-CORNER", str(exc), exc.location) from None
+        return self.corners.released(out, request, "FANUC-CORNER")
 
     def _comment(self, blk: FBlock, src: Source) -> None:
         self.ex.last_comment = blk.comment

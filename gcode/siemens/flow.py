@@ -29,7 +29,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, cast
 
-from gcode.core.corners import CornerError, CornerFilter
+from gcode.core.corners import CornerFilter
 from gcode.core.loopguard import LoopGuard, RepeatGuard
 from gcode.siemens.blocks import Block, Word
 from gcode.siemens.cycles import PATTERNS, STANDARD_CYCLES, check_cycle, run_cycle
@@ -192,20 +192,13 @@ class Runner:
             raise
         yield from self._released(out)
         out.clear()
-        yield from self.corners.finish()
+        yield from self.corners.finish("SIEM-CORNER")
 
     def _released(self, out: list[canon.Command]) -> list[canon.Command]:
         """The commands of the block just run that may go out now: a move that asked for a
         chamfer or rounding waits for the next move (gcode.core.corners)."""
-        ex = self.ex
-        request, ex.corner = ex.corner, None
-        if request is None and not self.corners.pending:
-            return out
-        try:
-            return self.corners.push(out, request)
-        except CornerError as exc:
-            out.clear()  # the failing block's commands without the move they follow
-            raise Diagnostic("SIEM-CORNER", str(exc), exc.location) from None
+        request, self.ex.corner = self.ex.corner, None
+        return self.corners.released(out, request, "SIEM-CORNER")
 
     # ------------------------------------------------------------------ levels
     def _return(self, level: Level, block: Block | None) -> bool:
