@@ -144,7 +144,7 @@ def convert_run(
         register_marks=True,
     )
     report = ConversionReport(source_dialect=src, target_dialect=dst)
-    ir = readers.read_chunks(path, src, options)
+    ir = readers.read_chunks(path, src, options, arcs=src == "rs274ngc")
     writer = WriterOptions(cycles="keep")
     if verify:
         recorder = Recorder(ir, str(path))

@@ -117,9 +117,11 @@ def read_program(
         keep_cutter_comp=keep_cutter_comp,
         register_marks=True,  # G43 H n kept as a register (gcode.core.register_marks)
     )
-    # RS274/NGC comes as commands and fast-lane runs of plain lines (gcode.ngc.lane.fastlane.Run),
-    # which write_text takes in bulk; gcode.readers types that stream as objects
-    return cast(Iterator[canon.Command], read_chunks(path, dialect, options))
+    # RS274/NGC comes as commands and fast-lane runs of plain lines and arcs
+    # (gcode.ngc.lane.fastlane.Run, read as cnc canon reads it), which write_text takes in
+    # bulk; gcode.readers types that stream as objects
+    arcs = dialect == "rs274ngc"
+    return cast(Iterator[canon.Command], read_chunks(path, dialect, options, arcs=arcs))
 
 
 #: ``--from`` values that name a kind of file rather than a G-code dialect

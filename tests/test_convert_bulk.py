@@ -23,6 +23,7 @@ from kernel.diagnostics import Diagnostic
 from tests.convert_support import options, programs
 
 DIALECTS = ["rs274ngc", "nist_v3", "fanuc", "grbl", "haas", "siemens840d", "fanuc_lathe", "sandia"]
+_SLOW = (pytest.mark.slow,)
 VARIANTS = {
     "default": WriterOptions(),
     "numbered-inch": WriterOptions(line_numbers=5, units="inch", decimals=4),
@@ -50,9 +51,31 @@ def test_bulk_runs_write_what_the_commands_write(
     assert _lane_against_commands(dialect, VARIANTS[variant]) >= 200
 
 
-def _lane_against_commands(dialect: str, opts: WriterOptions) -> int:
+#: (dialect, variant) pairs of the arc runs' test; the block and the Sandia writers in the
+#: default run (about a second each), the rest marked slow
+ARC_CASES = [
+    pytest.param(
+        d, v, marks=() if (d, v) in {("fanuc", "default"), ("sandia", "default")} else _SLOW
+    )
+    for d in DIALECTS
+    for v in ("default", "numbered-inch")
+]
+
+
+@pytest.mark.parametrize(("dialect", "variant"), ARC_CASES)
+def test_bulk_runs_with_arcs_write_what_the_commands_write(
+    dialect: str, variant: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Runs read with arcs (as cnc convert reads RS274/NGC) too: their plain stretches in
+    bulk, each arc through its handler, the same text and report."""
+    monkeypatch.setattr(interp, "LANE_MIN_BYTES", 0)
+    assert _lane_against_commands(dialect, VARIANTS[variant], arcs=True) >= 200
+
+
+def _lane_against_commands(dialect: str, opts: WriterOptions, arcs: bool = False) -> int:
     """Assert that every golden and corpus program the interpreter accepts is written the
-    same from its fast-lane chunks as from its commands; returns how many were compared."""
+    same from its fast-lane chunks (``arcs``: read with arcs) as from its commands; returns
+    how many were compared."""
     compared = lane_runs = 0
     for program in programs():
         read = options(program)
@@ -60,8 +83,11 @@ def _lane_against_commands(dialect: str, opts: WriterOptions) -> int:
             list(interpret(program, read))
         except Diagnostic:
             continue
-        chunks = list(read_chunks(program, "rs274ngc", read))
-        lane_runs += sum(isinstance(chunk, fastlane.Run) for chunk in chunks)
+        chunks = list(read_chunks(program, "rs274ngc", read, arcs=arcs))
+        lane_runs += sum(
+            isinstance(chunk, fastlane.Run) and (not arcs or chunk.arc is not None)
+            for chunk in chunks
+        )
         bulk = _text(chunks, dialect, opts, "p")
         plain = _text(interpret(program, read), dialect, opts, "p")
         assert bulk == plain, program.name

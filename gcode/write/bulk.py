@@ -17,12 +17,14 @@ command.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from operator import attrgetter
 
 import numpy as np
 
 from gcode.ngc.lane import fastlane
 from gcode.write.context import WriterContext
+from gcode.write.state import PLANE_AXES
 from kernel.ir import canon
 
 _LETTERS = "XYZABC"
@@ -79,6 +81,52 @@ def run_of(commands: list[canon.Command], feed: float) -> fastlane.Run | None:
     )
 
 
+def stretches(run: fastlane.Run, file: str | None) -> Iterator[fastlane.Run | canon.Command]:
+    """A run that may hold arcs (``run.arc``) as what the writer takes: its stretches
+    between arcs as runs without arc columns (a stretch without a move as its commands),
+    and each arc as its ``ARC_FEED`` command, in order."""
+    kind = run.kind
+    if not len(kind):
+        return
+    arcs = np.flatnonzero(kind == fastlane.ARC).tolist()
+    if not arcs:
+        yield _part(run, 0, len(run))
+        return
+    assert run.arc is not None  # a run with ARC events has its arc columns
+    start = 0
+    for i in [*arcs, len(run)]:
+        if i > start:
+            moves = np.flatnonzero(kind[start:i] != fastlane.SET_FEED)
+            if len(moves):
+                yield _part(run, start, i, start + int(moves[-1]))
+            else:
+                yield from _part(run, start, i).commands(file)
+        if i < len(run):
+            e1, e2, c1, c2, turns, normal = run.arc[i].tolist()
+            yield canon.ArcFeed(
+                e1, e2, c1, c2, int(turns), normal, *run.position[i, 3:].tolist(),
+                source=canon.Location(file, int(run.line[i]), 1),
+            )  # fmt: skip
+        start = i + 1
+
+
+def _part(run: fastlane.Run, i: int, j: int, last_move: int | None = None) -> fastlane.Run:
+    """Events ``i`` to ``j`` of ``run`` as a run without arc columns; ``last_move``: the
+    index of its last move (its end position)."""
+    end = run.end_position if last_move is None else tuple(run.position[last_move].tolist())
+    return fastlane.Run(
+        run.kind[i:j],
+        run.position[i:j],
+        run.feed[i:j],
+        run.line[i:j],
+        0,
+        0,
+        end,
+        float(run.feed[j - 1]),
+        bool(run.kind[last_move] == fastlane.TRAVERSE) if last_move is not None else False,
+    )
+
+
 def can_take(w: WriterContext, run: fastlane.Run) -> bool:
     """Whether :func:`write_run` may write ``run`` (it can still decline: a number too
     large, an axis the dialect lacks off zero, a block too long)."""
@@ -109,13 +157,22 @@ def write_run(
     w.flush()
     layout = w.layout
     if layout is None:
-        layout = w.layout = fastlane.GcodeLayout.of((w.d.rapid, w.d.linear), w.d.axes, w.d.diameter)
+        codes4 = (w.d.rapid, w.d.linear, w.d.arc_cw, w.d.arc_ccw)
+        layout = w.layout = fastlane.GcodeLayout.of(codes4, w.d.axes, w.d.diameter)
+    plane = None
+    if run.arc is not None:
+        if w.o.arc_format != "ijk" or w.centre_abs_on:
+            return False
+        first, second, normal, ci, cj = PLANE_AXES[w.plane]
+        plane = fastlane.arc_plane(layout, first, second, normal, ci + cj)
+        if plane is None:
+            return False
     scale, codes = w.fmt.scale, layout.codes
     motion = codes.index(w.motion) if w.motion in codes else -1
     last = [w.words.get(_LETTERS[i]) for i in layout.axes]
     done = fastlane.gcode_text(
         run, scale, layout, w.fmt.places, w.d.point_required, last, motion, (w.e_feed, w.feed),
-        w.d.separator,
+        w.d.separator, plane,
     )  # fmt: skip
     if done is None:
         return False

@@ -23,7 +23,7 @@ import numpy as np
 from gcode.core import linuxcnc as lc
 from gcode.core.register_marks import ToolLengthRegister
 from gcode.ngc.lane import fastlane
-from gcode.ngc.lane.fastlane import FEED_MOVE, SET_FEED, Run
+from gcode.ngc.lane.fastlane import ARC, FEED_MOVE, SET_FEED, Run
 from gcode.write import approximate
 from gcode.write.approximate import nurbs_problem
 from gcode.write.bulk import COMMANDS_BEFORE_BULK
@@ -130,6 +130,10 @@ class SandiaWriter:
         """One IR command: straight feeds and arcs join the queue of moves (the hot path),
         a feed rate is state, anything else writes the queue first and goes to its handler."""
         self.report.commands += 1
+        self.place(cmd)
+
+    def place(self, cmd: canon.Command) -> None:
+        """:meth:`take` without counting the command (a run's events are counted at once)."""
         if self.ended:
             return
         if type(cmd) is canon.SetFeedRate:
@@ -191,6 +195,10 @@ class SandiaWriter:
                 self.queue.append(pos[i:j, :3])
                 continue
             commands = commands or run.commands(file)
+            if k == ARC:  # arcs (a run read with arcs) join the queue as take queues them
+                for c in commands[i:j]:
+                    self.place(c)
+                continue
             for c in commands[i:j]:  # rapids, or feeds written one by one
                 self.flush_moves()
                 self.src = c.source

@@ -150,7 +150,18 @@ class BlockWriter(WriterContext):
 
     def bulk(self, run: Run, commands: list[canon.Command] | None) -> None:
         """A run (a fast-lane run of ``self.file``, or made of ``commands``) written by
-        :mod:`gcode.write.bulk` where it can take it exactly, else command by command."""
+        :mod:`gcode.write.bulk` where it can take it exactly, else command by command; a
+        run with arcs (read with ``arcs``) as its stretches of plain events in bulk and
+        each arc through its handler."""
+        if run.arc is not None and commands is None:
+            if can_take(self, run) and write_run(self, run, self.file, None):
+                return
+            for part in emit_bulk.stretches(run, self.file):
+                if isinstance(part, Run):
+                    self.bulk(part, None)
+                else:
+                    self.command(part)
+            return
         if not (can_take(self, run) and write_run(self, run, self.file, commands)):
             for cmd in commands if commands is not None else run.commands(self.file):
                 self.command(cmd)

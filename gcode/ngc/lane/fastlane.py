@@ -251,10 +251,10 @@ def events_text(run: Run, seq0: int) -> str:
 @dataclass(frozen=True, slots=True)
 class GcodeLayout:
     """What :func:`gcode_text` needs of a dialect, as the kernel takes it (made once per
-    writer): its rapid and linear motion codes, the axes it has among X Y Z A B C, and
-    those written as a diameter (twice the coordinate)."""
+    writer): its rapid, linear, clockwise and counter-clockwise arc motion codes, the axes
+    it has among X Y Z A B C, and those written as a diameter (twice the coordinate)."""
 
-    codes: tuple[str, str]
+    codes: tuple[str, ...]
     axes: list[int]
     code_buf: np.ndarray
     code_len: np.ndarray
@@ -264,9 +264,9 @@ class GcodeLayout:
     absent: np.ndarray
 
     @classmethod
-    def of(cls, codes: tuple[str, str], dialect_axes: str, diameter: str = "") -> GcodeLayout:
+    def of(cls, codes: tuple[str, ...], dialect_axes: str, diameter: str = "") -> GcodeLayout:
         axes = [i for i, letter in enumerate("XYZABC") if letter in dialect_axes]
-        code_buf = np.zeros((2, 8), dtype=np.uint8)
+        code_buf = np.zeros((len(codes), 8), dtype=np.uint8)
         for k, code in enumerate(codes):
             code_buf[k, : len(code)] = np.frombuffer(code.encode("ascii"), dtype=np.uint8)
         return cls(
@@ -296,6 +296,7 @@ def gcode_text(
     motion: int,
     feed: tuple[str | None, float],
     separator: str,
+    plane: np.ndarray | None = None,
 ) -> tuple[str, list[str], int, str, int, int] | None:
     """G-code blocks of a run formatted in compiled code (gcode.write.bulk.write_run's
     rules): X Y Z and F times ``scale`` are the output's; ``last`` the words last written
@@ -304,11 +305,23 @@ def gcode_text(
     with a newline after each block, the axis words after, the motion index after, the F
     word after, the longest block, the number of blocks), or None where the kernel cannot
     write the run (a number of 1e12 or more, an axis the dialect lacks off zero), so that
-    the caller writes it command by command."""
-    raw, cannot, motion_after, longest, blocks, state = _kernels().gcode(
+    the caller writes it command by command. A run with arcs needs ``plane`` (the
+    kernel's, :func:`arc_plane`) and the layout's four codes; an arc of more than one turn
+    is not written either."""
+    head = (
         np.ascontiguousarray(run.kind, dtype=np.int8),
         np.ascontiguousarray(run.position, dtype=np.float64),
         np.ascontiguousarray(run.feed, dtype=np.float64),
+    )
+    if run.arc is not None:
+        if plane is None:
+            raise ValueError("a run with arcs needs the arc plane")
+        kernel = _kernels().gcode_arcs
+        head = (*head, np.ascontiguousarray(run.arc, dtype=np.float64).reshape(len(run), 6))
+    else:
+        kernel = _kernels().gcode
+    raw, cannot, motion_after, longest, blocks, state = kernel(
+        *head,
         float(scale),
         layout.axes_arr,
         layout.factor,
@@ -322,12 +335,33 @@ def gcode_text(
         int(motion),
         float(feed[1]),
         np.uint8(ord(separator)),
+        *(() if run.arc is None else (plane,)),
     )
     if cannot:
         return None
     words = state.tobytes().decode("ascii").split("\0")
     na = len(layout.axes)
     return raw.tobytes().decode("ascii"), words[:na], int(motion_after), words[na], longest, blocks
+
+
+def arc_plane(
+    layout: GcodeLayout, first: str, second: str, normal: str, centres: str
+) -> np.ndarray | None:
+    """The kernel's plane argument for arcs in the plane of ``first`` and ``second`` (axis
+    letters; ``normal`` the third, ``centres`` their centre words' letters), or None when
+    the arcs are not the kernel's: an in-plane axis the dialect lacks or writes as a
+    diameter."""
+    spots = []
+    for letter in (first, second):
+        i = "XYZABC".index(letter)
+        if i not in layout.axes or layout.factor[layout.axes.index(i)] != 1.0:
+            return None
+        spots.append(layout.axes.index(i))
+    swap = centres[1] < centres[0]
+    order = sorted(centres)
+    return np.array(
+        [*spots, "XYZ".index(normal), ord(order[0]), ord(order[1]), int(swap)], dtype=np.int64
+    )
 
 
 def sandia_text(

@@ -561,14 +561,95 @@ def _gcode(
     feed0,
     sep,
 ):  # pragma: no cover - compiled
+    """:func:`_gcode_arcs` for a run without arcs."""
+    return _gcode_arcs(
+        kind,
+        pos,
+        feed,
+        np.zeros((0, 6), dtype=np.float64),
+        scale,
+        axes,
+        factor,
+        absent,
+        letters,
+        places,
+        point,
+        state,
+        codes,
+        code_len,
+        motion,
+        feed0,
+        sep,
+        np.zeros(6, dtype=np.int64),
+    )
+
+
+@njit(cache=True)
+def _word_value(word, n):  # pragma: no cover - compiled
+    """The number of an axis word (its letter first) as ``float()`` reads it, and whether
+    it is exact here (a mantissa of at most 15 digits over a power of ten)."""
+    j = 1
+    negative = n > 1 and word[1] == 45
+    if negative:
+        j = 2
+    m = 0
+    digits = 0
+    frac = -1
+    while j < n:
+        b = word[j]
+        if b == 46:
+            frac = 0
+        else:
+            m = m * 10 + (b - 48)
+            digits += 1
+            if frac >= 0:
+                frac += 1
+        j += 1
+    if digits == 0 or digits > 15:
+        return 0.0, False
+    div = 1.0
+    for _ in range(max(frac, 0)):
+        div *= 10.0
+    v = m / div
+    return (-v if negative else v), True
+
+
+@njit(cache=True)
+def _gcode_arcs(
+    kind,
+    pos,
+    feed,
+    arc,
+    scale,
+    axes,
+    factor,
+    absent,
+    letters,
+    places,
+    point,
+    state,
+    codes,
+    code_len,
+    motion,
+    feed0,
+    sep,
+    plane,
+):  # pragma: no cover - compiled
     """G-code blocks of a run's events (gcode.write.bulk.write_run's rules), joined by
     newlines. ``pos`` and ``feed`` are in program units (X Y Z and F times ``scale`` are the
     output's), an axis word's value is times its ``factor`` (2 on a diameter axis); ``state``
     holds the axis words last written and the F word last written
     (letters included, each ending in a zero byte, empty when unknown); ``feed0`` is the
-    feed rate in force; ``absent``: the axes the dialect lacks. Returns (text, whether the
-    kernel cannot write the run: a number too large or an absent axis off zero, the motion
-    code index after, the longest block, the number of blocks, ``state`` after)."""
+    feed rate in force; ``absent``: the axes the dialect lacks. Arcs (kind 3, ``arc``'s
+    rows as ARC_FEED takes them, one turn) are written as gcode.write.handlers.arc writes
+    them with incremental centres: codes rows 2 and 3 (clockwise, counter-clockwise),
+    both in-plane end words, the changed others, the centre words; ``plane`` holds the
+    positions in ``axes`` of the plane's first and second axes, the normal axis (0-2), the
+    centre words' letters in the order they are written, and 1 when that order is the
+    second axis's centre first (the XZ plane's I before K). Returns (text, whether the
+    kernel cannot write the run: a number too large, an absent axis off zero, an arc it
+    does not take, the motion code index after, the longest block, the number of blocks,
+    ``state`` after)."""
     m = kind.shape[0]
     na = axes.shape[0]
     for k in range(m):
@@ -582,8 +663,16 @@ def _gcode(
     n, big = _put_num(last[fw], 1, feed0 * scale, places, point)
     too_large |= big
     last_len[fw] = n
-    out = np.empty(m * (12 + 32 * (na + 1)) + 64, dtype=np.uint8)
+    out = np.empty(m * (12 + 32 * (na + 3)) + 64, dtype=np.uint8)
     word = np.empty(32, dtype=np.uint8)
+    centre = np.empty((2, 32), dtype=np.uint8)
+    centre_len = np.zeros(2, dtype=np.int64)
+    target = np.empty(6, dtype=np.float64)
+    p1, p2 = plane[0], plane[1]
+    in_plane = np.zeros(max(na, 1), dtype=np.bool_)  # written in every arc block
+    if na:
+        in_plane[p1] = True
+        in_plane[p2] = True
     o = 0
     longest = 0
     blocks = 0
@@ -594,32 +683,65 @@ def _gcode(
             too_large |= big
             last_len[fw] = n
             continue
+        is_arc = kk == 3
+        code = kk
+        for a in range(6):
+            target[a] = pos[k, a] * scale if a < 3 else pos[k, a]
+        if is_arc:
+            turns = arc[k, 4]
+            if turns != 1.0 and turns != -1.0:
+                too_large = True
+                break
+            code = 3 if turns > 0 else 2
+            # the start: the in-plane words last written, as the reader reads them back
+            start1, ok1 = _word_value(last[p1], last_len[p1])
+            start2, ok2 = _word_value(last[p2], last_len[p2])
+            if not (ok1 and ok2):
+                too_large = True
+                break
+            target[axes[p1]] = arc[k, 0] * scale
+            target[axes[p2]] = arc[k, 1] * scale
+            target[plane[2]] = arc[k, 5] * scale
+            for c in range(2):  # row c: the centre word written c-th
+                first = (c == 0) != (plane[5] != 0)
+                centre[c, 0] = plane[3 + c]
+                value = arc[k, 2] * scale - start1 if first else arc[k, 3] * scale - start2
+                n, big = _put_num(centre[c], 1, value, places, point)
+                too_large |= big
+                centre_len[c] = n
         start = o
-        if kk != motion:
-            motion = kk
-            for j in range(code_len[kk]):
-                out[o] = codes[kk, j]
+        if code != motion:
+            motion = code
+            for j in range(code_len[code]):
+                out[o] = codes[code, j]
                 o += 1
         changed = False
         for a in range(na):
             word[0] = letters[a]
-            v = pos[k, axes[a]]
-            if axes[a] < 3:
-                v = v * scale
-            n, big = _put_num(word, 1, v * factor[a], places, point)
+            n, big = _put_num(word, 1, target[axes[a]] * factor[a], places, point)
             too_large |= big
-            if not _same_arr(word, n, last[a], last_len[a]):
+            same = _same_arr(word, n, last[a], last_len[a])
+            if not same:
                 for j in range(n):
                     last[a, j] = word[j]
                 last_len[a] = n
+                changed = True
+            if not same or (is_arc and in_plane[a]):
                 if o > start:
                     out[o] = sep
                     o += 1
                 for j in range(n):
                     out[o] = word[j]
                     o += 1
-                changed = True
-        if not changed:  # the handlers write the first axis (X) of a move in place
+        if is_arc:
+            for c in range(2):
+                if o > start:
+                    out[o] = sep
+                    o += 1
+                for j in range(centre_len[c]):
+                    out[o] = centre[c, j]
+                    o += 1
+        elif not changed:  # the handlers write the first axis (X) of a move in place
             if o > start:
                 out[o] = sep
                 o += 1
@@ -775,6 +897,29 @@ SIGNATURES = {
             nt.uint8,
         ),
     ),
+    "gcode_arcs": (
+        _gcode_arcs,
+        nt.Tuple((_U8, nt.boolean, nt.int64, nt.int64, nt.int64, _U8))(
+            _I8,
+            _F64_2D,
+            _F64,
+            _F64_2D,
+            nt.float64,
+            _I64,
+            _F64,
+            _I64,
+            _U8,
+            nt.int64,
+            nt.boolean,
+            _U8_RO,
+            nt.Array(nt.uint8, 2, "C"),
+            _I64,
+            nt.int64,
+            nt.float64,
+            nt.uint8,
+            _I64,
+        ),
+    ),
     "sandia": (
         _sandia,
         nt.Tuple((_U8, _I64, nt.boolean, _U8))(_F64_2D, nt.float64, nt.int64, _U8_RO, nt.boolean),
@@ -786,6 +931,7 @@ scan = _scan
 format = _format  # noqa: A001 - the exported name
 format_arcs = _format_arcs
 gcode = _gcode
+gcode_arcs = _gcode_arcs
 sandia = _sandia
 
 
