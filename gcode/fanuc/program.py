@@ -15,6 +15,8 @@ import re
 from array import array
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from itertools import accumulate, repeat
+from operator import add
 
 import kernel.limits as limits
 from gcode.core.search import find_in_dirs, search_dirs
@@ -36,12 +38,11 @@ class Lines:
     def __init__(self, path: str, data: bytes) -> None:
         self.path = path
         self.data = data
-        starts = array("q", [0])
-        find = data.find
-        pos = find(b"\n")
-        while pos >= 0:
-            starts.append(pos + 1)
-            pos = find(b"\n", pos + 1)
+        # the start of each line: 0, then one past each newline (the pieces' lengths plus
+        # their newlines, summed in C)
+        pieces = map(len, data.split(b"\n"))
+        starts = array("q", accumulate(map(add, pieces, repeat(1)), initial=0))
+        starts.pop()  # one past the end of the last line
         self.starts = starts
 
     def __len__(self) -> int:
@@ -66,6 +67,27 @@ class Lines:
         return bisect.bisect_right(self.starts, offset) - 1
 
 
+def _o_lines(data: bytes) -> Iterator[re.Match[bytes]]:
+    """The O lines of ``data`` in order, as ``_O_BYTES_RE.finditer`` finds them (a match
+    starts a line and ends in it): the pattern is tried only at the start of the lines
+    holding an ``O``, ``o`` or ``:``, when those bytes are rare (a CAM program's few O
+    lines and comments); else the pattern scans the whole file."""
+    letters = (b"O", b"o", b":")
+    if sum(map(data.count, letters)) * 64 > len(data):
+        yield from _O_BYTES_RE.finditer(data)
+        return
+    starts: set[int] = set()
+    for letter in letters:
+        pos = data.find(letter)
+        while pos >= 0:
+            starts.add(data.rfind(b"\n", 0, pos) + 1)
+            pos = data.find(letter, pos + 1)
+    for start in sorted(starts):
+        m = _O_BYTES_RE.match(data, start)
+        if m is not None:
+            yield m
+
+
 @dataclass
 class Source:
     """One file's text: its lines and the programs it holds."""
@@ -82,7 +104,7 @@ class Source:
     def from_bytes(cls, path: str, data: bytes) -> Source:
         src = cls(path, Lines(path, data))
         digits = limits.current().digits
-        for m in _O_BYTES_RE.finditer(data):
+        for m in _o_lines(data):
             index = src.lines.line_of(m.start())
             if len(m.group(1)) > digits:
                 limits.check_digits(src.lines[index], path, index + 1)

@@ -669,6 +669,7 @@ def _gcode_arcs(
     centre_len = np.zeros(2, dtype=np.int64)
     target = np.empty(6, dtype=np.float64)
     p1, p2 = plane[0], plane[1]
+    last_value = np.full(max(na, 1), np.nan)  # the value each axis word was last made of
     in_plane = np.zeros(max(na, 1), dtype=np.bool_)  # written in every arc block
     if na:
         in_plane[p1] = True
@@ -717,8 +718,19 @@ def _gcode_arcs(
                 o += 1
         changed = False
         for a in range(na):
+            v = target[axes[a]] * factor[a]
+            if v == last_value[a]:  # the text of the value formatted last: no formatting
+                if is_arc and in_plane[a]:
+                    if o > start:
+                        out[o] = sep
+                        o += 1
+                    for j in range(last_len[a]):
+                        out[o] = last[a, j]
+                        o += 1
+                continue
+            last_value[a] = v
             word[0] = letters[a]
-            n, big = _put_num(word, 1, target[axes[a]] * factor[a], places, point)
+            n, big = _put_num(word, 1, v, places, point)
             too_large |= big
             same = _same_arr(word, n, last[a], last_len[a])
             if not same:
