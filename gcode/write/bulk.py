@@ -163,8 +163,8 @@ def write_run(
     if run.arc is not None:
         if w.o.arc_format != "ijk" or w.centre_abs_on:
             return False
-        first, second, normal, ci, cj = PLANE_AXES[w.plane]
-        plane = fastlane.arc_plane(layout, first, second, normal, ci + cj)
+        axis1, axis2, normal, ci, cj = PLANE_AXES[w.plane]
+        plane = fastlane.arc_plane(layout, axis1, axis2, normal, ci + cj)
         if plane is None:
             return False
     scale, codes = w.fmt.scale, layout.codes

@@ -308,7 +308,7 @@ def gcode_text(
     the caller writes it command by command. A run with arcs needs ``plane`` (the
     kernel's, :func:`arc_plane`) and the layout's four codes; an arc of more than one turn
     is not written either."""
-    head = (
+    head: tuple[np.ndarray, ...] = (
         np.ascontiguousarray(run.kind, dtype=np.int8),
         np.ascontiguousarray(run.position, dtype=np.float64),
         np.ascontiguousarray(run.feed, dtype=np.float64),
