@@ -29,10 +29,10 @@ def cam_lines(n_lines: int, seed: int = 5970, stop_every: int = 0) -> Iterator[s
     x = y = 0.0
     body = n_lines - 10
     for i in range(body):
-        if i % 200 == 199:
-            yield f"F{rng.choice((600, 800, 1200, 1500))}"
-        elif stop_every and i % stop_every == stop_every - 1:
+        if stop_every and i % stop_every == stop_every - 1:
             yield "G4 P0"
+        elif i % 200 == 199:
+            yield f"F{rng.choice((600, 800, 1200, 1500))}"
         elif i % 50 == 49:
             r = 2.0 + rng.random()
             xe = x + 2 * r

@@ -292,14 +292,15 @@ def test_many_random_programs_plan_as_a_whole(seed: int) -> None:
         check(cmds, m, (1, 11, 97))
 
 
-def _peak_rss(lines: int, tmp: Path) -> float:
-    """``cnc plan``'s peak RSS (MB) on a CAM program of ``lines`` lines."""
+def _peak_rss(lines: int, tmp: Path, extra: tuple[str, ...] = (), stop_every: int = 0) -> float:
+    """``cnc plan``'s peak RSS (MB) on a CAM program of ``lines`` lines (``extra``: more
+    arguments; ``stop_every``: a stop every so many lines)."""
     sys.path.insert(0, str(ROOT / "bench"))
     from bench_memory import peak
     from cam_program import write_program
 
-    prog = write_program(tmp / f"cam_{lines}.ngc", lines)
-    rss, _cpu, _wall, rc = peak([sys.executable, "-m", "cli.main", "plan", str(prog)])
+    prog = write_program(tmp / f"cam_{lines}.ngc", lines, stop_every=stop_every)
+    rss, _cpu, _wall, rc = peak([sys.executable, "-m", "cli.main", "plan", str(prog), *extra])
     assert rc == 0
     prog.unlink()
     return rss
@@ -310,6 +311,16 @@ def test_plan_peak_memory_is_flat_in_program_length(tmp_path: Path) -> None:
     """Peak RSS at 10**6 lines within 1.3 times that at 10**5 (kernel.stream)."""
     small = _peak_rss(10**5, tmp_path)
     large = _peak_rss(10**6, tmp_path)
+    assert large <= 1.3 * small, (small, large)
+
+
+@pytest.mark.slow
+def test_linuxcnc_plan_peak_memory_is_flat_with_stops(tmp_path: Path) -> None:
+    """The linuxcnc model (planned from stop to stop) on CAM programs with a stop every
+    1,000 lines: peak RSS at 10**6 lines within 1.3 times that at 10**5."""
+    extra = ("--machine", str(LCNC_TP / "machine.toml"))
+    small = _peak_rss(10**5, tmp_path, extra, 1000)
+    large = _peak_rss(10**6, tmp_path, extra, 1000)
     assert large <= 1.3 * small, (small, large)
 
 
