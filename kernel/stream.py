@@ -49,7 +49,8 @@ as a later error could still come first.
 
 Planned this way: the ``book`` model with trapezoidal acc/dec and the ``grbl`` model; the
 ``linuxcnc`` model (blend arcs and merged runs across joins, kernel.plan.models) from stop
-to stop (:func:`_lcnc_windows`: a program with no stop is one window). The book's S-curve
+to stop (:func:`_lcnc_windows`: holds, exact stops, traverse-feed changes; a program with
+no stop is one window). The book's S-curve
 (its smoothing reach is set by the fastest move anywhere in the program) is planned whole
 (:func:`streams` says which).
 """
@@ -347,24 +348,44 @@ def plan_windows(
 
 
 class _Pending:
-    """Raw rows not planned yet (in chunks, joined only when cut) and where the last hold
-    row among them is."""
+    """Raw rows not planned yet (in chunks, joined only when cut), the last hold row among
+    them and the last stop join (``G61.1`` exact stop, or a traverse next to a feed move:
+    kernel.plan.models.linuxcnc stops there, deciding it from the two rows alone)."""
 
     def __init__(self) -> None:
         self.chunks: list[np.ndarray] = []
         self.count = 0
         self.last_hold = -1
+        self.last_stop = -1  # a stop join after this row
+        self.tail: tuple[int, bool, int] | None = None  # the last row: kind, rapid, term
 
-    def add(self, raw: np.ndarray, end: bool) -> int:
-        """Add ``raw``; the number of rows to plan now (all at the ``end``; else up to the
-        last hold row with a move after it; 0: none)."""
+    def add(self, raw: np.ndarray, term: np.ndarray, end: bool) -> tuple[int, bool]:
+        """Add ``raw`` (``term``: each row's path mode); the number of rows to plan now
+        (all at the ``end``; else up to the last hold row with a move after it or the last
+        stop join; 0: none) and whether the cut is at a stop join."""
         base = self.count
-        if len(raw):
-            self.chunks.append(raw)
-            self.count += len(raw)
+        if not len(raw):
+            return (self.count, False) if end else (0, False)
+        self.chunks.append(raw)
+        self.count += len(raw)
+        kind, rapid = raw["kind"], raw["category"] == RAPID
+        if self.tail is not None:
+            k0, r0, t0 = self.tail
+            kinds = np.concatenate([[k0], kind])
+            rapids = np.concatenate([[r0], rapid])
+            terms = np.concatenate([[t0], term])
+            offset = base - 1
+        else:
+            kinds, rapids, terms, offset = kind, rapid, term, base
+        self.tail = (int(kind[-1]), bool(rapid[-1]), int(term[-1]))
         if end:
-            return self.count
-        kind = raw["kind"]
+            return self.count, False
+        mv = kinds != HOLD
+        stops = np.flatnonzero(
+            mv[:-1] & mv[1:] & ((rapids[:-1] != rapids[1:]) | (terms[:-1] == linuxcnc.STOP))
+        )
+        if stops.size:
+            self.last_stop = offset + int(stops[-1])
         moving = np.flatnonzero(kind != HOLD)
         cut = 0
         if moving.size:
@@ -373,7 +394,8 @@ class _Pending:
         holds = np.flatnonzero(kind == HOLD)
         if holds.size:
             self.last_hold = base + int(holds[-1])
-        return cut
+        stop_cut = self.last_stop + 1
+        return (stop_cut, True) if stop_cut > cut else (cut, False)
 
     def take(self, cut: int) -> tuple[np.ndarray, np.ndarray]:
         """The first ``cut`` rows, and the rows kept after them."""
@@ -383,6 +405,7 @@ class _Pending:
         self.count = len(rest)
         holds = np.flatnonzero(rest["kind"] == HOLD)
         self.last_hold = int(holds[-1]) if holds.size else -1
+        self.last_stop = -1  # none after the cut: the cut is at the last one or later
         return window, rest
 
 
@@ -390,13 +413,14 @@ def _lcnc_windows(
     commands: Iterable[canon.Command], model: _Model, file: str | None, batch: int
 ) -> Iterator[Plan]:
     """:func:`plan_windows` for the ``linuxcnc`` model: its blend arcs, merged runs, kink
-    losses and look-ahead reach across joins, but not across a stop at a hold row (a dwell,
-    a tool change, a task command's wait: the queue runs dry there). The rows are cut after
-    the last hold row that has a move after it (the program's last move takes the
-    program's own start-up cost, kernel.plan.models.linuxcnc ``START_CYCLES``), and each
-    window is planned by the whole-program planner with the running sums carried
-    (:class:`~kernel.plan.models.linuxcnc.Carry`). A program with no such stop is planned
-    whole, as before."""
+    losses and look-ahead reach across joins, but not across a stop: a hold row (a dwell,
+    a tool change, a task command's wait: the queue runs dry there), a G61.1 exact-stop
+    join, or a traverse next to a feed move (never blended). The rows are cut after the
+    last such stop with a move after it (the program's last move takes the program's own
+    start-up cost, kernel.plan.models.linuxcnc ``START_CYCLES``), and each window is
+    planned by the whole-program planner with the running sums carried
+    (:class:`~kernel.plan.models.linuxcnc.Carry`). A program with no stop is planned whole,
+    as before."""
     builder = PathBuilder(model.build, file)
     errors = _Errors()
     carry = linuxcnc.Carry()
@@ -427,7 +451,11 @@ def _lcnc_windows(
             continue
         if errors.rank <= 3:
             continue
-        cut = pending.add(raw, end)
+        src = raw["source"] - first
+        term = (
+            np.asarray(terms[int(src.min()) :], dtype=np.int8)[src - src.min()] if len(raw) else src
+        )
+        cut, at_stop = pending.add(raw, term, end)
         if not cut:
             continue
         window, rows = pending.take(cut)
@@ -438,7 +466,7 @@ def _lcnc_windows(
         keep = int(rows["source"].min()) if len(rows) else idx
         del terms[: keep - first], tols[: keep - first]
         first = keep
-        carry.last = end
+        carry.last, carry.stop_at_end = end, at_stop
         try:
             plan = linuxcnc.plan(Path(window, file), model.planning, prep, carry)
         except Diagnostic as diag:

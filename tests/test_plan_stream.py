@@ -237,6 +237,26 @@ def test_linuxcnc_windows_end_at_stops() -> None:
     assert len(list(plan_windows(iter(no_stop), LCNC, "p", batch=10))) == 1
 
 
+def test_linuxcnc_windows_end_at_traverses_and_exact_stops() -> None:
+    """Blended runs joined by traverses, and by G61.1 exact stops, with no hold row:
+    windows end at those joins, and plan as the whole program."""
+    run = blended_zigzag(30)
+    run = [c for c in run if not isinstance(c, canon.Dwell)]
+    exact = canon.SetMotionControlMode(canon.MotionMode.EXACT_STOP)
+    cmds: list[canon.Command] = []
+    for k in range(5):
+        cmds += run
+        cmds.append(canon.StraightTraverse(0.0, 0.0, 1.0 + k))
+        cmds.append(canon.StraightFeed(0.0, 0.0, 0.0))
+    cmds += [exact] + [canon.StraightFeed(float(i), 2.0 * (i % 2), 0.0) for i in range(20)]
+    for batch in (10, 64):
+        windows = list(plan_windows(iter(cmds), LCNC, "p", batch=batch))
+        assert len(windows) >= 5 and not any(
+            (w.path.segments["kind"] == HOLD).any() for w in windows
+        )
+    check(cmds, LCNC, (1, 10, 64))
+
+
 def test_linuxcnc_first_error_is_the_whole_programs() -> None:
     """A later window's table error before an earlier window's travel error, as the
     whole program's table is made before it is planned and checked."""

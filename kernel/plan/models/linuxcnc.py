@@ -150,13 +150,16 @@ class Prepared:
 class Carry:
     """What planning a program window by window (kernel.stream) carries from one window to
     the next, each window ending at a stop: the running sum ``G`` of ``2 A L`` of the
-    look-ahead, the start time and path position of the window, and whether the window
-    holds the program's last move (which takes the program's ``START_CYCLES``)."""
+    look-ahead, the start time and path position of the window, whether the window holds
+    the program's last move (which takes the program's ``START_CYCLES``) and whether its
+    last row ends at a stop join the next window's first row makes (a traverse next to a
+    feed move, tp.c handleModeChange)."""
 
     g: float = 0.0
     t: float = 0.0
     s: float = 0.0
     last: bool = True
+    stop_at_end: bool = False  # the window ends at a stop join: the next row is a stop
 
 
 _MODE_TERM = {
@@ -1039,13 +1042,15 @@ def _kept_rows(table: np.ndarray, keep: np.ndarray) -> np.ndarray:
 def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None = None) -> Plan:
     """Plan ``path`` (built from ``prepared.commands``) as LinuxCNC 2.9's planner runs it.
     ``carry``: ``path`` is one window of a program, starting and ending at a stop (a hold
-    row before it and at its end), planned as the whole program plans those rows; updated
-    for the next window."""
+    row, a G61.1 join or a traverse next to a feed move), planned as the whole program
+    plans those rows; updated for the next window."""
     seg = path.segments
     n = len(seg)
     period = machine.controller.interpolation_period
     src = np.clip(seg["source"] - prepared.first, 0, max(len(prepared.term) - 1, 0))
     term = prepared.term[src] if n else np.zeros(0, dtype=np.int8)
+    if n and carry is not None and carry.stop_at_end:
+        term[-1] = STOP  # the join after the window stops (its mode change, below)
     tol = prepared.tolerance[src] if n else np.zeros(0)
     lim = _limits(path, machine)
     if n > 1:
