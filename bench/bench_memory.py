@@ -5,9 +5,12 @@ each in a fresh process and prints its peak resident set size and CPU time (``/u
 -v`` where installed, else ``ru_maxrss`` of the child), with the growth per line between the
 first and the last length. The promise under test is a peak that does not grow with the
 program: the same for 10**5 and 10**7 lines (kernel.stream plans ``cnc plan`` window by
-window). ``--machine`` passes a profile (another controller model).
+window). ``--machine`` passes a profile (another controller model); ``--stop-every N`` puts
+a stop (``G4 P0``) in place of every N-th feed line: the ``linuxcnc`` model plans from stop
+to stop, so its peak is flat only with stops.
 
-Usage: python bench/bench_memory.py [--command plan] [--machine M.toml] [LINES ...]
+Usage: python bench/bench_memory.py [--command plan] [--machine M.toml] [--stop-every N]
+[LINES ...]
 (default 1e5 1e6; ``1e7`` works too, and writes a 10**7-line program of ~300 MB to --tmp)
 """
 
@@ -71,6 +74,12 @@ def main() -> int:
     ap.add_argument("--command", default="plan", help="cnc subcommand (plan, check, canon)")
     ap.add_argument("--machine", default=None, help="machine profile (TOML) for the command")
     ap.add_argument("--tmp", default=None, help="directory for the generated programs")
+    ap.add_argument(
+        "--stop-every",
+        type=int,
+        default=0,
+        help="a G4 P0 stop every N lines (the linuxcnc model plans from stop to stop)",
+    )
     args = ap.parse_args()
     env_cnc = [sys.executable, "-m", "cli.main"]
     extra = ["--machine", args.machine] if args.machine else []
@@ -79,7 +88,7 @@ def main() -> int:
         for n in args.lines:
             prog = Path(tmp) / f"cam_{n}.ngc"
             with open(prog, "w") as fh:
-                for line in cam_lines(n):
+                for line in cam_lines(n, stop_every=args.stop_every):
                     fh.write(line + "\n")
             t0 = time.perf_counter()
             rss, cpu, wall, rc = peak([*env_cnc, args.command, str(prog), *extra])

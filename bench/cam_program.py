@@ -14,8 +14,10 @@ from collections.abc import Iterator
 from pathlib import Path
 
 
-def cam_lines(n_lines: int, seed: int = 5970) -> Iterator[str]:
-    """Yield ``n_lines`` lines (header and footer included) of a millimetre CAM program."""
+def cam_lines(n_lines: int, seed: int = 5970, stop_every: int = 0) -> Iterator[str]:
+    """Yield ``n_lines`` lines (header and footer included) of a millimetre CAM program;
+    ``stop_every``: a ``G4 P0`` (a stop: LinuxCNC's queue runs dry) instead of every
+    ``stop_every``-th feed line (0: none)."""
     rng = random.Random(seed)
     yield "%"
     yield "(CAM-style benchmark program)"
@@ -27,7 +29,9 @@ def cam_lines(n_lines: int, seed: int = 5970) -> Iterator[str]:
     x = y = 0.0
     body = n_lines - 10
     for i in range(body):
-        if i % 200 == 199:
+        if stop_every and i % stop_every == stop_every - 1:
+            yield "G4 P0"
+        elif i % 200 == 199:
             yield f"F{rng.choice((600, 800, 1200, 1500))}"
         elif i % 50 == 49:
             r = 2.0 + rng.random()
@@ -46,10 +50,10 @@ def cam_lines(n_lines: int, seed: int = 5970) -> Iterator[str]:
     yield "%"
 
 
-def write_program(path: Path, n_lines: int, seed: int = 5970) -> Path:
+def write_program(path: Path, n_lines: int, seed: int = 5970, stop_every: int = 0) -> Path:
     """Write the program to ``path`` and return it."""
     with path.open("w") as fh:
-        for line in cam_lines(n_lines, seed):
+        for line in cam_lines(n_lines, seed, stop_every):
             fh.write(line + "\n")
     return path
 

@@ -47,10 +47,12 @@ IR stream or the builder's walk first, then ``PLAN-AXIS``, ``PLAN-FEED``, ``PLAN
 samples): after a first error, windows are still built and planned (not sampled) as far
 as a later error could still come first.
 
-Planned this way: the ``book`` model with trapezoidal acc/dec and the ``grbl`` model. The
-book's S-curve (its smoothing reach is set by the fastest move anywhere in the program) and
-the ``linuxcnc`` model (blend arcs and merged runs across joins, kernel.plan.models) are
-planned whole (:func:`streams` says which).
+Planned this way: the ``book`` model with trapezoidal acc/dec and the ``grbl`` model; the
+``linuxcnc`` model (blend arcs and merged runs across joins, kernel.plan.models) from stop
+to stop (:func:`_lcnc_windows`: holds, exact stops, traverse-feed changes; a program with
+no stop is one window). The book's S-curve
+(its smoothing reach is set by the fastest move anywhere in the program) is planned whole
+(:func:`streams` says which).
 """
 
 from __future__ import annotations
@@ -77,7 +79,7 @@ from kernel.machine import AXIS_NAMES, Machine, with_controller
 from kernel.path.blend import blend_rows
 from kernel.path.builder import PathBuilder
 from kernel.path.segments import FEED, HOLD, PROBE, RAPID, SEGMENT_DTYPE, Path
-from kernel.plan.models import grbl
+from kernel.plan.models import grbl, linuxcnc
 from kernel.plan.planner import Plan, junction_caps, range_min, segment_limits, trapezoids
 from kernel.plan.strategy import no_blend, plan_program
 from kernel.report.breakdown import PARTS, Mark, StretchSums
@@ -91,7 +93,7 @@ BATCH = 1 << 14
 def streams(machine: Machine) -> bool:
     """Whether :func:`plan_windows` plans ``machine``'s model (else plan it whole)."""
     model = machine.controller.model
-    if model == "grbl":
+    if model in ("grbl", "linuxcnc"):
         return True
     if model != "book":
         return False
@@ -111,6 +113,9 @@ class _Model:
     @classmethod
     def of(cls, machine: Machine) -> _Model:
         planning = planning_machine(machine)
+        if machine.controller.model == "linuxcnc":
+            flat = with_controller(machine, accdec="trapezoid")
+            return cls("linuxcnc", flat, with_controller(planning, accdec="trapezoid"), 0)
         if machine.controller.model == "grbl":
             flat = with_controller(machine, accdec="trapezoid", blend_tolerance=0.0)
             plan_on = with_controller(planning, accdec="trapezoid")
@@ -212,6 +217,25 @@ class _Errors:
         if rank < self.rank:
             self.rank, self.error = rank, error
 
+    def checked(self, plan: Plan) -> bool:
+        """Check a window's final rows as the whole program's are checked before sampling
+        (``PLAN-TRAVEL``, ``LIMIT-COUNT``): whether no error is known so far."""
+        try:
+            check_travel(plan)
+        except Diagnostic as diag:
+            self.note(diag, 5)
+        steps, row = move_steps(plan, plan.machine.controller.interpolation_period)
+        key = math.inf if math.isnan(steps) else steps
+        if key > self.steps:
+            self.steps = key
+            try:
+                check_steps(plan, steps, row)
+            except Diagnostic as diag:
+                if self.rank == 6:  # a move with more samples than the last one's
+                    self.error = diag
+                self.note(diag, 6)
+        return self.error is None
+
 
 @dataclass(slots=True)
 class _Clock:
@@ -257,6 +281,9 @@ def plan_windows(
     program's start. Raises the error planning the whole program would raise, once the
     windows before it have been given. ``batch``: commands read at a time (the window)."""
     model = _Model.of(machine)
+    if model.name == "linuxcnc":
+        yield from _lcnc_windows(commands, model, file, batch)
+        return
     builder = PathBuilder(model.build, file)
     look = _Lookahead(model.window)
     errors = _Errors()
@@ -314,22 +341,141 @@ def plan_windows(
         final = look.pop(end)
         if final is not None:
             plan = _window_plan(model, file, *final, clock)
-            try:
-                check_travel(plan)
-            except Diagnostic as diag:
-                errors.note(diag, 5)
-            steps, row = move_steps(plan, plan.machine.controller.interpolation_period)
-            key = math.inf if math.isnan(steps) else steps
-            if key > errors.steps:
-                errors.steps = key
-                try:
-                    check_steps(plan, steps, row)
-                except Diagnostic as diag:
-                    if errors.rank == 6:  # a move with more samples than the last one's
-                        errors.error = diag
-                    errors.note(diag, 6)
-            if errors.error is None:
+            if errors.checked(plan):
                 yield plan
+    if errors.error is not None:
+        raise errors.error
+
+
+class _Pending:
+    """Raw rows not planned yet (in chunks, joined only when cut), the last hold row among
+    them and the last stop join (``G61.1`` exact stop, or a traverse next to a feed move:
+    kernel.plan.models.linuxcnc stops there, deciding it from the two rows alone)."""
+
+    def __init__(self) -> None:
+        self.chunks: list[np.ndarray] = []
+        self.count = 0
+        self.last_hold = -1
+        self.last_stop = -1  # a stop join after this row
+        self.tail: tuple[int, bool, int] | None = None  # the last row: kind, rapid, term
+
+    def add(self, raw: np.ndarray, term: np.ndarray, end: bool) -> tuple[int, bool]:
+        """Add ``raw`` (``term``: each row's path mode); the number of rows to plan now
+        (all at the ``end``; else up to the last hold row with a move after it or the last
+        stop join; 0: none) and whether the cut is at a stop join."""
+        base = self.count
+        if not len(raw):
+            return (self.count, False) if end else (0, False)
+        self.chunks.append(raw)
+        self.count += len(raw)
+        kind, rapid = raw["kind"], raw["category"] == RAPID
+        if self.tail is not None:
+            k0, r0, t0 = self.tail
+            kinds = np.concatenate([[k0], kind])
+            rapids = np.concatenate([[r0], rapid])
+            terms = np.concatenate([[t0], term])
+            offset = base - 1
+        else:
+            kinds, rapids, terms, offset = kind, rapid, term, base
+        self.tail = (int(kind[-1]), bool(rapid[-1]), int(term[-1]))
+        if end:
+            return self.count, False
+        mv = kinds != HOLD
+        stops = np.flatnonzero(
+            mv[:-1] & mv[1:] & ((rapids[:-1] != rapids[1:]) | (terms[:-1] == linuxcnc.STOP))
+        )
+        if stops.size:
+            self.last_stop = offset + int(stops[-1])
+        moving = np.flatnonzero(kind != HOLD)
+        cut = 0
+        if moving.size:
+            before = np.flatnonzero(kind[: moving[-1]] == HOLD)
+            cut = base + int(before[-1]) + 1 if before.size else self.last_hold + 1
+        holds = np.flatnonzero(kind == HOLD)
+        if holds.size:
+            self.last_hold = base + int(holds[-1])
+        stop_cut = self.last_stop + 1
+        return (stop_cut, True) if stop_cut > cut else (cut, False)
+
+    def take(self, cut: int) -> tuple[np.ndarray, np.ndarray]:
+        """The first ``cut`` rows, and the rows kept after them."""
+        rows = self.chunks[0] if len(self.chunks) == 1 else np.concatenate(self.chunks)
+        window, rest = rows[:cut], rows[cut:]
+        self.chunks = [rest] if len(rest) else []
+        self.count = len(rest)
+        holds = np.flatnonzero(rest["kind"] == HOLD)
+        self.last_hold = int(holds[-1]) if holds.size else -1
+        self.last_stop = -1  # none after the cut: the cut is at the last one or later
+        return window, rest
+
+
+def _lcnc_windows(
+    commands: Iterable[canon.Command], model: _Model, file: str | None, batch: int
+) -> Iterator[Plan]:
+    """:func:`plan_windows` for the ``linuxcnc`` model: its blend arcs, merged runs, kink
+    losses and look-ahead reach across joins, but not across a stop: a hold row (a dwell,
+    a tool change, a task command's wait: the queue runs dry there), a G61.1 exact-stop
+    join, or a traverse next to a feed move (never blended). The rows are cut after the
+    last such stop with a move after it (the program's last move takes the program's own
+    start-up cost, kernel.plan.models.linuxcnc ``START_CYCLES``), and each window is
+    planned by the whole-program planner with the running sums carried
+    (:class:`~kernel.plan.models.linuxcnc.Carry`). A program with no stop is planned whole,
+    as before."""
+    builder = PathBuilder(model.build, file)
+    errors = _Errors()
+    carry = linuxcnc.Carry()
+    prepared = linuxcnc.prepared_commands(commands)
+    terms: list[int] = []  # path mode and G64 P of commands ``first`` on
+    tols: list[float] = []
+    first = idx = 0
+    pending = _Pending()
+    end = False
+    while not end:
+        cmds: list[canon.Command] = []
+        try:
+            for cmd, term, tol in islice(prepared, batch):
+                cmds.append(cmd)
+                terms.append(term)
+                tols.append(tol)
+        except Exception:
+            builder.feed_commands(cmds, idx)
+            raise
+        end = not cmds
+        if cmds:
+            builder.feed_commands(cmds, idx)
+            idx += len(cmds)
+        try:
+            raw = builder.take()
+        except Diagnostic as diag:
+            errors.note(diag, 2 if diag.code != "PLAN-FEED" else 3)
+            continue
+        if errors.rank <= 3:
+            continue
+        src = raw["source"] - first
+        term = (
+            np.asarray(terms[int(src.min()) :], dtype=np.int8)[src - src.min()] if len(raw) else src
+        )
+        cut, at_stop = pending.add(raw, term, end)
+        if not cut:
+            continue
+        window, rows = pending.take(cut)
+        upto = int(window["source"].max()) + 1 - first
+        prep = linuxcnc.Prepared(
+            [], np.array(terms[:upto], dtype=np.int8), np.array(tols[:upto]), first
+        )
+        keep = int(rows["source"].min()) if len(rows) else idx
+        del terms[: keep - first], tols[: keep - first]
+        first = keep
+        carry.last, carry.stop_at_end = end, at_stop
+        try:
+            plan = linuxcnc.plan(Path(window, file), model.planning, prep, carry)
+        except Diagnostic as diag:
+            errors.note(diag, _RANK.get(diag.code, 4))
+            continue
+        if errors.rank <= 5:
+            continue
+        if errors.checked(plan):
+            yield plan
     if errors.error is not None:
         raise errors.error
 

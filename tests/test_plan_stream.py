@@ -3,8 +3,10 @@
 time and time per tool, with windows cut everywhere (a few commands per window): inside
 runs of G64 P corner blends, at stops, with a look-ahead longer than the window (the
 stopping-distance rule) and shorter, for the book and Grbl models, on the golden programs
-and on random programs. The cycle-time parts and path lengths are sums numpy forms
-pairwise over the whole table: they agree to 1e-12, everything else bit for bit.
+and on random programs; for the linuxcnc model, whose windows end at stops, also on
+LinuxCNC's golden programs (tests/data/lcnc_tp). The cycle-time parts and path lengths are
+sums numpy forms pairwise over the whole table: they agree to 1e-12, everything else bit
+for bit.
 
 The ``slow`` test runs ``cnc plan`` on CAM programs of 10**5 and 10**6 lines and compares
 their peak resident set sizes."""
@@ -24,8 +26,10 @@ from click.testing import CliRunner
 
 import kernel.ir.canon as canon
 from cli.plan import command
+from gcode.readers import read
 from kernel.diagnostics import Diagnostic
 from kernel.machine import DEFAULT_MACHINE, Machine, parse_machine, with_controller
+from kernel.path.segments import HOLD
 from kernel.report.breakdown import Stretches, breakdown
 from kernel.simulation import plan_and_measure
 from kernel.stream import measure_streamed, plan_windows, streams
@@ -42,9 +46,18 @@ TIGHT = parse_machine(
     )
 )
 GRBL = with_controller(DEFAULT_MACHINE, model="grbl")
+LCNC = with_controller(DEFAULT_MACHINE, model="linuxcnc")
+LCNC_TP = ROOT / "tests" / "data" / "lcnc_tp"  # LinuxCNC's profile and golden programs
 LONG = with_controller(DEFAULT_MACHINE, lookahead=10**6)  # the stopping-distance rule
 SHORT = with_controller(DEFAULT_MACHINE, lookahead=3)
-MACHINES = {"book": DEFAULT_MACHINE, "grbl": GRBL, "long": LONG, "short": SHORT, "tight": TIGHT}
+MACHINES = {
+    "book": DEFAULT_MACHINE,
+    "grbl": GRBL,
+    "long": LONG,
+    "short": SHORT,
+    "tight": TIGHT,
+    "linuxcnc": LCNC,
+}
 _SUMMED = ("cutting", "rapid", "dwell", "tool_change", "other")
 
 
@@ -143,16 +156,16 @@ def blended_zigzag(n: int) -> list[canon.Command]:
 
 
 # ----------------------------------------------------------------------------- default run
-@pytest.mark.parametrize("model", ["book", "grbl", "long", "short"])
+@pytest.mark.parametrize("model", ["book", "grbl", "long", "short", "linuxcnc"])
 def test_window_cuts_inside_blends_and_at_stops(model: str) -> None:
     ref = check(blended_zigzag(40), MACHINES[model], (1, 5, 16))
     assert ref["segments"] > 60
 
 
-@pytest.mark.parametrize("seed", range(2))
+@pytest.mark.parametrize("seed", range(3))
 def test_random_programs_plan_as_a_whole(seed: int) -> None:
     cmds = random_program(seed, 50)
-    check(cmds, MACHINES[("book", "grbl")[seed]], (1, 9))
+    check(cmds, MACHINES[("book", "grbl", "linuxcnc")[seed]], (1, 9))
 
 
 @pytest.mark.parametrize(
@@ -161,7 +174,7 @@ def test_random_programs_plan_as_a_whole(seed: int) -> None:
 def test_golden_programs_plan_as_a_whole(name: str) -> None:
     if not (GOLDEN / name).exists():
         pytest.skip(f"{name} not in the corpus")
-    for m in (DEFAULT_MACHINE, GRBL):
+    for m in (DEFAULT_MACHINE, GRBL, LCNC):
         check(golden(name), m, (7,))
 
 
@@ -192,9 +205,72 @@ def test_windows_stay_small_in_a_run_of_blends(model: str) -> None:
 
 
 def test_models_that_plan_whole() -> None:
-    assert streams(DEFAULT_MACHINE) and streams(GRBL)
-    assert not streams(with_controller(DEFAULT_MACHINE, model="linuxcnc"))
+    assert streams(DEFAULT_MACHINE) and streams(GRBL) and streams(LCNC)
     assert not streams(with_controller(DEFAULT_MACHINE, accdec="scurve"))
+
+
+def lcnc_program(name: str) -> list[canon.Command]:
+    return list(read(LCNC_TP / "ngc" / name, "rs274ngc"))
+
+
+@pytest.mark.parametrize(
+    "name",
+    ["lcnc_rick_combine.native.ngc", "lcnc_parabolic_varying.G64P.ngc", "corpus_axis.G64P.ngc"],
+)
+def test_linuxcnc_golden_programs_plan_as_a_whole(name: str) -> None:
+    """LinuxCNC's golden programs (spindle and coolant waits, dwells: cut there) on its
+    profile: the whole-program plan's report, cycle time and time per tool."""
+    check(lcnc_program(name), parse_machine((LCNC_TP / "machine.toml").read_text()), (1, 7))
+
+
+def test_linuxcnc_windows_end_at_stops() -> None:
+    """The linuxcnc model's windows end at hold rows (a dwell), never inside a run of
+    blends; a run with no stop is one window."""
+    run = blended_zigzag(40)
+    stops = [c for k in range(6) for c in (*run, canon.Dwell(0.01 * k))]
+    windows = list(plan_windows(iter(stops), LCNC, "p", batch=10))
+    assert len(windows) >= 6
+    assert all(w.path.segments["kind"][-1] == HOLD for w in windows[:-1])
+    assert max(len(w.path.segments) for w in windows) < 200
+    check(stops, LCNC, (10, 64))
+    no_stop = [c for c in run if not isinstance(c, canon.Dwell)]
+    assert len(list(plan_windows(iter(no_stop), LCNC, "p", batch=10))) == 1
+
+
+def test_linuxcnc_windows_end_at_traverses_and_exact_stops() -> None:
+    """Blended runs joined by traverses, and by G61.1 exact stops, with no hold row:
+    windows end at those joins, and plan as the whole program."""
+    run = blended_zigzag(30)
+    run = [c for c in run if not isinstance(c, canon.Dwell)]
+    exact = canon.SetMotionControlMode(canon.MotionMode.EXACT_STOP)
+    cmds: list[canon.Command] = []
+    for k in range(5):
+        cmds += run
+        cmds.append(canon.StraightTraverse(0.0, 0.0, 1.0 + k))
+        cmds.append(canon.StraightFeed(0.0, 0.0, 0.0))
+    cmds += [exact] + [canon.StraightFeed(float(i), 2.0 * (i % 2), 0.0) for i in range(20)]
+    for batch in (10, 64):
+        windows = list(plan_windows(iter(cmds), LCNC, "p", batch=batch))
+        assert len(windows) >= 5 and not any(
+            (w.path.segments["kind"] == HOLD).any() for w in windows
+        )
+    check(cmds, LCNC, (1, 10, 64))
+
+
+def test_linuxcnc_first_error_is_the_whole_programs() -> None:
+    """A later window's table error before an earlier window's travel error, as the
+    whole program's table is made before it is planned and checked."""
+    ok = [canon.SetFeedRate(600.0)] + [canon.StraightFeed(i, 0.0, 0.0) for i in range(1, 30)]
+    ok.append(canon.Dwell(0.1))
+    no_feed = [canon.SetFeedRate(0.0), canon.StraightFeed(0.0, 5.0, 0.0), canon.Dwell(0.0)]
+    far = [canon.SetFeedRate(600.0), canon.StraightFeed(5000.0, 5.0, 0.0), canon.Dwell(0.0)]
+    for cmds in (ok + far + ok + no_feed, ok + far + ok, ok + no_feed + ok):
+        with pytest.raises(Diagnostic) as ref:
+            whole(cmds, LCNC)
+        for batch in (2, 9):
+            with pytest.raises(Diagnostic) as got:
+                streamed(cmds, LCNC, batch)
+            assert (got.value.code, got.value.location) == (ref.value.code, ref.value.location)
 
 
 # ----------------------------------------------------------------------------- slow
@@ -204,7 +280,7 @@ def test_all_golden_programs_plan_as_a_whole() -> None:
     done = 0
     for name in names:
         cmds = golden(name)
-        for m in (DEFAULT_MACHINE, GRBL, LONG):
+        for m in (DEFAULT_MACHINE, GRBL, LONG, LCNC):
             try:
                 ref, _, total = whole(cmds, m)
             except Diagnostic:
@@ -220,6 +296,15 @@ def test_all_golden_programs_plan_as_a_whole() -> None:
 
 
 @pytest.mark.slow
+def test_all_linuxcnc_golden_programs_plan_as_a_whole() -> None:
+    machine = parse_machine((LCNC_TP / "machine.toml").read_text())
+    names = sorted(p.name for p in (LCNC_TP / "ngc").glob("*.ngc"))
+    for name in names:
+        check(lcnc_program(name), machine, (1, 7))
+    assert len(names) > 100
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(2, 40))
 def test_many_random_programs_plan_as_a_whole(seed: int) -> None:
     cmds = random_program(seed, 400)
@@ -227,14 +312,15 @@ def test_many_random_programs_plan_as_a_whole(seed: int) -> None:
         check(cmds, m, (1, 11, 97))
 
 
-def _peak_rss(lines: int, tmp: Path) -> float:
-    """``cnc plan``'s peak RSS (MB) on a CAM program of ``lines`` lines."""
+def _peak_rss(lines: int, tmp: Path, extra: tuple[str, ...] = (), stop_every: int = 0) -> float:
+    """``cnc plan``'s peak RSS (MB) on a CAM program of ``lines`` lines (``extra``: more
+    arguments; ``stop_every``: a stop every so many lines)."""
     sys.path.insert(0, str(ROOT / "bench"))
     from bench_memory import peak
     from cam_program import write_program
 
-    prog = write_program(tmp / f"cam_{lines}.ngc", lines)
-    rss, _cpu, _wall, rc = peak([sys.executable, "-m", "cli.main", "plan", str(prog)])
+    prog = write_program(tmp / f"cam_{lines}.ngc", lines, stop_every=stop_every)
+    rss, _cpu, _wall, rc = peak([sys.executable, "-m", "cli.main", "plan", str(prog), *extra])
     assert rc == 0
     prog.unlink()
     return rss
@@ -245,6 +331,16 @@ def test_plan_peak_memory_is_flat_in_program_length(tmp_path: Path) -> None:
     """Peak RSS at 10**6 lines within 1.3 times that at 10**5 (kernel.stream)."""
     small = _peak_rss(10**5, tmp_path)
     large = _peak_rss(10**6, tmp_path)
+    assert large <= 1.3 * small, (small, large)
+
+
+@pytest.mark.slow
+def test_linuxcnc_plan_peak_memory_is_flat_with_stops(tmp_path: Path) -> None:
+    """The linuxcnc model (planned from stop to stop) on CAM programs with a stop every
+    1,000 lines: peak RSS at 10**6 lines within 1.3 times that at 10**5."""
+    extra = ("--machine", str(LCNC_TP / "machine.toml"))
+    small = _peak_rss(10**5, tmp_path, extra, 1000)
+    large = _peak_rss(10**6, tmp_path, extra, 1000)
     assert large <= 1.3 * small, (small, large)
 
 

@@ -167,11 +167,32 @@ def lookahead(
     ``window`` ``None`` means unlimited; ``1`` is no look-ahead (stop after every block).
     """
     length = np.asarray(length, dtype=float)
-    n = length.size
     decel = accel if decel is None else decel
+    g = np.concatenate([[0.0], np.cumsum(2.0 * decel * length)])
+    h = np.concatenate([[0.0], np.cumsum(2.0 * accel * length)])
+    return _speeds(junction_cap, g, h, window)
+
+
+def carried_lookahead(
+    length: np.ndarray, junction_cap: np.ndarray, accel: np.ndarray, window: int | None, g0: float
+) -> tuple[np.ndarray, float]:
+    """:func:`lookahead` (``decel = accel``) of one window of a program that stops where
+    the window starts and where it ends, ``g0`` being ``G`` at its start (the sum of
+    ``2 A L`` over the rows before): the junction speeds as the whole program's look-ahead
+    computes them (the same sums, in the same order: the forward pass's running minimum
+    is ``-G`` at the stop), and ``G`` at the window's end."""
+    g = np.cumsum(np.concatenate([[g0], 2.0 * np.asarray(accel) * np.asarray(length, float)]))
+    return _speeds(junction_cap, g, g, window), float(g[-1])
+
+
+def _speeds(
+    junction_cap: np.ndarray, g: np.ndarray, h: np.ndarray, window: int | None
+) -> np.ndarray:
+    """The backward and forward passes of :func:`lookahead` over the running sums ``g``
+    (deceleration) and ``h`` (acceleration)."""
+    n = g.size - 1
     c2 = np.square(np.asarray(junction_cap, dtype=float))
     c2[0] = c2[-1] = 0.0
-    g = np.concatenate([[0.0], np.cumsum(2.0 * decel * length)])
     x = c2 + g
     if window is None or window >= n + 1:
         back = np.minimum.accumulate(x[::-1])[::-1]
@@ -182,7 +203,6 @@ def lookahead(
         inner = range_min(x, i + 1, np.minimum(i + window - 1, n))
         end2 = np.minimum(inner, g[far]) - g[1:]
     y = np.concatenate([[0.0], end2])
-    h = np.concatenate([[0.0], np.cumsum(2.0 * accel * length)])
     w = np.minimum.accumulate(y - h) + h
     return np.sqrt(np.clip(w, 0.0, None))
 
@@ -474,6 +494,7 @@ __all__ = [
     "arc_speed_caps",
     "axis_corner_speed",
     "axis_corner_speeds",
+    "carried_lookahead",
     "centripetal_speed",
     "chord_error_speed",
     "filter_time",

@@ -68,7 +68,7 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -96,6 +96,7 @@ from kernel.plan.models.lcnc_joins import VIRTUAL as _VIRTUAL
 from kernel.plan.planner import (
     Plan,
     Profiles,
+    carried_lookahead,
     commanded_feed,
     lookahead,
     ratio_min,
@@ -142,6 +143,23 @@ class Prepared:
     commands: list[canon.Command]
     term: np.ndarray
     tolerance: np.ndarray
+    first: int = 0  # ``term[k]`` is command ``first + k``'s (a window of a streamed program)
+
+
+@dataclass(slots=True)
+class Carry:
+    """What planning a program window by window (kernel.stream) carries from one window to
+    the next, each window ending at a stop: the running sum ``G`` of ``2 A L`` of the
+    look-ahead, the start time and path position of the window, whether the window holds
+    the program's last move (which takes the program's ``START_CYCLES``) and whether its
+    last row ends at a stop join the next window's first row makes (a traverse next to a
+    feed move, tp.c handleModeChange)."""
+
+    g: float = 0.0
+    t: float = 0.0
+    s: float = 0.0
+    last: bool = True
+    stop_at_end: bool = False  # the window ends at a stop join: the next row is a stop
 
 
 _MODE_TERM = {
@@ -194,29 +212,18 @@ def _linkable(
     return True
 
 
-def prepare(commands: Iterable[canon.Command]) -> Prepared:
-    """Merge naive-CAM runs and record the path mode of every command (emccanon.cc)."""
-    out: list[canon.Command] = [canon.SetMotionControlMode(canon.MotionMode.EXACT_PATH)]
-    terms = [PARABOLIC]
-    tols = [0.0]
+def prepared_commands(
+    commands: Iterable[canon.Command],
+) -> Iterator[tuple[canon.Command, int, float]]:
+    """The commands of :func:`prepare` as they come, each with its path mode and G64 P
+    (mm): a streamed program's canon layer (kernel.stream), a naive-CAM run held until it
+    ends."""
+    yield canon.SetMotionControlMode(canon.MotionMode.EXACT_PATH), PARABOLIC, 0.0
     term, tol, mm = PARABOLIC, 0.0, 1.0
     naive = 0.0
     plane = canon.Plane.XY
     pos: tuple[float, ...] | None = None  # where the chain starts (program units)
     chain: list[canon.StraightFeed] = []
-
-    def emit(cmd: canon.Command) -> None:
-        out.append(cmd)
-        terms.append(term)
-        tols.append(tol)
-
-    def flush() -> None:
-        nonlocal pos
-        if chain:
-            emit(chain[-1])
-            last = chain[-1]
-            pos = (last.x, last.y, last.z)
-            chain.clear()
 
     for cmd in commands:
         if isinstance(cmd, canon.StraightFeed):
@@ -226,17 +233,28 @@ def prepare(commands: Iterable[canon.Command]) -> Prepared:
                 and pos is not None
                 and _linkable(chain, pos, cmd, naive)
             ):
-                flush()
+                last = chain[-1]
+                yield last, term, tol
+                pos = (last.x, last.y, last.z)
+                chain.clear()
             chain.append(cmd)
             if naive <= 0 or term != PARABOLIC:
-                flush()
+                last = chain[-1]
+                yield last, term, tol
+                pos = (last.x, last.y, last.z)
+                chain.clear()
             continue
-        flush()
+        if chain:
+            last = chain[-1]
+            yield last, term, tol
+            pos = (last.x, last.y, last.z)
+            chain.clear()
         match cmd:
             case canon.SetMotionControlMode():
                 term = _MODE_TERM[cmd.mode]
                 tol = cmd.tolerance * mm if term == PARABOLIC else 0.0
-                emit(canon.SetMotionControlMode(canon.MotionMode.EXACT_PATH, source=cmd.source))
+                mode = canon.SetMotionControlMode(canon.MotionMode.EXACT_PATH, source=cmd.source)
+                yield mode, term, tol
                 continue
             case canon.SetNaivecamTolerance():
                 naive = cmd.tolerance
@@ -252,15 +270,27 @@ def prepare(commands: Iterable[canon.Command]) -> Prepared:
             case _ if cmd.NAME in _TASK_WAITS:
                 # issued by task once motion has stopped (emctask.cc preconditions):
                 # the planner's queue runs dry there, a stop
-                emit(cmd)
-                emit(canon.Dwell(0.0, source=cmd.source))
+                yield cmd, term, tol
+                yield canon.Dwell(0.0, source=cmd.source), term, tol
                 continue
             case _:
                 moved = cmd.NAME.startswith(("STRAIGHT_PROBE", "RIGID_TAP"))
                 if moved or cmd.NAME in ("SET_G5X_OFFSET", "SET_G92_OFFSET", "SET_XY_ROTATION"):
                     pos = None
-        emit(cmd)
-    flush()
+        yield cmd, term, tol
+    if chain:
+        yield chain[-1], term, tol
+
+
+def prepare(commands: Iterable[canon.Command]) -> Prepared:
+    """Merge naive-CAM runs and record the path mode of every command (emccanon.cc)."""
+    out: list[canon.Command] = []
+    terms: list[int] = []
+    tols: list[float] = []
+    for cmd, term, tol in prepared_commands(commands):
+        out.append(cmd)
+        terms.append(term)
+        tols.append(tol)
     return Prepared(out, np.array(terms, dtype=np.int8), np.array(tols, dtype=float))
 
 
@@ -1009,13 +1039,18 @@ def _kept_rows(table: np.ndarray, keep: np.ndarray) -> np.ndarray:
     return out
 
 
-def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
-    """Plan ``path`` (built from ``prepared.commands``) as LinuxCNC 2.9's planner runs it."""
+def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None = None) -> Plan:
+    """Plan ``path`` (built from ``prepared.commands``) as LinuxCNC 2.9's planner runs it.
+    ``carry``: ``path`` is one window of a program, starting and ending at a stop (a hold
+    row, a G61.1 join or a traverse next to a feed move), planned as the whole program
+    plans those rows; updated for the next window."""
     seg = path.segments
     n = len(seg)
     period = machine.controller.interpolation_period
-    src = np.clip(seg["source"], 0, max(len(prepared.term) - 1, 0))
+    src = np.clip(seg["source"] - prepared.first, 0, max(len(prepared.term) - 1, 0))
     term = prepared.term[src] if n else np.zeros(0, dtype=np.int8)
+    if n and carry is not None and carry.stop_at_end:
+        term[-1] = STOP  # the join after the window stops (its mode change, below)
     tol = prepared.tolerance[src] if n else np.zeros(0)
     lim = _limits(path, machine)
     if n > 1:
@@ -1181,7 +1216,9 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
                     reqvel[q],
                 )
             )
-            src_t = np.clip(table["source"][p], 0, max(len(prepared.tolerance) - 1, 0))
+            src_t = np.clip(
+                table["source"][p] - prepared.first, 0, max(len(prepared.tolerance) - 1, 0)
+            )
             b1, b2 = _blend_velocity(
                 acc_t[p],
                 acc_t[q],
@@ -1198,7 +1235,10 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
         jcap[1:-1] = np.where(tan, cap_t, 0.0)
     acc_plan = np.where(moving, acc_t, 0.0)
     window = None if nn <= OPT_DEPTH else OPT_DEPTH
-    v = lookahead(length, jcap, acc_plan, None, window)
+    if carry is None:
+        v = lookahead(length, jcap, acc_plan, None, window)
+    else:
+        v, carry.g = carried_lookahead(length, jcap, acc_plan, window, carry.g)
     # ramped short tangent segments: straight from the start speed to the end speed
     cap = target.copy()
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -1224,11 +1264,16 @@ def plan(path: Path, machine: Machine, prepared: Prepared) -> Plan:
     # tcUpdateDistFromAccel's half-period undershoot, the split cycle at a segment's end)
     pause = np.where(moving & (v[1:] <= 0.0) & (overlap <= 0.0), STOP_CYCLES * period, 0.0)
     last = np.flatnonzero(moving)
-    if last.size:
+    if last.size and (carry is None or carry.last):
         pause[last[-1]] += START_CYCLES * period
     duration = duration + pause
-    t_start = np.concatenate([[0.0], np.cumsum(duration)[:-1]]) if nn else np.zeros(0)
-    s = np.concatenate([[0.0], np.cumsum(length)])
+    if carry is None:
+        t_start = np.concatenate([[0.0], np.cumsum(duration)[:-1]]) if nn else np.zeros(0)
+        s = np.concatenate([[0.0], np.cumsum(length)])
+    else:  # the running sums from the program's start, added in the same order
+        t_all = np.cumsum(np.concatenate([[carry.t], duration]))
+        s = np.cumsum(np.concatenate([[carry.s], length]))
+        t_start, carry.t, carry.s = t_all[:-1], float(t_all[-1]), float(s[-1])
     out_path = Path(table, path.file)
     return Plan(out_path, machine, v, cap, prof, pause, duration, t_start, s[:-1], 0.0, overlap)
 
