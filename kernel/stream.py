@@ -270,6 +270,35 @@ def _window_plan(
     )
 
 
+def _batches(
+    builder: PathBuilder, commands: Iterator[canon.Command], batch: int, errors: _Errors
+) -> Iterator[tuple[np.ndarray, bool, int]]:
+    """The segment-table rows of ``commands``, ``batch`` commands at a time, as (rows,
+    whether the program has ended, commands read so far). A command that fails to read
+    still gets the ones before it built; a row-building error is noted in ``errors`` (the
+    whole-program order), after which no rows are given."""
+    idx, end = 0, False
+    while not end:
+        cmds: list[canon.Command] = []
+        try:
+            cmds.extend(islice(commands, batch))
+        except Exception:
+            builder.feed_commands(cmds, idx)
+            raise
+        end = not cmds
+        if cmds:
+            builder.feed_commands(cmds, idx)
+            idx += len(cmds)
+        try:
+            raw = builder.take()
+        except Diagnostic as diag:
+            errors.note(diag, 2 if diag.code != "PLAN-FEED" else 3)
+            continue
+        if errors.rank <= 3:
+            continue
+        yield raw, end, idx
+
+
 def plan_windows(
     commands: Iterable[canon.Command],
     machine: Machine,
@@ -293,26 +322,7 @@ def plan_windows(
     held = np.zeros(0, SEGMENT_DTYPE)
     held_context = False
     last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # row, cap, acc
-    it, idx = iter(model.commands(commands)), 0
-    end = False
-    while not end:
-        cmds: list[canon.Command] = []
-        try:
-            cmds.extend(islice(it, batch))
-        except Exception:
-            builder.feed_commands(cmds, idx)
-            raise
-        end = not cmds
-        if cmds:
-            builder.feed_commands(cmds, idx)
-            idx += len(cmds)
-        try:
-            raw = builder.take()
-        except Diagnostic as diag:
-            errors.note(diag, 2 if diag.code != "PLAN-FEED" else 3)
-            continue
-        if errors.rank <= 3:
-            continue
+    for raw, end, _ in _batches(builder, iter(model.commands(commands)), batch, errors):
         raw = np.concatenate([held, raw]) if len(held) else raw
         first = 1 if len(held) and held_context else 0
         cut = len(raw) if end else max(len(raw) - 1, first)
@@ -427,30 +437,16 @@ def _lcnc_windows(
     prepared = linuxcnc.prepared_commands(commands)
     terms: list[int] = []  # path mode and G64 P of commands ``first`` on
     tols: list[float] = []
-    first = idx = 0
+    first = 0
     pending = _Pending()
-    end = False
-    while not end:
-        cmds: list[canon.Command] = []
-        try:
-            for cmd, term, tol in islice(prepared, batch):
-                cmds.append(cmd)
-                terms.append(term)
-                tols.append(tol)
-        except Exception:
-            builder.feed_commands(cmds, idx)
-            raise
-        end = not cmds
-        if cmds:
-            builder.feed_commands(cmds, idx)
-            idx += len(cmds)
-        try:
-            raw = builder.take()
-        except Diagnostic as diag:
-            errors.note(diag, 2 if diag.code != "PLAN-FEED" else 3)
-            continue
-        if errors.rank <= 3:
-            continue
+
+    def noted() -> Iterator[canon.Command]:  # each command's path mode and G64 P kept
+        for cmd, term, tol in prepared:
+            terms.append(term)
+            tols.append(tol)
+            yield cmd
+
+    for raw, end, idx in _batches(builder, noted(), batch, errors):
         src = raw["source"] - first
         term = (
             np.asarray(terms[int(src.min()) :], dtype=np.int8)[src - src.min()] if len(raw) else src
