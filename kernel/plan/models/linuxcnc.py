@@ -395,6 +395,21 @@ class _Joins:
     trim: np.ndarray  # blend arc tangent length on the lines (d_plan)
 
 
+def _axis_limits(machine: Machine) -> tuple[float, np.ndarray, np.ndarray]:
+    """The servo period and the X Y Z velocity and acceleration limits."""
+    period = machine.controller.interpolation_period
+    vmax = np.array(machine.limit_vector("velocity"))[:3]
+    amax = np.array(machine.limit_vector("acceleration"))[:3]
+    return period, vmax, amax
+
+
+def _stops(m: int) -> tuple[np.ndarray, ...]:
+    """The arrays of :class:`_Joins` for ``m`` joins, each a stop until decided: kind,
+    kink speed (-1: none), kink reduction, blend radius, speed, acceleration, requested
+    speed and trim."""
+    return (np.full(m, STOP, dtype=np.int8), np.full(m, -1.0), *(np.zeros(m) for _ in range(6)))
+
+
 def _tri_vel(acc: np.ndarray, length: np.ndarray) -> np.ndarray:
     """blendmath.h ``findVPeak``: top of a triangle over ``length``."""
     return np.sqrt(np.maximum(acc * length, 0.0))
@@ -553,18 +568,10 @@ def _joins(
     m = max(n - 1, 0)
     if m and (compiled if compiled is not None else m >= COMPILED_JOINS):
         return _joins_compiled(seg, lim, term, tol, machine)
-    period = machine.controller.interpolation_period
-    vmax = np.array(machine.limit_vector("velocity"))[:3]
-    amax = np.array(machine.limit_vector("acceleration"))[:3]
-    kind = np.full(m, STOP, dtype=np.int8)
-    kink_vel = np.full(m, -1.0)
-    kink_red = np.zeros(m)
-    radius = np.zeros(m)
-    arc_vel = np.zeros(m)
-    arc_acc = np.zeros(m)
-    arc_req = np.zeros(m)
+    period, vmax, amax = _axis_limits(machine)
+    kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, trim = _stops(m)
     if m == 0:
-        return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, radius)
+        return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, trim)
     moving = seg["kind"] != HOLD
     # the rows before and after each join (slices: views, not gathers)
     a, b = slice(0, m), slice(1, n)
@@ -607,7 +614,7 @@ def _joins(
     kind[valid & rot_j & (mode == PARABOLIC)] = PARABOLIC
     blend = kinked & (mode == PARABOLIC)
     if not blend.any():
-        return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, radius)
+        return _Joins(kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, trim)
     # --- blend arc (blendmath.c), line-line geometry at every blended corner
     dot = np.clip(_rowsum(u1 * u2), -1.0, 1.0)
     theta = np.arccos(-dot) / 2.0
@@ -723,7 +730,6 @@ def _joins(
     kind[virtual & ~line_side] = TANGENT
     kink_vel[virtual] = perf_arc[virtual]
     radius[use_arc] = r_plan[use_arc]
-    trim = np.zeros(m)
     with np.errstate(divide="ignore", invalid="ignore"):
         trim[use_arc] = (r_plan / np.tan(theta))[use_arc]
     arc_vel[use_arc] = perf_arc[use_arc]
@@ -743,17 +749,8 @@ def _joins_compiled(
     inverse cosines and tangents between them (the same numbers, bit for bit)."""
     n = len(seg)
     m = n - 1
-    period = machine.controller.interpolation_period
-    vmax = np.array(machine.limit_vector("velocity"))[:3]
-    amax = np.array(machine.limit_vector("acceleration"))[:3]
-    kind = np.full(m, STOP, dtype=np.int8)
-    kink_vel = np.full(m, -1.0)
-    kink_red = np.zeros(m)
-    radius = np.zeros(m)
-    arc_vel = np.zeros(m)
-    arc_acc = np.zeros(m)
-    arc_req = np.zeros(m)
-    trim = np.zeros(m)
+    period, vmax, amax = _axis_limits(machine)
+    kind, kink_vel, kink_red, radius, arc_vel, arc_acc, arc_req, trim = _stops(m)
     u1, u2 = np.zeros((m, 3)), np.zeros((m, 3))
     dot = np.zeros(m)
     blend = np.zeros(m, dtype=bool)
