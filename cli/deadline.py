@@ -13,6 +13,9 @@ import ctypes
 import threading
 from types import TracebackType
 
+#: seconds between raising the timeout again while the program has not stopped
+REFIRE = 0.5
+
 
 class ProgramTimeout(BaseException):  # noqa: N818 - not an Exception: ``except Exception`` must not swallow it
     """The program ran past its time limit (a BaseException, so no handler inside the
@@ -38,6 +41,12 @@ class deadline:  # noqa: N801 - used as a context manager, like contextlib's
                 ctypes.pythonapi.PyThreadState_SetAsyncExc(
                     ctypes.c_ulong(self._thread), ctypes.py_object(ProgramTimeout)
                 )
+                # again until the block ends: an exception raised while a generator is
+                # being finalised is printed and dropped ("Exception ignored in"), and the
+                # program would then run on past its limit
+                self._timer = threading.Timer(REFIRE, self._fire)
+                self._timer.daemon = True
+                self._timer.start()
 
     def __enter__(self) -> deadline:
         if self.seconds is not None and self.seconds > 0:

@@ -83,6 +83,23 @@ def test_deadline_stops_a_busy_loop_that_swallows_exceptions() -> None:
     time.sleep(0.2)
 
 
+def test_deadline_raises_again_when_the_first_timeout_is_lost() -> None:
+    """A timeout dropped once (Python drops an exception raised while a generator is
+    being finalised) does not let the program run on: it is raised again."""
+    lost = 0
+    t0 = time.perf_counter()
+    with pytest.raises(ProgramTimeout), deadline(0.1):
+        while True:
+            try:
+                sum(range(100))
+            except ProgramTimeout:
+                if lost:
+                    raise
+                lost += 1
+    assert lost == 1 and time.perf_counter() - t0 < 5
+    time.sleep(0.7)  # no late re-raise once the block has ended
+
+
 def test_parse_local_address() -> None:
     pytest.importorskip("distributed")
     from cli.fleet import parse_local
