@@ -33,7 +33,6 @@ import gcode.ngc.interpreter as ngc_interpreter
 import gcode.siemens.reader as siemens_reader
 from cli.verify import _chunks, _resolution
 from gcode.fanuc.lane import FanucLane
-from gcode.fanuc.program import Source
 from gcode.ngc.interpreter import InterpreterOptions
 from gcode.readers import read, read_chunks
 from gcode.registry import get_dialect
@@ -41,8 +40,9 @@ from gcode.write.report import ConversionReport
 from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
-from kernel.ir.equivalence import Moves, equivalent, expanded, first_difference
+from kernel.ir.equivalence import Moves, equivalent, first_difference
 from tests.convert_support import ir_of, options, programs
+from tests.lane_support import general, listing, spy_lane, through_lanes
 
 HERE = Path(__file__).resolve().parent
 FANUC_SUITE = sorted((HERE / "dialects" / "fanuc").glob("*.nc"))
@@ -63,8 +63,6 @@ LANE_TARGETS = [
     ("siemens840d", "ijk"),
 ]
 
-Listing = tuple[list[tuple[str, int]], str | None]
-
 
 @pytest.fixture
 def lanes_always(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
@@ -73,43 +71,7 @@ def lanes_always(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
     monkeypatch.setattr(ngc_interpreter, "LANE_MIN_BYTES", 0)
     monkeypatch.setattr(fanuc_flow, "LANE_MIN_BYTES", 0)
     monkeypatch.setattr(siemens_reader, "LANE_MIN_BYTES", 0)
-    seen = {"opened": 0, "lines": 0}
-    for_source, take = FanucLane.for_source, FanucLane.take
-
-    def spy_open(src: Source, arcs: bool = False) -> FanucLane | None:
-        lane = for_source(src, arcs)
-        assert lane is not None, "the compiled kernels did not load"
-        seen["opened"] += 1
-        return lane
-
-    def spy_take(self: FanucLane, ex: Any, index: int) -> Any:
-        run = take(self, ex, index)
-        seen["lines"] += run.lines if run is not None else 0
-        return run
-
-    monkeypatch.setattr(FanucLane, "for_source", staticmethod(spy_open))
-    monkeypatch.setattr(FanucLane, "take", spy_take)
-    return seen
-
-
-def listing(commands: Iterator[canon.Command]) -> Listing:
-    out: list[tuple[str, int]] = []
-    try:
-        for cmd in commands:
-            out.append((cmd.to_text(), cmd.source.line if cmd.source else 0))
-    except Diagnostic as exc:
-        return out, f"{exc.code} {exc.location} {exc.message}"
-    return out, None
-
-
-def general(path: Path, dialect: str, opts: InterpreterOptions) -> Listing:
-    return listing(read(path, dialect, replace(opts, fast_lane=False)))
-
-
-def through_lanes(path: Path, dialect: str, opts: InterpreterOptions) -> Listing:
-    """The read-back as the check reads it: runs as arrays, then as commands."""
-    chunks = _chunks(read_chunks(path, dialect, opts, arcs=True), str(path))
-    return listing(expanded(chunks))
+    return spy_lane(monkeypatch, FanucLane, "for_source")
 
 
 def _fanuc_mode(program: Path) -> str | None:

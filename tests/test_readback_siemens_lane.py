@@ -17,27 +17,21 @@ the same place):
 
 from __future__ import annotations
 
-from dataclasses import replace
 from pathlib import Path
-from typing import Any
 
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import gcode.siemens.reader as siemens_reader
-from cli.verify import _chunks
+import tests.lane_support as lane_support
 from gcode.ngc.interpreter import InterpreterOptions
-from gcode.readers import read, read_chunks
 from gcode.siemens.lane import SiemensLane
 from gcode.siemens.program import Program
-from kernel.diagnostics import Diagnostic
-from kernel.ir.equivalence import expanded
+from tests.lane_support import Listing, spy_lane, through_lanes
 
 HERE = Path(__file__).resolve().parent
 SUITE = sorted((HERE / "dialects" / "siemens840d").glob("*.mpf"))
-
-Listing = tuple[list[tuple[str, int]], str | None]
 
 
 @pytest.fixture
@@ -45,43 +39,15 @@ def lane_always(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
     """The lane forced on for every file; counts the lanes opened and the lines their runs
     took, so a test can tell the compiled lane really ran."""
     monkeypatch.setattr(siemens_reader, "LANE_MIN_BYTES", 0)
-    seen = {"opened": 0, "lines": 0}
-    for_program, take = SiemensLane.for_program, SiemensLane.take
-
-    def spy_open(program: Program, arcs: bool = False) -> SiemensLane | None:
-        lane = for_program(program, arcs)
-        assert lane is not None, "the compiled kernels did not load"
-        seen["opened"] += 1
-        return lane
-
-    def spy_take(self: SiemensLane, ex: Any, index: int) -> Any:
-        run = take(self, ex, index)
-        seen["lines"] += run.lines if run is not None else 0
-        return run
-
-    monkeypatch.setattr(SiemensLane, "for_program", staticmethod(spy_open))
-    monkeypatch.setattr(SiemensLane, "take", spy_take)
-    return seen
-
-
-def listing(commands: Any) -> Listing:
-    out: list[tuple[str, int]] = []
-    try:
-        for cmd in commands:
-            out.append((cmd.to_text(), cmd.source.line if cmd.source else 0))
-    except Diagnostic as exc:
-        return out, f"{exc.code} {exc.location} {exc.message}"
-    return out, None
+    return spy_lane(monkeypatch, SiemensLane, "for_program")
 
 
 def general(path: Path, opts: InterpreterOptions) -> Listing:
-    return listing(read(path, "siemens840d", replace(opts, fast_lane=False)))
+    return lane_support.general(path, "siemens840d", opts)
 
 
 def through_lane(path: Path, opts: InterpreterOptions) -> Listing:
-    """The read-back as the convert check reads it: runs as arrays, then as commands."""
-    chunks = _chunks(read_chunks(path, "siemens840d", opts, arcs=True), str(path))
-    return listing(expanded(chunks))
+    return through_lanes(path, "siemens840d", opts)
 
 
 @pytest.mark.parametrize("program", SUITE, ids=lambda p: p.stem)
