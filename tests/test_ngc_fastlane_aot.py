@@ -248,16 +248,30 @@ def test_inline_arc_text_is_exactly_the_ir_writers() -> None:
     assert list(fast_text(arcs, 9, linuxcnc=True)) == list(canon.write_text(arcs, 9))
 
 
-def test_the_one_off_build_is_announced_on_stderr_once(tmp_path: Path) -> None:
-    """A user whose first command builds the kernels is told so on stderr, before the wait;
-    a later command (the build remembered) says nothing."""
+@pytest.mark.parametrize(
+    ("module", "notice"),
+    [
+        ("gcode.ngc.lane.fastlane", "building fast kernels, once, ~30 s"),
+        pytest.param(
+            "stepnc.p21_scan",
+            "building fast Part 21 kernels, once, ~30 s",
+            marks=pytest.mark.slow,  # two interpreters more
+        ),
+    ],
+)
+def test_the_one_off_build_is_announced_on_stderr_once(
+    tmp_path: Path, module: str, notice: str
+) -> None:
+    """A user whose first command builds a front end's kernels (kernel.aot) is told so on
+    stderr, before the wait; a later command (the build remembered) says nothing."""
     probe = (
-        "import sys; from pathlib import Path; from gcode.ngc.lane import fastlane; "
-        "fastlane.KERNELS.build_aot = lambda directory, name: (False, 'no compiler'); "
-        "print(fastlane.load_aot(Path(sys.argv[1])))"
+        f"import sys; from pathlib import Path; from {module} import KERNELS; "
+        "KERNELS.build_aot = lambda directory, name: (False, 'no compiler'); "
+        "print(KERNELS.load_aot(Path(sys.argv[1])))"
     )
     env = dict(os.environ)
     env.pop("CNC_FASTLANE_JIT", None)
+    env.pop("CNC_P21_JIT", None)
     runs = [
         subprocess.run(
             [sys.executable, "-c", probe, str(tmp_path)],
@@ -266,6 +280,6 @@ def test_the_one_off_build_is_announced_on_stderr_once(tmp_path: Path) -> None:
         for _ in range(2)
     ]  # fmt: skip
     assert runs[0].stdout.strip() == runs[1].stdout.strip() == "None"
-    assert runs[0].stderr.startswith("building fast kernels, once, ~30 s")
+    assert runs[0].stderr.startswith(notice)
     assert str(tmp_path) in runs[0].stderr
     assert runs[1].stderr == ""

@@ -239,30 +239,6 @@ def test_a_failed_build_falls_back_to_jit_once(
     assert len(calls) == 1
 
 
-@pytest.mark.slow  # two interpreters
-def test_the_one_off_build_is_announced_on_stderr_once(tmp_path: Path) -> None:
-    """A user whose first large file builds the kernels is told so on stderr, before the
-    wait; a later command (the build remembered) says nothing."""
-    probe = (
-        "import sys; from pathlib import Path; from stepnc.p21_scan import KERNELS; "
-        "KERNELS.build_aot = lambda directory, name: (False, 'no compiler'); "
-        "print(KERNELS.load_aot(Path(sys.argv[1])))"
-    )
-    env = dict(os.environ)
-    env.pop("CNC_P21_JIT", None)
-    runs = [
-        subprocess.run(
-            [sys.executable, "-c", probe, str(tmp_path)],
-            env=env, capture_output=True, text=True, check=True,
-        )
-        for _ in range(2)
-    ]  # fmt: skip
-    assert runs[0].stdout.strip() == runs[1].stdout.strip() == "None"
-    assert runs[0].stderr.startswith("building fast Part 21 kernels, once, ~30 s")
-    assert str(tmp_path) in runs[0].stderr
-    assert runs[1].stderr == ""
-
-
 @pytest.mark.slow  # an interpreter
 def test_loading_the_aot_module_imports_no_numba(tmp_path: Path) -> None:
     if p21_scan.KERNELS.load_aot(cache_dir()) is None:
