@@ -122,7 +122,7 @@ class Executor(ExecutorState):
         corner = {k: v.pop(k) for k in (",C", ",R", ",A") if k in v}
         if corner:
             self._corner_allowed(corner, cols, loc)
-        start = tuple(s.pos)
+        start = tuple(s.pos) if corner else ()
         if self.lathe is not None:
             return self.lathe.block(gs, ms, v, cols, raw, loc)
         actions = self.mill(gs, ms, v, cols, loc, motion, has_axis)

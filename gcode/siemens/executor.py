@@ -62,6 +62,8 @@ ADDRESSES = frozenset(
 _SYSTEM_ZERO = frozenset({"$A_IN", "$A_INA", "$AC_TIME", "$AN_SETUP_TIME", "$P_SEARCH"})
 _SYSTEM_ZERO_ALSO = frozenset({"$P_ISTEST", "$AC_MARKER", "$AC_PARAM", "$P_DRYRUN"})
 _PLANE_OF = {17: "XY", 18: "ZX", 19: "YZ"}
+#: the words of a chamfer or rounding (RNDM= sets the modal rounding)
+_CORNER_WORDS = frozenset({"CHF", "CHR", "RND", "RNDM"})
 #: RS274/NGC's coordinate systems (G54-G59.3): the IR's SET_G5X_OFFSET indexes 1-9
 G5X_SLOTS = 9
 
@@ -301,9 +303,11 @@ class Executor(Machine):
             self._machine_positions(vals)
         if 1 in g:
             s.motion = g[1]
-        start = tuple(s.pos)
+        corner = s.rounding or not _CORNER_WORDS.isdisjoint(v)
+        start = tuple(s.pos) if corner else ()
         moved = motion.execute(self, vals, g.get(11) == 9)
-        self._corner(vals, start, moved)
+        if corner:
+            self._corner(vals, start, moved)
         if moved and s.mcall is not None:
             if s.mcall[2]:
                 self.modal_call_due = True  # a program file: the runner calls it
