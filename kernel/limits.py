@@ -35,6 +35,9 @@ class Limits:
     #: passes of one loop in a row (per entry into it) in every dialect's flow control: an
     #: endless loop that moves ends in about a second of CPU
     loop_passes: int = 100_000
+    #: passes of all loops of one run together (nested loops multiply: eight nested loops
+    #: of 1,000 passes each would run for ever, each loop within ``loop_passes``)
+    loop_total: int = 1_000_000
     #: interpolation samples of one move (a move longer than this at the machine's period)
     samples_per_move: int = 50_000_000
     #: control points of one NURBS curve

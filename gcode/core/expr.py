@@ -132,7 +132,12 @@ def evaluate(node: object, params: ParameterSource, loc: Location) -> float:
     kind = node[0]
     if kind == "b":
         _, op, a, b = node
-        return _binary(op, evaluate(a, params, loc), evaluate(b, params, loc), loc)
+        value = _binary(op, evaluate(a, params, loc), evaluate(b, params, loc), loc)
+        if not math.isfinite(value):
+            # rs274: "Calculation resulted in 'infinity'" (or 'not a number')
+            what = "not a number" if math.isnan(value) else "infinity"
+            raise _fail("NGC-NOT-FINITE", f"calculation resulted in {what}", loc)
+        return value
     if kind == "#":
         return params.numbered(evaluate(node[1], params, loc), loc)
     if kind == "<":

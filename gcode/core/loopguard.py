@@ -9,7 +9,9 @@ back to its start), since a program that never goes back ends by itself:
   100,000: an endless loop that moves, about a second of CPU). "In a row" is per entry into
   the loop: the passes of a loop nested in another's body (or of a subroutine's loop called
   from it) start again from zero at each pass of the outer loop, so a raster of 1,000 rows
-  of 1,000 points counts 1,000 passes of each loop, not 10**6.
+  of 1,000 points counts 1,000 passes of each loop, not 10**6. All loops together may go
+  back at most ``loop_total`` times (default 10**6): nested loops, each within its own
+  limit, would otherwise multiply into a run of hours.
 * ``LOOP-NO-PROGRESS``: more than ``max_idle_blocks`` blocks executed since the last
   canonical command was emitted (default 100,000), i.e. a loop that computes but never moves
   nor outputs anything. A real program's computation loops between two motions run a few
@@ -43,6 +45,7 @@ class LoopGuard:
         "max_blocks",
         "max_idle",
         "output",
+        "passes",
         "_mark_blocks",
         "_mark_output",
         "_sites",
@@ -56,6 +59,7 @@ class LoopGuard:
         self.max_idle = max_idle_blocks
         self.blocks = 0  # blocks executed so far (the reader adds them)
         self.output = 0  # canonical commands emitted so far (the reader adds them)
+        self.passes = 0  # passes of all loops (backward jumps) so far
         self._mark_blocks = 0  # block count when output last changed
         self._mark_output = 0
         # loop sites (file, line of the jump back) with their passes in a row, in the order
@@ -68,6 +72,14 @@ class LoopGuard:
         (line 3)"``) at ``loc``, going back to line ``target`` of the same file (0: not
         known): raises LOOP-LIMIT or LOOP-NO-PROGRESS past a limit."""
         passes = self._pass((loc.file, loc.line), target)
+        self.passes += 1
+        if self.passes > limits.current().loop_total:
+            raise Diagnostic(
+                "LOOP-LIMIT",
+                f"endless loop? {construct}: the program's loops went back more than "
+                f"{limits.current().loop_total} times in all (--limit loop_total=N)",
+                loc,
+            )
         if passes > limits.current().loop_passes:
             raise Diagnostic(
                 "LOOP-LIMIT",

@@ -117,11 +117,20 @@ def evaluate(node: Expr | None, vars: Variables, loc: Location) -> Value:
         return None if v is None else -v
     if kind == "b":
         _, op, a, b = node
-        return _binary(op, evaluate(a, vars, loc), evaluate(b, vars, loc), loc)
+        return _finite(_binary(op, evaluate(a, vars, loc), evaluate(b, vars, loc), loc), loc)
     if kind == "f":
         args = [evaluate(a, vars, loc) for a in node[2:]]
-        return _function(node[1], args, loc)
+        return _finite(_function(node[1], args, loc), loc)
     raise Diagnostic("FANUC-EXPRESSION", f"cannot evaluate {node!r}", loc)
+
+
+def _finite(value: float, loc: Location) -> float:
+    """``value``, or FANUC-OVERFLOW when a calculation left the numbers (the control's
+    alarm 111, calculated data overflow): an infinite or not-a-number value would
+    otherwise become a move to infinity."""
+    if not math.isfinite(value):
+        raise Diagnostic("FANUC-OVERFLOW", f"calculation overflow: the result is {value}", loc)
+    return value
 
 
 def truth(node: Expr | None, vars: Variables, loc: Location) -> bool:

@@ -12,10 +12,23 @@ from __future__ import annotations
 
 import math
 
+import kernel.limits as limits
 from gcode.core.codes import Words
 from gcode.ngc.context import NgcContext
-from kernel.diagnostics import Diagnostic
+from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
+
+
+def _check_passes(ratio: float, degression: float, spring: int, loc: Location) -> None:
+    """LIMIT-COUNT before a G76 whose passes pass ``kernel.limits``' ``cycle_passes``: the
+    depth grows as ``J * n**(1/R)`` up to ``K``, so about ``(K/J)**R`` passes, then ``H + 1``
+    spring passes (a J of 1e-7 mm would cut millions of passes for minutes)."""
+    limit = limits.current().cycle_passes
+    # in logarithms: (K/J)**R overflows a float for a large R
+    log_passes = degression * math.log(ratio) if ratio > 1.0 else 0.0
+    passes = math.exp(min(log_passes, 700.0)) + max(spring, 0) + 1
+    if passes > limit:
+        raise limits.count_error("G76 threading passes", passes, limit, "cycle_passes", loc)
 
 
 def threading_cycle(ctx: NgcContext, w: Words, end: list[float]) -> None:
@@ -57,6 +70,7 @@ def threading_cycle(ctx: NgcContext, w: Words, end: list[float]) -> None:
     taper_pitch = pitch * math.hypot(taper, full_height) / taper if taper > 0 else pitch
     if end_z > start_z:
         taper = -taper
+    _check_passes(full_height / cut_increment, degression, spring, loc)
     flags = max(int(v.get("l", 0)), 0)
     entry, exit_ = bool(flags & 1), bool(flags & 2)
     target_z = end_z + full_height * math.tan(angle)
