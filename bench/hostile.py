@@ -54,7 +54,7 @@ SUFFIX |= {"ap238": ".stp", "fanuc": ".nc", "haas": ".nc", "fanuc_lathe": ".nc"}
 SUFFIX |= {"haas_lathe": ".nc", "mach3": ".tap", "grbl": ".gcode"}
 #: a located, coded diagnostic as the CLI prints it (cli/excerpt.py), or as a JSON report
 LOCATED = re.compile(
-    r"(?m)^.*?:(?:#\d+:)?\d+:\d+: (?:error|warning)\[[A-Z0-9][A-Z0-9-]*\]"
+    r"(?m)^.*?:(?:#\d+:)?\d+:\d+: (?:error|warning)\[[A-Z0-9][A-Z0-9/-]*\]"
     r"|\"code\": \"[A-Z0-9][A-Z0-9-]*\".*?\"line\": \d+"
 )
 #: a coded error not tied to a line (an I/O error naming its file, a usage error naming

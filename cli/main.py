@@ -72,7 +72,7 @@ Exit codes: 0 clean, 1 errors in the program(s), 2 usage or I/O error.
     multiple=True,
     metavar="NAME=N",
     help="Change a resource limit (repeatable): digits, nesting, expression_depth, "
-    "cycle_passes, loop_passes, loop_total, samples_per_move, nurbs_points, "
+    "cycle_passes, loop_passes, loop_total, samples_per_move, arc_chords, nurbs_points, "
     "toolpath_passes, seconds "
     "(docs/reliability.md).",
 )

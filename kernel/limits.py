@@ -40,6 +40,8 @@ class Limits:
     loop_total: int = 1_000_000
     #: interpolation samples of one move (a move longer than this at the machine's period)
     samples_per_move: int = 50_000_000
+    #: chords one arc becomes in the Grbl model (each a row of the segment table)
+    arc_chords: int = 1_000_000
     #: control points of one NURBS curve
     nurbs_points: int = 100_000
     #: toolpath passes (lines, rings, levels) one STEP-NC operation may generate

@@ -32,6 +32,7 @@ parsing").
 from __future__ import annotations
 
 import gc
+import math
 import re
 import sys
 from collections.abc import MutableMapping
@@ -94,6 +95,9 @@ _TOKEN = re.compile(
 )
 _DIGITS_TO_ZERO = bytes.maketrans(b"123456789", b"000000000")
 _DIGIT_PIECE = 1 << 20
+#: exponents of three digits or more, with every digit made '0' (:meth:`_Reader.check_digits`)
+_BIG_EXPONENTS = (b"E000", b"E+000", b"e000", b"e+000")
+_EXPONENT = re.compile(r"[eE]\+?\d{3,}")
 #: the most instances the fast path takes between two tries of the compiled scanner
 _SCAN_BACKOFF = 1024
 _INSTANCE_START = re.compile(r"\n[ \t]*#\d+[ \t]*=")
@@ -146,10 +150,13 @@ class _Reader:
         zeros = b"0" * (limit + 1)
         at = -1
         for start in range(0, len(raw), _DIGIT_PIECE):
-            at = raw[start : start + _DIGIT_PIECE + limit].translate(_DIGITS_TO_ZERO).find(zeros)
+            piece = raw[start : start + _DIGIT_PIECE + limit].translate(_DIGITS_TO_ZERO)
+            at = piece.find(zeros)
             if at >= 0:
                 at += start
                 break
+            if any(e in piece for e in _BIG_EXPONENTS):
+                self.check_range(start, start + len(piece))
         m = None if at < 0 else re.compile(r"\d+").match(self.text, at)
         if m is not None:
             line, col = self.line_col(m.start())
@@ -158,6 +165,31 @@ class _Reader:
                 f"a number of {m.end() - m.start()} digits (limit {limit}, --limit digits=N)",
                 Location(self.file, line, col),
             )
+
+    def check_range(self, start: int, stop: int) -> None:
+        """P21-NUMBER at the first real between ``start`` and ``stop`` too large for a
+        float (``1.0E999``): it would be read as infinity. Only pieces holding an exponent
+        of three digits or more are searched (:meth:`check_digits`)."""
+        for m in _EXPONENT.finditer(self.text, start, stop):
+            begin = m.start()
+            while begin > 0 and self.text[begin - 1] in "0123456789.+-":
+                begin -= 1
+            number = self.text[begin : m.end()]
+            # a real has a decimal point and starts a value (a string's hex escape such
+            # as \X4\0001E470\X0\ does neither)
+            if "." not in number or begin and self.text[begin - 1] not in "(, \t\r\n":
+                continue
+            try:
+                value = float(number)
+            except ValueError:
+                continue  # not a number: the parser says what it is
+            if math.isinf(value):
+                line, col = self.line_col(begin)
+                raise Diagnostic(
+                    "P21-NUMBER",
+                    f"{number} is out of range (the largest real is about 1.8E308)",
+                    Location(self.file, line, col),
+                )
 
     def token(self, pos: int) -> re.Match[str]:
         m = _TOKEN.match(self.text, pos)

@@ -7,14 +7,20 @@ call the reader or the command in this process, each well under a second.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 
 import kernel.limits as limits
 from gcode.readers import read_text
 from kernel.diagnostics import Diagnostic
+from kernel.machine import parse_machine
+from kernel.plan.models.grbl import segment_arcs
+from kernel.plan.strategy import build
+from stepnc.part21 import parse
 
 
 @pytest.fixture
@@ -122,3 +128,55 @@ def test_loop_total_counts_every_pass_of_a_raster(fresh_limits: None) -> None:
 def test_a_fanuc_macro_overflow_is_a_located_alarm(body: str, line: int) -> None:
     diag = _error(f"%\nO1\nG21 G90\nF100.\n{body}\nG01 X#1\nM30\n%\n", "fanuc")
     assert (diag.code, diag.location.line) == ("FANUC-OVERFLOW", line)
+
+
+GRBL = Path(__file__).parent / "data" / "grbl_sim" / "machine.toml"
+
+
+# the Grbl model made every chord of an arc a row of the segment table before planning:
+# an arc of a million turns (1.6e8 chords, 57 GB) died with numpy's MemoryError, one of
+# radius 1e99 with a ValueError (a negative repeat count) - tracebacks of cnc plan
+@pytest.mark.parametrize("arc", ["G2 X0 Y0 I10 J0 P1000000", "G2 X0 Y0 I" + "9" * 99 + " J0"])
+def test_a_grbl_arc_of_too_many_chords_is_refused_at_its_line(fresh_limits: None, arc: str) -> None:
+    machine = parse_machine(GRBL.read_text())
+    text = f"G21 G90 G17\nF100\nG0 X0 Y0\n{arc}\nG1 X1\nM2\n"
+    built = build(read_text(text, "rs274ngc", "arc.ngc"), machine, "arc.ngc")
+    with pytest.raises(Diagnostic) as info:
+        segment_arcs(built.path, machine.controller.arc_tolerance)
+    diag = info.value
+    assert (diag.code, diag.location.file, diag.location.line) == ("LIMIT-COUNT", "arc.ngc", 4)
+    assert "arc_chords" in diag.message
+
+
+def test_a_grbl_arc_within_the_chord_limit_is_cut_into_its_chords(fresh_limits: None) -> None:
+    """mc_arc: floor(|phi r/2| / sqrt(tol (2r - tol))) chords; the limit counts the same."""
+    machine = parse_machine(GRBL.read_text())
+    chords = math.floor(math.pi * 10 / math.sqrt(0.002 * (20 - 0.002)))
+    text = "G21 G90 G17\nF100\nG0 X0 Y0\nG2 X0 Y0 I10 J0\nM2\n"
+    built = build(read_text(text, "rs274ngc", "arc.ngc"), machine, "arc.ngc")
+    limits.configure(arc_chords=chords)
+    assert len(segment_arcs(built.path, 0.002).segments) >= chords
+    limits.configure(arc_chords=chords - 1)
+    with pytest.raises(Diagnostic):
+        segment_arcs(built.path, 0.002)
+
+
+POCKET = (Path(__file__).parent / "stepnc" / "pocket_zigzag.stp").read_text()
+
+
+# a Part 21 real of 1.0E999 was read as infinity: cnc stepnc canon wrote moves to inf and
+# exited 0, cnc stepnc gouge failed with "cannot convert float NaN to integer" and no line
+@pytest.mark.parametrize("real", ["1.0E999", "1.E+400", "-17.5E0309"])
+def test_a_part21_real_beyond_the_floats_is_a_located_error(real: str) -> None:
+    text = POCKET.replace("(50.0,40.0,0.0)", f"({real},40.0,0.0)")
+    line = text[: text.index(real)].count("\n") + 1
+    with pytest.raises(Diagnostic) as info:
+        parse(text, "inf.stp")
+    diag = info.value
+    assert (diag.code, diag.location.line, diag.location.column) == ("P21-NUMBER", line, 26)
+
+
+def test_a_part21_real_within_the_floats_is_read() -> None:
+    text = POCKET.replace("(50.0,40.0,0.0)", "(1.0E300,40.0,-2.5E-320)")
+    point = parse(text, "big.stp").instances[105]
+    assert point.params[1] == (1e300, 40.0, -2.5e-320)

@@ -31,6 +31,8 @@ from __future__ import annotations
 
 import numpy as np
 
+import kernel.limits as limits
+from kernel.diagnostics import Location
 from kernel.machine import Machine
 from kernel.path.geometry import evaluate
 from kernel.path.segments import ARC, HOLD, LINE, Path
@@ -50,6 +52,27 @@ def arc_chords(radius: np.ndarray, sweep: np.ndarray, tolerance: float) -> np.nd
     return np.where(q > 0, np.maximum(count, 1), 1).astype(np.int64)
 
 
+def _check_chords(path: Path, arc: np.ndarray, radius: np.ndarray, tolerance: float) -> None:
+    """``LIMIT-COUNT`` at the first arc that would become more than ``kernel.limits``'
+    ``arc_chords`` chords (an arc of a million turns, or of radius 1e99: each chord is a row
+    of the segment table, 367 bytes)."""
+    seg = path.segments
+    q = tolerance * (2.0 * radius - tolerance)
+    with np.errstate(all="ignore"):
+        chords = np.abs(0.5 * seg["sweep"][arc] * radius) / np.sqrt(np.where(q > 0, q, 1.0))
+    limit = limits.current().arc_chords
+    over = ~(np.floor(chords) <= limit)  # NaN and inf are over
+    if over.any():
+        i = int(np.argmax(over))
+        raise limits.count_error(
+            "chords of one arc (Grbl's arc segments)",
+            float(chords[i]),
+            limit,
+            "arc_chords",
+            Location(path.file, int(seg["line"][arc[i]])),
+        )
+
+
 def segment_arcs(path: Path, tolerance: float) -> Path:
     """``path`` with every arc replaced by its Grbl chords (lines)."""
     seg = path.segments
@@ -57,6 +80,7 @@ def segment_arcs(path: Path, tolerance: float) -> Path:
     if not arc.size:
         return path
     r = np.minimum(seg["radius"][arc], seg["radius_end"][arc])
+    _check_chords(path, arc, r, tolerance)
     count = arc_chords(r, seg["sweep"][arc], tolerance)
     reps = np.ones(len(seg), dtype=np.int64)
     reps[arc] = count
