@@ -245,11 +245,21 @@ class Executor:
 
     def feed_value(self, tech: Entity, tool: Entity) -> float:
         if tech.feedrate is not None:
+            if float(tech.feedrate) < 0:
+                raise self.error(
+                    "STEPNC-NO-FEED", f"feedrate {tech.feedrate:g} m/s is negative", tech
+                )
             return float(tech.feedrate) * 60000.0  # m/s -> mm/min
         if tech.feedrate_per_tooth is not None:
             teeth = tool.its_tool_body.number_of_teeth
             if not teeth:
                 raise self.error("STEPNC-NO-TEETH", "feed per tooth needs number_of_teeth", tool)
+            if float(tech.feedrate_per_tooth) < 0:
+                raise self.error(
+                    "STEPNC-NO-FEED",
+                    f"feed per tooth {tech.feedrate_per_tooth:g} mm is negative",
+                    tech,
+                )
             return float(tech.feedrate_per_tooth) * int(teeth) * self.speed
         raise self.error(
             "STEPNC-NO-FEED", "technology gives neither feedrate nor feed per tooth", tech

@@ -305,6 +305,14 @@ def _check_workingstep(ws: Entity, sink: _Sink) -> None:
     diameter = float(dim.diameter)
     edge = dim.edge_radius
     loc = op.where(ws.id)
+    if not diameter > 0:
+        # toolpaths offset by a negative radius cut outside the feature
+        sink.add(
+            "STEPNC-TOOL-DIAMETER",
+            f"tool {op.its_tool.its_id!r} has diameter {diameter:g}: it must be positive",
+            loc,
+        )
+        return
     if feature.type in ("CLOSED_POCKET", "OPEN_POCKET") and op.is_a(
         "BOTTOM_AND_SIDE_ROUGH_MILLING",
         "BOTTOM_AND_SIDE_FINISH_MILLING",

@@ -21,6 +21,7 @@ from kernel.machine import parse_machine
 from kernel.plan.models.grbl import segment_arcs
 from kernel.plan.strategy import build
 from stepnc.part21 import parse
+from stepnc.to_canon import canon_from_file
 
 
 @pytest.fixture
@@ -180,3 +181,53 @@ def test_a_part21_real_within_the_floats_is_read() -> None:
     text = POCKET.replace("(50.0,40.0,0.0)", "(1.0E300,40.0,-2.5E-320)")
     point = parse(text, "big.stp").instances[105]
     assert point.params[1] == (1e300, 40.0, -2.5e-320)
+
+
+BSPLINE = (Path(__file__).parent / "stepnc" / "explicit_bspline.stp").read_text()
+
+
+def _stepnc_error(tmp_path: Path, text: str) -> Diagnostic:
+    prog = tmp_path / "hostile.stp"
+    prog.write_text(text)
+    start = time.process_time()
+    with pytest.raises(Diagnostic) as info:
+        list(canon_from_file(str(prog), mode="nist"))
+    assert time.process_time() - start < 2.0
+    return info.value
+
+
+# knot multiplicities were expanded before they were counted: (1000000000,4) listed a
+# billion knots (MemoryError traceback); degree 0, a missing or a negative multiplicity
+# were not refused
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        ("(4,4),(0.0,1.0)", "(1000000000,4),(0.0,1.0)"),
+        ("(4,4),(0.0,1.0)", "(-4,12),(0.0,1.0)"),
+        ("(4,4),(0.0,1.0)", "(4,4,4),(0.0,1.0)"),
+        ("B_SPLINE_CURVE_WITH_KNOTS('',3,", "B_SPLINE_CURVE_WITH_KNOTS('',0,"),
+    ],
+)
+def test_a_bspline_with_impossible_knots_is_a_located_error(
+    tmp_path: Path, old: str, new: str
+) -> None:
+    assert old in BSPLINE
+    diag = _stepnc_error(tmp_path, BSPLINE.replace(old, new))
+    assert diag.code == "STEPNC-CURVE" and diag.location.entity is not None
+
+
+# a tool of diameter 0 or -10 and a feedrate of -0.02 m/s gave a program (exit 0)
+@pytest.mark.parametrize(
+    ("old", "new", "code"),
+    [
+        ("MILLING_TOOL_DIMENSION(10.0", "MILLING_TOOL_DIMENSION(0.0", "STEPNC-TOOL-DIAMETER"),
+        ("MILLING_TOOL_DIMENSION(10.0", "MILLING_TOOL_DIMENSION(-10.0", "STEPNC-TOOL-DIAMETER"),
+        ("MILLING_TECHNOLOGY(0.02", "MILLING_TECHNOLOGY(-0.02", "STEPNC-NO-FEED"),
+    ],
+)
+def test_a_stepnc_tool_or_feed_that_cannot_cut_is_a_located_error(
+    tmp_path: Path, old: str, new: str, code: str
+) -> None:
+    assert old in POCKET
+    diag = _stepnc_error(tmp_path, POCKET.replace(old, new))
+    assert diag.code == code and diag.location.entity is not None

@@ -162,14 +162,25 @@ def _curve(
                 "only B-splines in a plane of constant Z can be sent as NURBS_FEED",
                 curve,
             )
-        knots: list[float] = []
-        for k, m in zip(curve.knots, curve.knot_multiplicities, strict=True):
-            knots.extend([float(k)] * int(m))
         order = int(curve.degree) + 1
-        if len(knots) != len(pts) + order:
+        counts = [int(m) for m in curve.knot_multiplicities]
+        # counted before the knots are listed: a multiplicity of 1e9 would list a billion
+        if (
+            order < 2
+            or len(counts) != len(curve.knots)
+            or min(counts, default=0) < 1
+            or sum(counts) != len(pts) + order
+        ):
             raise ex.error(
-                "STEPNC-CURVE", f"B-spline has {len(knots)} knots, needs {len(pts) + order}", curve
+                "STEPNC-CURVE",
+                f"B-spline of degree {curve.degree} with knot multiplicities adding up to "
+                f"{sum(counts)}: needs degree >= 1, one multiplicity >= 1 per knot and "
+                f"{len(pts)} control points + degree + 1 knots",
+                curve,
             )
+        knots: list[float] = []
+        for k, m in zip(curve.knots, counts, strict=True):
+            knots.extend([float(k)] * m)
         first = _point(curve.control_points_list[0])
         _start(code, first, join, ex, curve)
         nurbs.append(canon.NurbsFeed(order, tuple((p[0], p[1], 1.0) for p in pts), tuple(knots)))
