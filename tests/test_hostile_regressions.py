@@ -12,14 +12,16 @@ import time
 from collections.abc import Iterator
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import kernel.limits as limits
 from gcode.readers import read_text
 from kernel.diagnostics import Diagnostic
-from kernel.machine import parse_machine
+from kernel.interp import interpolate
+from kernel.machine import DEFAULT_MACHINE, parse_machine
 from kernel.plan.models.grbl import segment_arcs
-from kernel.plan.strategy import build
+from kernel.plan.strategy import build, plan_program
 from stepnc.part21 import parse
 from stepnc.to_canon import canon_from_file
 
@@ -231,3 +233,23 @@ def test_a_stepnc_tool_or_feed_that_cannot_cut_is_a_located_error(
     assert old in POCKET
     diag = _stepnc_error(tmp_path, POCKET.replace(old, new))
     assert diag.code == code and diag.location.entity is not None
+
+
+def _no_memory(count: int, nax: int) -> tuple[np.ndarray, ...]:
+    raise MemoryError(f"cannot allocate {count} samples")
+
+
+# G93 G1 X10 F0 (a 6,000 s move: 6e6 samples, 640 MB) under a 1 GB address space: cnc
+# trace and cnc run died with a MemoryError traceback from kernel/interp/bulk.py
+def test_samples_that_do_not_fit_in_memory_are_a_located_error(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    text = "G21 G90 G17 G94\nF100\nG1 X10\nG93 G1 X20 F0\nG94 G1 X0 F100\nM2\n"
+    commands = read_text(text, "rs274ngc", "slow.ngc")
+    _, plan = plan_program(commands, DEFAULT_MACHINE, file="slow.ngc")
+    monkeypatch.setattr(interpolate, "_outputs", _no_memory)
+    with pytest.raises(Diagnostic) as info:
+        interpolate.sample(plan)
+    diag = info.value
+    assert (diag.code, diag.location.file, diag.location.line) == ("LIMIT-MEMORY", "slow.ngc", 4)
+    assert "6,0" in diag.message  # 6,000 s of samples at 1 ms

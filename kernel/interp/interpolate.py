@@ -551,6 +551,25 @@ def _outputs(count: int, nax: int) -> tuple[np.ndarray, ...]:
     )
 
 
+def _whole_outputs(plan: Plan, period: float, count: int, nax: int) -> tuple[np.ndarray, ...]:
+    """:func:`_outputs` for all ``count`` samples of ``plan``, or ``LIMIT-MEMORY`` at its
+    longest move when they do not fit in memory (a program of hours sampled at 1 ms: about
+    ``16 + 32 * nax`` bytes a sample)."""
+    try:
+        return _outputs(count, nax)
+    except MemoryError:
+        steps, i = move_steps(plan, period)
+        need = count * (16 + 32 * nax) / 2**20
+        raise Diagnostic(
+            "LIMIT-MEMORY",
+            f"the program's {count:,} samples ({plan.total_time:.6g} s at {period:g} s) need "
+            f"about {need:,.0f} MB, more than there is; its longest move, here, takes "
+            f"{steps * period:.6g} s (a larger interpolation_period or a shorter program "
+            "needs fewer)",
+            Location(plan.path.file, int(plan.path.segments["line"][i])),
+        ) from None
+
+
 def sample(plan: Plan, period: float | None = None, chunk: int = CHUNK) -> Samples:
     """Sample ``plan`` every ``period`` (default: the controller's interpolation period).
 
@@ -569,7 +588,7 @@ def sample(plan: Plan, period: float | None = None, chunk: int = CHUNK) -> Sampl
         pos[:] = np.asarray(machine.limit_vector("home"))[_columns(machine)]
         seg_out[:] = -1
         return Samples(period, t, pos, vel, acc, jerk, seg_out, line_out, machine.axis_names)
-    out = _outputs(count, nax)
+    out = _whole_outputs(plan, period, count, nax)
     _Sampler(plan, period, chunk).run(range(0, count, chunk), out)
     t, pos, vel, acc, jerk, seg_out, line_out = out
     pos[-1] = seg["end"][-1][_columns(machine)]
