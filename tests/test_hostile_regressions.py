@@ -253,3 +253,24 @@ def test_samples_that_do_not_fit_in_memory_are_a_located_error(
     diag = info.value
     assert (diag.code, diag.location.file, diag.location.line) == ("LIMIT-MEMORY", "slow.ngc", 4)
     assert "6,0" in diag.message  # 6,000 s of samples at 1 ms
+
+
+# str.isdigit() and a str regex's \d take every Unicode digit: "X１０" (fullwidth) and
+# "X١٠" (Arabic-Indic) were read as X10 (Fanuc: X0.01) and cnc canon exited 0; rs274 says
+# "bad number format"
+@pytest.mark.parametrize(
+    ("dialect", "line", "code"),
+    [
+        ("rs274ngc", "G1 X\uff11\uff10 F100", "NGC-BAD-VALUE"),
+        ("rs274ngc", "N\uff11 G1 X1 F100", "NGC-BAD-VALUE"),
+        ("rs274ngc", "G1 X[\u0661+1] F100", "NGC-BAD-VALUE"),
+        ("fanuc", "G01 X\uff11\uff10. F100.", "FANUC-SYNTAX"),
+        ("fanuc", "#1=\u0661\u0660.", "FANUC-SYNTAX"),
+        ("siemens840d", "G1 X\u0661\u0660 F100", "SIEM-CHARACTER"),
+        ("siemens840d", "G1 X=\uff11\uff10 F100", "SIEM-CHARACTER"),
+    ],
+)
+def test_a_unicode_digit_is_no_digit_of_a_program(dialect: str, line: str, code: str) -> None:
+    end = "M30" if dialect != "rs274ngc" else "M2"
+    diag = _error(f"G90\n{line}\n{end}\n", dialect)
+    assert (diag.code, diag.location.line) == (code, 2)

@@ -47,12 +47,14 @@ _LEVELS: tuple[tuple[str, ...], ...] = (
 #: operator -> its level in :data:`_LEVELS`
 _LEVEL_OF = {op: level for level, ops in enumerate(_LEVELS) for op in ops}
 _OPERATOR_RE = re.compile(r"\*\*|[-+*/]|and|xor|or|eq|ne|gt|ge|lt|le|mod")
-_NUMBER_RE = re.compile(r"(?:\d+(?:\.\d*)?|\.\d+)")
+_NUMBER_RE = re.compile(r"(?:\d+(?:\.\d*)?|\.\d+)", re.ASCII)
 _NUMBER_START = frozenset("0123456789.")
-_PLAIN_LINE_RE = re.compile(r"[ \t]*(?:[xyzabc][ \t]*[-+]?(?:\d+(?:\.\d*)?|\.\d+)[ \t]*)+")
-_PLAIN_WORD_RE = re.compile(r"([xyzabc])[ \t]*([-+]?(?:\d+(?:\.\d*)?|\.\d+))")
-_SIMPLE_LINE_RE = re.compile(r"[ \t]*(?:[a-z][ \t]*[-+]?(?:\d+(?:\.\d*)?|\.\d+)[ \t]*)+")
-_SIMPLE_WORD_RE = re.compile(r"([a-z])[ \t]*([-+]?(?:\d+(?:\.\d*)?|\.\d+))")
+_PLAIN_LINE_RE = re.compile(
+    r"[ \t]*(?:[xyzabc][ \t]*[-+]?(?:\d+(?:\.\d*)?|\.\d+)[ \t]*)+", re.ASCII
+)
+_PLAIN_WORD_RE = re.compile(r"([xyzabc])[ \t]*([-+]?(?:\d+(?:\.\d*)?|\.\d+))", re.ASCII)
+_SIMPLE_LINE_RE = re.compile(r"[ \t]*(?:[a-z][ \t]*[-+]?(?:\d+(?:\.\d*)?|\.\d+)[ \t]*)+", re.ASCII)
+_SIMPLE_WORD_RE = re.compile(r"([a-z])[ \t]*([-+]?(?:\d+(?:\.\d*)?|\.\d+))", re.ASCII)
 _OWORD_KEYWORDS = (
     "sub",
     "endsub",
@@ -189,7 +191,7 @@ class _Scanner:
             return self.bracketed()
         if c == "#":
             return self.parameter()
-        if c.isdigit() or c == ".":
+        if "0" <= c <= "9" or c == ".":  # ASCII: str.isdigit() takes "１" and "٣" too
             m = _NUMBER_RE.match(self.s, self.i)
             if not m:
                 raise self.error("NGC-BAD-NUMBER", "bad number format")
@@ -405,7 +407,7 @@ def parse_line(raw: str, line: int, file: str | None = None) -> Block:
     if sc.peek() == "/":
         block.deleted = True
         sc.i += 1
-    if sc.peek() == "n" and sc.i + 1 < len(text) and (text[sc.i + 1].isdigit()):
+    if sc.peek() == "n" and sc.i + 1 < len(text) and ("0" <= text[sc.i + 1] <= "9"):
         sc.i += 1
         m = _NUMBER_RE.match(text, sc.i)
         assert m is not None

@@ -36,11 +36,11 @@ _LEVELS: tuple[tuple[str, ...], ...] = (
     ("*", "/", "AND", "MOD"),
 )
 _OP_RE = re.compile(r"EQ|NE|GT|GE|LT|LE|OR|XOR|AND|MOD|[-+*/]")
-_NUM_RE = re.compile(r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)")
-_PLAIN_RE = re.compile(r"(?:[A-Z][-+]?(?:\d+(?:\.\d*)?|\.\d+))+")
-_WORD_RE = re.compile(r"([A-Z])([-+]?(?:\d+(?:\.\d*)?|\.\d+))")
-_PROGRAM_RE = re.compile(r"[O:](\d+)$")
-_SEQ_RE = re.compile(r"N(\d+)")
+_NUM_RE = re.compile(r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)", re.ASCII)
+_PLAIN_RE = re.compile(r"(?:[A-Z][-+]?(?:\d+(?:\.\d*)?|\.\d+))+", re.ASCII)
+_WORD_RE = re.compile(r"([A-Z])([-+]?(?:\d+(?:\.\d*)?|\.\d+))", re.ASCII)
+_PROGRAM_RE = re.compile(r"[O:](\d+)$", re.ASCII)
+_SEQ_RE = re.compile(r"N(\d+)", re.ASCII)
 
 #: an expression node (see above): a float constant or a tuple of a kind and its parts
 Expr = float | tuple[Any, ...]
@@ -127,8 +127,8 @@ def parse_line(raw: str, line: int, file: str | None = None) -> FBlock:
         blk.deleted = True
         sc.i += 1
     m = _PROGRAM_RE.match(s, sc.i)
-    if m is not None or (sc.peek() in "O:" and s[sc.i + 1 : sc.i + 2].isdigit()):
-        m = re.match(r"[O:](\d+)", s[sc.i :])
+    if m is not None or (sc.peek() in "O:" and "0" <= s[sc.i + 1 : sc.i + 2] <= "9"):
+        m = re.match(r"[O:](\d+)", s[sc.i :], re.ASCII)
         assert m is not None
         blk.kind = "program"
         blk.label = int(m.group(1))
@@ -197,7 +197,7 @@ class _Scanner:
         self.i += 1
 
     def integer(self) -> int:
-        m = re.match(r"\d+", self.s[self.i :])
+        m = re.match(r"\d+", self.s[self.i :], re.ASCII)
         if m is None:
             raise self.error("FANUC-SYNTAX", "number expected")
         self.i += m.end()
@@ -248,12 +248,12 @@ class _Scanner:
             self.i += 2
             blk.kind = "while"
             blk.label = self.integer()
-        elif self.at("DO") and self.s[self.i + 2 : self.i + 3].isdigit():
+        elif self.at("DO") and "0" <= self.s[self.i + 2 : self.i + 3] <= "9":
             self.i += 2
             blk.kind = "do"
             blk.label = self.integer()
-        elif (self.at("END") and self.s[self.i + 3 : self.i + 4].isdigit()) or (
-            self.at("EN") and self.s[self.i + 2 : self.i + 3].isdigit()
+        elif (self.at("END") and "0" <= self.s[self.i + 3 : self.i + 4] <= "9") or (
+            self.at("EN") and "0" <= self.s[self.i + 2 : self.i + 3] <= "9"
         ):
             self.keyword("END", "EN")
             blk.kind = "end"

@@ -25,9 +25,9 @@ from kernel.diagnostics import Diagnostic, Location
 
 #: an O line (``:`` is the ISO program number address, read as O); a byte order mark may
 #: open the file
-_O_RE = re.compile(r"^\ufeff?[ \t]*/?[ \t]*[Oo:][ \t]*(\d+)", re.MULTILINE)
+_O_RE = re.compile(r"^\ufeff?[ \t]*/?[ \t]*[Oo:][ \t]*(\d+)", re.MULTILINE | re.ASCII)
 _O_BYTES_RE = re.compile(rb"^(?:\xef\xbb\xbf)?[ \t]*/?[ \t]*[Oo:][ \t]*(\d+)", re.MULTILINE)
-_N_RE = re.compile(r"[ \t]*/?[ \t]*[Nn][ \t]*(\d+)")
+_N_RE = re.compile(r"[ \t]*/?[ \t]*[Nn][ \t]*(\d+)", re.ASCII)
 
 
 class Lines:

@@ -13,9 +13,10 @@ from gcode.siemens.lexer import MAX_NUMBER
 
 _NUM = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)"
 _LINE = re.compile(
-    rf"[ \t]*(?:N\d+[ \t]+)?(?:(?:[ABCDFGIJKMSTXYZ]{_NUM}|(?:CR|AR|TURN)={_NUM})(?:[ \t]+|$))+"
+    rf"[ \t]*(?:N\d+[ \t]+)?(?:(?:[ABCDFGIJKMSTXYZ]{_NUM}|(?:CR|AR|TURN)={_NUM})(?:[ \t]+|$))+",
+    re.ASCII,
 )
-_ITEM = re.compile(rf"([A-Z]+)=?({_NUM})")
+_ITEM = re.compile(rf"([A-Z]+)=?({_NUM})", re.ASCII)
 
 
 def plain_words(line: str) -> list[tuple[str, float, int]] | None:

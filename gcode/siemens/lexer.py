@@ -30,7 +30,7 @@ _TOKEN = re.compile(
   | (?P<str>"[^"]*")
   | (?P<op>==|<>|<=|>=|<<|[-+*/()=<>,:\[\]])
     """,
-    re.VERBOSE,
+    re.VERBOSE | re.ASCII,  # \d is 0-9 only: "１" is no digit of a program
 )
 
 

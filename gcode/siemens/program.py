@@ -18,7 +18,7 @@ from gcode.siemens.blocks import Block, parse_block
 from kernel.diagnostics import Diagnostic, Location
 
 _HEAD = re.compile(r"\s*(?:N\d+\s*)?(?:([A-Z_][A-Z0-9_]*)\s*:(?!=)\s*)?([A-Z_]+)?", re.IGNORECASE)
-_NUMBER = re.compile(r"\s*N(\d+)", re.IGNORECASE)
+_NUMBER = re.compile(r"\s*N(\d+)", re.IGNORECASE | re.ASCII)
 _ARCHIVE_HEADER = re.compile(r"%_N_\w+_(?:MPF|SPF)\s*$", re.IGNORECASE)
 #: "%" alone (or before a ";" comment) as the first line: the program start character of a
 #: program written on an external PC (840D sl programming manual, fundamentals, "Character
