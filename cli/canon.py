@@ -35,6 +35,7 @@ from cli.programs import (
     profile_tools,
     program_dialect,
     read_head,
+    regular_input,
     stdin_text,
     tool_table_units,
 )
@@ -82,6 +83,7 @@ def _options(
 ) -> InterpreterOptions:
     values = None
     if params is not None:
+        regular_input(params, "parameter file")
         values = read_var_text(Path(params).read_text().splitlines(), params)
     return InterpreterOptions(
         tool_table=tools,
@@ -348,6 +350,7 @@ def command(
       cnc canon O1234.nc -d fanuc
       generate.py | cnc canon -
     """
+    regular_input(program)
     if not is_stdin(program) and not os.path.isfile(program):
         raise Diagnostic("IO-OPEN", "cannot open program: no such file", Location(program))
     machine = load_machine(machine_path) if machine_path else None
@@ -370,6 +373,8 @@ def command(
         from stepnc.to_canon import canon_from_file, canon_from_model
         from stepnc.tooling import load_tool_file
 
+        if tool_table:
+            regular_input(tool_table, "tool file")
         if is_stdin(program):
             tools = load_tool_file(tool_table) if tool_table else None
             chunks = iter(canon_from_model(load_text(stdin_text(), program), tools, "nist"))

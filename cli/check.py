@@ -60,6 +60,7 @@ from cli.programs import (
     jobs_option,
     load_tool_table,
     output_stem,
+    regular_input,
     scheduler_option,
     timeout_option,
     tool_table_units,
@@ -96,6 +97,7 @@ class Setup:
 
 
 def _read_toml(path: str) -> dict[str, Any]:
+    regular_input(path, "configuration")
     try:
         with open(path, "rb") as fh:
             return tomllib.load(fh)
@@ -116,6 +118,7 @@ def load_context(
     tools_file, tool_units_mm = None, 1.0
     extra: dict[str, Any] = DEFAULT_MACHINE.extra  # its [spindle] range
     if machine_path:
+        regular_input(machine_path, "machine profile")
         with open(machine_path, encoding="utf-8") as fh:
             machine = parse_machine(fh.read(), machine_path)
         apply_limits(machine, machine_path)

@@ -14,7 +14,9 @@ import glob
 import importlib.util
 import io
 import json
+import os
 import re
+import stat
 from collections.abc import Iterator
 from dataclasses import replace
 from pathlib import Path
@@ -142,11 +144,36 @@ def detect_kind(head: str) -> str:
     return "gcode"
 
 
+def regular_input(path: str, what: str = "program") -> None:
+    """``IO-OPEN`` when ``path`` exists but is not a regular file (standard input aside): a
+    FIFO blocks the run until something writes to it, ``/dev/zero`` never ends, a directory
+    is no program. A path that does not exist is left to the open that follows."""
+    if is_stdin(path):
+        return
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return
+    if stat.S_ISREG(mode):
+        return
+    kind = (
+        "a directory"
+        if stat.S_ISDIR(mode)
+        else "a FIFO (named pipe)"
+        if stat.S_ISFIFO(mode)
+        else "a device"
+        if stat.S_ISCHR(mode) or stat.S_ISBLK(mode)
+        else "not a regular file"
+    )
+    raise Diagnostic("IO-OPEN", f"cannot read {what}: {path} is {kind}", Location(path))
+
+
 def read_head(path: str, size: int = 16384) -> str:
     """The first ``size`` bytes as text; ``CHECK-BINARY`` if the file is not text."""
     if is_stdin(path):
         data = stdin_text()[:size].encode("utf-8", errors="replace")
     else:
+        regular_input(path)
         with open(path, "rb") as fh:
             data = fh.read(size)
     if b"\0" in data:
@@ -182,6 +209,7 @@ def _open_text(path: str) -> io.TextIOBase:
     """The program at ``path`` (or standard input) open for reading text."""
     if is_stdin(path):
         return io.StringIO(stdin_text())
+    regular_input(path)
     return open(path, encoding="utf-8", errors="replace")  # noqa: SIM115 - the caller closes
 
 
@@ -455,6 +483,7 @@ def load_machine(path: str | None) -> Machine:
 
     if path is None:
         return DEFAULT_MACHINE
+    regular_input(path, "machine profile")
     with open(path, encoding="utf-8") as fh:
         machine = parse_machine(fh.read(), path)
     apply_limits(machine, path)
@@ -482,6 +511,7 @@ def apply_limits(machine: Machine, path: str | None) -> None:
 
 def load_tool_table(path: str) -> ToolTable:
     """A tool table file: LinuxCNC ``.tbl`` or NIST tool file (``TOOL-*`` diagnostics)."""
+    regular_input(path, "tool table")
     with open(path, encoding="utf-8", errors="replace") as fh:
         return read_tool_table(fh.readlines(), path)
 
@@ -495,6 +525,7 @@ def tool_table_units(path: str, given: str | None, fallback: float) -> float:
     ``[tools] units``, or the command's default)."""
     if given is not None:
         return MM_PER_UNIT[given]
+    regular_input(path, "tool table")
     with open(path, encoding="utf-8", errors="replace") as fh:
         declared = header_units(fh)
     return MM_PER_UNIT[declared] if declared else fallback

@@ -40,6 +40,7 @@ from cli.programs import (
     output_stem,
     program_commands,
     program_language,
+    regular_input,
 )
 from gcode.registry import REGISTRY
 from kernel.diagnostics import Diagnostic, Location
@@ -180,6 +181,7 @@ def fixtures_of(
 
 def load_tool_library(path: str) -> dict[int, ToolShape]:
     """A TOML tool library (``SIM-TOOL`` located at the file when it is not one)."""
+    regular_input(path, "tool library")
     try:
         with open(path, "rb") as fh:
             doc = tomllib.load(fh)
@@ -212,6 +214,7 @@ def mesh_triangles(path: str, tolerance: float, code: str) -> np.ndarray:
     """Triangles (n, 3, 3) of an STL (binary or ASCII) or STEP file (tessellated by
     cadquery, the ``geometry`` extra, within ``tolerance`` mm); ``code`` when it is
     neither or cannot be read."""
+    regular_input(path, "solid")
     if os.path.splitext(path)[1].lower() in (".step", ".stp"):
         try:
             import cadquery as cq

@@ -11,7 +11,7 @@ import kernel.limits as limits
 from cli.errors import EXIT_PROGRAM_ERROR, EXIT_USAGE, guarded, report
 from cli.options import force_option, output_option, program_argument, tool_table_option
 from cli.outputs import refuse_output, replacing, write_output
-from cli.programs import is_stdin, stdin_text
+from cli.programs import is_stdin, regular_input, stdin_text
 from kernel.diagnostics import Diagnostic, Location, Severity
 from stepnc.model import Entity, Model, load, load_text
 from stepnc.schema import GROUPS
@@ -33,11 +33,14 @@ def _model(file: str, diagnostics: list[Diagnostic] | None = None) -> Model:
     (:func:`stepnc.model.load`; collect-all when ``diagnostics`` is a list)."""
     if is_stdin(file):
         return load_text(stdin_text(), file, diagnostics)
+    regular_input(file)
     return load(file, diagnostics)
 
 
 def _tools(tool_file: str | None) -> dict[str, ToolEntry] | None:
     """The ``-t`` tool file's tools, or None."""
+    if tool_file:
+        regular_input(tool_file, "tool file")
     return load_tool_file(tool_file) if tool_file else None
 
 
@@ -181,6 +184,9 @@ def canon_cmd(file: str, tool_file: str | None, mode: str, as_json: bool) -> Non
     if is_stdin(file):
         cmds = canon_from_model(_model(file), _tools(tool_file), mode)
     else:  # a file may be AP238's AIM form too
+        regular_input(file)
+        if tool_file:
+            regular_input(tool_file, "tool file")
         cmds = canon_from_file(file, tool_file, mode)
     lines = canon.to_jsonl(cmds) if as_json else canon.write_text(cmds)
     for line in lines:

@@ -8,14 +8,19 @@ call the reader or the command in this process, each well under a second.
 from __future__ import annotations
 
 import math
+import os
+import signal
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
 import pytest
+from click.testing import CliRunner
 
 import kernel.limits as limits
+from cli.main import cli
+from cli.programs import load_machine, load_tool_table, read_head
 from gcode.readers import read_text
 from kernel.diagnostics import Diagnostic
 from kernel.interp import interpolate
@@ -274,3 +279,47 @@ def test_a_unicode_digit_is_no_digit_of_a_program(dialect: str, line: str, code:
     end = "M30" if dialect != "rs274ngc" else "M2"
     diag = _error(f"G90\n{line}\n{end}\n", dialect)
     assert (diag.code, diag.location.line) == (code, 2)
+
+
+@pytest.fixture
+def fifo(tmp_path: Path) -> Iterator[str]:
+    """A FIFO nobody writes to; a test that opens it for reading would block, so an alarm
+    ends the test after 5 s instead."""
+    path = tmp_path / "prog.ngc"
+    os.mkfifo(path)
+
+    def expire(signum: int, frame: object) -> None:
+        raise TimeoutError("blocked on the FIFO")
+
+    old = signal.signal(signal.SIGALRM, expire)
+    signal.alarm(5)
+    yield str(path)
+    signal.alarm(0)
+    signal.signal(signal.SIGALRM, old)
+
+
+# a FIFO given as the program (cnc check, plan, run, stepnc ...), profile, tool table or
+# configuration blocked for ever; /dev/zero as a profile was read until memory ran out
+@pytest.mark.parametrize(
+    ("load", "what"),
+    [
+        (read_head, "program"),
+        (load_machine, "machine profile"),
+        (load_tool_table, "tool table"),
+    ],
+)
+def test_a_fifo_or_device_is_refused_before_it_is_opened(
+    fifo: str, load: Callable[[str], object], what: str
+) -> None:
+    for path in (fifo, "/dev/zero"):
+        with pytest.raises(Diagnostic) as info:
+            load(path)
+        diag = info.value
+        assert (diag.code, diag.location.file) == ("IO-OPEN", path)
+        assert f"cannot read {what}" in diag.message
+
+
+def test_cnc_check_of_a_fifo_is_an_io_error(fifo: str) -> None:
+    res = CliRunner().invoke(cli, ["check", fifo])
+    assert res.exit_code == 1, res.output  # one failed file of the batch
+    assert "error[CNC001/IO-OPEN]: cannot read program" in res.output
