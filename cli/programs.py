@@ -176,8 +176,12 @@ def read_head(path: str, size: int = 16384) -> str:
         regular_input(path)
         with open(path, "rb") as fh:
             data = fh.read(size)
-    if b"\0" in data:
-        raise Diagnostic("CHECK-BINARY", "not a text file (NUL bytes)", Location(path))
+    nul = data.find(b"\0")
+    if nul >= 0:
+        # located at the first NUL (its column counts bytes)
+        line = data.count(b"\n", 0, nul) + 1
+        col = nul - data.rfind(b"\n", 0, nul)
+        raise Diagnostic("CHECK-BINARY", "not a text file (NUL bytes)", Location(path, line, col))
     return data.decode("utf-8", errors="replace")
 
 
