@@ -8,6 +8,7 @@ the tool id and TLO the length offset.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -57,6 +58,15 @@ class ToolTable:
 _AXIS_INDEX = {c: i for i, c in enumerate("xyzabcuvw")}
 
 
+def _finite(text: str) -> float:
+    """A tool table number: ASCII, finite (``float`` also takes ``nan``, ``inf``, ``1e999``
+    and Unicode digits); ValueError otherwise."""
+    value = float(text)
+    if not text.isascii() or not math.isfinite(value):
+        raise ValueError(text)
+    return value
+
+
 def read_linuxcnc_tbl(lines: Iterable[str], file: str | None = None) -> ToolTable:
     table = ToolTable()
     rows = 0  # P words read so far
@@ -69,7 +79,7 @@ def read_linuxcnc_tbl(lines: Iterable[str], file: str | None = None) -> ToolTabl
         for w in words:
             letter = w[0].lower()
             try:
-                fields[letter] = float(w[1:])
+                fields[letter] = _finite(w[1:])
             except ValueError:
                 raise Diagnostic(
                     "TOOL-SYNTAX", f"bad tool table word '{w}'", Location(file, n, line.find(w) + 1)
@@ -110,7 +120,7 @@ def read_nist_tool_file(lines: Iterable[str], file: str | None = None) -> ToolTa
             continue
         try:
             pocket, fms = int(parts[0]), int(parts[1])
-            tlo, diam = float(parts[2]), float(parts[3])
+            tlo, diam = _finite(parts[2]), _finite(parts[3])
         except (ValueError, IndexError):
             raise Diagnostic(
                 "TOOL-SYNTAX", f"bad tool file row: '{line.strip()}'", Location(file, n, 1)

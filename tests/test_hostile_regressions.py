@@ -27,6 +27,7 @@ from kernel.interp import interpolate
 from kernel.machine import DEFAULT_MACHINE, parse_machine
 from kernel.plan.models.grbl import segment_arcs
 from kernel.plan.strategy import build, plan_program
+from kernel.tooltable import read_tool_table
 from stepnc.part21 import parse
 from stepnc.to_canon import canon_from_file
 
@@ -323,3 +324,28 @@ def test_cnc_check_of_a_fifo_is_an_io_error(fifo: str) -> None:
     res = CliRunner().invoke(cli, ["check", fifo])
     assert res.exit_code == 1, res.output  # one failed file of the batch
     assert "error[CNC001/IO-OPEN]: cannot read program" in res.output
+
+
+# float() takes nan, inf, 1e999 and Unicode digits: a LinuxCNC tool table's Z1e999 was a
+# tool length of infinity, and "Tinf" an OverflowError traceback (int(inf))
+@pytest.mark.parametrize(
+    ("row", "column"),
+    [
+        ("T1 P1 Z1e999 D1", 7),
+        ("T1 P1 Znan D1", 7),
+        ("T1 P1 Z1 D-inf", 10),
+        ("T1 P1 Z\uff11 D1", 7),
+        ("T1e999 P1 Z1", 1),
+    ],
+)
+def test_a_tool_table_number_must_be_finite(row: str, column: int) -> None:
+    with pytest.raises(Diagnostic) as info:
+        read_tool_table([row + "\n"], "t.tbl")
+    diag = info.value
+    assert (diag.code, diag.location.line, diag.location.column) == ("TOOL-SYNTAX", 1, column)
+
+
+def test_a_nist_tool_file_number_must_be_finite() -> None:
+    with pytest.raises(Diagnostic) as info:
+        read_tool_table(["header\n", "\n", "1 1 inf 10.0 end mill\n"], "t.tool")
+    assert (info.value.code, info.value.location.line) == ("TOOL-SYNTAX", 3)
