@@ -15,7 +15,7 @@ import click
 
 from cli.excerpt import render_diagnostic
 from cli.main import verbosity
-from kernel.diagnostics import Diagnostic
+from kernel.diagnostics import Diagnostic, Location
 
 EXIT_OK = 0
 EXIT_PROGRAM_ERROR = 1
@@ -52,5 +52,17 @@ def guarded(func: Callable[P, R]) -> Callable[P, R]:
             name = getattr(exc, "filename", None) or ""
             click.echo(f"{name}: error[IO-ERROR]: {exc.strerror or exc}", err=True)
             sys.exit(EXIT_USAGE)
+        except MemoryError:
+            # the last net (the stages that hold a whole program say where it ran out
+            # themselves): a coded error at the program, not a traceback
+            given = kwargs.get("program") or kwargs.get("file")
+            report(
+                Diagnostic(
+                    "LIMIT-MEMORY",
+                    "out of memory: the program needs more memory than there is",
+                    Location(given if isinstance(given, str) else None),
+                )
+            )
+            sys.exit(EXIT_PROGRAM_ERROR)
 
     return wrapper

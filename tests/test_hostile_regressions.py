@@ -19,6 +19,7 @@ import pytest
 from click.testing import CliRunner
 
 import kernel.limits as limits
+from cli.errors import guarded
 from cli.main import cli
 from cli.programs import load_machine, load_tool_table, read_head
 from gcode.readers import read_text
@@ -349,3 +350,20 @@ def test_a_nist_tool_file_number_must_be_finite() -> None:
     with pytest.raises(Diagnostic) as info:
         read_tool_table(["header\n", "\n", "1 1 inf 10.0 end mill\n"], "t.tool")
     assert (info.value.code, info.value.location.line) == ("TOOL-SYNTAX", 3)
+
+
+def test_a_command_out_of_memory_is_a_coded_error_at_its_program(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """The last net of every command (cli.errors.guarded): a stage that holds the whole
+    program and runs out (the linuxcnc model in one endless G64 run) ends with LIMIT-MEMORY
+    at the program and exit 1, not a MemoryError traceback."""
+
+    @guarded
+    def command(program: str) -> None:
+        raise MemoryError
+
+    with pytest.raises(SystemExit) as info:
+        command(program="big.ngc")
+    assert info.value.code == 1
+    assert "big.ngc: error[LIMIT-MEMORY]: out of memory" in capsys.readouterr().err
