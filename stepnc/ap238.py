@@ -28,6 +28,7 @@ one STEPNC-AP238 diagnostic naming the construct.
 
 from __future__ import annotations
 
+import math
 from collections import defaultdict
 from collections.abc import Iterator
 
@@ -197,7 +198,10 @@ def _feed(aim: Aim, tech: int) -> float | None:
     for item in aim.items(tech, "feedrate"):
         value, u = _measure(aim, item)
         if u.get("length^") == 1.0 and u.get("time^") == -1.0:
-            return value * u["length"] * u["time"]
+            feed = value * u["length"] * u["time"]
+            if not 0.0 <= feed < math.inf:  # a negative value or a time unit of 0 s
+                raise refuse(f"feedrate #{item.id} is {feed:g} mm/min", aim.where(item.id))
+            return feed
         raise refuse(f"feedrate #{item.id} is not a length per time", aim.where(item.id))
     return None
 
@@ -206,11 +210,16 @@ def _spindle(aim: Aim, tech: int) -> float | None:
     """rpm of the technology's 'spindle' property (positive counterclockwise)."""
     for item in aim.items(tech, "spindle") or aim.items(tech, "spindle speed"):
         value, u = _measure(aim, item)
+        speed = math.nan
         if u.get("rate^") == 1.0:
-            return value * u["rate"]
-        if u.get("turn^") == 1.0 and u.get("time^") == -1.0:
-            return value * u["turn"] * u["time"]
-        raise refuse(f"spindle speed #{item.id} is not a rotational speed", aim.where(item.id))
+            speed = value * u["rate"]
+        elif u.get("turn^") == 1.0 and u.get("time^") == -1.0:
+            speed = value * u["turn"] * u["time"]
+        else:
+            raise refuse(f"spindle speed #{item.id} is not a rotational speed", aim.where(item.id))
+        if not math.isfinite(speed):  # a time unit of 0 s
+            raise refuse(f"spindle speed #{item.id} is {speed:g} rpm", aim.where(item.id))
+        return speed
     return None
 
 

@@ -367,3 +367,14 @@ def test_a_command_out_of_memory_is_a_coded_error_at_its_program(
         command(program="big.ngc")
     assert info.value.code == 1
     assert "big.ngc: error[LIMIT-MEMORY]: out of memory" in capsys.readouterr().err
+
+
+AP238 = (Path(__file__).parent / "stepnc" / "ap238" / "cc1_two_tools.stp").read_text()
+
+
+def test_an_ap238_negative_feedrate_is_a_located_error(tmp_path: Path) -> None:
+    """NUMERIC_MEASURE(-500.) as the feed speed gave SET_FEED_RATE(-500) and exit 0."""
+    text = AP238.replace("NUMERIC_MEASURE(500.)", "NUMERIC_MEASURE(-500.)")
+    diag = _stepnc_error(tmp_path, text)
+    assert (diag.code, diag.location.entity) == ("STEPNC-AP238", 54)
+    assert "-500" in diag.message
