@@ -73,7 +73,7 @@ Exit codes: 0 clean, 1 errors in the program(s), 2 usage or I/O error.
     metavar="NAME=N",
     help="Change a resource limit (repeatable): digits, nesting, expression_depth, "
     "cycle_passes, loop_passes, loop_total, samples_per_move, arc_chords, nurbs_points, "
-    "toolpath_passes, seconds "
+    "toolpath_passes, line_chars, seconds "
     "(docs/reliability.md).",
 )
 @click.pass_context

@@ -44,6 +44,9 @@ class Limits:
     arc_chords: int = 1_000_000
     #: control points of one NURBS curve
     nurbs_points: int = 100_000
+    #: characters in one line of a G-code program (rs274 reads 256; CAM writes under 300):
+    #: a 100 MB line would be decoded, lower-cased and split whole, several copies of it
+    line_chars: int = 1_000_000
     #: toolpath passes (lines, rings, levels) one STEP-NC operation may generate
     toolpath_passes: int = 1_000_000
     #: CPU seconds per program in batch commands (cnc check and cnc run); 0: no limit
@@ -103,6 +106,18 @@ def check_digits(text: str, file: str | None = None, line: int = 0, col0: int = 
             "LIMIT-DIGITS",
             f"a number of {m.end() - m.start()} digits (limit {limit}, --limit digits=N)",
             Location(file, line, col0 + m.start()) if line else Location(file),
+        )
+
+
+def check_line(length: int, file: str | None, line: int) -> None:
+    """``LIMIT-LINE`` when line ``line`` of ``file`` is ``length`` characters (bytes) long,
+    more than the ``line_chars`` limit, before it is decoded and parsed."""
+    limit = _current.line_chars
+    if length > limit:
+        raise Diagnostic(
+            "LIMIT-LINE",
+            f"a line of {length:,} characters (limit {limit:,}, --limit line_chars=N)",
+            Location(file, line, limit + 1),
         )
 
 

@@ -378,3 +378,16 @@ def test_an_ap238_negative_feedrate_is_a_located_error(tmp_path: Path) -> None:
     diag = _stepnc_error(tmp_path, text)
     assert (diag.code, diag.location.entity) == ("STEPNC-AP238", 54)
     assert "-500" in diag.message
+
+
+# a 100 MB line (one comment, or words) was decoded, lower-cased and split whole: cnc canon
+# passed 1 GB of memory
+@pytest.mark.parametrize("dialect", ["rs274ngc", "grbl", "mach3", "nist_v3"])
+def test_a_line_over_the_line_limit_is_refused_before_it_is_parsed(
+    fresh_limits: None, dialect: str
+) -> None:
+    limits.configure(line_chars=1000)
+    diag = _error("G21\n(" + "a" * 2000 + ")\nM2\n", dialect)
+    assert (diag.code, diag.location.line, diag.location.column) == ("LIMIT-LINE", 2, 1001)
+    limits.configure(line_chars=2002)
+    list(read_text("G21\n(" + "a" * 2000 + ")\nM2\n", dialect, "long.ngc"))

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
+import kernel.limits as limits
 from gcode.core.lexer import Block, parse_line
 from gcode.core.search import find_in_dirs
 from kernel.diagnostics import Diagnostic, Location
@@ -91,6 +92,8 @@ class ProgramFile:
         self._offset = self._pos
         self.line += 1
         self.line_offset = offset
+        if len(data) > limits.current().line_chars:
+            limits.check_line(len(data.rstrip(b"\r\n")), self.path, self.line)
         if not data.isspace():
             self.last_nonblank = self.line
         return offset, data
