@@ -1187,12 +1187,14 @@ def _limits() -> None:
 
 def run(argv: list[str], cwd: Path) -> Run:
     """One ``cnc`` process in ``cwd`` under the limits; its exit, times and peak RSS."""
-    out, err = cwd / ".stdout", cwd / ".stderr"
+    out, err, peak = cwd / ".stdout", cwd / ".stderr", cwd / ".peak"
     with open(out, "wb") as fo, open(err, "wb") as fe:
         start = time.monotonic()
+        # the peak RSS from /usr/bin/time, which starts the command itself: a child forked
+        # from this (large) process would count this process' pages in its ru_maxrss
         proc = subprocess.Popen(
-            ["nice", "-n", "19", *argv], cwd=cwd, stdout=fo, stderr=fe, stdin=subprocess.DEVNULL,
-            preexec_fn=_limits,
+            ["nice", "-n", "19", "/usr/bin/time", "-f", "%M", "-o", str(peak), *argv],
+            cwd=cwd, stdout=fo, stderr=fe, stdin=subprocess.DEVNULL, preexec_fn=_limits,
         )  # fmt: skip
         timed_out = False
         while True:
@@ -1208,10 +1210,14 @@ def run(argv: list[str], cwd: Path) -> Run:
         proc.returncode = os.waitstatus_to_exitcode(status)
         wall = time.monotonic() - start
     text, etext = _ends(out), _ends(err)
-    out.unlink()
-    err.unlink()
+    try:
+        rss_kb = float(peak.read_text().split()[-1])
+    except (OSError, ValueError, IndexError):  # killed before time wrote it
+        rss_kb = usage.ru_maxrss
+    for f in (out, err, peak):
+        f.unlink(missing_ok=True)
     return Run(
-        proc.returncode, wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024,
+        proc.returncode, wall, usage.ru_utime + usage.ru_stime, rss_kb / 1024,
         text, etext, timed_out,
     )  # fmt: skip
 
@@ -1320,7 +1326,7 @@ def run_case(case: Case, cnc: list[str], keep: Path, only: tuple[str, ...] = ())
             stray = sorted(
                 n for n in new
                 if not any(n == f"work/{o}" or n.startswith(f"work/{o}/") for o in outputs)
-                and not n.startswith("work/.std")
+                and not n.startswith(("work/.std", "work/.peak"))
             )  # fmt: skip
             if stray and kind == "ok":
                 kind, where = "write-outside", ", ".join(stray[:5])
