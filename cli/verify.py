@@ -84,9 +84,11 @@ class Verification:
 
 
 def _chunks(stream: Iterable[object], file: str) -> Iterator[canon.Command | Moves]:
+    """The read-back's stream, its runs as :class:`Moves` not copied: the comparison
+    consumes each as it comes and keeps none."""
     for item in stream:
         if isinstance(item, Run):
-            yield moves_of(item, file)
+            yield Moves(item.kind, item.position, item.feed, item.line, file, item.arc)
         else:
             yield cast(canon.Command, item)
 
