@@ -164,7 +164,9 @@ def _check(
     back = _chunks(
         _until_refused(read_chunks(spool, target.name, options, arcs=True), refused), spool
     )
-    if equivalent(recorder.chunks, back, rounding) and not refused:
+    same = equivalent(recorder.chunks, back, rounding)
+    back.close()  # the comparison may stop reading at the first difference
+    if same and not refused:
         result.compared = sum(len(c.kind) if isinstance(c, Moves) else 1 for c in recorder.chunks)
         result.verified = True
         return

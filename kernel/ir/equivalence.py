@@ -623,7 +623,7 @@ def _move_rows(run: Moves) -> _Block:
     if run.arc is not None:
         arc = kind == _ARC
         if arc.any():
-            arcs = run.arc[arc, 2:5]
+            arcs = np.compress(arc, run.arc, axis=0)[:, 2:5]  # (boolean indexing is slower)
     motion = kind != 2
     if not motion.all():
         kind, values, feed = kind[motion], values[motion], feed[motion]
