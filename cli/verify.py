@@ -84,9 +84,11 @@ class Verification:
 
 
 def _chunks(stream: Iterable[object], file: str) -> Iterator[canon.Command | Moves]:
+    """The read-back's stream, its runs as :class:`Moves` not copied: the comparison
+    consumes each as it comes and keeps none."""
     for item in stream:
         if isinstance(item, Run):
-            yield moves_of(item, file)
+            yield Moves(item.kind, item.position, item.feed, item.line, file, item.arc)
         else:
             yield cast(canon.Command, item)
 
@@ -162,7 +164,9 @@ def _check(
     back = _chunks(
         _until_refused(read_chunks(spool, target.name, options, arcs=True), refused), spool
     )
-    if equivalent(recorder.chunks, back, rounding) and not refused:
+    same = equivalent(recorder.chunks, back, rounding)
+    back.close()  # the comparison may stop reading at the first difference
+    if same and not refused:
         result.compared = sum(len(c.kind) if isinstance(c, Moves) else 1 for c in recorder.chunks)
         result.verified = True
         return

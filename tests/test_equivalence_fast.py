@@ -120,3 +120,76 @@ def test_it_never_passes_what_the_rule_rejects_on_the_golden_programs() -> None:
             assert not equivalent(list(ir), moved)
             checked += 1
     assert checked > 10 and passed > 30
+
+
+def _xz_arcs(centre: float = 2.5, turns: int = 1, normal: float = 1.0) -> tuple[list, list]:
+    """Two arcs in the XZ plane (in-plane end Z then X, normal axis Y), as command objects
+    and with the second one's run as Moves arrays, as a reader's fast lane gives it."""
+    head = [
+        canon.UseLengthUnits(canon.Units.MM),
+        canon.SelectPlane(canon.Plane.XZ),
+        canon.SetFeedRate(100.0),
+        canon.ArcFeed(5.0, 10.0, 2.5, 10.0, 1, 0.0),
+    ]
+    arc = canon.ArcFeed(0.0, 10.0, centre, 10.0, turns, normal)
+    run = Moves(
+        np.array([3], dtype=np.int8),
+        np.array([[10.0, normal, 0.0, 0.0, 0.0, 0.0]]),
+        np.array([100.0]),
+        np.zeros(1, dtype=np.int64),
+        "f",
+        np.array([[0.0, 10.0, centre, 10.0, float(turns), normal]]),
+    )
+    return [*head, arc, canon.ProgramEnd()], [*head, run, canon.ProgramEnd()]
+
+
+@pytest.mark.parametrize(
+    "changed",
+    [_xz_arcs(centre=2.6), _xz_arcs(turns=-1), _xz_arcs(normal=1.5)],
+    ids=["centre", "turns", "normal-end"],
+)
+def test_arcs_out_of_the_xy_plane_compare_as_the_rule_does(changed: tuple[list, list]) -> None:
+    """An arc of a run is compared at its position (its end in x y z), an arc command at its
+    end placed by the plane: the same arcs agree either way round, a changed one never."""
+    objects, arrays = _xz_arcs()
+    assert equivalent(objects, arrays) and equivalent(arrays, objects)
+    assert equivalent(arrays, arrays) and first_difference(objects, expanded(arrays), 0.001) is None
+    for other in changed:
+        assert first_difference(objects, list(expanded(other)), 0.001) is not None
+        assert not equivalent(objects, other) and not equivalent(arrays, other)
+        assert not equivalent(other, arrays)
+
+
+def _two_units(inch_shift: float = 0.0, mm_shift: float = 0.0) -> list:
+    """Moves in inches, then in millimetres (the fast path's tolerances per row)."""
+    return [
+        canon.UseLengthUnits(canon.Units.INCHES),
+        canon.SetFeedRate(10.0),
+        *[canon.StraightFeed(i + (inch_shift if i == 3 else 0.0), 1.0, 0.0) for i in range(6)],
+        canon.UseLengthUnits(canon.Units.MM),
+        canon.SetFeedRate(250.0),
+        *[canon.StraightFeed(10.0 * i + (mm_shift if i == 4 else 0.0), 0.0, 0.0) for i in range(6)],
+        canon.ProgramEnd(),
+    ]
+
+
+@pytest.mark.parametrize(
+    ("inch_shift", "mm_shift", "same"),
+    [
+        (0.0, 0.0, True),
+        (0.00008, 0.0, True),
+        (0.0, 0.0004, True),
+        (0.00012, 0.0, False),
+        (0.0, 0.0008, False),
+    ],
+)
+def test_each_motion_has_the_tolerance_of_its_own_units(
+    inch_shift: float, mm_shift: float, same: bool
+) -> None:
+    """1e-4 inch in the inch part (2.54 um), the output's rounding (0.5 um) in the mm part:
+    0.8 um off in millimetres differs though it is far within the inch part's tolerance."""
+    half = {canon.Units.MM: 0.0005, canon.Units.INCHES: 0.00005, None: 0.0005}
+    src, out = _two_units(), _two_units(inch_shift, mm_shift)
+    assert (first_difference(src, out, 0.001, half) is None) is same
+    assert equivalent(_as_moves(src), _as_moves(out), half) is same
+    assert equivalent(src, _as_moves(out), half) is same

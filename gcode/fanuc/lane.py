@@ -15,6 +15,8 @@ every diagnostic, is the general path's.
 
 from __future__ import annotations
 
+from array import array
+
 import numpy as np
 
 import kernel.limits as limits
@@ -44,6 +46,10 @@ class FanucLane:
         self.arcs = arcs
         self._buf = np.frombuffer(src.lines.data, dtype=np.uint8)
         self._wait = 0
+        if not src.lines.indexed:  # the line starts, found here in a pass over the bytes
+            starts = np.flatnonzero(self._buf == ord("\n")).astype(np.int64)
+            starts += 1
+            src.lines.index(array("q", np.concatenate((np.zeros(1, np.int64), starts)).tobytes()))
 
     @staticmethod
     def for_source(src: Source, arcs: bool = False) -> FanucLane | None:

@@ -10,7 +10,6 @@ with four/five digits).
 
 from __future__ import annotations
 
-import bisect
 import re
 from array import array
 from collections.abc import Iterator
@@ -33,55 +32,84 @@ _N_RE = re.compile(r"[ \t]*/?[ \t]*[Nn][ \t]*(\d+)", re.ASCII)
 class Lines:
     """The lines of a file held as its bytes and an array of line starts: a line is
     decoded when it is read (a 200,000-line program is one bytes object, not 200,000
-    strings)."""
+    strings). The starts are found when first asked for, or handed in (:meth:`index`)
+    by a fast lane that finds them faster in compiled code."""
 
     def __init__(self, path: str, data: bytes) -> None:
         self.path = path
         self.data = data
-        # the start of each line: 0, then one past each newline (the pieces' lengths plus
-        # their newlines, summed in C)
-        pieces = map(len, data.split(b"\n"))
-        starts = array("q", accumulate(map(add, pieces, repeat(1)), initial=0))
-        starts.pop()  # one past the end of the last line
-        self.starts = starts
+        self._count = data.count(b"\n") + 1
+        self._starts: array[int] | None = None
+
+    @property
+    def starts(self) -> array[int]:
+        """The offset where each line starts: 0, then one past each newline."""
+        if self._starts is None:
+            # the pieces' lengths plus their newlines, summed in C
+            pieces = map(len, self.data.split(b"\n"))
+            starts = array("q", accumulate(map(add, pieces, repeat(1)), initial=0))
+            starts.pop()  # one past the end of the last line
+            self._starts = starts
+        return self._starts
+
+    @property
+    def indexed(self) -> bool:
+        """The line starts are known."""
+        return self._starts is not None
+
+    def index(self, starts: array[int]) -> None:
+        """Take ``starts`` as the line starts (:attr:`starts`' very values, found by the
+        caller)."""
+        if len(starts) != self._count:
+            raise ValueError("line starts of another text")
+        self._starts = starts
 
     def __len__(self) -> int:
-        return len(self.starts)
+        return self._count
 
     def __iter__(self) -> Iterator[str]:
-        """The lines in order (as indexing them one by one would give)."""
-        return (self[i] for i in range(len(self.starts)))
+        """The lines in order (as indexing them one by one would give), found as they are
+        read: an early stop reads no further."""
+        data = self.data
+        begin = 0
+        for index in range(self._count):
+            end = data.find(b"\n", begin)
+            yield self._decode(data[begin : len(data) if end < 0 else end], index)
+            begin = end + 1
 
     def __getitem__(self, index: int) -> str:
         starts = self.starts
         begin = starts[index]
         end = starts[index + 1] - 1 if index + 1 < len(starts) else len(self.data)
-        raw = self.data[begin:end]
+        return self._decode(self.data[begin:end], index)
+
+    def _decode(self, raw: bytes, index: int) -> str:
         try:
             return raw.decode("utf-8")
         except UnicodeDecodeError as exc:
             where = Location(self.path, index + 1, exc.start + 1)
             raise Diagnostic("FANUC-ENCODING", f"not UTF-8 text: {exc.reason}", where) from None
 
-    def line_of(self, offset: int) -> int:
-        return bisect.bisect_right(self.starts, offset) - 1
-
 
 def _o_lines(data: bytes) -> Iterator[re.Match[bytes]]:
     """The O lines of ``data`` in order, as ``_O_BYTES_RE.finditer`` finds them (a match
     starts a line and ends in it): the pattern is tried only at the start of the lines
-    holding an ``O``, ``o`` or ``:``, when those bytes are rare (a CAM program's few O
-    lines and comments); else the pattern scans the whole file."""
-    letters = (b"O", b"o", b":")
-    if sum(map(data.count, letters)) * 64 > len(data):
-        yield from _O_BYTES_RE.finditer(data)
-        return
+    holding an ``O``, ``o`` or ``:``, when those lines are rare (a CAM program's few O
+    lines and comments: each found by ``bytes.find``); else the pattern scans the whole
+    file."""
+    most = len(data) // 64
+    found = 0
     starts: set[int] = set()
-    for letter in letters:
+    for letter in (b"O", b"o", b":"):
         pos = data.find(letter)
         while pos >= 0:
+            found += 1
+            if found > most:
+                yield from _O_BYTES_RE.finditer(data)
+                return
             starts.add(data.rfind(b"\n", 0, pos) + 1)
-            pos = data.find(letter, pos + 1)
+            end = data.find(b"\n", pos)  # the line's other such letters add nothing
+            pos = -1 if end < 0 else data.find(letter, end + 1)
     for start in sorted(starts):
         m = _O_BYTES_RE.match(data, start)
         if m is not None:
@@ -104,8 +132,10 @@ class Source:
     def from_bytes(cls, path: str, data: bytes) -> Source:
         src = cls(path, Lines(path, data))
         digits = limits.current().digits
+        index = at = 0  # the line of offset ``at``: the newlines before it
         for m in _o_lines(data):
-            index = src.lines.line_of(m.start())
+            index += data.count(b"\n", at, m.start())
+            at = m.start()
             if len(m.group(1)) > digits:
                 limits.check_digits(src.lines[index], path, index + 1)
             src.programs.setdefault(int(m.group(1)), index)

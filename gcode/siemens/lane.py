@@ -22,6 +22,8 @@ other block, and every diagnostic, is the general path's.
 
 from __future__ import annotations
 
+from array import array
+
 import numpy as np
 
 import kernel.limits as limits
@@ -59,7 +61,6 @@ def _byte_class(members: bytes) -> np.ndarray:
     return table
 
 
-_BLANKS = _byte_class(b" \t")
 _NUMBER_STARTS = _byte_class(b"+-.0123456789")
 _NUMBER_ENDS = _byte_class(b".0123456789")
 
@@ -67,14 +68,20 @@ _NUMBER_ENDS = _byte_class(b".0123456789")
 def _split_words(buf: np.ndarray) -> np.ndarray:
     """Offsets ``i`` where bytes ``i``, ``i + 1`` are a blank then a number's character
     (``X 1.5``, ``X1 .5``, ``X- 5``) or a number's end then a letter (``G1X1``): a block the
-    kernel would read as plain words and the 840D's plain-block path does not."""
+    kernel would read as plain words and the 840D's plain-block path does not. Found from
+    the blanks and the capitals (a few per block) rather than from every pair of bytes."""
     if len(buf) < 2:
         return np.zeros(0, dtype=np.int64)
     first, second = buf[:-1], buf[1:]
-    blank_number = _BLANKS[first] & _NUMBER_STARTS[second]
-    upper = (second >= ord("A")) & (second <= ord("Z"))
-    glued = _NUMBER_ENDS[first] & upper
-    return np.flatnonzero(blank_number | glued)
+    blanks = np.flatnonzero((first == ord(" ")) | (first == ord("\t")))
+    blank_number = blanks[_NUMBER_STARTS[second[blanks]]]
+    capitals = np.flatnonzero(np.subtract(second, ord("A"), dtype=np.uint8) < 26)
+    glued = capitals[_NUMBER_ENDS[first[capitals]]]
+    if not len(glued):
+        return blank_number
+    if not len(blank_number):
+        return glued
+    return np.union1d(blank_number, glued)  # never the same offset: a number or a capital
 
 
 class SiemensLane:
@@ -87,7 +94,12 @@ class SiemensLane:
         self._buf = np.frombuffer(data, dtype=np.uint8)
         self._split = _split_words(self._buf)
         self._wait = 0
-        program.index_lines()
+        # every line start at once (the text is ASCII: its offsets are the bytes')
+        starts = np.flatnonzero(self._buf == ord("\n")).astype(np.int64)
+        starts += 1
+        if len(data) and not data.endswith(b"\n"):
+            starts = np.append(starts, len(data) + 1)  # past the last line, as if it ended
+        program.index_lines(array("q", np.concatenate((np.zeros(1, np.int64), starts)).tobytes()))
 
     @staticmethod
     def for_program(program: Program, arcs: bool = False) -> SiemensLane | None:

@@ -63,13 +63,20 @@ class Program:
             starts.append(end + 1)
         return index + 1 < len(starts)
 
-    def index_lines(self) -> None:
-        """Find every line start at once, in C (str.split and accumulate): the fast lane
-        (gcode.siemens.lane) reads a large file by line offsets and skips whole runs of
-        lines, which the line-by-line search of :meth:`has_line` would then walk one by one."""
+    def index_lines(self, found: array[int] | None = None) -> None:
+        """Find every line start at once, in C (str.split and accumulate), or take them
+        ``found`` by the caller (the same values: 0, one past each line end but a final
+        one, and one past the text's end where its last line has no line end): the fast
+        lane (gcode.siemens.lane) reads a large file by line offsets and skips whole runs
+        of lines, which the line-by-line search of :meth:`has_line` would then walk one by
+        one."""
         if self._complete:
             return
         text = self.text
+        if found is not None:
+            self._starts = found
+            self._complete = True
+            return
         starts = array("q", [0])
         starts.extend(accumulate(map((1).__add__, map(len, text.split("\n")))))
         if text.endswith("\n"):

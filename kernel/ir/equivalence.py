@@ -549,7 +549,9 @@ class Moves:
     ``kind[i]`` is 0 (STRAIGHT_TRAVERSE), 1 (STRAIGHT_FEED), 2 (SET_FEED_RATE) or 3
     (ARC_FEED), ``position[i]`` the x y z a b c after it, ``feed[i]`` the rate in force,
     ``line[i]`` its source line in ``file``; ``arc[i]`` (None when the run has no arcs) an
-    arc's in-plane end, centre, turns and end on the normal axis, as ARC_FEED takes them."""
+    arc's in-plane end, centre, turns and end on the normal axis, as ARC_FEED takes them
+    (its end is its ``position``'s x y z in the plane's order: :func:`equivalent` reads an
+    arc's end there)."""
 
     kind: np.ndarray
     position: np.ndarray
@@ -607,41 +609,184 @@ _MOTION_KINDS = (
 )
 
 
-def _move_rows(run: Moves) -> tuple[np.ndarray, np.ndarray | None]:
-    """A run's rows as :class:`_Table` holds them: the six values of each event (an arc's
-    in-plane end and normal end in place of x y z) and its arcs' centre and turns."""
-    if run.arc is None:
-        return run.position, None
-    arc = run.kind == _ARC
-    if not arc.any():
-        return run.position, None
-    values = run.position.copy()
-    rows = run.arc[arc]
-    values[arc, :3] = rows[:, (0, 1, 5)]
-    return values, rows[:, 2:5]
+#: a block of motion rows as the fast path compares them: kind, the x y z a b c after
+#: each motion, the feed rate in force, and the arcs' centre and turns (None: no arc)
+_Block = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]
+
+
+def _move_rows(run: Moves) -> _Block:
+    """A run's motions as :class:`_Table` takes them, its feed changes left out (copied
+    only where there are some): kind, position (an arc's is its end), feed rate in force,
+    and the arcs' centre and turns."""
+    kind, values, feed = run.kind, run.position, run.feed
+    arcs = None
+    if run.arc is not None:
+        arc = kind == _ARC
+        if arc.any():
+            arcs = np.compress(arc, run.arc, axis=0)[:, 2:5]  # (boolean indexing is slower)
+    motion = kind != 2
+    if not motion.all():
+        kind, values, feed = kind[motion], values[motion], feed[motion]
+    return kind, values, feed, arcs
+
+
+class _Kept:
+    """The source's motion rows, kept block by block (:class:`_Table`'s sink)."""
+
+    def __init__(self) -> None:
+        self.blocks: list[_Block] = []
+        self.rows = 0
+
+    def add(self, block: _Block) -> bool:
+        self.blocks.append(block)
+        self.rows += len(block[0])
+        return True
+
+
+class _Compared:
+    """The output's motion rows compared with the source's (:class:`_Kept`) as they come,
+    nothing kept: each must be of the same kind (an arc of the same turns), its lengths and
+    centre within the source row's ``tol`` (mm; ``mm`` its mm per unit), its A B C within
+    :data:`EXACT`, its feed rate within ``tol`` or 1e-4 of it. ``mm`` and ``tol`` are
+    numbers, or arrays over the source's rows where its length units change. ``add`` says
+    False at the first block that differs (:class:`_Table`'s sink)."""
+
+    def __init__(self, src: _Kept, mm: float | np.ndarray, tol: float | np.ndarray) -> None:
+        self.src = src.blocks
+        self.mm, self.tol = mm, tol
+        self.rows = 0  # rows compared
+        self.block = 0  # the source block holding the next row
+        self.offset = 0  # the next row's place in it
+        self.arcs = 0  # the arcs of that block before it
+        if isinstance(mm, float) and isinstance(tol, float):
+            # a position's x y z in mm and a b c; an arc's centre in mm and its turns
+            self.flat = (
+                _Bounds((mm, mm, mm, 1.0, 1.0, 1.0), (tol, tol, tol, EXACT, EXACT, EXACT)),
+                _Bounds((mm, mm, 1.0), (tol, tol, 0.0)),
+            )
+
+    def add(self, block: _Block) -> bool:
+        kind, values, feed, arcs = block
+        done = arcs_done = 0
+        while done < len(kind):
+            if self.block == len(self.src):
+                return False  # the output has more motions
+            s_kind, s_values, s_feed, s_arcs = self.src[self.block]
+            lo = self.offset
+            m = min(len(kind) - done, len(s_kind) - lo)
+            part = kind[done : done + m]
+            if not np.array_equal(s_kind[lo : lo + m], part):
+                return False
+            n_arcs = 0 if arcs is None else int(np.count_nonzero(part == _ARC))
+            a_arcs = b_arcs = None
+            if n_arcs:
+                assert s_arcs is not None and arcs is not None
+                a_arcs = s_arcs[self.arcs : self.arcs + n_arcs]
+                b_arcs = arcs[arcs_done : arcs_done + n_arcs]
+            if not self._same(
+                part,
+                (s_values[lo : lo + m], values[done : done + m]),
+                (s_feed[lo : lo + m], feed[done : done + m]),
+                (a_arcs, b_arcs),
+            ):
+                return False
+            done += m
+            arcs_done += n_arcs
+            self.rows += m
+            self.offset += m
+            self.arcs += n_arcs
+            if self.offset == len(s_kind):
+                self.block, self.offset, self.arcs = self.block + 1, 0, 0
+        return True
+
+    def _same(
+        self,
+        kind: np.ndarray,
+        values: tuple[np.ndarray, np.ndarray],
+        feeds: tuple[np.ndarray, np.ndarray],
+        arcs: tuple[np.ndarray | None, np.ndarray | None],
+    ) -> bool:
+        """The next rows (source, output) the same: positions, feed rates, arcs."""
+        mm, tol = self.mm, self.tol
+        if isinstance(mm, np.ndarray) and isinstance(tol, np.ndarray):
+            mm = mm[self.rows : self.rows + len(kind)]
+            tol = tol[self.rows : self.rows + len(kind)]
+            if not _within_rows(np.abs(values[0] - values[1]), 3, mm, tol, EXACT):
+                return False
+            if arcs[0] is not None and arcs[1] is not None:
+                on = kind == _ARC
+                if not _within_rows(np.abs(arcs[0] - arcs[1]), 2, mm[on], tol[on], 0.0):
+                    return False
+        else:
+            if not self.flat[0].within(np.abs(values[0] - values[1])):
+                return False
+            if (
+                arcs[0] is not None
+                and arcs[1] is not None
+                and not self.flat[1].within(np.abs(arcs[0] - arcs[1]))
+            ):
+                return False
+        a, b = feeds
+        if np.array_equal(a, b):
+            return True  # the very same rates (NaN aside: array_equal says they differ)
+        rate_a, rate_b = a * mm, b * mm
+        return bool((np.abs(rate_a - rate_b) <= np.maximum(tol, 1e-4 * np.abs(rate_a))).all())
+
+
+def _within_rows(
+    diff: np.ndarray, lengths: int, mm: np.ndarray, tol: np.ndarray, limit: float
+) -> bool:
+    """``diff``'s first ``lengths`` columns times each row's ``mm`` within its ``tol``, the
+    other columns within ``limit``."""
+    if not (diff[:, :lengths] * mm[:, None] <= tol[:, None]).all():
+        return False
+    return bool((diff[:, lengths:] <= limit).all())
+
+
+class _Bounds:
+    """A row's scale and limit per column, repeated over flat rows (kept between calls,
+    grown when needed): ``diff * scale <= limit`` over the flat contiguous values is the
+    per-column rule without strided columns."""
+
+    def __init__(self, scale: tuple[float, ...], limit: tuple[float, ...]) -> None:
+        self.row_scale = np.array(scale, dtype=np.float64)
+        self.row_limit = np.array(limit, dtype=np.float64)
+        self.scale = self.limit = np.zeros(0)
+
+    def within(self, diff: np.ndarray) -> bool:
+        """Every row of ``diff`` (absolute differences, a new array) within the bounds."""
+        flat = diff.reshape(-1)
+        if len(self.scale) < len(flat):
+            rows = max(len(diff), 2 * len(self.scale) // len(self.row_scale))
+            self.scale = np.tile(self.row_scale, rows)
+            self.limit = np.tile(self.row_limit, rows)
+        flat *= self.scale[: len(flat)]
+        return bool((flat <= self.limit[: len(flat)]).all())
 
 
 class _Table:
-    """One stream's motions as columns: kind, the six values (ends, or an arc's end and
-    normal end with A B C), the feed rate in force and an id of the rest of the state
-    they see (interned in ``states``, shared by both sides), an arc's centre and turns
-    apart, and the ordered events with the number of motions before each. ``ok`` is False
-    where the stream holds what only :func:`first_difference` compares."""
+    """One stream's motions, handed to ``sink`` in blocks of rows (:data:`_Block`: kind,
+    the six values (ends, or an arc's end and normal end with A B C), the feed rate in
+    force, an arc's centre and turns apart); ``runs``, the id of the rest of the state the
+    motions see (interned in ``states``, shared by both sides) as (id, motions) runs; and
+    the ordered events with the number of motions before each. ``ok`` is False where the
+    stream holds what only :func:`first_difference` compares, or where ``sink`` refused a
+    block (the output differs from the source)."""
 
-    def __init__(self, stream: Iterable[canon.Command | Moves], states: dict[_State, int]):
+    def __init__(
+        self,
+        stream: Iterable[canon.Command | Moves],
+        states: dict[_State, int],
+        sink: _Kept | _Compared,
+    ):
         self.ok = True
-        kinds: list[np.ndarray] = []
-        values: list[np.ndarray] = []
-        feeds: list[np.ndarray] = []
-        state_runs: list[tuple[int, int]] = []  # (state id, rows)
-        arc_chunks: list[np.ndarray] = []  # (centre, turns) of the arcs, in row order
-        pa: list[tuple[float, ...]] = []  # the same, not yet in ``arc_chunks``
+        state_runs: list[tuple[int, int]] = []  # (state id, motions)
         self.events: list[tuple[int, str]] = []
-        rows = 0  # rows so far, feed changes of Moves included
         moves = 0  # motions so far
         pk: list[int] = []
         pv: list[tuple[float, ...]] = []
         pf: list[float] = []
+        pa: list[tuple[float, ...]] = []  # the arcs' centre and turns of the rows in pk
         feed = speed = 0.0
         direction = canon.Direction.STOPPED
         tool: int | str = 0
@@ -649,24 +794,27 @@ class _Table:
         plane = canon.Plane.XY
         units: canon.Units | None = None
         state = states.setdefault((speed, direction, tool, mist, flood, plane, units), len(states))
-        run_start = 0  # first row seeing ``state``
+        run_start = 0  # first motion seeing ``state``
 
-        def flush() -> None:
-            if pk:
-                kinds.append(np.array(pk, dtype=np.int8))
-                values.append(np.array(pv, dtype=np.float64).reshape(len(pk), 6))
-                feeds.append(np.array(pf, dtype=np.float64))
-                pk.clear()
-                pv.clear()
-                pf.clear()
-            if pa:
-                arc_chunks.append(np.array(pa, dtype=np.float64).reshape(len(pa), 3))
-                pa.clear()
+        def flush() -> bool:
+            if not pk:
+                return True
+            block = (
+                np.array(pk, dtype=np.int8),
+                np.array(pv, dtype=np.float64).reshape(len(pk), 6),
+                np.array(pf, dtype=np.float64),
+                np.array(pa, dtype=np.float64).reshape(len(pa), 3) if pa else None,
+            )
+            pk.clear()
+            pv.clear()
+            pf.clear()
+            pa.clear()
+            return sink.add(block)
 
         def restate() -> int:
             nonlocal run_start
-            state_runs.append((state, rows - run_start))
-            run_start = rows
+            state_runs.append((state, moves - run_start))
+            run_start = moves
             key = (speed, direction, tool, mist, flood, plane, units)
             return states.setdefault(key, len(states))
 
@@ -678,42 +826,35 @@ class _Table:
                 pk.append(1 if t is straight else 0)
                 pv.append((c.x, c.y, c.z, c.a, c.b, c.c))
                 pf.append(feed)
-                rows += 1
                 moves += 1
             elif t is arc:
                 assert isinstance(c, canon.ArcFeed)
                 pk.append(_ARC)
-                pv.append((c.first_end, c.second_end, c.axis_end_point, c.a, c.b, c.c))
+                i, j, k = _AXES[plane]  # its end as x y z, as a run's position holds it
+                end = [0.0, 0.0, 0.0]
+                end[i], end[j], end[k] = c.first_end, c.second_end, c.axis_end_point
+                pv.append((end[0], end[1], end[2], c.a, c.b, c.c))
                 pf.append(feed)
                 pa.append((c.first_axis, c.second_axis, c.rotation))
-                rows += 1
                 moves += 1
             elif t is Moves:
                 assert isinstance(c, Moves)
                 n = len(c.kind)
                 if not n:
                     continue
-                run_values, run_arcs = _move_rows(c)
+                block = _move_rows(c)
+                count = len(block[0])
                 if n < _SMALL:  # as rows: a few list items cost less than three arrays
-                    kind = c.kind.tolist()
-                    pk.extend(kind)
-                    pv.extend(map(tuple, run_values.tolist()))
-                    rates = c.feed.tolist()
-                    pf.extend(rates)
-                    if run_arcs is not None:
-                        pa.extend(map(tuple, run_arcs.tolist()))
-                    moves += n - kind.count(2)
-                    feed = rates[-1]
-                else:
-                    flush()
-                    kinds.append(c.kind)
-                    values.append(run_values)
-                    feeds.append(c.feed)
-                    if run_arcs is not None:
-                        arc_chunks.append(run_arcs)
-                    moves += n - int(np.count_nonzero(c.kind == 2))
-                    feed = float(c.feed[-1])
-                rows += n
+                    pk.extend(block[0].tolist())
+                    pv.extend(map(tuple, block[1].tolist()))
+                    pf.extend(block[2].tolist())
+                    if block[3] is not None:
+                        pa.extend(map(tuple, block[3].tolist()))
+                elif count and not (flush() and sink.add(block)):
+                    self.ok = False
+                    return
+                moves += count
+                feed = float(c.feed[-1])
             elif isinstance(c, _MOTION_KINDS):
                 self.ok = False  # probes, curves, dwells: first_difference's rules
                 return
@@ -753,18 +894,37 @@ class _Table:
                     state = restate()
                 text = c.text.strip() if isinstance(c, canon.Message) else c.to_text()
                 self.events.append((moves, c.NAME + " " + text))
-        flush()
-        state_runs.append((state, rows - run_start))
-        self.kind = np.concatenate(kinds) if kinds else np.zeros(0, dtype=np.int8)
-        self.values = np.concatenate(values) if values else np.zeros((0, 6))
-        self.feed = np.concatenate(feeds) if feeds else np.zeros(0)
-        self.arcs = np.concatenate(arc_chunks) if arc_chunks else np.zeros((0, 3))
-        ids = np.array([s for s, _ in state_runs], dtype=np.int64)
-        self.state = np.repeat(ids, [n for _, n in state_runs])
-        motion = self.kind != 2
-        if not motion.all():
-            self.kind, self.values = self.kind[motion], self.values[motion]
-            self.feed, self.state = self.feed[motion], self.state[motion]
+        if not flush():
+            self.ok = False
+            return
+        state_runs.append((state, moves - run_start))
+        self.moves = moves
+        self.runs: list[tuple[int, int]] = []  # state_runs, empty ones out, equal ones joined
+        for sid, count in state_runs:
+            if not count:
+                continue
+            if self.runs and self.runs[-1][0] == sid:
+                self.runs[-1] = (sid, self.runs[-1][1] + count)
+            else:
+                self.runs.append((sid, count))
+
+
+def _scales(
+    table: _Table, states: dict[_State, int], rounding: Mapping[canon.Units | None, float]
+) -> tuple[float | np.ndarray, float | np.ndarray]:
+    """The mm per unit and the length tolerance (mm: :data:`EXACT`, or the output's
+    rounding where coarser) of the source's motions: numbers where all see the same length
+    units, else arrays over them."""
+    keys = sorted(states, key=states.__getitem__)
+    k = np.array([_mm(key[6]) for key in keys])
+    written = np.array([rounding.get(key[6], 0.0) * _mm(key[6]) * (1 + 1e-6) for key in keys])
+    exact = np.maximum(EXACT * k, written + 1e-9)
+    ids = np.array([sid for sid, _ in table.runs], dtype=np.int64)
+    counts = [count for _, count in table.runs]
+    if len(set(zip(k[ids].tolist(), exact[ids].tolist(), strict=True))) <= 1:
+        first = int(ids[0]) if len(ids) else 0
+        return float(k[first]), float(exact[first])
+    return np.repeat(k[ids], counts), np.repeat(exact[ids], counts)
 
 
 def equivalent(
@@ -777,38 +937,17 @@ def equivalent(
     cannot tell (a curve replaced by pieces, a probe, a difference anywhere), and
     :func:`first_difference` must compare and say what differs. Each motion must be of
     the same kind (arcs of the same turns) and see exactly the same state, feed aside;
-    that is stricter than the rule, never looser."""
+    that is stricter than the rule, never looser. The source's rows are kept; the
+    output's are compared with them block by block as they are read, and the reading
+    stops at the first block that differs."""
     states: dict[_State, int] = {}
-    src = _Table(source, states)
+    kept = _Kept()
+    src = _Table(source, states, kept)
     if not src.ok:
         return False
-    out = _Table(output, states)
-    if not out.ok or src.events != out.events or len(src.kind) != len(out.kind):
-        return False
-    if not np.array_equal(src.kind, out.kind) or not np.array_equal(src.state, out.state):
-        return False
-    if src.arcs.shape != out.arcs.shape:
-        return False
-    rounding = resolution or {}
-    keys = sorted(states, key=states.__getitem__)
-    k = np.array([_mm(key[6]) for key in keys])
-    written = np.array([rounding.get(key[6], 0.0) * _mm(key[6]) * (1 + 1e-6) for key in keys])
-    exact = np.maximum(EXACT * k, written + 1e-9)
-    mm, tol = k[src.state], exact[src.state]
-    lengths = np.abs(src.values[:, :3] - out.values[:, :3]) * mm[:, None]
-    if not (lengths <= tol[:, None]).all():
-        return False
-    if not (np.abs(src.values[:, 3:] - out.values[:, 3:]) <= EXACT).all():
-        return False
-    rate_src, rate_out = src.feed * mm, out.feed * mm
-    if not (np.abs(rate_src - rate_out) <= np.maximum(tol, 1e-4 * np.abs(rate_src))).all():
-        return False
-    if len(src.arcs):
-        a, b = src.arcs, out.arcs
-        if not np.array_equal(a[:, 2], b[:, 2]):
-            return False
-        arc = src.kind == _ARC
-        centre = np.abs(a[:, :2] - b[:, :2]) * mm[arc][:, None]
-        if not (centre <= tol[arc][:, None]).all():
-            return False
-    return True
+    mm, tol = _scales(src, states, resolution or {})
+    compared = _Compared(kept, mm, tol)
+    out = _Table(output, states, compared)
+    return (
+        out.ok and compared.rows == kept.rows and src.events == out.events and src.runs == out.runs
+    )
