@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 import tempfile
-from collections.abc import Iterable, Iterator
+from collections.abc import Generator, Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import cast
@@ -83,7 +83,7 @@ class Verification:
         return f"{source}: not verified (the report lists losses): {self.difference}"
 
 
-def _chunks(stream: Iterable[object], file: str) -> Iterator[canon.Command | Moves]:
+def _chunks(stream: Iterable[object], file: str) -> Generator[canon.Command | Moves, None, None]:
     """The read-back's stream, its runs as :class:`Moves` not copied: the comparison
     consumes each as it comes and keeps none."""
     for item in stream:
