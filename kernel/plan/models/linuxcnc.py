@@ -11,6 +11,9 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
 * **Circle acceleration split** (blendmath.c ``pmCircleActualMaxVel``, tc.c
   ``tcUpdateCircleAccRatio``): the normal acceleration at the segment's top speed takes what
   it needs of the segment's acceleration, the tangential share is the rest (at most 1/2).
+  The split is made when the segment is finalised (tc.c ``tcFinalizeLength``), once the
+  next move is queued: a circle the queue runs dry after (the program's last move, a move
+  before a task command's wait) keeps its top speed and the initial split of 1/2.
 * **Short-segment cap** (tc.c ``tcClampVelocityByLength``, tp.c
   ``tpComputeOptimalVelocity``): a segment never runs faster than its length per servo
   period (per 1.02 periods after a tangent join).
@@ -26,6 +29,14 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   a quarter of either), bounds the arc; the arc also takes at most half of either line; its
   speed is ``sqrt(0.866 a_plane R)``; its radius is no larger than an equivalent parabolic
   blend needs. Blend arcs run at half their plane acceleration tangentially.
+* **Blend arcs between a line and a circle** (blendmath.c ``blendLineArcPostProcess``,
+  ``blendArcLinePostProcess``): the circle tangent to both at the blend radius, built
+  wherever the line as already trimmed keeps some length (posemath ``pmCartLineStretch``),
+  not only within half of it.
+* **Consumed lines** (blendmath.c ``blendCheckConsume``, tp.c ``tpCreateLineLineBlend``):
+  what is left of a line before a blend arc, if run in fewer than ``ARC_BLEND_GAP_CYCLES``
+  periods, is popped and run as part of the arc, at the arc's speed and requested feed
+  (the faster of the two moves it joins).
 * **Blend arcs between two circles** (blendmath.c ``blendArcArcPostProcess``, tp.c
   ``tpCreateArcArcBlend``): the exact blend circle tangent to both must stay within the
   tolerance of the corner and take no more of either circle than ``phi_max``, or there is no
@@ -500,13 +511,70 @@ def _arc_arc_blend(
     fails = np.zeros(len(a), dtype=bool)
     length = np.zeros(len(a))
     ia, ib = a[which], b[which]
-    t1, t2 = u1[which], u2[which]
+    rp = r_plan[which]
+    geo = _arc_arc_geometry(seg, ia, ib, u1[which], u2[which], binormal[which], rp)
+    p, c1, r1, c2, r2, convex1, convex2, centre, good = geo
+    t_final = _rownorm(centre - p) - rp
+    tt = theta_tan[which]
+    phi1_max = np.minimum(np.abs(seg["sweep"][ia]) * 2.0 / 3.0, np.where(convex1, tt, np.pi / 2))
+    phi2_max = np.minimum(np.abs(seg["sweep"][ib]) / 3.0, np.where(convex2, tt, np.pi / 2))
+    fails[which] = (
+        ~good
+        | ~(t_final <= tolerance[which])
+        | (_trim_angle(p, c1, centre) > phi1_max)
+        | (_trim_angle(p, c2, centre) > phi2_max)
+    )
+    length[which] = _blend_arc_length(centre, rp, c1, r1, c2, r2)
+    return fails, length
+
+
+def _blend_arc_length(
+    centre: np.ndarray,
+    rp: np.ndarray,
+    c1: np.ndarray,
+    r1: np.ndarray,
+    c2: np.ndarray,
+    r2: np.ndarray,
+) -> np.ndarray:
+    """The length of the blend arc (centre ``centre``, radius ``rp``) between the points
+    where it touches the circles of centres ``c1`` and ``c2`` (rows)."""
+
+    def touch(c: np.ndarray, r: np.ndarray) -> np.ndarray:
+        """Where the blend circle touches the circle of centre ``c``: along the centres'
+        line, from the blend's centre (unit vector)."""
+        d = centre - c
+        t = c + d * (r / np.maximum(_rownorm(d), _TINY))[:, None] - centre
+        return t / np.maximum(_rownorm(t), _TINY)[:, None]
+
+    cos_arc = np.clip(_rowsum(touch(c1, r1) * touch(c2, r2)), -1.0, 1.0)
+    return rp * np.arccos(cos_arc)
+
+
+def _trim_angle(p: np.ndarray, c: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """blendmath.c ``findTrimAngle``: the angle a blend centred at ``centre`` takes off the
+    circle of centre ``c`` that ends (or starts) at ``p`` (rows)."""
+    up = (p - c) / np.maximum(_rownorm(p - c), _TINY)[:, None]
+    uq = (centre - c) / np.maximum(_rownorm(centre - c), _TINY)[:, None]
+    return np.arccos(np.clip(_rowsum(up * uq), -1.0, 1.0))
+
+
+def _arc_arc_geometry(
+    seg: np.ndarray,
+    ia: np.ndarray,
+    ib: np.ndarray,
+    t1: np.ndarray,
+    t2: np.ndarray,
+    binormal: np.ndarray,
+    rp: np.ndarray,
+) -> tuple[np.ndarray, ...]:
+    """The blend circle of radius ``rp`` between circle rows ``ia`` and ``ib`` (blendmath.c
+    ``blendArcArcPostProcess``): the corner, each circle as the spiral approximation there
+    (centre, radius), whether each is convex, the blend's centre and where it exists."""
     p = seg["end"][ia, :3]
     c1, r1 = _spiral_circle(seg, ia, p, t1)
     c2, r2 = _spiral_circle(seg, ib, p, t2)
     convex1 = _rowsum((p - c1) * t2) < 0
     convex2 = _rowsum((p - c2) * t1) >= 0
-    rp = r_plan[which]
     d1 = np.where(convex1, -rp, rp) + r1
     d2 = np.where(convex2, -rp, rp) + r2
     c12 = c2 - c1
@@ -518,7 +586,7 @@ def _arc_arc_blend(
         cy = np.sqrt(np.maximum(d1**2 - cx**2, 0.0))
     normal = t2 - t1
     normal /= np.maximum(_rownorm(normal), _TINY)[:, None]
-    nc = np.cross(binormal[which], uc)
+    nc = np.cross(binormal, uc)
     nc = np.where((_rowsum(normal * nc) < 0)[:, None], -nc, nc)
     nc /= np.maximum(_rownorm(nc), _TINY)[:, None]
     base = c1 - p + uc * cx[:, None]
@@ -526,31 +594,7 @@ def _arc_arc_blend(
     minus = _rownorm(base - nc * cy[:, None])
     cy = np.where(minus < plus, -cy, cy)
     centre = c1 + uc * cx[:, None] + nc * cy[:, None]
-    t_final = _rownorm(centre - p) - rp
-
-    def trim(c: np.ndarray) -> np.ndarray:
-        """blendmath.c ``findTrimAngle``: the angle the blend takes off a circle."""
-        up = (p - c) / np.maximum(_rownorm(p - c), _TINY)[:, None]
-        uq = (centre - c) / np.maximum(_rownorm(centre - c), _TINY)[:, None]
-        return np.arccos(np.clip(_rowsum(up * uq), -1.0, 1.0))
-
-    tt = theta_tan[which]
-    phi1_max = np.minimum(np.abs(seg["sweep"][ia]) * 2.0 / 3.0, np.where(convex1, tt, np.pi / 2))
-    phi2_max = np.minimum(np.abs(seg["sweep"][ib]) / 3.0, np.where(convex2, tt, np.pi / 2))
-    fails[which] = (
-        ~good | ~(t_final <= tolerance[which]) | (trim(c1) > phi1_max) | (trim(c2) > phi2_max)
-    )
-
-    def touch(c: np.ndarray, r: np.ndarray) -> np.ndarray:
-        """Where the blend circle touches the circle of centre ``c``: along the centres'
-        line, from the blend's centre (unit vector)."""
-        d = centre - c
-        t = c + d * (r / np.maximum(_rownorm(d), _TINY))[:, None] - centre
-        return t / np.maximum(_rownorm(t), _TINY)[:, None]
-
-    cos_arc = np.clip(_rowsum(touch(c1, r1) * touch(c2, r2)), -1.0, 1.0)
-    length[which] = rp * np.arccos(cos_arc)
-    return fails, length
+    return p, c1, r1, c2, r2, convex1, convex2, centre, good
 
 
 def _joins(
@@ -895,15 +939,19 @@ def _fillet(
     """A circle of ``radius`` tangent to a line and to a planar circle meeting it at the
     circle's start (``at_start``) or end: the point on the line (``line_p`` is the corner,
     ``u`` the line's direction away from the corner), the distance back along the line, the
-    angle taken off the circle, and the fillet's centre; None when there is none."""
-    c = arc["centre"]
-    r = float(arc["radius"])
+    angle taken off the circle, and the fillet's centre; None when there is none. A planar
+    spiral (start and end radius differ) is taken as the circle that approximates it at the
+    corner (blendmath.c ``findSpiralApproximation``)."""
     n = arc["normal"]
     sweep = float(arc["sweep"])
     e1, e2 = arc["e1"], arc["e2"]
     psi = 0.0 if at_start else sweep
-    radial = math.cos(psi) * e1 + math.sin(psi) * e2
     tangent = math.copysign(1.0, sweep) * (-math.sin(psi) * e1 + math.cos(psi) * e2)
+    dr = float(arc["radius_end"] - arc["radius"]) / max(abs(sweep), _TINY)
+    c = arc["centre"] + dr * tangent
+    to_p = (arc["start"][:3] if at_start else arc["end"][:3]) - c
+    r = float(np.linalg.norm(to_p))
+    radial = to_p / max(r, _TINY)
     t_away = tangent if at_start else -tangent  # the circle's direction away from the corner
     side = t_away - float(t_away @ u) * u
     norm = float(np.linalg.norm(side))
@@ -956,24 +1004,60 @@ def _arc_row(
 
 
 def _trim_circle(row: np.void, delta: float, at_start: bool) -> None:
-    """Take ``delta`` (rad) off a planar circle row at its start or end, in place."""
+    """Take ``delta`` (rad) off a planar circle or spiral row at its start or end, in place
+    (a spiral's radius changing in proportion to the angle, posemath ``pmCircleStretch``)."""
     sweep = float(row["sweep"])
     sign = math.copysign(1.0, sweep)
     e1, e2 = row["e1"].copy(), row["e2"].copy()
-    r = float(row["radius"])
+    r0, r1 = float(row["radius"]), float(row["radius_end"])
     c = row["centre"]
+    cut = delta / max(abs(sweep), _TINY)
     if at_start:
         d = sign * delta
         row["e1"] = math.cos(d) * e1 + math.sin(d) * e2
         row["e2"] = -math.sin(d) * e1 + math.cos(d) * e2
-        row["start"][:3] = c + r * row["e1"]
+        r0 += (r1 - r0) * cut
+        row["radius"] = r0
+        row["start"][:3] = c + r0 * row["e1"]
         row["u_start"][:3] = sign * row["e2"]
     else:
         psi = sweep - sign * delta
-        row["end"][:3] = c + r * (math.cos(psi) * e1 + math.sin(psi) * e2)
+        r1 -= (r1 - r0) * cut
+        row["radius_end"] = r1
+        row["end"][:3] = c + r1 * (math.cos(psi) * e1 + math.sin(psi) * e2)
         row["u_end"][:3] = sign * (-math.sin(psi) * e1 + math.cos(psi) * e2)
     row["sweep"] = sweep - sign * delta
-    row["length"] = r * abs(float(row["sweep"]))
+    row["length"] = 0.5 * (r0 + r1) * abs(float(row["sweep"]))
+
+
+def _arc_arc_fillets(
+    seg: np.ndarray, joins: np.ndarray, radius: np.ndarray, shortest: np.ndarray
+) -> list[tuple[float, float, np.ndarray] | None]:
+    """The blend arcs LinuxCNC builds between two planar circles (tp.c
+    ``tpCreateArcArcBlend``, blendmath.c ``blendArcArcPostProcess``) at ``joins`` (the row
+    before each), of the radius the join was decided with: the angle taken off the end of
+    the first circle and the start of the second, and the blend's centre; None where there
+    is none to build (a helix, or a blend that would take a whole circle) or where the arc
+    is no longer than ``shortest`` (it is run within one servo period: LinuxCNC passes it
+    in a split cycle, the join at the arc's speed)."""
+    a, b = joins, joins + 1
+    u1 = seg["u_end"][a, :3]
+    u2 = seg["u_start"][b, :3]
+    u1 = u1 / np.maximum(_rownorm(u1), _TINY)[:, None]
+    u2 = u2 / np.maximum(_rownorm(u2), _TINY)[:, None]
+    binormal = np.cross(u1, u2)
+    binormal /= np.maximum(_rownorm(binormal), _TINY)[:, None]
+    rp = radius[joins]
+    p, c1, r1, c2, r2, _, _, centre, good = _arc_arc_geometry(seg, a, b, u1, u2, binormal, rp)
+    d1, d2 = _trim_angle(p, c1, centre), _trim_angle(p, c2, centre)
+    flat = (np.abs(seg["axial"][a]) < 1e-9) & (np.abs(seg["axial"][b]) < 1e-9)
+    fits = (d1 < np.abs(seg["sweep"][a])) & (d2 < np.abs(seg["sweep"][b]))
+    long = _blend_arc_length(centre, rp, c1, r1, c2, r2) > shortest
+    made = good & flat & fits & long & np.isfinite(centre).all(axis=1)
+    return [
+        (float(d1[k]), float(d2[k]), centre[k].copy()) if made[k] else None
+        for k in range(joins.size)
+    ]
 
 
 def _split_lines(
@@ -982,23 +1066,34 @@ def _split_lines(
     trim: np.ndarray,
     tail: np.ndarray,
     radius: np.ndarray,
+    circles: list[tuple[float, float, np.ndarray] | None],
 ) -> tuple[np.ndarray, np.ndarray]:
     """The blend of a line and a circle at each join after row ``pos``: where the circle is
     planar, a fillet of ``radius`` tangent to both (the line and the circle shortened);
     otherwise ``trim`` cut off the line (its end, where ``tail``, else the next row's start)
-    as a row of its own, on the programmed corner. Returns the table and the new rows."""
+    as a row of its own, on the programmed corner. Between two circles (``circles[k]``: the
+    angles taken off each and the blend's centre, :func:`_arc_arc_fillets`) the blend arc
+    itself. Returns the table and the new rows."""
     table = table.copy()
     pieces = []
     for k in range(pos.size):
         p = int(pos[k])
+        both = circles[k]
+        if both is not None:
+            _trim_circle(table[p : p + 1][0], both[0], False)
+            _trim_circle(table[p + 1 : p + 2][0], both[1], True)
+            first = table[p]
+            start, end = first["end"][:3].copy(), table["start"][p + 1, :3].copy()
+            pieces.append(_arc_row(first, both[2], start, end, first["u_end"][:3].copy()))
+            continue
         line_i, arc_i = (p, p + 1) if tail[k] else (p + 1, p)
         line, arc = table[line_i], table[arc_i]
         u = line["u_start"][:3]
         corner = line["end"][:3] if tail[k] else line["start"][:3]
         away = -u if tail[k] else u
-        flat = abs(float(arc["radius"] - arc["radius_end"])) < 1e-9 and abs(arc["axial"]) < 1e-9
+        flat = abs(arc["axial"]) < 1e-9
         got = _fillet(corner, away, arc, tail[k], float(radius[k])) if flat else None
-        if got is not None and got[1] < 0.5 * float(line["length"]):
+        if got is not None and got[1] < float(line["length"]) - _GONE:
             a_pt, back, delta, q = got
             _trim_circle(table[arc_i : arc_i + 1][0], delta, tail[k])
             arc = table[arc_i]
@@ -1057,6 +1152,17 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         change = np.concatenate([(rapid[:-1] != rapid[1:]) & mv[:-1] & mv[1:], [False]])
         term = np.where(change, STOP, term).astype(np.int8)
     j = _joins(seg, lim, term, tol, machine)
+    # a blend arc between two circles is built (as between a line and a circle), where
+    # its geometry allows; else the join is passed at the blend arc's speed
+    pairs = np.flatnonzero((j.kind == TANGENT) & (j.radius > 0))
+    circles: dict[int, tuple[float, float, np.ndarray]] = {}
+    if pairs.size:
+        shortest = j.arc_vel[pairs] * period * MIN_SEGMENT_CYCLES
+        made = _arc_arc_fillets(seg, pairs, j.radius, shortest)
+        for k, got in zip(pairs.tolist(), made, strict=True):
+            if got is not None:
+                circles[k] = got
+                j.kind[k] = _VIRTUAL
     moving = seg["kind"] != HOLD
     # per-segment state after the joins: how each segment ends and starts
     out_kind = np.concatenate([j.kind, [STOP]])
@@ -1118,7 +1224,12 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         # where the original rows are now (after the blend arcs)
         pos = virt + np.searchsorted(corners, virt, "left")
         table, rows = _split_lines(
-            table, pos, j.trim[virt], seg["kind"][virt] == LINE, j.radius[virt]
+            table,
+            pos,
+            j.trim[virt],
+            seg["kind"][virt] == LINE,
+            j.radius[virt],
+            [circles.get(k) for k in virt.tolist()],
         )
         # the blend is asked the faster of its two moves' speeds, as a blend arc is
         table["feed"][rows] = np.maximum(seg["feed"][virt], seg["feed"][virt + 1])
@@ -1165,6 +1276,12 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     v_next = np.concatenate([maxvel[1:], [0.0]])
     consumed = (kinds == LINE) & arc_next & ~bprev & (length < GAP_CYCLES * period * v_next)
     maxvel = np.where(consumed, np.minimum(maxvel, v_next), capped)
+    # tp.c tpCreateLineLineBlend: the consumed line is popped and its length run as part of
+    # the blend arc, at the arc's requested speed (the faster of the two moves it joins)
+    if consumed.any():
+        reqvel = np.where(consumed, np.concatenate([reqvel[1:], [0.0]]), reqvel)
+        table = table.copy() if table is seg else table
+        table["feed"][consumed] = table["feed"][1:][consumed[:-1]]
     # circles: normal acceleration at the top speed, tangential share of the rest
 
     def target_of(rows: np.ndarray) -> np.ndarray:
@@ -1180,6 +1297,12 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         cut = ACC_RATIO_NORMAL * a_c
         over = a_n_vmax > cut
         ratio = np.where(over, ACC_RATIO_TAN, np.sqrt(np.clip(1 - (a_n_vmax / a_c) ** 2, 0, 1)))
+        # tc.c tcFinalizeLength: a segment is finalised (its split computed) only when the
+        # next one is queued; a circle the queue runs dry after (the program's last move, a
+        # move before a task command's wait) keeps its top speed and the initial 1/2 split
+        unfinal = np.concatenate([kinds[1:] == HOLD, [carry is None or carry.last]])[circle]
+        ratio = np.where(unfinal, ACC_RATIO_TAN, ratio)
+        over &= ~unfinal
         maxvel[circle] = np.where(over, np.sqrt(cut * r), v)
         acc_t[circle] = np.minimum(
             a_c * ratio, _helix_tangential_cap(table[circle], machine, target_of(circle))
