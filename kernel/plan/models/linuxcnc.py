@@ -61,7 +61,10 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   acceleration limit (LinuxCNC checks nothing there) the overlap starts later, at the
   speed that keeps every axis within them (found by the property tests; no golden moves).
 * **Look-ahead** (tp.c ``tpRunOptimization``): backwards over ``ARC_BLEND_OPTIMIZATION_DEPTH``
-  (50) tangent segments; non-tangent joins stop it.
+  (50) tangent segments; non-tangent joins stop it. A move not finalised yet (the queue runs
+  dry after it) is entered no faster than the peak of a triangle over it, ``sqrt(a L)``
+  (``tpCalculateOptimizationInitialVel``): the program's last move is entered slower than
+  a full deceleration over it would allow.
 * **Ramped short segments** (tp.c ``tpActivateSegment``, ``tpCalculateRampAccel``): a
   tangent feed segment that lasts less than ``1/ARC_BLEND_RAMP_FREQ`` (10 ms) goes straight
   from its start speed to its end speed.
@@ -1289,6 +1292,9 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
 
     acc_t = acc_all.copy()
     circle = (kinds == ARC) & ~is_blend_arc
+    # the rows the queue runs dry after: never finalised (the program's last move, a move
+    # before a task command's wait)
+    dry = np.concatenate([kinds[1:] == HOLD, [carry is None or carry.last]]) & moving
     if circle.any():
         a_c = acc_all[circle]
         r = np.maximum(r_eff[circle], 1e-300)
@@ -1300,7 +1306,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         # tc.c tcFinalizeLength: a segment is finalised (its split computed) only when the
         # next one is queued; a circle the queue runs dry after (the program's last move, a
         # move before a task command's wait) keeps its top speed and the initial 1/2 split
-        unfinal = np.concatenate([kinds[1:] == HOLD, [carry is None or carry.last]])[circle]
+        unfinal = dry[circle]
         ratio = np.where(unfinal, ACC_RATIO_TAN, ratio)
         over &= ~unfinal
         maxvel[circle] = np.where(over, np.sqrt(cut * r), v)
@@ -1354,6 +1360,10 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         # its deceleration (below)
         jcap[1:-1] = np.where(tan, cap_t, 0.0)
     acc_plan = np.where(moving, acc_t, 0.0)
+    # tp.c tpRunOptimization: the move before an unfinalised one may end no faster than
+    # the peak of a triangle over it (tpCalculateOptimizationInitialVel, findVPeak)
+    last_in = np.flatnonzero(dry[1:]) + 1
+    jcap[last_in] = np.minimum(jcap[last_in], np.sqrt(acc_plan[last_in] * length[last_in]))
     window = None if nn <= OPT_DEPTH else OPT_DEPTH
     if carry is None:
         v = lookahead(length, jcap, acc_plan, None, window)
