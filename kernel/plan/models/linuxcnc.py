@@ -76,7 +76,9 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   (measured on the goldens); the plan adds them as stand-stills.
 * **Naive-CAM merging** (emccanon.cc ``see_segment``/``linkable``/``flush_segments``): with
   ``G64 Q`` (``P`` alone sets ``Q = P``), runs of up to 101 feed lines whose points all lie
-  within ``Q`` of the line from the run's start to its end become that one line.
+  within ``Q`` of the line from the run's start to its end become that one line. In G17
+  an arc whose middle lies within ``Q`` of its chord (emccanon.cc ``chord_deviation``)
+  joins them as two lines through its middle point (arc-fitted CAM output in G64 P).
 """
 
 from __future__ import annotations
@@ -226,6 +228,67 @@ def _linkable(
     return True
 
 
+def _chord_deviation(
+    start: tuple[float, float], cmd: canon.ArcFeed
+) -> tuple[float, tuple[float, float]]:
+    """emccanon.cc ``chord_deviation``: how far an XY arc's middle lies from its chord, and
+    that middle point (the sweep taken as LinuxCNC takes it, full turns left out)."""
+    cx, cy = cmd.first_axis, cmd.second_axis
+    th1 = math.atan2(start[1] - cy, start[0] - cx)
+    th2 = math.atan2(cmd.second_end - cy, cmd.first_end - cx)
+    r = math.hypot(start[1] - cy, start[0] - cx)
+    for _ in range(2):
+        if cmd.rotation < 0 and th2 - th1 >= -1e-5:
+            th2 -= 2.0 * math.pi
+        elif cmd.rotation >= 0 and th2 - th1 <= 1e-5:
+            th2 += 2.0 * math.pi
+    mid = (th1 + th2) / 2.0
+    dev = r * (1.0 - math.cos(abs(th2 - th1) / 2.0))
+    return dev, (cx + r * math.cos(mid), cy + r * math.sin(mid))
+
+
+def _flat_arcs_as_lines(commands: Iterable[canon.Command]) -> Iterator[canon.Command]:
+    """emccanon.cc ``ARC_FEED``: in G17 with G64, an arc whose middle lies closer to its
+    chord than the naive-CAM tolerance ``Q`` goes to the planner as two lines, through its
+    middle point, that the naive-CAM merging then takes as any other lines."""
+    xy, continuous, naive = True, True, 0.0
+    at: tuple[float, ...] | None = None  # the current point, x y z a b c (program units)
+    for cmd in commands:
+        match cmd:
+            case canon.ArcFeed() if xy and continuous and naive > 0 and at is not None:
+                end = (cmd.first_end, cmd.second_end, cmd.axis_end_point, cmd.a, cmd.b, cmd.c)
+                dev, (mx, my) = _chord_deviation((at[0], at[1]), cmd)
+                if dev < naive:
+                    half = [(p + q) / 2.0 for p, q in zip(at[2:], end[2:], strict=True)]
+                    yield canon.StraightFeed(mx, my, *half, source=cmd.source)
+                    yield canon.StraightFeed(*end, source=cmd.source)
+                    at = end
+                    continue
+                at = end
+            case canon.ArcFeed():
+                at = (
+                    None
+                    if not xy
+                    else (cmd.first_end, cmd.second_end, cmd.axis_end_point, cmd.a, cmd.b, cmd.c)
+                )
+            case canon.StraightFeed() | canon.StraightTraverse():
+                at = (cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)
+            case canon.SelectPlane():
+                xy = cmd.plane is canon.Plane.XY
+            case canon.SetMotionControlMode():
+                continuous = cmd.mode is canon.MotionMode.CONTINUOUS
+            case canon.SetNaivecamTolerance():
+                naive = cmd.tolerance
+            case _ if cmd.NAME in (
+                "USE_LENGTH_UNITS",
+                "SET_G5X_OFFSET",
+                "SET_G92_OFFSET",
+                "SET_XY_ROTATION",
+            ) or cmd.NAME.startswith(("STRAIGHT_PROBE", "RIGID_TAP")):
+                at = None
+        yield cmd
+
+
 def prepared_commands(
     commands: Iterable[canon.Command],
 ) -> Iterator[tuple[canon.Command, int, float]]:
@@ -239,7 +302,7 @@ def prepared_commands(
     pos: tuple[float, ...] | None = None  # where the chain starts (program units)
     chain: list[canon.StraightFeed] = []
 
-    for cmd in commands:
+    for cmd in _flat_arcs_as_lines(commands):
         if isinstance(cmd, canon.StraightFeed):
             if chain and not (
                 term == PARABOLIC
