@@ -247,45 +247,56 @@ def _chord_deviation(
     return dev, (cx + r * math.cos(mid), cy + r * math.sin(mid))
 
 
+_RESETS = frozenset({"USE_LENGTH_UNITS", "SET_G5X_OFFSET", "SET_G92_OFFSET", "SET_XY_ROTATION"})
+
+
+def _end_of(move: canon.Command) -> tuple[float, ...]:
+    """Where a straight move or an XY arc ends: x y z a b c (program units)."""
+    if isinstance(move, canon.ArcFeed):
+        return (move.first_end, move.second_end, move.axis_end_point, move.a, move.b, move.c)
+    assert isinstance(move, (canon.StraightFeed, canon.StraightTraverse))
+    return (move.x, move.y, move.z, move.a, move.b, move.c)
+
+
 def _flat_arcs_as_lines(commands: Iterable[canon.Command]) -> Iterator[canon.Command]:
     """emccanon.cc ``ARC_FEED``: in G17 with G64, an arc whose middle lies closer to its
     chord than the naive-CAM tolerance ``Q`` goes to the planner as two lines, through its
-    middle point, that the naive-CAM merging then takes as any other lines."""
+    middle point, that the naive-CAM merging then takes as any other lines. (Type tests by
+    identity: this runs once per command of every program.)"""
     xy, continuous, naive = True, True, 0.0
-    at: tuple[float, ...] | None = None  # the current point, x y z a b c (program units)
+    last: canon.Command | None = None  # the last move: its end is the current point
     for cmd in commands:
-        match cmd:
-            case canon.ArcFeed() if xy and continuous and naive > 0 and at is not None:
-                end = (cmd.first_end, cmd.second_end, cmd.axis_end_point, cmd.a, cmd.b, cmd.c)
+        kind = type(cmd)
+        if kind is canon.StraightFeed or kind is canon.StraightTraverse:
+            last = cmd
+        elif kind is canon.ArcFeed:
+            assert isinstance(cmd, canon.ArcFeed)
+            if naive > 0 and xy and continuous and last is not None:
+                at = _end_of(last)
                 dev, (mx, my) = _chord_deviation((at[0], at[1]), cmd)
                 if dev < naive:
+                    end = _end_of(cmd)
                     half = [(p + q) / 2.0 for p, q in zip(at[2:], end[2:], strict=True)]
                     yield canon.StraightFeed(mx, my, *half, source=cmd.source)
-                    yield canon.StraightFeed(*end, source=cmd.source)
-                    at = end
+                    last = canon.StraightFeed(*end, source=cmd.source)
+                    yield last
                     continue
-                at = end
-            case canon.ArcFeed():
-                at = (
-                    None
-                    if not xy
-                    else (cmd.first_end, cmd.second_end, cmd.axis_end_point, cmd.a, cmd.b, cmd.c)
-                )
-            case canon.StraightFeed() | canon.StraightTraverse():
-                at = (cmd.x, cmd.y, cmd.z, cmd.a, cmd.b, cmd.c)
-            case canon.SelectPlane():
-                xy = cmd.plane is canon.Plane.XY
-            case canon.SetMotionControlMode():
-                continuous = cmd.mode is canon.MotionMode.CONTINUOUS
-            case canon.SetNaivecamTolerance():
-                naive = cmd.tolerance
-            case _ if cmd.NAME in (
-                "USE_LENGTH_UNITS",
-                "SET_G5X_OFFSET",
-                "SET_G92_OFFSET",
-                "SET_XY_ROTATION",
-            ) or cmd.NAME.startswith(("STRAIGHT_PROBE", "RIGID_TAP")):
-                at = None
+            last = cmd if xy else None
+        elif kind is canon.SelectPlane:
+            assert isinstance(cmd, canon.SelectPlane)
+            xy = cmd.plane is canon.Plane.XY
+        elif kind is canon.SetMotionControlMode:
+            assert isinstance(cmd, canon.SetMotionControlMode)
+            continuous = cmd.mode is canon.MotionMode.CONTINUOUS
+        elif kind is canon.SetNaivecamTolerance:
+            assert isinstance(cmd, canon.SetNaivecamTolerance)
+            naive = cmd.tolerance
+        elif (
+            cmd.NAME in _RESETS
+            or cmd.NAME.endswith("_FEED")  # NURBS, ellipses: moves not followed here
+            or cmd.NAME.startswith(("STRAIGHT_PROBE", "RIGID_TAP"))
+        ):
+            last = None
         yield cmd
 
 
