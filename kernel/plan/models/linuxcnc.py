@@ -11,6 +11,9 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
 * **Circle acceleration split** (blendmath.c ``pmCircleActualMaxVel``, tc.c
   ``tcUpdateCircleAccRatio``): the normal acceleration at the segment's top speed takes what
   it needs of the segment's acceleration, the tangential share is the rest (at most 1/2).
+  The split is made when the segment is finalised (tc.c ``tcFinalizeLength``), once the
+  next move is queued: a circle the queue runs dry after (the program's last move, a move
+  before a task command's wait) keeps its top speed and the initial split of 1/2.
 * **Short-segment cap** (tc.c ``tcClampVelocityByLength``, tp.c
   ``tpComputeOptimalVelocity``): a segment never runs faster than its length per servo
   period (per 1.02 periods after a tangent join).
@@ -26,6 +29,14 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   a quarter of either), bounds the arc; the arc also takes at most half of either line; its
   speed is ``sqrt(0.866 a_plane R)``; its radius is no larger than an equivalent parabolic
   blend needs. Blend arcs run at half their plane acceleration tangentially.
+* **Blend arcs between a line and a circle** (blendmath.c ``blendLineArcPostProcess``,
+  ``blendArcLinePostProcess``): the circle tangent to both at the blend radius, built
+  wherever the line as already trimmed keeps some length (posemath ``pmCartLineStretch``),
+  not only within half of it.
+* **Consumed lines** (blendmath.c ``blendCheckConsume``, tp.c ``tpCreateLineLineBlend``):
+  what is left of a line before a blend arc, if run in fewer than ``ARC_BLEND_GAP_CYCLES``
+  periods, is popped and run as part of the arc, at the arc's speed and requested feed
+  (the faster of the two moves it joins).
 * **Blend arcs between two circles** (blendmath.c ``blendArcArcPostProcess``, tp.c
   ``tpCreateArcArcBlend``): the exact blend circle tangent to both must stay within the
   tolerance of the corner and take no more of either circle than ``phi_max``, or there is no
@@ -50,7 +61,10 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   acceleration limit (LinuxCNC checks nothing there) the overlap starts later, at the
   speed that keeps every axis within them (found by the property tests; no golden moves).
 * **Look-ahead** (tp.c ``tpRunOptimization``): backwards over ``ARC_BLEND_OPTIMIZATION_DEPTH``
-  (50) tangent segments; non-tangent joins stop it.
+  (50) tangent segments; non-tangent joins stop it. A move not finalised yet (the queue runs
+  dry after it) is entered no faster than the peak of a triangle over it, ``sqrt(a L)``
+  (``tpCalculateOptimizationInitialVel``): the program's last move is entered slower than
+  a full deceleration over it would allow.
 * **Ramped short segments** (tp.c ``tpActivateSegment``, ``tpCalculateRampAccel``): a
   tangent feed segment that lasts less than ``1/ARC_BLEND_RAMP_FREQ`` (10 ms) goes straight
   from its start speed to its end speed.
@@ -62,7 +76,9 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   (measured on the goldens); the plan adds them as stand-stills.
 * **Naive-CAM merging** (emccanon.cc ``see_segment``/``linkable``/``flush_segments``): with
   ``G64 Q`` (``P`` alone sets ``Q = P``), runs of up to 101 feed lines whose points all lie
-  within ``Q`` of the line from the run's start to its end become that one line.
+  within ``Q`` of the line from the run's start to its end become that one line. In G17
+  an arc whose middle lies within ``Q`` of its chord (emccanon.cc ``chord_deviation``)
+  joins them as two lines through its middle point (arc-fitted CAM output in G64 P).
 """
 
 from __future__ import annotations
@@ -212,6 +228,78 @@ def _linkable(
     return True
 
 
+def _chord_deviation(
+    start: tuple[float, float], cmd: canon.ArcFeed
+) -> tuple[float, tuple[float, float]]:
+    """emccanon.cc ``chord_deviation``: how far an XY arc's middle lies from its chord, and
+    that middle point (the sweep taken as LinuxCNC takes it, full turns left out)."""
+    cx, cy = cmd.first_axis, cmd.second_axis
+    th1 = math.atan2(start[1] - cy, start[0] - cx)
+    th2 = math.atan2(cmd.second_end - cy, cmd.first_end - cx)
+    r = math.hypot(start[1] - cy, start[0] - cx)
+    for _ in range(2):
+        if cmd.rotation < 0 and th2 - th1 >= -1e-5:
+            th2 -= 2.0 * math.pi
+        elif cmd.rotation >= 0 and th2 - th1 <= 1e-5:
+            th2 += 2.0 * math.pi
+    mid = (th1 + th2) / 2.0
+    dev = r * (1.0 - math.cos(abs(th2 - th1) / 2.0))
+    return dev, (cx + r * math.cos(mid), cy + r * math.sin(mid))
+
+
+_RESETS = frozenset({"USE_LENGTH_UNITS", "SET_G5X_OFFSET", "SET_G92_OFFSET", "SET_XY_ROTATION"})
+
+
+def _end_of(move: canon.Command) -> tuple[float, ...]:
+    """Where a straight move or an XY arc ends: x y z a b c (program units)."""
+    if isinstance(move, canon.ArcFeed):
+        return (move.first_end, move.second_end, move.axis_end_point, move.a, move.b, move.c)
+    assert isinstance(move, (canon.StraightFeed, canon.StraightTraverse))
+    return (move.x, move.y, move.z, move.a, move.b, move.c)
+
+
+def _flat_arcs_as_lines(commands: Iterable[canon.Command]) -> Iterator[canon.Command]:
+    """emccanon.cc ``ARC_FEED``: in G17 with G64, an arc whose middle lies closer to its
+    chord than the naive-CAM tolerance ``Q`` goes to the planner as two lines, through its
+    middle point, that the naive-CAM merging then takes as any other lines. (Type tests by
+    identity: this runs once per command of every program.)"""
+    xy, continuous, naive = True, True, 0.0
+    last: canon.Command | None = None  # the last move: its end is the current point
+    for cmd in commands:
+        kind = type(cmd)
+        if kind is canon.StraightFeed or kind is canon.StraightTraverse:
+            last = cmd
+        elif kind is canon.ArcFeed:
+            assert isinstance(cmd, canon.ArcFeed)
+            if naive > 0 and xy and continuous and last is not None:
+                at = _end_of(last)
+                dev, (mx, my) = _chord_deviation((at[0], at[1]), cmd)
+                if dev < naive:
+                    end = _end_of(cmd)
+                    half = [(p + q) / 2.0 for p, q in zip(at[2:], end[2:], strict=True)]
+                    yield canon.StraightFeed(mx, my, *half, source=cmd.source)
+                    last = canon.StraightFeed(*end, source=cmd.source)
+                    yield last
+                    continue
+            last = cmd if xy else None
+        elif kind is canon.SelectPlane:
+            assert isinstance(cmd, canon.SelectPlane)
+            xy = cmd.plane is canon.Plane.XY
+        elif kind is canon.SetMotionControlMode:
+            assert isinstance(cmd, canon.SetMotionControlMode)
+            continuous = cmd.mode is canon.MotionMode.CONTINUOUS
+        elif kind is canon.SetNaivecamTolerance:
+            assert isinstance(cmd, canon.SetNaivecamTolerance)
+            naive = cmd.tolerance
+        elif (
+            cmd.NAME in _RESETS
+            or cmd.NAME.endswith("_FEED")  # NURBS, ellipses: moves not followed here
+            or cmd.NAME.startswith(("STRAIGHT_PROBE", "RIGID_TAP"))
+        ):
+            last = None
+        yield cmd
+
+
 def prepared_commands(
     commands: Iterable[canon.Command],
 ) -> Iterator[tuple[canon.Command, int, float]]:
@@ -225,7 +313,7 @@ def prepared_commands(
     pos: tuple[float, ...] | None = None  # where the chain starts (program units)
     chain: list[canon.StraightFeed] = []
 
-    for cmd in commands:
+    for cmd in _flat_arcs_as_lines(commands):
         if isinstance(cmd, canon.StraightFeed):
             if chain and not (
                 term == PARABOLIC
@@ -500,13 +588,70 @@ def _arc_arc_blend(
     fails = np.zeros(len(a), dtype=bool)
     length = np.zeros(len(a))
     ia, ib = a[which], b[which]
-    t1, t2 = u1[which], u2[which]
+    rp = r_plan[which]
+    geo = _arc_arc_geometry(seg, ia, ib, u1[which], u2[which], binormal[which], rp)
+    p, c1, r1, c2, r2, convex1, convex2, centre, good = geo
+    t_final = _rownorm(centre - p) - rp
+    tt = theta_tan[which]
+    phi1_max = np.minimum(np.abs(seg["sweep"][ia]) * 2.0 / 3.0, np.where(convex1, tt, np.pi / 2))
+    phi2_max = np.minimum(np.abs(seg["sweep"][ib]) / 3.0, np.where(convex2, tt, np.pi / 2))
+    fails[which] = (
+        ~good
+        | ~(t_final <= tolerance[which])
+        | (_trim_angle(p, c1, centre) > phi1_max)
+        | (_trim_angle(p, c2, centre) > phi2_max)
+    )
+    length[which] = _blend_arc_length(centre, rp, c1, r1, c2, r2)
+    return fails, length
+
+
+def _blend_arc_length(
+    centre: np.ndarray,
+    rp: np.ndarray,
+    c1: np.ndarray,
+    r1: np.ndarray,
+    c2: np.ndarray,
+    r2: np.ndarray,
+) -> np.ndarray:
+    """The length of the blend arc (centre ``centre``, radius ``rp``) between the points
+    where it touches the circles of centres ``c1`` and ``c2`` (rows)."""
+
+    def touch(c: np.ndarray, r: np.ndarray) -> np.ndarray:
+        """Where the blend circle touches the circle of centre ``c``: along the centres'
+        line, from the blend's centre (unit vector)."""
+        d = centre - c
+        t = c + d * (r / np.maximum(_rownorm(d), _TINY))[:, None] - centre
+        return t / np.maximum(_rownorm(t), _TINY)[:, None]
+
+    cos_arc = np.clip(_rowsum(touch(c1, r1) * touch(c2, r2)), -1.0, 1.0)
+    return rp * np.arccos(cos_arc)
+
+
+def _trim_angle(p: np.ndarray, c: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """blendmath.c ``findTrimAngle``: the angle a blend centred at ``centre`` takes off the
+    circle of centre ``c`` that ends (or starts) at ``p`` (rows)."""
+    up = (p - c) / np.maximum(_rownorm(p - c), _TINY)[:, None]
+    uq = (centre - c) / np.maximum(_rownorm(centre - c), _TINY)[:, None]
+    return np.arccos(np.clip(_rowsum(up * uq), -1.0, 1.0))
+
+
+def _arc_arc_geometry(
+    seg: np.ndarray,
+    ia: np.ndarray,
+    ib: np.ndarray,
+    t1: np.ndarray,
+    t2: np.ndarray,
+    binormal: np.ndarray,
+    rp: np.ndarray,
+) -> tuple[np.ndarray, ...]:
+    """The blend circle of radius ``rp`` between circle rows ``ia`` and ``ib`` (blendmath.c
+    ``blendArcArcPostProcess``): the corner, each circle as the spiral approximation there
+    (centre, radius), whether each is convex, the blend's centre and where it exists."""
     p = seg["end"][ia, :3]
     c1, r1 = _spiral_circle(seg, ia, p, t1)
     c2, r2 = _spiral_circle(seg, ib, p, t2)
     convex1 = _rowsum((p - c1) * t2) < 0
     convex2 = _rowsum((p - c2) * t1) >= 0
-    rp = r_plan[which]
     d1 = np.where(convex1, -rp, rp) + r1
     d2 = np.where(convex2, -rp, rp) + r2
     c12 = c2 - c1
@@ -518,7 +663,7 @@ def _arc_arc_blend(
         cy = np.sqrt(np.maximum(d1**2 - cx**2, 0.0))
     normal = t2 - t1
     normal /= np.maximum(_rownorm(normal), _TINY)[:, None]
-    nc = np.cross(binormal[which], uc)
+    nc = np.cross(binormal, uc)
     nc = np.where((_rowsum(normal * nc) < 0)[:, None], -nc, nc)
     nc /= np.maximum(_rownorm(nc), _TINY)[:, None]
     base = c1 - p + uc * cx[:, None]
@@ -526,31 +671,7 @@ def _arc_arc_blend(
     minus = _rownorm(base - nc * cy[:, None])
     cy = np.where(minus < plus, -cy, cy)
     centre = c1 + uc * cx[:, None] + nc * cy[:, None]
-    t_final = _rownorm(centre - p) - rp
-
-    def trim(c: np.ndarray) -> np.ndarray:
-        """blendmath.c ``findTrimAngle``: the angle the blend takes off a circle."""
-        up = (p - c) / np.maximum(_rownorm(p - c), _TINY)[:, None]
-        uq = (centre - c) / np.maximum(_rownorm(centre - c), _TINY)[:, None]
-        return np.arccos(np.clip(_rowsum(up * uq), -1.0, 1.0))
-
-    tt = theta_tan[which]
-    phi1_max = np.minimum(np.abs(seg["sweep"][ia]) * 2.0 / 3.0, np.where(convex1, tt, np.pi / 2))
-    phi2_max = np.minimum(np.abs(seg["sweep"][ib]) / 3.0, np.where(convex2, tt, np.pi / 2))
-    fails[which] = (
-        ~good | ~(t_final <= tolerance[which]) | (trim(c1) > phi1_max) | (trim(c2) > phi2_max)
-    )
-
-    def touch(c: np.ndarray, r: np.ndarray) -> np.ndarray:
-        """Where the blend circle touches the circle of centre ``c``: along the centres'
-        line, from the blend's centre (unit vector)."""
-        d = centre - c
-        t = c + d * (r / np.maximum(_rownorm(d), _TINY))[:, None] - centre
-        return t / np.maximum(_rownorm(t), _TINY)[:, None]
-
-    cos_arc = np.clip(_rowsum(touch(c1, r1) * touch(c2, r2)), -1.0, 1.0)
-    length[which] = rp * np.arccos(cos_arc)
-    return fails, length
+    return p, c1, r1, c2, r2, convex1, convex2, centre, good
 
 
 def _joins(
@@ -895,15 +1016,19 @@ def _fillet(
     """A circle of ``radius`` tangent to a line and to a planar circle meeting it at the
     circle's start (``at_start``) or end: the point on the line (``line_p`` is the corner,
     ``u`` the line's direction away from the corner), the distance back along the line, the
-    angle taken off the circle, and the fillet's centre; None when there is none."""
-    c = arc["centre"]
-    r = float(arc["radius"])
+    angle taken off the circle, and the fillet's centre; None when there is none. A planar
+    spiral (start and end radius differ) is taken as the circle that approximates it at the
+    corner (blendmath.c ``findSpiralApproximation``)."""
     n = arc["normal"]
     sweep = float(arc["sweep"])
     e1, e2 = arc["e1"], arc["e2"]
     psi = 0.0 if at_start else sweep
-    radial = math.cos(psi) * e1 + math.sin(psi) * e2
     tangent = math.copysign(1.0, sweep) * (-math.sin(psi) * e1 + math.cos(psi) * e2)
+    dr = float(arc["radius_end"] - arc["radius"]) / max(abs(sweep), _TINY)
+    c = arc["centre"] + dr * tangent
+    to_p = (arc["start"][:3] if at_start else arc["end"][:3]) - c
+    r = float(np.linalg.norm(to_p))
+    radial = to_p / max(r, _TINY)
     t_away = tangent if at_start else -tangent  # the circle's direction away from the corner
     side = t_away - float(t_away @ u) * u
     norm = float(np.linalg.norm(side))
@@ -956,24 +1081,60 @@ def _arc_row(
 
 
 def _trim_circle(row: np.void, delta: float, at_start: bool) -> None:
-    """Take ``delta`` (rad) off a planar circle row at its start or end, in place."""
+    """Take ``delta`` (rad) off a planar circle or spiral row at its start or end, in place
+    (a spiral's radius changing in proportion to the angle, posemath ``pmCircleStretch``)."""
     sweep = float(row["sweep"])
     sign = math.copysign(1.0, sweep)
     e1, e2 = row["e1"].copy(), row["e2"].copy()
-    r = float(row["radius"])
+    r0, r1 = float(row["radius"]), float(row["radius_end"])
     c = row["centre"]
+    cut = delta / max(abs(sweep), _TINY)
     if at_start:
         d = sign * delta
         row["e1"] = math.cos(d) * e1 + math.sin(d) * e2
         row["e2"] = -math.sin(d) * e1 + math.cos(d) * e2
-        row["start"][:3] = c + r * row["e1"]
+        r0 += (r1 - r0) * cut
+        row["radius"] = r0
+        row["start"][:3] = c + r0 * row["e1"]
         row["u_start"][:3] = sign * row["e2"]
     else:
         psi = sweep - sign * delta
-        row["end"][:3] = c + r * (math.cos(psi) * e1 + math.sin(psi) * e2)
+        r1 -= (r1 - r0) * cut
+        row["radius_end"] = r1
+        row["end"][:3] = c + r1 * (math.cos(psi) * e1 + math.sin(psi) * e2)
         row["u_end"][:3] = sign * (-math.sin(psi) * e1 + math.cos(psi) * e2)
     row["sweep"] = sweep - sign * delta
-    row["length"] = r * abs(float(row["sweep"]))
+    row["length"] = 0.5 * (r0 + r1) * abs(float(row["sweep"]))
+
+
+def _arc_arc_fillets(
+    seg: np.ndarray, joins: np.ndarray, radius: np.ndarray, shortest: np.ndarray
+) -> list[tuple[float, float, np.ndarray] | None]:
+    """The blend arcs LinuxCNC builds between two planar circles (tp.c
+    ``tpCreateArcArcBlend``, blendmath.c ``blendArcArcPostProcess``) at ``joins`` (the row
+    before each), of the radius the join was decided with: the angle taken off the end of
+    the first circle and the start of the second, and the blend's centre; None where there
+    is none to build (a helix, or a blend that would take a whole circle) or where the arc
+    is no longer than ``shortest`` (it is run within one servo period: LinuxCNC passes it
+    in a split cycle, the join at the arc's speed)."""
+    a, b = joins, joins + 1
+    u1 = seg["u_end"][a, :3]
+    u2 = seg["u_start"][b, :3]
+    u1 = u1 / np.maximum(_rownorm(u1), _TINY)[:, None]
+    u2 = u2 / np.maximum(_rownorm(u2), _TINY)[:, None]
+    binormal = np.cross(u1, u2)
+    binormal /= np.maximum(_rownorm(binormal), _TINY)[:, None]
+    rp = radius[joins]
+    p, c1, r1, c2, r2, _, _, centre, good = _arc_arc_geometry(seg, a, b, u1, u2, binormal, rp)
+    d1, d2 = _trim_angle(p, c1, centre), _trim_angle(p, c2, centre)
+    flat = (np.abs(seg["axial"][a]) < 1e-9) & (np.abs(seg["axial"][b]) < 1e-9)
+    fits = (d1 < np.abs(seg["sweep"][a])) & (d2 < np.abs(seg["sweep"][b]))
+    long = _blend_arc_length(centre, rp, c1, r1, c2, r2) > shortest
+    made = good & flat & fits & long & np.isfinite(centre).all(axis=1)
+    return [
+        (float(d1[k]), float(d2[k]), centre[k].copy()) if made[k] else None
+        for k in range(joins.size)
+    ]
 
 
 def _split_lines(
@@ -982,23 +1143,34 @@ def _split_lines(
     trim: np.ndarray,
     tail: np.ndarray,
     radius: np.ndarray,
+    circles: list[tuple[float, float, np.ndarray] | None],
 ) -> tuple[np.ndarray, np.ndarray]:
     """The blend of a line and a circle at each join after row ``pos``: where the circle is
     planar, a fillet of ``radius`` tangent to both (the line and the circle shortened);
     otherwise ``trim`` cut off the line (its end, where ``tail``, else the next row's start)
-    as a row of its own, on the programmed corner. Returns the table and the new rows."""
+    as a row of its own, on the programmed corner. Between two circles (``circles[k]``: the
+    angles taken off each and the blend's centre, :func:`_arc_arc_fillets`) the blend arc
+    itself. Returns the table and the new rows."""
     table = table.copy()
     pieces = []
     for k in range(pos.size):
         p = int(pos[k])
+        both = circles[k]
+        if both is not None:
+            _trim_circle(table[p : p + 1][0], both[0], False)
+            _trim_circle(table[p + 1 : p + 2][0], both[1], True)
+            first = table[p]
+            start, end = first["end"][:3].copy(), table["start"][p + 1, :3].copy()
+            pieces.append(_arc_row(first, both[2], start, end, first["u_end"][:3].copy()))
+            continue
         line_i, arc_i = (p, p + 1) if tail[k] else (p + 1, p)
         line, arc = table[line_i], table[arc_i]
         u = line["u_start"][:3]
         corner = line["end"][:3] if tail[k] else line["start"][:3]
         away = -u if tail[k] else u
-        flat = abs(float(arc["radius"] - arc["radius_end"])) < 1e-9 and abs(arc["axial"]) < 1e-9
+        flat = abs(arc["axial"]) < 1e-9
         got = _fillet(corner, away, arc, tail[k], float(radius[k])) if flat else None
-        if got is not None and got[1] < 0.5 * float(line["length"]):
+        if got is not None and got[1] < float(line["length"]) - _GONE:
             a_pt, back, delta, q = got
             _trim_circle(table[arc_i : arc_i + 1][0], delta, tail[k])
             arc = table[arc_i]
@@ -1057,6 +1229,17 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         change = np.concatenate([(rapid[:-1] != rapid[1:]) & mv[:-1] & mv[1:], [False]])
         term = np.where(change, STOP, term).astype(np.int8)
     j = _joins(seg, lim, term, tol, machine)
+    # a blend arc between two circles is built (as between a line and a circle), where
+    # its geometry allows; else the join is passed at the blend arc's speed
+    pairs = np.flatnonzero((j.kind == TANGENT) & (j.radius > 0))
+    circles: dict[int, tuple[float, float, np.ndarray]] = {}
+    if pairs.size:
+        shortest = j.arc_vel[pairs] * period * MIN_SEGMENT_CYCLES
+        made = _arc_arc_fillets(seg, pairs, j.radius, shortest)
+        for k, got in zip(pairs.tolist(), made, strict=True):
+            if got is not None:
+                circles[k] = got
+                j.kind[k] = _VIRTUAL
     moving = seg["kind"] != HOLD
     # per-segment state after the joins: how each segment ends and starts
     out_kind = np.concatenate([j.kind, [STOP]])
@@ -1118,7 +1301,12 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         # where the original rows are now (after the blend arcs)
         pos = virt + np.searchsorted(corners, virt, "left")
         table, rows = _split_lines(
-            table, pos, j.trim[virt], seg["kind"][virt] == LINE, j.radius[virt]
+            table,
+            pos,
+            j.trim[virt],
+            seg["kind"][virt] == LINE,
+            j.radius[virt],
+            [circles.get(k) for k in virt.tolist()],
         )
         # the blend is asked the faster of its two moves' speeds, as a blend arc is
         table["feed"][rows] = np.maximum(seg["feed"][virt], seg["feed"][virt + 1])
@@ -1165,6 +1353,12 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     v_next = np.concatenate([maxvel[1:], [0.0]])
     consumed = (kinds == LINE) & arc_next & ~bprev & (length < GAP_CYCLES * period * v_next)
     maxvel = np.where(consumed, np.minimum(maxvel, v_next), capped)
+    # tp.c tpCreateLineLineBlend: the consumed line is popped and its length run as part of
+    # the blend arc, at the arc's requested speed (the faster of the two moves it joins)
+    if consumed.any():
+        reqvel = np.where(consumed, np.concatenate([reqvel[1:], [0.0]]), reqvel)
+        table = table.copy() if table is seg else table
+        table["feed"][consumed] = table["feed"][1:][consumed[:-1]]
     # circles: normal acceleration at the top speed, tangential share of the rest
 
     def target_of(rows: np.ndarray) -> np.ndarray:
@@ -1172,6 +1366,9 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
 
     acc_t = acc_all.copy()
     circle = (kinds == ARC) & ~is_blend_arc
+    # the rows the queue runs dry after: never finalised (the program's last move, a move
+    # before a task command's wait)
+    dry = np.concatenate([kinds[1:] == HOLD, [carry is None or carry.last]]) & moving
     if circle.any():
         a_c = acc_all[circle]
         r = np.maximum(r_eff[circle], 1e-300)
@@ -1180,6 +1377,12 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         cut = ACC_RATIO_NORMAL * a_c
         over = a_n_vmax > cut
         ratio = np.where(over, ACC_RATIO_TAN, np.sqrt(np.clip(1 - (a_n_vmax / a_c) ** 2, 0, 1)))
+        # tc.c tcFinalizeLength: a segment is finalised (its split computed) only when the
+        # next one is queued; a circle the queue runs dry after (the program's last move, a
+        # move before a task command's wait) keeps its top speed and the initial 1/2 split
+        unfinal = dry[circle]
+        ratio = np.where(unfinal, ACC_RATIO_TAN, ratio)
+        over &= ~unfinal
         maxvel[circle] = np.where(over, np.sqrt(cut * r), v)
         acc_t[circle] = np.minimum(
             a_c * ratio, _helix_tangential_cap(table[circle], machine, target_of(circle))
@@ -1231,6 +1434,10 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         # its deceleration (below)
         jcap[1:-1] = np.where(tan, cap_t, 0.0)
     acc_plan = np.where(moving, acc_t, 0.0)
+    # tp.c tpRunOptimization: the move before an unfinalised one may end no faster than
+    # the peak of a triangle over it (tpCalculateOptimizationInitialVel, findVPeak)
+    last_in = np.flatnonzero(dry[1:]) + 1
+    jcap[last_in] = np.minimum(jcap[last_in], np.sqrt(acc_plan[last_in] * length[last_in]))
     window = None if nn <= OPT_DEPTH else OPT_DEPTH
     if carry is None:
         v = lookahead(length, jcap, acc_plan, None, window)

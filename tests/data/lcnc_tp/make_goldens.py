@@ -8,7 +8,8 @@ motion time is the number of servo periods (1 ms) from the first to the last per
 a joint moved; the peak axis speed and acceleration are the largest first and second
 differences of the commanded positions (and the 99.9th percentile of the acceleration,
 which leaves out single-period spikes). Of several passes the full-length run with the
-shortest time is kept (a non-realtime hiccup can only add time).
+shortest time is kept (a non-realtime hiccup can only add time). The goldens already in
+goldens.json that this work dir did not record are kept.
 """
 
 from __future__ import annotations
@@ -90,14 +91,19 @@ def main(argv: list[str]) -> None:
                 or (abs(longer) <= tol and _num(got, "time") < _num(old, "time"))
             ):
                 best[name] = got
+    out = Path(__file__).with_name("goldens.json")
+    # variants recorded before and not in this work dir are kept (programs added in a later
+    # session are recorded on their own, the earlier recordings stay as they were)
+    kept = json.loads(out.read_text())["goldens"] if out.exists() else {}
+    kept.update(best)
     doc = {
         "source": "LinuxCNC 2.9 (Debian linuxcnc-uspace "
         "2.9.0~pre1+git20230208.f1270d6ed7-1+deb12u2) trajectory planner, "
         "simulator configuration, servo period 1 ms; machine.toml limits",
-        "goldens": dict(sorted(best.items())),
+        "goldens": dict(sorted(kept.items())),
     }
-    Path(__file__).with_name("goldens.json").write_text(json.dumps(doc, indent=1) + "\n")
-    print(f"{len(best)} goldens")
+    out.write_text(json.dumps(doc, indent=1) + "\n")
+    print(f"{len(best)} goldens recorded, {len(kept)} in all")
 
 
 if __name__ == "__main__":
