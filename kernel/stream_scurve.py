@@ -74,7 +74,17 @@ from kernel.report.measure import (
     measure_windows,
     segment_chord_error,
 )
-from kernel.stream import _RANK, BATCH, StreamedPlan, _batches, _Clock, _Errors, _Lookahead
+from kernel.stream import (
+    _RANK,
+    BATCH,
+    StreamedPlan,
+    _batches,
+    _Clock,
+    _Errors,
+    _Lookahead,
+    _rows,
+    _samples_before,
+)
 
 _EPS = float(np.finfo(float).eps)
 
@@ -375,12 +385,7 @@ class _Reducer:
             k = int(self.last.segment[-1])
             row = k + self.table[1] - base
             if k >= 0 and 0 <= row < len(seg):  # else a row not in this table: not w's
-                pair = _rows(self.last, len(self.last) - 1, len(self.last))
-                pair = Samples(
-                    w.period,
-                    *(np.concatenate([getattr(pair, f), getattr(w, f)[:1]]) for f in _FIELDS),
-                    w.axes,
-                )
+                pair = _pair(self.last, w)
                 pair.segment[0] = row
                 self.red.chord = max(self.red.chord, segment_chord_error(seg, pair))
         self.red.add(seg, w, joined)
@@ -399,22 +404,23 @@ class _Reducer:
         self.held = None
 
 
-_FIELDS = ("t", "position", "velocity", "acceleration", "jerk", "segment", "source_line")
+def _pair(a: Samples, b: Samples) -> Samples:
+    """The last sample of ``a`` and the first of ``b``, as one window (new arrays)."""
 
+    def two(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        return np.concatenate([x[-1:], y[:1]])
 
-def _rows(w: Samples, a: int, b: int) -> Samples:
-    """Rows ``a .. b - 1`` of ``w`` (copies: a held sample may be changed)."""
-    return Samples(w.period, *(getattr(w, f)[a:b].copy() for f in _FIELDS), w.axes)
-
-
-def _samples_before(t_end: float, period: float) -> int:
-    """The number of samples ``k`` with ``float(k) * period < t_end``."""
-    k = max(int(math.ceil(t_end / period)), 0)
-    while k > 0 and float(k - 1) * period >= t_end:
-        k -= 1
-    while float(k) * period < t_end:
-        k += 1
-    return k
+    return Samples(
+        b.period,
+        two(a.t, b.t),
+        two(a.position, b.position),
+        two(a.velocity, b.velocity),
+        two(a.acceleration, b.acceleration),
+        two(a.jerk, b.jerk),
+        two(a.segment, b.segment),
+        two(a.source_line, b.source_line),
+        b.axes,
+    )
 
 
 class _Sampler:
@@ -449,14 +455,17 @@ class _Sampler:
         for w in sample_span(table, self.next_k, count, last, i_start=i_start):
             self.reducer.add(seg, base, w)
         self.next_k = max(self.next_k, count)
-        pc = pieces(table, tf > 0, i_start)
         own = len(seg) - len(later if not last else later[:0])
+        if tf <= 0:  # a trapezoid: no integral, no context
+            self.context = []
+            return
+        pc = pieces(table, True, i_start)
+        assert pc.i0 is not None
         self.i_next = pc.i_end if own == len(seg) else float(pc.i0[4 * own])
-        if tf > 0 and pc.i0 is not None:
-            firsts = np.cumsum([0] + [len(p.path.segments) for p in plans])
-            self.context = [
-                (p, b, float(pc.i0[4 * int(firsts[j])])) for j, (p, b, _) in enumerate(self.context)
-            ]
+        firsts = np.cumsum([0] + [len(p.path.segments) for p in plans])
+        self.context = [
+            (p, b, float(pc.i0[4 * int(firsts[j])])) for j, (p, b, _) in enumerate(self.context)
+        ]
         self._trim(table, own, end_t, tf)
 
     def _slack(self, s: float, rows: int, tf: float) -> float:
@@ -482,9 +491,6 @@ class _Sampler:
 
     def _trim(self, table: Plan, own: int, end_t: float, tf: float) -> None:
         """Forget the windows the next one cannot reach."""
-        if tf <= 0:
-            self.context = []
-            return
         seg = table.path.segments[:own]
         t_end = table.t_start[:own] + table.duration[:own]
         s_end = table.s_start[:own] + seg["length"]
