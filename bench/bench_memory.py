@@ -7,10 +7,13 @@ first and the last length. The promise under test is a peak that does not grow w
 program: the same for 10**5 and 10**7 lines (kernel.stream plans ``cnc plan`` window by
 window). ``--machine`` passes a profile (another controller model); ``--stop-every N`` puts
 a stop (``G4 P0``) in place of every N-th feed line: the ``linuxcnc`` model plans from stop
-to stop, so its peak is flat only with stops.
+to stop, so its peak is flat only with stops. ``--scurve`` plans on the default machine
+with S-curve acc/dec (kernel.stream_scurve, two passes over the program); ``--compare
+MODELS`` runs ``cnc plan --compare MODELS`` (each model planned window by window, the
+models' times per source line kept).
 
-Usage: python bench/bench_memory.py [--command plan] [--machine M.toml] [--stop-every N]
-[LINES ...]
+Usage: python bench/bench_memory.py [--command plan] [--machine M.toml | --scurve]
+[--stop-every N] [--compare linuxcnc,grbl,book] [LINES ...]
 (default 1e5 1e6; ``1e7`` works too, and writes a 10**7-line program of ~300 MB to --tmp)
 """
 
@@ -29,6 +32,8 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 from cam_program import cam_lines  # noqa: E402
+
+from kernel.machine import DEFAULT_MACHINE  # noqa: E402
 
 
 def time_v(command: list[str]) -> tuple[float, float, float, int]:
@@ -68,6 +73,17 @@ def peak(command: list[str]) -> tuple[float, float, float, int]:
     return float(rss), float(cpu), float(wall), int(rc)
 
 
+def scurve_profile() -> str:
+    """The default machine (kernel.machine ``DEFAULT_MACHINE``) as a profile with S-curve
+    acc/dec."""
+    axes = "".join(
+        f"[axes.{a.name}]\nmin = {a.min}\nmax = {a.max}\nvelocity = {a.velocity}\n"
+        f"acceleration = {a.acceleration}\njerk = {a.jerk}\n"
+        for a in DEFAULT_MACHINE.axes
+    )
+    return f'name = "default mill, S-curve"\n{axes}[controller]\naccdec = "scurve"\n'
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("lines", nargs="*", type=lambda v: int(float(v)), default=[10**5, 10**6])
@@ -80,11 +96,23 @@ def main() -> int:
         default=0,
         help="a G4 P0 stop every N lines (the linuxcnc model plans from stop to stop)",
     )
+    ap.add_argument(
+        "--scurve",
+        action="store_true",
+        help="the default machine with S-curve acc/dec (instead of --machine)",
+    )
+    ap.add_argument("--compare", default=None, help="cnc plan --compare MODELS")
     args = ap.parse_args()
     env_cnc = [sys.executable, "-m", "cli.main"]
-    extra = ["--machine", args.machine] if args.machine else []
     rows = []
     with tempfile.TemporaryDirectory(dir=args.tmp) as tmp:
+        machine = args.machine
+        if args.scurve:
+            machine = str(Path(tmp) / "scurve.toml")
+            Path(machine).write_text(scurve_profile())
+        extra = ["--machine", machine] if machine else []
+        if args.compare:
+            extra += ["--compare", args.compare]
         for n in args.lines:
             prog = Path(tmp) / f"cam_{n}.ngc"
             with open(prog, "w") as fh:

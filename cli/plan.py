@@ -21,10 +21,11 @@ from cli.times import print_shares, shares, summed_shares, times_object
 from kernel.machine import CONTROLLER_MODELS, Machine, with_controller
 from kernel.report.breakdown import Share, Stretches
 from kernel.report.clock import clock, fixed
-from kernel.report.compare import Stretch, differing_stretches, line_times
+from kernel.report.compare import LineTimes, Stretch, stretches_of
 from kernel.report.measure import Report
-from kernel.simulation import measure_program, plan_and_measure, simulate
+from kernel.simulation import measure_program, plan_and_measure
 from kernel.stream import measure_streamed, streams
+from kernel.stream_scurve import measure_scurve, smoothed, smoothing_reach_of
 from kernel.tooltable import ToolTable
 
 
@@ -40,7 +41,25 @@ def run(
     commands = program_commands(program, tools, tool_mm_per_unit, dialect, machine=machine)
     if streams(machine):
         return measure_streamed(commands, machine, program).report
+    if smoothed(machine):
+        d0 = _reach(program, machine, dialect, tools, tool_mm_per_unit)
+        return measure_scurve(commands, machine, d0, program).report
     return measure_program(commands, machine, program)
+
+
+def _reach(
+    program: str,
+    machine: Machine,
+    dialect: str | None,
+    tools: ToolTable | None,
+    tool_mm_per_unit: float,
+    on_machine: bool = True,
+) -> float:
+    """The S-curve smoothing reach of ``program`` (kernel.stream_scurve): a first pass over
+    it, which tells nothing (the second pass tells what there is to tell)."""
+    fitted = machine if on_machine else None
+    again = program_commands(program, tools, tool_mm_per_unit, dialect, -1, fitted)
+    return smoothing_reach_of(again, machine, program)
 
 
 def run_with_times(
@@ -56,8 +75,14 @@ def run_with_times(
     stretches = Stretches()
     commands = program_commands(program, tools, tool_mm_per_unit, dialect, machine=machine)
     watched = stretches.watch(commands)
-    if streams(machine):
-        got = measure_streamed(watched, machine, program, stretches.tools, stretches.operations)
+    if streams(machine) or smoothed(machine):
+        if streams(machine):
+            got = measure_streamed(watched, machine, program, stretches.tools, stretches.operations)
+        else:
+            d0 = _reach(program, machine, dialect, tools, tool_mm_per_unit)
+            got = measure_scurve(
+                watched, machine, d0, program, stretches.tools, stretches.operations
+            )
         assert got.tools is not None and got.operations is not None
         per_tool, ops = summed_shares(got.tools, got.operations, stretches, program)
         return got.report, got.total_time, per_tool, ops
@@ -75,18 +100,27 @@ def compare(
     tool_mm_per_unit: float = 1.0,
 ) -> tuple[dict[str, Report], list[Stretch]]:
     """Plan ``program`` with each controller model: their reports and the stretches of
-    source lines where their times differ most (kernel.report.compare)."""
+    source lines where their times differ most (kernel.report.compare). Each model is
+    planned window by window (kernel.stream, kernel.stream_scurve), so memory holds one
+    window of one model's plan and the models' times per source line (compact arrays)."""
     reports: dict[str, Report] = {}
-    times: dict[str, dict[int, float]] = {}
+    times: dict[str, LineTimes] = {}
     for name in models:
-        result = simulate(
-            program_commands(program, tools, tool_mm_per_unit, dialect),
-            with_controller(machine, model=name),
-            program,
-        )
-        reports[name] = result.measure()
-        times[name] = line_times(result.plan)
-    return reports, differing_stretches(times, window=5, count=5)
+        model = with_controller(machine, model=name)
+        commands = program_commands(program, tools, tool_mm_per_unit, dialect)
+        times[name] = lines = LineTimes()
+        if streams(model):
+            got = measure_streamed(commands, model, program, watch=lines.add)
+        elif smoothed(model):
+            d0 = _reach(program, model, dialect, tools, tool_mm_per_unit, False)
+            got = measure_scurve(commands, model, d0, program, watch=lines.add)
+        else:  # every model streams; a new one is planned whole until it does
+            plan, report = plan_and_measure(commands, model, program)
+            lines.add(plan)
+            reports[name] = report
+            continue
+        reports[name] = got.report
+    return reports, stretches_of(times, window=5, count=5)
 
 
 def _models(value: str) -> list[str]:

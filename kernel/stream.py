@@ -50,15 +50,15 @@ as a later error could still come first.
 Planned this way: the ``book`` model with trapezoidal acc/dec and the ``grbl`` model; the
 ``linuxcnc`` model (blend arcs and merged runs across joins, kernel.plan.models) from stop
 to stop (:func:`_lcnc_windows`: holds, exact stops, traverse-feed changes; a program with
-no stop is one window). The book's S-curve
-(its smoothing reach is set by the fastest move anywhere in the program) is planned whole
-(:func:`streams` says which).
+no stop is one window). The book's S-curve (its smoothing reach is set by the fastest
+move anywhere in the program) is planned by kernel.stream_scurve, in two passes
+(:func:`streams` says which models are planned here).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from itertools import islice
 
@@ -555,11 +555,13 @@ def measure_streamed(
     tools: list[Mark] | None = None,
     operations: list[Mark] | None = None,
     batch: int = BATCH,
+    watch: Callable[[Plan], None] | None = None,
 ) -> StreamedPlan:
     """:func:`kernel.simulation.plan_and_measure`'s report and cycle time, planned and
     sampled window by window (:func:`plan_windows`; ``machine`` a model :func:`streams`
     plans). ``tools`` and ``operations``: mark lists a
-    :class:`~kernel.report.breakdown.Stretches` fills as ``commands`` pass it, summed."""
+    :class:`~kernel.report.breakdown.Stretches` fills as ``commands`` pass it, summed.
+    ``watch``: called with each window's plan (``cnc plan --compare``'s time per line)."""
     model = _Model.of(machine)
     red = SampleReductions(model.planning)
     period = model.planning.controller.interpolation_period
@@ -587,6 +589,8 @@ def measure_streamed(
         for sums in (tool_sums, op_sums):
             if sums is not None:
                 sums.add(plan)
+        if watch is not None:
+            watch(plan)
         total = plan.total_time
         pending = plan
     if pending is None:  # no rows: the whole-program pipeline's empty plan

@@ -54,7 +54,7 @@ class Pieces:
     rest; piece ``k`` belongs to segment ``k >> 2``), as contiguous columns: start time
     ``t0`` (sorted), local path position ``s0``, speed ``v0`` and acceleration ``a``; per
     segment the length ``smax`` (0 for holds). With ``integral``: the global position
-    ``big_s0`` and ``i0 = int_0^t0 S dt`` (else ``None``)."""
+    ``big_s0`` and ``i0 = int_0^t0 S dt`` (else ``None``), and ``i_end`` after the last."""
 
     t0: np.ndarray
     s0: np.ndarray
@@ -63,11 +63,13 @@ class Pieces:
     smax: np.ndarray
     big_s0: np.ndarray | None = None
     i0: np.ndarray | None = None
+    i_end: float = 0.0  # the integral at the last piece's end (with ``integral``)
 
 
-def pieces(plan: Plan, integral: bool = True) -> Pieces:
+def pieces(plan: Plan, integral: bool = True, i_start: float = 0.0) -> Pieces:
     """Split every segment's trapezoid into its constant-acceleration pieces (the integral
-    columns, needed by S-curve smoothing, only when ``integral``)."""
+    columns, needed by S-curve smoothing, only when ``integral``; ``i_start``: the integral
+    at the first piece's start, for a plan that is one window of a longer one)."""
     p = plan.profiles
     seg = plan.path.segments
     n = len(seg)
@@ -94,13 +96,15 @@ def pieces(plan: Plan, integral: bool = True) -> Pieces:
     v0[:, 0], v0[:, 1], v0[:, 2], v0[:, 3] = vs, vp, vp, 0.0
     a0[:, 0], a0[:, 1], a0[:, 2], a0[:, 3] = acc, 0.0, -dec, 0.0
     big_s0 = i0 = None
+    i_end = 0.0
     if dur is not None:
         # integral of S over each piece: S0 tau + v tau^2/2 + a tau^3/6 with S0 global
         big_s0 = plan.s_start[:, None] + s0
         whole = big_s0 * dur + v0 * dur**2 / 2 + a0 * dur**3 / 6
-        i0 = np.concatenate([[0.0], np.cumsum(whole.ravel())[:-1]])
+        running = np.cumsum(np.concatenate([[i_start], whole.ravel()]))
+        i0, i_end = running[:-1], float(running[-1])
         big_s0 = big_s0.ravel()
-    return Pieces(t0.ravel(), s0.ravel(), v0.ravel(), a0.ravel(), smax, big_s0, i0)
+    return Pieces(t0.ravel(), s0.ravel(), v0.ravel(), a0.ravel(), smax, big_s0, i0, i_end)
 
 
 def _piece_of(t0: np.ndarray, t: np.ndarray, grid: tuple[int, float] | None = None) -> np.ndarray:
@@ -307,7 +311,7 @@ class _Sampler:
     """The chunk loop of :func:`sample`: the read-only tables the chunks share, and
     :meth:`run`, which fills the rows of the given chunks (every chunk is computed alone)."""
 
-    def __init__(self, plan: Plan, period: float, chunk: int) -> None:
+    def __init__(self, plan: Plan, period: float, chunk: int, i_start: float = 0.0) -> None:
         self.plan, self.period, self.chunk = plan, period, chunk
         seg = plan.path.segments
         machine = plan.machine
@@ -315,7 +319,7 @@ class _Sampler:
         self.cols = _columns(machine)
         self.total = plan.total_time
         self.tf = tf = plan.filter_time
-        self.pc = pieces(plan, integral=tf > 0)
+        self.pc = pieces(plan, tf > 0, i_start)
         self.blends = _Blends.of(plan, self.pc) if tf <= 0 else None
         self.kind = kind = np.ascontiguousarray(seg["kind"])
         self.start, self.u = _line_rows(seg, self.cols)
@@ -634,20 +638,28 @@ def sample_windows(
 
 
 def sample_span(
-    plan: Plan, lo: int, hi: int, last: bool, window: int = WINDOW, chunk: int = CHUNK
+    plan: Plan,
+    lo: int,
+    hi: int,
+    last: bool,
+    window: int = WINDOW,
+    chunk: int = CHUNK,
+    i_start: float = 0.0,
 ) -> Iterator[Samples]:
     """Samples ``lo .. hi - 1`` (``t_k = k T`` from the program's start) of a plan that is
     one window of a longer one (kernel.stream: ``t_start`` from the program's start, and
     every ``t_k`` within the window's time), ``window`` rows at a time, each row computed
     as :func:`sample` computes it. ``last``: the program's last window, whose last sample
-    is the end point at rest. The samples' ``segment`` indexes the window's rows."""
+    is the end point at rest. The samples' ``segment`` indexes the window's rows.
+    ``i_start``: the S-curve's integral of the path position at the plan's first row
+    (:func:`pieces`)."""
     machine = plan.machine
     period = machine.controller.interpolation_period
     nax = len(machine.axis_names)
     seg = plan.path.segments
     if hi <= lo:
         return
-    sampler = _Sampler(plan, period, chunk)
+    sampler = _Sampler(plan, period, chunk, i_start)
     for a in range(lo, hi, window):
         b = min(hi, a + window)
         out = _outputs(b - a, nax)

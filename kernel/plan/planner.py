@@ -443,6 +443,46 @@ def _erode(
     return new_cap, new_j
 
 
+def smoothing_reach(seg: np.ndarray, cap: np.ndarray, tf: float) -> float:
+    """The distance covered in ``T_f`` at the fastest finite cap of a moving row (``d0``):
+    the reach of the S-curve smoothing, the one figure of it that spans the whole program
+    (kernel.stream_scurve finds it in a first pass over the program)."""
+    finite = cap[(seg["kind"] != HOLD) & np.isfinite(cap)]
+    return tf * (float(finite.max()) if finite.size else 0.0)
+
+
+def smoothed_limits(
+    seg: np.ndarray,
+    machine: Machine,
+    s: np.ndarray,
+    cap: np.ndarray,
+    acc: np.ndarray,
+    jcap: np.ndarray,
+    d0: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """S-curve: the caps, junction caps and accelerations of the rows ``seg`` (path
+    positions ``s``, n + 1) eroded over the distance the smoothing spans (``d0``:
+    :func:`smoothing_reach`); the junction caps not yet lowered to their two rows' caps.
+    Each row's result reads only the rows within ``d0`` of the rows within ``d0`` of it."""
+    n = len(seg)
+    moving = seg["kind"] != HOLD
+    tf = filter_time(machine)
+    # distance covered in T_f: first with the fastest cap anywhere, then with the
+    # fastest cap within that reach (what the smoothing window can really span)
+    fin = np.where(moving & np.isfinite(cap), cap, 0.0)
+    lo = np.searchsorted(s[1:], s[:-1] - d0, "right")
+    hi = np.searchsorted(s[:-1], s[1:] + d0, "left") - 1
+    dist = tf * -range_min(-fin, lo, np.maximum(hi, lo))
+    cap, jcap = _erode(s, cap, jcap, dist, moving)
+    # acceleration steps at curvature joints (kernel.path.curvature), eroded over the
+    # distance travelled in T_f at their own (low) speed
+    _, _, jmax = _machine_vectors(machine)
+    v_curv = curvature_joint_caps(seg, jmax, machine.controller.interpolation_period)
+    cap, jcap = erode_joint_caps(s, cap, jcap, v_curv, tf)
+    acc_e, _ = _erode(s, np.where(moving, acc, np.inf), np.zeros(n + 1), dist, moving)
+    return cap, jcap, np.where(moving, acc_e, acc)
+
+
 def plan(path: Path, machine: Machine) -> Plan:
     """Plan ``path`` on ``machine`` (controller settings from the profile)."""
     path = blend_corners(path)  # no-op for paths from build_path (already blended)
@@ -456,23 +496,9 @@ def plan(path: Path, machine: Machine) -> Plan:
     tf = filter_time(machine) if ctl.accdec == "scurve" else 0.0
     moving = seg["kind"] != HOLD
     if tf > 0 and n:
-        finite = cap[moving & np.isfinite(cap)]
-        # distance covered in T_f: first with the fastest cap anywhere, then with the
-        # fastest cap within that reach (what the smoothing window can really span)
-        d0 = tf * (float(finite.max()) if finite.size else 0.0)
-        fin = np.where(moving & np.isfinite(cap), cap, 0.0)
-        lo = np.searchsorted(s[1:], s[:-1] - d0, "right")
-        hi = np.searchsorted(s[:-1], s[1:] + d0, "left") - 1
-        dist = tf * -range_min(-fin, lo, np.maximum(hi, lo))
-        cap, jcap = _erode(s, cap, jcap, dist, moving)
-        # acceleration steps at curvature joints (kernel.path.curvature), eroded over the
-        # distance travelled in T_f at their own (low) speed
-        _, _, jmax = _machine_vectors(machine)
-        v_curv = curvature_joint_caps(seg, jmax, ctl.interpolation_period)
-        cap, jcap = erode_joint_caps(s, cap, jcap, v_curv, tf)
+        d0 = smoothing_reach(seg, cap, tf)
+        cap, jcap, acc = smoothed_limits(seg, machine, s, cap, acc, jcap, d0)
         jcap[1:-1] = np.minimum.reduce([jcap[1:-1], cap[:-1], cap[1:]])
-        acc_e, _ = _erode(s, np.where(moving, acc, np.inf), np.zeros(n + 1), dist, moving)
-        acc = np.where(moving, acc_e, acc)
     window = None if ctl.lookahead >= n else ctl.lookahead
     v = lookahead(length, jcap, np.where(moving, acc, 0.0), None, window)
     prof = trapezoids(length, v[:-1], v[1:], cap, np.where(moving, acc, 0.0))
@@ -504,5 +530,7 @@ __all__ = [
     "range_min",
     "segment_limits",
     "short_block_peak",
+    "smoothed_limits",
+    "smoothing_reach",
     "trapezoids",
 ]
