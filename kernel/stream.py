@@ -123,7 +123,11 @@ class _Model:
         return cls("book", machine, planning, planning.controller.lookahead)
 
     def commands(self, commands: Iterable[canon.Command]) -> Iterable[canon.Command]:
-        return no_blend(commands) if self.name == "grbl" else commands
+        return (
+            grbl.synchronised(no_blend(commands), self.planning.controller.arc_tolerance)
+            if self.name == "grbl"
+            else commands
+        )
 
     def rows(self, raw: np.ndarray, a: int, b: int, file: str | None) -> np.ndarray:
         """Raw rows ``a .. b - 1`` as the planner plans them (``raw[a - 1]`` and

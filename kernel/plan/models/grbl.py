@@ -18,8 +18,13 @@ copied) and checked against grbl-sim built from it (tests/data/grbl_sim):
   above either block's nominal speed.
 * **Forward and reverse passes** (planner.c ``planner_recalculate``) over the 16-block
   buffer (``BLOCK_BUFFER_SIZE``, one kept free): the last block in the buffer ends at rest.
-* **Stops** at every buffer synchronisation (dwell, spindle, coolant, program end): the
-  path's holds.
+* **Stops** at every buffer synchronisation (gcode.c ``protocol_buffer_synchronize``): a
+  dwell, a program stop or end (the path's holds), and, made holds by :func:`synchronised`,
+  a change of the spindle's state (``M3``/``M4``/``M5``), of the coolant (``M7``/``M8``/``M9``)
+  and of ``S`` while the spindle turns (``spindle_sync``, ``coolant_sync``; laser mode, where
+  an ``S`` on a move does not stop, is not modelled).
+* **Inverse time arcs** (``mc_arc`` in G93): Grbl multiplies ``F`` by the chord count and
+  then runs the chords at that many mm/min (:func:`synchronised`).
 
 The program is taken as streamed by an ideal sender, so Grbl starts each cycle with its
 planner full (the goldens' lockstep harness, tests/data/grbl_sim/README.md). A real sender on
@@ -29,8 +34,13 @@ moves of a program of tiny segments.
 
 from __future__ import annotations
 
+import math
+from collections.abc import Iterable, Iterator
+
 import numpy as np
 
+import kernel.ir.canon as canon
+from kernel.ir.arcsweep import arc_sweep
 from kernel.machine import Machine
 from kernel.path.geometry import evaluate
 from kernel.path.segments import ARC, HOLD, LINE, Path
@@ -39,6 +49,118 @@ from kernel.plan.planner import Plan, commanded_feed, lookahead, ratio_min, trap
 BLOCK_BUFFER = 16  # config.h BLOCK_BUFFER_SIZE on the AVR
 _TINY = 1e-12
 _COS_STRAIGHT = 0.999999  # planner.c: straight continuation / reversal thresholds
+
+
+_SPINDLE = {
+    canon.StartSpindleClockwise: 1,
+    canon.StartSpindleCounterclockwise: 2,
+    canon.StopSpindleTurning: 0,
+}
+_COOLANT = {
+    canon.FloodOn: (1, 1),
+    canon.FloodOff: (1, 0),
+    canon.MistOn: (2, 2),
+    canon.MistOff: (2, 0),
+}
+_MOVES = (canon.StraightFeed, canon.StraightTraverse, canon.StraightProbe)
+# commands after which the tool's position in program coordinates is not known here
+_REFRAME = frozenset({"SET_ORIGIN_OFFSETS", "SET_G5X_OFFSET", "SET_G92_OFFSET", "SET_XY_ROTATION"})
+# ARC_FEED's (first, second, normal) axes -> x, y, z indices, per plane
+_PLANE_AXES = {
+    canon.Plane.XY: (0, 1, 2),
+    canon.Plane.XZ: (2, 0, 1),
+    canon.Plane.YZ: (1, 2, 0),
+}
+
+
+def _inverse_time_rate(
+    arc: canon.ArcFeed,
+    start: list[float],
+    axes: tuple[int, int, int],
+    rate: float,
+    mm: float,
+    tolerance: float,
+) -> float | None:
+    """motion_control.c ``mc_arc`` in G93: the per-minute rate (program units) Grbl runs an
+    arc's chords at, or None where it keeps the inverse time (no whole chord). Grbl multiplies
+    the inverse-time ``F`` by the chord count and then reads it as mm/min; the IR's ``rate``
+    is the arc's length times ``F`` (the interpreter's conversion)."""
+    i, j, k = axes
+    d1, d2 = start[i] - arc.first_axis, start[j] - arc.second_axis
+    radius = math.hypot(d1, d2)
+    theta0 = math.atan2(d2, d1)
+    theta1 = math.atan2(arc.second_end - arc.second_axis, arc.first_end - arc.first_axis)
+    sweep = arc_sweep(theta0, theta1, arc.rotation)
+    length = math.hypot(sweep * radius, arc.axis_end_point - start[k])
+    count = int(arc_chords(np.array([radius * mm]), np.array([sweep]), tolerance)[0])
+    if length <= _TINY or radius * mm <= 0.5 * tolerance or count < 1:
+        return None
+    return rate / length * count / mm
+
+
+def synchronised(
+    commands: Iterable[canon.Command], arc_tolerance: float
+) -> Iterator[canon.Command]:
+    """The IR as Grbl runs it. A zero-second dwell (a stop) before every command at which
+    Grbl empties its planner buffer: a spindle state change, a coolant change, a new ``S``
+    while the spindle turns (gcode.c steps 4, 7 and 8; repeating the state in force does not
+    stop). An arc in inverse time (G93) at the rate Grbl gives its chords (``mc_arc``)."""
+    spindle, coolant, speed = 0, 0, 0.0
+    inverse, rate, mm = False, 0.0, 1.0
+    axes = _PLANE_AXES[canon.Plane.XY]
+    pos: list[float] | None = None
+    for cmd in commands:
+        kind = type(cmd)
+        if kind in _MOVES:
+            assert isinstance(cmd, _MOVES)
+            pos = [cmd.x, cmd.y, cmd.z]
+        elif kind is canon.ArcFeed:
+            assert isinstance(cmd, canon.ArcFeed)
+            grbl_rate = None
+            if inverse and pos is not None:
+                grbl_rate = _inverse_time_rate(cmd, pos, axes, rate, mm, arc_tolerance)
+            if grbl_rate is not None:
+                yield canon.SetFeedRate(grbl_rate, source=cmd.source)
+            i, j, k = axes
+            pos = pos or [0.0, 0.0, 0.0]
+            pos[i], pos[j], pos[k] = cmd.first_end, cmd.second_end, cmd.axis_end_point
+            if grbl_rate is not None:
+                yield cmd
+                yield canon.SetFeedRate(rate, source=cmd.source)
+                continue
+        elif kind is canon.SetFeedRate:
+            assert isinstance(cmd, canon.SetFeedRate)
+            rate = cmd.rate
+        elif kind is canon.SetFeedMode:
+            assert isinstance(cmd, canon.SetFeedMode)
+            inverse = cmd.mode is canon.FeedMode.INVERSE_TIME
+        elif kind is canon.SelectPlane:
+            assert isinstance(cmd, canon.SelectPlane)
+            axes = _PLANE_AXES[cmd.plane]
+        elif kind is canon.UseLengthUnits:
+            assert isinstance(cmd, canon.UseLengthUnits)
+            new = cmd.units.mm_per_unit
+            pos = None if pos is None else [p * mm / new for p in pos]
+            mm = new
+        elif kind is canon.SetSpindleSpeed:
+            assert isinstance(cmd, canon.SetSpindleSpeed)
+            if cmd.speed != speed and spindle:
+                yield canon.Dwell(0.0, source=cmd.source)
+            speed = cmd.speed
+        elif kind in _SPINDLE:
+            state = _SPINDLE[kind]
+            if state != spindle:
+                yield canon.Dwell(0.0, source=cmd.source)
+            spindle = state
+        elif kind in _COOLANT:
+            bit, on = _COOLANT[kind]
+            state = (coolant & ~bit) | on
+            if state != coolant:
+                yield canon.Dwell(0.0, source=cmd.source)
+            coolant = state
+        elif cmd.NAME in _REFRAME:
+            pos = None
+        yield cmd
 
 
 def arc_chords(radius: np.ndarray, sweep: np.ndarray, tolerance: float) -> np.ndarray:
@@ -168,4 +290,5 @@ __all__ = [
     "junction_speed",
     "plan",
     "segment_arcs",
+    "synchronised",
 ]
