@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Time G-code programs on grbl-sim in lockstep mode (see README.md).
 
-    run_lockstep.py --exe BUILD/grbl/grbl-sim/grbl_sim.exe [--settings b] [--set '$120=800' ...] PROGRAM...
+    run_lockstep.py --exe BUILD/grbl/grbl-sim/grbl_sim.exe [--settings b] [--set '$120=800' ...]
+                    PROGRAM...
 
 Prints CSV: program,stepper_on_s,dwell_s,grbl_s,span_s,lines,errors,notes. Each program runs in a
 fresh directory (blank EEPROM, so Grbl restores its defaults) with the settings below sent
@@ -38,7 +39,7 @@ SETTINGS = [
 ]
 
 
-# the other settings sets of the goldens (sent after SETTINGS; machine_b.toml, machine_c.toml)
+# the other settings sets of the goldens (sent after SETTINGS; machine_SET.toml)
 SETS = {
     "a": [],
     "b": [
@@ -61,6 +62,7 @@ SETS = {
         "$11=0.005",
         "$12=0.001",
     ],
+    "l": ["$32=1"],  # laser mode (machine_l.toml: kind = "laser")
 }
 
 
@@ -144,7 +146,12 @@ def main() -> None:
     args = ap.parse_args()
     print("program,stepper_on_s,dwell_s,grbl_s,span_s,lines,errors,notes", flush=True)
     for program in args.programs:
-        row = run(os.path.abspath(args.exe), program, SETTINGS + SETS[args.settings] + args.set, args.timeout)
+        row = run(
+            os.path.abspath(args.exe),
+            program,
+            SETTINGS + SETS[args.settings] + args.set,
+            args.timeout,
+        )
         print(row, flush=True)
 
 
