@@ -269,31 +269,31 @@ def segment_arcs(path: Path, tolerance: float) -> Path:
     return Path(out[keep], path.file)
 
 
-def on_steps(path: Path, steps_per_mm: np.ndarray) -> Path:
+def on_steps(path: Path, steps_per_mm: np.ndarray, copy: bool = True) -> Path:
     """``path`` (lines and holds) with every line's ends on the axes' step grids, as Grbl's
     planner takes them (planner.c ``plan_buffer_line``: the target rounded to whole steps,
     the block's length and direction from the step counts; a block of no step is dropped).
-    Axes with no step size (0) are left as they are."""
+    Axes with no step size (0) are left as they are; ``copy=False`` rounds ``path``'s own
+    rows (a table made for it)."""
     if not np.any(steps_per_mm > 0):
         return path
-    seg = path.segments.copy()
-    line = np.flatnonzero(seg["kind"] == LINE)
-    grid = steps_per_mm > 0
-    scale = np.where(grid, steps_per_mm, 1.0)
-    sub = seg[line]
-    for key in ("start", "end"):
-        v = sub[key]
-        v[:, grid] = np.round(v[:, grid] * scale[grid]) / scale[grid]
-        sub[key] = v
-    d = sub["end"] - sub["start"]
+    seg = path.segments.copy() if copy else path.segments
+    grid = np.flatnonzero(steps_per_mm > 0)
+    scale = steps_per_mm[grid]
+    start, end = seg["start"], seg["end"]  # views: rounded in place (a hold stays put)
+    start[:, grid] = np.round(start[:, grid] * scale) / scale
+    end[:, grid] = np.round(end[:, grid] * scale) / scale
+    line = seg["kind"] == LINE
+    d = end - start
     lin = np.linalg.norm(d[:, :3], axis=1)
     rot = np.linalg.norm(d[:, 3:], axis=1)
     ln = np.where(lin > _TINY, lin, rot)
-    sub["length"] = ln
-    sub["u_start"] = sub["u_end"] = d / np.maximum(ln, _TINY)[:, None]
-    seg[line] = sub
-    keep = ~((seg["kind"] == LINE) & (seg["length"] <= 1e-12))
-    return Path(seg[keep], path.file)
+    seg["length"] = np.where(line, ln, seg["length"])
+    u = d / np.maximum(ln, _TINY)[:, None]
+    seg["u_start"][line] = u[line]
+    seg["u_end"][line] = u[line]
+    empty = line & (ln <= 1e-12)
+    return Path(seg[~empty] if empty.any() else seg, path.file)
 
 
 def blocks(
@@ -308,7 +308,7 @@ def blocks(
         seg["duration"] += restart_times(seg, machine, before, after)
         path = Path(seg, path.file)
     chords = segment_arcs(path, machine.controller.arc_tolerance)
-    return on_steps(chords, steps)
+    return on_steps(chords, steps, copy=chords is path)
 
 
 def _isr_period(u: np.ndarray, machine: Machine) -> np.ndarray:
