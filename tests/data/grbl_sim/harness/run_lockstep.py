@@ -63,6 +63,7 @@ SETS = {
         "$12=0.001",
     ],
     "l": ["$32=1"],  # laser mode (machine_l.toml: kind = "laser")
+    "d": ["$100=80", "$101=80", "$102=400"],  # other step resolutions
 }
 
 
