@@ -338,21 +338,23 @@ def restart_times(
     segments next to the stop; measured on grbl-sim, ``0.151 T^0.75`` s (0.15 ms a stop at
     1000 mm/s^2, 1.4 ms at 50 mm/s^2, 250 steps/mm). Half comes from the move before a run
     of holds (on its first hold), half from the move after it (on its last)."""
-    rows = [r for r in (before,) if r is not None] + [seg] + [r for r in (after,) if r is not None]
-    ext = np.concatenate([np.atleast_1d(r) for r in rows])
-    lo = 1 if before is not None else 0
     n = len(seg)
-    hold = ext["kind"] == HOLD
     out = np.zeros(n)
-    i = np.arange(lo, lo + n)
-    prev = (i > 0) & hold[i] & ~hold[np.maximum(i - 1, 0)]
-    nxt = (i < len(ext) - 1) & hold[i] & ~hold[np.minimum(i + 1, len(ext) - 1)]
-    if prev.any():
-        k = i[prev] - 1
-        out[prev] += 0.5 * _restart(_isr_period(ext["u_end"][k], machine))
-    if nxt.any():
-        k = i[nxt] + 1
-        out[nxt] += 0.5 * _restart(_isr_period(ext["u_start"][k], machine))
+    kind = seg["kind"]
+    h = np.flatnonzero(kind == HOLD)
+    if not h.size:
+        return out
+    for side, edge, key in ((-1, before, "u_end"), (1, after, "u_start")):
+        j = h + side  # the neighbour on this side, where inside ``seg``
+        inside = (j >= 0) & (j < n)
+        jj = np.clip(j, 0, n - 1)
+        moving = np.where(inside, kind[jj] != HOLD, edge is not None and edge["kind"] != HOLD)
+        if not moving.any():
+            continue
+        u = seg[key][jj]
+        if edge is not None:
+            u[~inside] = edge[key]
+        out[h[moving]] += 0.5 * _restart(_isr_period(u[moving], machine))
     return out
 
 
