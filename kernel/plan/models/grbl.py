@@ -30,6 +30,9 @@ copied) and checked against grbl-sim built from it (tests/data/grbl_sim):
   and of ``S`` while the spindle turns (``spindle_sync``, ``coolant_sync``); on a
   ``kind = "laser"`` machine Grbl's laser mode (``$32=1``), where an ``S`` on a block that
   moves does not stop.
+* **Restarts** (stepper.c ``st_go_idle``, ``st_wake_up``): with a step grid, each run of
+  holds costs the time the steppers take to go idle and start again, a fraction of a
+  millisecond fitted on grbl-sim (:func:`restart_times`), counted with the hold.
 * **Inverse time arcs** (``mc_arc`` in G93): Grbl multiplies ``F`` by the chord count and
   then runs the chords at that many mm/min (:func:`synchronised`).
 
