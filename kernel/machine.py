@@ -45,6 +45,8 @@ class AxisLimits:
     """One axis: travel (mm or deg), velocity, acceleration, jerk (per s, s², s³).
 
     ``servo`` holds the axis' ``[axes.<name>.servo]`` table untouched, for the servo stage.
+    ``steps_per_mm``: the drive's step resolution (Grbl's ``$100..$102``), which the ``grbl``
+    model rounds block ends to; 0 (the default): no step grid.
     """
 
     name: str
@@ -55,6 +57,7 @@ class AxisLimits:
     jerk: float = 50000.0
     home: float = 0.0
     servo: dict[str, Any] = field(default_factory=dict, compare=False)
+    steps_per_mm: float = 0.0
 
     @property
     def rotary(self) -> bool:
@@ -185,7 +188,7 @@ class Machine:
             except KeyError:
                 out.append(
                     0.0
-                    if attr in ("velocity", "acceleration", "jerk", "home")
+                    if attr in ("velocity", "acceleration", "jerk", "home", "steps_per_mm")
                     else (-math.inf if attr == "min" else math.inf)
                 )
         return tuple(out)
@@ -248,6 +251,8 @@ def _axis(name: str, table: object, loc: Location) -> AxisLimits:
         else:
             pos = key in ("velocity", "acceleration", "jerk")
             kw[key] = _number(value, f"axes.{name}.{key}", loc, positive=pos)
+            if key == "steps_per_mm" and not 0 <= kw[key] < math.inf:
+                raise Diagnostic("MACH-RANGE", f"axes.{name}.{key} must be finite, >= 0", loc)
     axis = AxisLimits(name, **kw)
     if not axis.min < axis.max:
         raise Diagnostic(

@@ -123,14 +123,23 @@ class _Model:
         return cls("book", machine, planning, planning.controller.lookahead)
 
     def commands(self, commands: Iterable[canon.Command]) -> Iterable[canon.Command]:
-        return no_blend(commands) if self.name == "grbl" else commands
+        return (
+            grbl.synchronised(
+                no_blend(commands),
+                self.planning.controller.arc_tolerance,
+                self.build.kind == "laser",
+            )
+            if self.name == "grbl"
+            else commands
+        )
 
     def rows(self, raw: np.ndarray, a: int, b: int, file: str | None) -> np.ndarray:
         """Raw rows ``a .. b - 1`` as the planner plans them (``raw[a - 1]`` and
         ``raw[b]``, where there, are their neighbours: the corners blended on either side)."""
         if self.name == "grbl":
-            path = Path(raw[a:b], file)
-            return grbl.segment_arcs(path, self.planning.controller.arc_tolerance).segments
+            before = raw[a - 1] if a > 0 else None
+            after = raw[b] if b < len(raw) else None
+            return grbl.blocks(Path(raw[a:b], file), self.planning, before, after).segments
         return blend_rows(raw, a, b)
 
     def limits(self, path: Path) -> tuple[np.ndarray, np.ndarray]:

@@ -39,7 +39,9 @@ def build(commands: Iterable[canon.Command], machine: Machine, file: str | None 
         return Built(model, build_path(prepared.commands, flat, file), prepared)
     if model == "grbl":
         flat = with_controller(machine, accdec="trapezoid", blend_tolerance=0.0)
-        return Built(model, build_path(no_blend(commands), flat, file))
+        laser = machine.kind == "laser"  # Grbl's laser mode, $32=1
+        ir = grbl.synchronised(no_blend(commands), machine.controller.arc_tolerance, laser)
+        return Built(model, build_path(ir, flat, file))
     return Built(model, build_path(commands, machine, file))
 
 

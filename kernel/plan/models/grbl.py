@@ -7,6 +7,10 @@ copied) and checked against grbl-sim built from it (tests/data/grbl_sim):
   becomes ``floor(|phi r / 2| / sqrt(tol (2 r - tol)))`` equal chords (``$12`` arc
   tolerance, ``[controller] arc_tolerance``), a helix' axial travel shared evenly; fewer
   than one chord is one line.
+* **Steps** (planner.c ``plan_buffer_line``): each block's target is rounded to whole steps
+  of each axis (``[axes.*] steps_per_mm``, ``$100..$102``; 0: no grid), and its length and
+  direction come from the step counts, so the chords of a small arc meet at corners a little
+  sharper than the arc's.
 * **Block limits** (planner.c ``plan_buffer_line``, ``limit_value_by_axis_maximum``): a
   block's acceleration and rapid rate are the largest whose every axis share stays within
   its ``$12x`` / ``$11x`` limit; its nominal speed is the feed, never above the rapid rate.
@@ -16,10 +20,21 @@ copied) and checked against grbl-sim built from it (tests/data/grbl_sim):
   ``[controller] junction_deviation``) and ``a_j`` the acceleration along the difference of
   the two directions; a straight continuation runs through at speed, a reversal stops; never
   above either block's nominal speed.
+* **Stepper timing** (stepper.c): with a step grid each step takes a few 16 MHz timer ticks
+  more than planned (:func:`stepper_speed`), some 0.05-0.1 % at usual rates.
 * **Forward and reverse passes** (planner.c ``planner_recalculate``) over the 16-block
   buffer (``BLOCK_BUFFER_SIZE``, one kept free): the last block in the buffer ends at rest.
-* **Stops** at every buffer synchronisation (dwell, spindle, coolant, program end): the
-  path's holds.
+* **Stops** at every buffer synchronisation (gcode.c ``protocol_buffer_synchronize``): a
+  dwell, a program stop or end (the path's holds), and, made holds by :func:`synchronised`,
+  a change of the spindle's state (``M3``/``M4``/``M5``), of the coolant (``M7``/``M8``/``M9``)
+  and of ``S`` while the spindle turns (``spindle_sync``, ``coolant_sync``); on a
+  ``kind = "laser"`` machine Grbl's laser mode (``$32=1``), where an ``S`` on a block that
+  moves does not stop.
+* **Restarts** (stepper.c ``st_go_idle``, ``st_wake_up``): with a step grid, each run of
+  holds costs the time the steppers take to go idle and start again, a fraction of a
+  millisecond fitted on grbl-sim (:func:`restart_times`), counted with the hold.
+* **Inverse time arcs** (``mc_arc`` in G93): Grbl multiplies ``F`` by the chord count and
+  then runs the chords at that many mm/min (:func:`synchronised`).
 
 The program is taken as streamed by an ideal sender, so Grbl starts each cycle with its
 planner full (the goldens' lockstep harness, tests/data/grbl_sim/README.md). A real sender on
@@ -29,18 +44,182 @@ moves of a program of tiny segments.
 
 from __future__ import annotations
 
+import math
+from collections.abc import Iterable, Iterator
+
 import numpy as np
 
+import kernel.ir.canon as canon
 import kernel.limits as limits
 from kernel.diagnostics import Location
+from kernel.ir.arcsweep import arc_sweep
 from kernel.machine import Machine
 from kernel.path.geometry import evaluate
 from kernel.path.segments import ARC, HOLD, LINE, Path
 from kernel.plan.planner import Plan, commanded_feed, lookahead, ratio_min, trapezoids
 
 BLOCK_BUFFER = 16  # config.h BLOCK_BUFFER_SIZE on the AVR
+_F_CPU = 16e6  # the AVR's clock, Hz: stepper timer ticks
+_DT_SEGMENT = 0.01  # stepper.c: the segments' time, s (ACCELERATION_TICKS_PER_SECOND 100)
+# a stop and restart cost _RESTART_SCALE * T^0.75 s, T the interrupt period next to the stop
+# (fitted on grbl-sim: 0.15 ms at T = 0.1 ms to 1.4 ms at T = 2 ms)
+_RESTART_SCALE = 0.151
+_RESTART_POWER = 0.75
 _TINY = 1e-12
 _COS_STRAIGHT = 0.999999  # planner.c: straight continuation / reversal thresholds
+
+
+_SPINDLE = {
+    canon.StartSpindleClockwise: 1,
+    canon.StartSpindleCounterclockwise: 2,
+    canon.StopSpindleTurning: 0,
+}
+_COOLANT = {
+    canon.FloodOn: (1, 1),
+    canon.FloodOff: (1, 0),
+    canon.MistOn: (2, 2),
+    canon.MistOff: (2, 0),
+}
+_MOVES = (canon.StraightFeed, canon.StraightTraverse, canon.StraightProbe)
+_MOTIONS = frozenset({*_MOVES, canon.ArcFeed})
+# the commands synchronised() acts on besides the straight moves
+_WATCHED = frozenset(
+    {
+        canon.ArcFeed,
+        canon.SetFeedRate,
+        canon.SetFeedMode,
+        canon.SelectPlane,
+        canon.UseLengthUnits,
+        canon.SetSpindleSpeed,
+        *_SPINDLE,
+        *_COOLANT,
+    }
+)
+# commands after which the tool's position in program coordinates is not known here
+_REFRAME = frozenset({"SET_ORIGIN_OFFSETS", "SET_G5X_OFFSET", "SET_G92_OFFSET", "SET_XY_ROTATION"})
+# ARC_FEED's (first, second, normal) axes -> x, y, z indices, per plane
+_PLANE_AXES = {
+    canon.Plane.XY: (0, 1, 2),
+    canon.Plane.XZ: (2, 0, 1),
+    canon.Plane.YZ: (1, 2, 0),
+}
+
+
+def _inverse_time_rate(
+    arc: canon.ArcFeed,
+    start: list[float],
+    axes: tuple[int, int, int],
+    rate: float,
+    mm: float,
+    tolerance: float,
+) -> float | None:
+    """motion_control.c ``mc_arc`` in G93: the per-minute rate (program units) Grbl runs an
+    arc's chords at, or None where it keeps the inverse time (no whole chord). Grbl multiplies
+    the inverse-time ``F`` by the chord count and then reads it as mm/min; the IR's ``rate``
+    is the arc's length times ``F`` (the interpreter's conversion)."""
+    i, j, k = axes
+    d1, d2 = start[i] - arc.first_axis, start[j] - arc.second_axis
+    radius = math.hypot(d1, d2)
+    theta0 = math.atan2(d2, d1)
+    theta1 = math.atan2(arc.second_end - arc.second_axis, arc.first_end - arc.first_axis)
+    sweep = arc_sweep(theta0, theta1, arc.rotation)
+    length = math.hypot(sweep * radius, arc.axis_end_point - start[k])
+    count = int(arc_chords(np.array([radius * mm]), np.array([sweep]), tolerance)[0])
+    if length <= _TINY or radius * mm <= 0.5 * tolerance or count < 1:
+        return None
+    return rate / length * count / mm
+
+
+def _same_block(a: canon.Command, b: canon.Command) -> bool:
+    """Whether two commands come from one source block (known lines only)."""
+    return a.source is not None and b.source is not None and a.source.line == b.source.line > 0
+
+
+def synchronised(
+    commands: Iterable[canon.Command], arc_tolerance: float, laser: bool = False
+) -> Iterator[canon.Command]:
+    """The IR as Grbl runs it. A zero-second dwell (a stop) before every command at which
+    Grbl empties its planner buffer: a spindle state change, a coolant change, a new ``S``
+    while the spindle turns (gcode.c steps 4, 7 and 8; repeating the state in force does not
+    stop); in laser mode (``$32=1``, ``laser``) a new ``S`` on a block that moves does not
+    stop. An arc in inverse time (G93) at the rate Grbl gives its chords (``mc_arc``)."""
+    spindle, coolant, speed = 0, 0, 0.0
+    inverse, rate, mm = False, 0.0, 1.0
+    axes = _PLANE_AXES[canon.Plane.XY]
+    last: canon.Command | None = None  # the last straight move: the tool is at its end
+    pos: list[float] | None = None  # else where the tool is (None: not known here)
+    pending: canon.Command | None = None  # laser mode: a new S, stopping unless its block moves
+    for cmd in commands:
+        kind = type(cmd)
+        if pending is not None:
+            if not (kind in _MOTIONS and _same_block(pending, cmd)):
+                yield canon.Dwell(0.0, source=pending.source)
+            yield pending
+            pending = None
+        if kind in _MOVES:  # the common case first, and cheaply
+            last = cmd
+            yield cmd
+            continue
+        if kind not in _WATCHED:
+            if cmd.NAME in _REFRAME:
+                last, pos = None, None
+            yield cmd
+            continue
+        if last is not None:
+            assert isinstance(last, _MOVES)
+            pos = [last.x, last.y, last.z]
+            last = None
+        if kind is canon.ArcFeed:
+            assert isinstance(cmd, canon.ArcFeed)
+            grbl_rate = None
+            if inverse and pos is not None:
+                grbl_rate = _inverse_time_rate(cmd, pos, axes, rate, mm, arc_tolerance)
+            i, j, k = axes
+            pos = pos or [0.0, 0.0, 0.0]
+            pos[i], pos[j], pos[k] = cmd.first_end, cmd.second_end, cmd.axis_end_point
+            if grbl_rate is not None:
+                yield canon.SetFeedRate(grbl_rate, source=cmd.source)
+                yield cmd
+                yield canon.SetFeedRate(rate, source=cmd.source)
+                continue
+        elif kind is canon.SetFeedRate:
+            assert isinstance(cmd, canon.SetFeedRate)
+            rate = cmd.rate
+        elif kind is canon.SetFeedMode:
+            assert isinstance(cmd, canon.SetFeedMode)
+            inverse = cmd.mode is canon.FeedMode.INVERSE_TIME
+        elif kind is canon.SelectPlane:
+            assert isinstance(cmd, canon.SelectPlane)
+            axes = _PLANE_AXES[cmd.plane]
+        elif kind is canon.UseLengthUnits:
+            assert isinstance(cmd, canon.UseLengthUnits)
+            new = cmd.units.mm_per_unit
+            pos = None if pos is None else [p * mm / new for p in pos]
+            mm = new
+        elif kind is canon.SetSpindleSpeed:
+            assert isinstance(cmd, canon.SetSpindleSpeed)
+            changed = cmd.speed != speed and spindle
+            speed = cmd.speed
+            if changed and laser:
+                pending = cmd
+                continue
+            if changed:
+                yield canon.Dwell(0.0, source=cmd.source)
+        elif kind in _SPINDLE:
+            state = _SPINDLE[kind]
+            if state != spindle:
+                yield canon.Dwell(0.0, source=cmd.source)
+            spindle = state
+        else:
+            bit, on = _COOLANT[kind]
+            state = (coolant & ~bit) | on
+            if state != coolant:
+                yield canon.Dwell(0.0, source=cmd.source)
+            coolant = state
+        yield cmd
+    if pending is not None:
+        yield canon.Dwell(0.0, source=pending.source)
+        yield pending
 
 
 def arc_chords(radius: np.ndarray, sweep: np.ndarray, tolerance: float) -> np.ndarray:
@@ -117,6 +296,95 @@ def segment_arcs(path: Path, tolerance: float) -> Path:
     return Path(out[keep], path.file)
 
 
+def on_steps(path: Path, steps_per_mm: np.ndarray, copy: bool = True) -> Path:
+    """``path`` (lines and holds) with every line's ends on the axes' step grids, as Grbl's
+    planner takes them (planner.c ``plan_buffer_line``: the target rounded to whole steps,
+    the block's length and direction from the step counts; a block of no step is dropped).
+    Axes with no step size (0) are left as they are; ``copy=False`` rounds ``path``'s own
+    rows (a table made for it)."""
+    if not np.any(steps_per_mm > 0):
+        return path
+    seg = path.segments.copy() if copy else path.segments
+    grid = np.flatnonzero(steps_per_mm > 0)
+    scale = steps_per_mm[grid]
+    start, end = seg["start"], seg["end"]  # views: rounded in place (a hold stays put)
+    start[:, grid] = np.round(start[:, grid] * scale) / scale
+    end[:, grid] = np.round(end[:, grid] * scale) / scale
+    line = seg["kind"] == LINE
+    d = end - start
+    lin = np.linalg.norm(d[:, :3], axis=1)
+    rot = np.linalg.norm(d[:, 3:], axis=1)
+    ln = np.where(lin > _TINY, lin, rot)
+    seg["length"] = np.where(line, ln, seg["length"])
+    u = d / np.maximum(ln, _TINY)[:, None]
+    seg["u_start"][line] = u[line]
+    seg["u_end"][line] = u[line]
+    empty = line & (ln <= 1e-12)
+    return Path(seg[~empty] if empty.any() else seg, path.file)
+
+
+def blocks(
+    path: Path, machine: Machine, before: np.ndarray | None = None, after: np.ndarray | None = None
+) -> Path:
+    """The blocks Grbl's planner receives for ``path``: its stops' restart time added
+    (:func:`restart_times`; ``before``, ``after``: the rows next to ``path``, where there),
+    arcs as chords (``$12``), ends on the step grids (``steps_per_mm``, ``$100..$102``)."""
+    steps = np.array(machine.limit_vector("steps_per_mm"))
+    if np.any(steps > 0) and np.any(path.segments["kind"] == HOLD):
+        seg = path.segments.copy()
+        seg["duration"] += restart_times(seg, machine, before, after)
+        path = Path(seg, path.file)
+    chords = segment_arcs(path, machine.controller.arc_tolerance)
+    return on_steps(chords, steps, copy=chords is path)
+
+
+def _isr_period(u: np.ndarray, machine: Machine) -> np.ndarray:
+    """The stepper interrupt's period in the first 10 ms segment (DT_SEGMENT) of a block
+    along ``u`` (rows) from rest: ``1 / (2^L r)`` at its step rate ``r`` (AMASS level L)."""
+    amax = np.array(machine.limit_vector("acceleration"))
+    steps = np.array(machine.limit_vector("steps_per_mm"))
+    per_mm = np.max(np.abs(u) * steps, axis=1)
+    rate = ratio_min(amax, u) * per_mm * (0.5 * _DT_SEGMENT)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = np.where(rate > 0, _F_CPU / rate, np.inf)
+    level = np.select([c < _F_CPU / 8000, c < _F_CPU / 4000, c < _F_CPU / 2000], [0, 1, 2], 3)
+    return np.where(rate > 0, 1.0 / (np.exp2(level) * np.maximum(rate, _TINY)), 0.0)
+
+
+def _restart(period: np.ndarray) -> np.ndarray:
+    """Seconds a stop and restart cost next to moves of interrupt period ``period`` (s)."""
+    return _RESTART_SCALE * np.power(period, _RESTART_POWER)
+
+
+def restart_times(
+    seg: np.ndarray, machine: Machine, before: np.ndarray | None, after: np.ndarray | None
+) -> np.ndarray:
+    """Seconds each hold of ``seg`` adds where Grbl's steppers go idle and wake up again
+    (a dwell, a program stop, a sync point): the interrupt's phase at wake-up and its first
+    call, which steps nothing, cost of the order of the interrupt period ``T`` of the slow
+    segments next to the stop; measured on grbl-sim, ``0.151 T^0.75`` s (0.15 ms a stop at
+    1000 mm/s^2, 1.4 ms at 50 mm/s^2, 250 steps/mm). Half comes from the move before a run
+    of holds (on its first hold), half from the move after it (on its last)."""
+    n = len(seg)
+    out = np.zeros(n)
+    kind = seg["kind"]
+    h = np.flatnonzero(kind == HOLD)
+    if not h.size:
+        return out
+    for side, edge, key in ((-1, before, "u_end"), (1, after, "u_start")):
+        j = h + side  # the neighbour on this side, where inside ``seg``
+        inside = (j >= 0) & (j < n)
+        jj = np.clip(j, 0, n - 1)
+        moving = np.where(inside, kind[jj] != HOLD, edge is not None and edge["kind"] != HOLD)
+        if not moving.any():
+            continue
+        u = seg[key][jj]
+        if edge is not None:
+            u[~inside] = edge[key]
+        out[h[moving]] += 0.5 * _restart(_isr_period(u[moving], machine))
+    return out
+
+
 def junction_speed(
     u1: np.ndarray, u2: np.ndarray, accel: np.ndarray, deviation: float
 ) -> np.ndarray:
@@ -145,8 +413,26 @@ def block_limits(path: Path, machine: Machine) -> tuple[np.ndarray, np.ndarray]:
     rapid_rate = ratio_min(vmax, u)
     acc = ratio_min(amax, u)
     feed = commanded_feed(path, machine.controller)
-    nominal = np.where(moving, np.minimum(feed, rapid_rate), 0.0)
-    return nominal, acc
+    nominal = np.minimum(feed, rapid_rate)
+    steps = np.array(machine.limit_vector("steps_per_mm"))
+    if np.any(steps > 0):
+        nominal = stepper_speed(nominal, u, steps)
+    return np.where(moving, nominal, 0.0), acc
+
+
+def stepper_speed(speed: np.ndarray, u: np.ndarray, steps_per_mm: np.ndarray) -> np.ndarray:
+    """The speed Grbl's stepper interrupt really runs at when asked for ``speed`` along ``u``
+    (rows): stepper.c times each step event as ``ceil(c)`` timer ticks at 16 MHz, ``c`` the
+    exact count, and the interrupt at ``2^L`` times the step rate (AMASS level ``L``: 0 above
+    8 kHz, 1 above 4 kHz, 2 above 2 kHz, else 3) in CTC mode, a period of the compare value
+    plus one tick: each step takes ``1 + 2^(L - 1)`` ticks more than ``c`` on average."""
+    per_mm = np.max(np.abs(u) * steps_per_mm, axis=1)  # step events per mm of the block
+    rate = speed * per_mm
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = np.where(rate > 0, _F_CPU / rate, np.inf)
+    level = np.select([c < _F_CPU / 8000, c < _F_CPU / 4000, c < _F_CPU / 2000], [0, 1, 2], 3)
+    extra = 1.0 + np.exp2(level - 1.0)
+    return np.where(rate > 0, speed / (1.0 + extra / c), speed)
 
 
 def junction_caps(seg: np.ndarray, nominal: np.ndarray, machine: Machine) -> np.ndarray:
@@ -164,8 +450,7 @@ def junction_caps(seg: np.ndarray, nominal: np.ndarray, machine: Machine) -> np.
 
 def plan(path: Path, machine: Machine) -> Plan:
     """Plan ``path`` as Grbl 1.1 does (its arcs become chords first)."""
-    ctl = machine.controller
-    path = segment_arcs(path, ctl.arc_tolerance)
+    path = blocks(path, machine)
     seg = path.segments
     n = len(seg)
     moving = seg["kind"] != HOLD
@@ -188,8 +473,13 @@ __all__ = [
     "BLOCK_BUFFER",
     "arc_chords",
     "block_limits",
+    "blocks",
     "junction_caps",
     "junction_speed",
+    "on_steps",
     "plan",
+    "restart_times",
     "segment_arcs",
+    "stepper_speed",
+    "synchronised",
 ]

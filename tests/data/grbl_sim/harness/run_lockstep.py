@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Time G-code programs on grbl-sim in lockstep mode (see README.md).
 
-    run_lockstep.py --exe BUILD/grbl/grbl-sim/grbl_sim.exe [--set '$120=800' ...] PROGRAM...
+    run_lockstep.py --exe BUILD/grbl/grbl-sim/grbl_sim.exe [--settings b] [--set '$120=800' ...]
+                    PROGRAM...
 
 Prints CSV: program,stepper_on_s,dwell_s,grbl_s,span_s,lines,errors,notes. Each program runs in a
 fresh directory (blank EEPROM, so Grbl restores its defaults) with the settings below sent
@@ -36,6 +37,34 @@ SETTINGS = [
     "$22=0",
     "$32=0",  # no soft/hard limits, no homing, no laser mode
 ]
+
+
+# the other settings sets of the goldens (sent after SETTINGS; machine_SET.toml)
+SETS = {
+    "a": [],
+    "b": [
+        "$110=5000",
+        "$111=4000",
+        "$112=1000",
+        "$120=800",
+        "$121=300",
+        "$122=100",
+        "$11=0.02",
+        "$12=0.01",
+    ],
+    "c": [
+        "$110=1500",
+        "$111=2500",
+        "$112=600",
+        "$120=200",
+        "$121=1000",
+        "$122=50",
+        "$11=0.005",
+        "$12=0.001",
+    ],
+    "l": ["$32=1"],  # laser mode (machine_l.toml: kind = "laser")
+    "d": ["$100=80", "$101=80", "$102=400"],  # other step resolutions
+}
 
 
 def grbl_lines(text: str) -> list[str]:
@@ -111,13 +140,19 @@ def main() -> None:
     raw = argparse.RawDescriptionHelpFormatter
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=raw)
     ap.add_argument("--exe", required=True)
+    ap.add_argument("--settings", choices=sorted(SETS), default="a", help="settings set")
     ap.add_argument("--set", action="append", default=[], help="another setting, '$120=800'")
     ap.add_argument("--timeout", type=float, default=1800.0)
     ap.add_argument("programs", nargs="+")
     args = ap.parse_args()
     print("program,stepper_on_s,dwell_s,grbl_s,span_s,lines,errors,notes", flush=True)
     for program in args.programs:
-        row = run(os.path.abspath(args.exe), program, SETTINGS + args.set, args.timeout)
+        row = run(
+            os.path.abspath(args.exe),
+            program,
+            SETTINGS + SETS[args.settings] + args.set,
+            args.timeout,
+        )
         print(row, flush=True)
 
 
