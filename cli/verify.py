@@ -26,12 +26,15 @@ from gcode.write.report import ConversionReport
 from gcode.write.spec import Dialect
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
+from kernel.ir.chords import chords_equivalent
 from kernel.ir.equivalence import Moves, equivalent, expanded, first_difference
 
 #: report entries that change what the program does (the rest keep it equivalent)
 LOSSES = frozenset({"dropped", "substituted"})
 #: substitutions that state the same motion another way
 SAME_MOTION = frozenset({"CONV-ARC-FORMAT"})
+#: targets without arcs, whose writers turn them into chords (kernel.ir.chords)
+CHORDS = frozenset({"sandia"})
 
 
 class Recorder:
@@ -162,18 +165,23 @@ def _check(
     back = _chunks(
         _until_refused(read_chunks(spool, target.name, options, arcs=True), refused), spool
     )
-    if equivalent(recorder.chunks, back, rounding) and not refused:
-        result.compared = sum(len(c.kind) if isinstance(c, Moves) else 1 for c in recorder.chunks)
+    if target.name in CHORDS:  # arcs written as chords: that rule, as arrays
+        same = chords_equivalent(recorder.chunks, back, writer.tolerance, rounding)
+    else:
+        same = equivalent(recorder.chunks, back, rounding)
+    compared = sum(len(c.kind) if isinstance(c, Moves) else 1 for c in recorder.chunks)
+    if same and not refused:
+        result.compared = compared
         result.verified = True
         return
     # a difference, or what only the full rule compares: read back again, item by item
-    source = recorder.commands
+    source = expanded(recorder.chunks)
     refused.clear()
     again = expanded(
         _chunks(_until_refused(read_chunks(spool, target.name, options, arcs=True), refused), spool)
     )
     diff = first_difference(source, again, writer.tolerance, rounding)
-    result.compared = len(source)
+    result.compared = compared
     if diff is None and not refused:
         result.verified = True
         return
