@@ -162,13 +162,11 @@ def _check(
     losses = [c for c in report.changes if c.kind in LOSSES and c.code not in SAME_MOTION]
     rounding = _resolution(target, writer.decimals)
     refused: list[Diagnostic] = []
-    back = _chunks(
-        _until_refused(read_chunks(spool, target.name, options, arcs=True), refused), spool
-    )
+    back = _until_refused(read_chunks(spool, target.name, options, arcs=True), refused)
     if target.name in CHORDS:  # arcs written as chords: that rule, as arrays
         same = chords_equivalent(recorder.chunks, back, writer.tolerance, rounding)
     else:
-        same = equivalent(recorder.chunks, back, rounding)
+        same = equivalent(recorder.chunks, _chunks(back, spool), rounding)
     compared = sum(len(c.kind) if isinstance(c, Moves) else 1 for c in recorder.chunks)
     if same and not refused:
         result.compared = compared

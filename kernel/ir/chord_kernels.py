@@ -12,7 +12,6 @@ from __future__ import annotations
 import math
 import sys
 
-import numpy as np
 from numba import njit
 from numba import types as nt
 
@@ -99,49 +98,86 @@ def _locate(
 
 @njit(cache=True)
 def _cover(
-    skind, svals, sfeed, sstate, sarcs, okind, ovals, ofeed, ostate, key, mm, exact, cover, axes
+    skind,
+    svals,
+    sfeed,
+    sstate,
+    sarcs,
+    okind,
+    ovals,
+    ofeed,
+    ostate,
+    key,
+    mm,
+    exact,
+    cover,
+    axes,
+    carry,
+    where,
+    done,
 ):  # pragma: no cover - compiled
     """Walk the source's motions (``skind`` 0 rapid, 1 feed, 3 arc; ``svals`` their ends,
     an arc's in-plane end and normal end in place of x y z, then A B C; ``sarcs`` each
-    arc's centre and turns) along the output's (``okind`` 0 or 1, ``ovals`` x y z a b c):
-    a straight motion against one of the same kind, an arc against the straight feeds
-    that cover it (equivalence._cover). Per state id: ``key`` what must be equal,
-    ``mm`` millimetres per unit, ``exact`` and ``cover`` the bounds in mm of a length and
-    of a chord point's distance from its arc, ``axes`` the plane's first, second and
-    normal axes. Returns (1 when every motion passes, else 0: a difference or too close
-    to tell; the output motions consumed after each source motion)."""
+    arc's centre and turns) along one segment of the output (``okind`` 0 rapid, 1 feed,
+    2 a feed change, skipped; ``ovals`` x y z a b c; all seeing state ``ostate``): a
+    straight motion against one of the same kind, an arc against the straight feeds that
+    cover it (equivalence._cover). Per state id: ``key`` what must be equal, ``mm``
+    millimetres per unit, ``exact`` and ``cover`` the bounds in mm of a length and of a
+    chord point's distance from its arc, ``axes`` the plane's first, second and normal axes.
+
+    The walk goes on from the last segment's end: ``carry`` holds the next source motion,
+    the next arc, 1 inside an arc and the output motions so far; ``where`` the progress
+    along that arc and the last source end (x y z, mm); both are updated, and ``done[s]``
+    gets the output motions consumed after source motion ``s``. Returns 1 when the segment
+    passes (all of it consumed), 0 on a difference or where it is too close to tell."""
     n_src = skind.shape[0]
     n_out = okind.shape[0]
-    done = np.zeros(n_src, dtype=np.int64)
-    sx = 0.0
-    sy = 0.0
-    sz = 0.0
+    s = carry[0]
+    q = carry[1]
+    inside = carry[2]
+    moves = carry[3]
+    progress = where[0]
+    sx = where[1]
+    sy = where[2]
+    sz = where[3]
     o = 0
-    q = 0
-    for s in range(n_src):
+    ok = 1
+    while o < n_out:
+        if okind[o] == 2:
+            o += 1
+            continue
+        if s >= n_src:
+            ok = 0  # the output has more
+            break
         st = sstate[s]
         k = mm[st]
         if skind[s] != 3:
             ex = svals[s, 0] * k
             ey = svals[s, 1] * k
             ez = svals[s, 2] * k
-            if o >= n_out or okind[o] != skind[s]:
-                return 0, done
-            ot = ostate[o]
-            if not _same_state(st, ot, sfeed[s], ofeed[o], key, mm, exact):
-                return 0, done
-            ko = mm[ot]
+            if okind[o] != skind[s] or not _same_state(
+                st, ostate, sfeed[s], ofeed[o], key, mm, exact
+            ):
+                ok = 0
+                break
+            ko = mm[ostate]
             bound = exact[st]
             if (
                 _within(abs(ex - ovals[o, 0] * ko), bound) != 1
                 or _within(abs(ey - ovals[o, 1] * ko), bound) != 1
                 or _within(abs(ez - ovals[o, 2] * ko), bound) != 1
             ):
-                return 0, done
+                ok = 0
+                break
+            same = True
             for a in range(3, 6):
                 if _within(abs(svals[s, a] - ovals[o, a]), _EXACT) != 1:
-                    return 0, done
+                    same = False
+            if not same:
+                ok = 0
+                break
             o += 1
+            moves += 1
         else:
             i = axes[st, 0]
             j = axes[st, 1]
@@ -154,45 +190,63 @@ def _cover(
             start = [sx, sy, sz]
             ci = sarcs[q, 0] * k
             cj = sarcs[q, 1] * k
-            rotation = int(sarcs[q, 2])
-            q += 1
             theta0 = math.atan2(start[j] - cj, start[i] - ci)
             theta1 = math.atan2(end[j] - cj, end[i] - ci)
-            sweep = _sweep(theta0, theta1, rotation)
+            sweep = _sweep(theta0, theta1, int(sarcs[q, 2]))
             r0 = math.hypot(start[i] - ci, start[j] - cj)
             r1 = math.hypot(end[i] - ci, end[j] - cj)
             tol = cover[st]
             closing = _within(math.sqrt((sx - ex) ** 2 + (sy - ey) ** 2 + (sz - ez) ** 2), tol)
             if closing == -1:
-                return 0, done
-            progress = 0.0
-            while True:
-                if o >= n_out or okind[o] != 1:
-                    return 0, done
-                ot = ostate[o]
-                if not _same_state(st, ot, sfeed[s], ofeed[o], key, mm, exact):
-                    return 0, done
-                ko = mm[ot]
+                ok = 0
+                break
+            if not inside:
+                inside = 1
+                progress = 0.0
+            arrived = 0
+            while o < n_out:
+                if okind[o] == 2:
+                    o += 1
+                    continue
+                if okind[o] != 1 or not _same_state(st, ostate, sfeed[s], ofeed[o], key, mm, exact):
+                    ok = 0
+                    break
+                ko = mm[ostate]
                 p = [ovals[o, 0] * ko, ovals[o, 1] * ko, ovals[o, 2] * ko]
                 found, at = _locate(
                     p[i], p[j], p[m], ci, cj, theta0, sweep, r0, r1, start[m], end[m], progress, tol
                 )
                 if found != 1:
-                    return 0, done
+                    ok = 0
+                    break
                 progress = at
                 o += 1
+                moves += 1
                 arrived = _within(
                     math.sqrt((p[0] - ex) ** 2 + (p[1] - ey) ** 2 + (p[2] - ez) ** 2), tol
                 )
                 if arrived == -1 or (arrived == 1 and closing == 1 and _near(at, 0.5)):
-                    return 0, done
+                    ok = 0
+                    break
                 if arrived == 1 and (at > 0.5 or closing == 0):
                     break
+                arrived = 0
+            if ok == 0 or arrived != 1:
+                break  # a difference, or the segment ends inside the arc
+            inside = 0
+            q += 1
+        done[s] = moves
+        s += 1
         sx, sy, sz = ex, ey, ez
-        done[s] = o
-    if o != n_out:
-        return 0, done
-    return 1, done
+    carry[0] = s
+    carry[1] = q
+    carry[2] = inside
+    carry[3] = moves
+    where[0] = progress
+    where[1] = sx
+    where[2] = sy
+    where[3] = sz
+    return ok
 
 
 _I8 = nt.Array(nt.int8, 1, "C")
@@ -205,7 +259,7 @@ _F64_2D = nt.Array(nt.float64, 2, "C")
 SIGNATURES = {
     "cover": (
         _cover,
-        nt.Tuple((nt.int64, _I64))(
+        nt.int64(
             _I8,
             _F64_2D,
             _F64,
@@ -214,12 +268,15 @@ SIGNATURES = {
             _I8,
             _F64_2D,
             _F64,
-            _I64,
+            nt.int64,
             _I64,
             _F64,
             _F64,
             _F64,
             _I64_2D,
+            _I64,
+            _F64,
+            _I64,
         ),
     ),
 }
