@@ -36,7 +36,7 @@ from gcode.sandia import lane as sandia_lane
 from gcode.write.report import ConversionReport
 from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
-from kernel.ir import canon
+from kernel.ir import canon, chords
 from kernel.ir.chords import chords_equivalent
 from kernel.ir.equivalence import first_difference
 from tests.convert_support import ir_of, options, programs
@@ -315,3 +315,21 @@ def test_a_chord_moved_off_its_arc_is_caught_at_the_arc_line(
     else:
         assert result.exit_code == 0, result.output
         assert "p.ngc: verified" in result.output
+
+
+@pytest.mark.slow
+def test_the_jit_kernels_decide_as_the_compiled_ones(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, lane_always: dict[str, int]
+) -> None:
+    """Without a C compiler the kernels run through numba's JIT: the same reading and the
+    same verdicts (a lossless program, and one with a chord moved off its arc)."""
+    src = tmp_path / "cam.ngc"
+    src.write_text(cam_program(200, False))
+    path = _sandia(src, tmp_path)
+    assert path is not None
+    opts = InterpreterOptions()
+    compiled = through_lanes(path, "sandia", opts), _both_rules(src, tmp_path)
+    monkeypatch.setattr(sandia_lane.KERNELS, "_loaded", sandia_lane.KERNELS.load_jit())
+    monkeypatch.setattr(chords.KERNELS, "_loaded", chords.KERNELS.load_jit())
+    assert (through_lanes(path, "sandia", opts), _both_rules(src, tmp_path)) == compiled
+    assert compiled[1] == (True, True)

@@ -39,7 +39,7 @@ _WORDS = np.frombuffer(
             b"SetSpeed",
             b"point_to_point_positioning",
             b"speed=",
-            b"attributes",
+            b"attributes=",
             b"ABSOLUTE|CS_CURRENT",
             b"",
         )

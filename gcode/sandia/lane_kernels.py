@@ -25,61 +25,44 @@ _SET_FEED = 2
 
 
 @njit(cache=True)
-def _blank(c):  # pragma: no cover - compiled
-    return c == 32 or c == 9
-
-
-@njit(cache=True)
-def _value(buf, j, e, pow10):  # pragma: no cover - compiled
-    """The plain decimal ``buf[j:e]`` as float() reads it (gcode.sandia.reader's
-    ``_NUMBER``: ``[-+]?(digits[.digits]|.digits)``, at most 20 integer digits); ok False
-    where it is not one, or has more than 15 digits (the general path reads those)."""
-    if j < e and (buf[j] == 43 or buf[j] == 45):
-        negative = buf[j] == 45
-        j += 1
-    else:
-        negative = False
-    mant = 0.0
+def _number(buf, k, size, pow10):  # pragma: no cover - compiled
+    """The plain decimal at ``k`` up to a blank, a line end or the end of ``buf``, as
+    float() reads it (gcode.sandia.reader's ``_NUMBER``: ``[-+]?(digits[.digits]|.digits)``):
+    (value, the index after it, ok); not ok where it is not one, or has more than 15
+    digits (the general path reads those)."""
+    negative = False
+    if k < size and (buf[k] == 43 or buf[k] == 45):
+        negative = buf[k] == 45
+        k += 1
+    mant = 0
     whole = 0
     frac = 0
     point = False
-    while j < e:
-        c = buf[j]
+    while k < size:
+        c = buf[k]
         if 48 <= c <= 57:
-            mant = mant * 10.0 + (c - 48)
+            mant = mant * 10 + (np.int64(c) - 48)  # exact: at most 15 digits are kept
             if point:
                 frac += 1
             else:
                 whole += 1
         elif c == 46 and not point:
             point = True
+        elif c == 32 or c == 9 or c == 10:
+            break
         else:
-            return 0.0, False
-        j += 1
+            return 0.0, k, False
+        k += 1
     if whole + frac == 0 or whole + frac > 15:
-        return 0.0, False
-    v = mant / pow10[frac]  # both exact: the correctly rounded quotient, as float()
-    return (-v if negative else v), True
+        return 0.0, k, False
+    v = float(mant) / pow10[frac]  # both exact: the correctly rounded quotient, as float()
+    return (-v if negative else v), k, True
 
 
 @njit(cache=True)
-def _token_end(buf, j, e):  # pragma: no cover - compiled
-    while j < e and not _blank(buf[j]):
-        j += 1
-    return j
-
-
-@njit(cache=True)
-def _skip(buf, j, e):  # pragma: no cover - compiled
-    while j < e and _blank(buf[j]):
-        j += 1
-    return j
-
-
-@njit(cache=True)
-def _same(buf, j, e, word):  # pragma: no cover - compiled
-    """Whether ``buf[j:e]`` is ``word``."""
-    if e - j != len(word):
+def _starts(buf, j, size, word):  # pragma: no cover - compiled
+    """Whether ``buf[j:]`` starts with ``word``."""
+    if j + len(word) > size:
         return False
     for k in range(len(word)):  # noqa: SIM110 - a compiled loop, no generator
         if buf[j + k] != word[k]:
@@ -88,18 +71,32 @@ def _same(buf, j, e, word):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def _ends(buf, k, size):  # pragma: no cover - compiled
+    """Whether a word ends at ``k``: a blank, a line end or the end of ``buf``."""
+    return k == size or buf[k] == 32 or buf[k] == 9 or buf[k] == 10
+
+
+@njit(cache=True)
+def _skip(buf, k, size):  # pragma: no cover - compiled
+    while k < size and (buf[k] == 32 or buf[k] == 9):
+        k += 1
+    return k
+
+
+@njit(cache=True)
 def _scan(buf, start, pos, speed, first_line, max_events, words):  # pragma: no cover - compiled
     """The run of lane lines from byte ``start`` (a line start) of ``buf``.
 
     ``pos``: x y z a b c before the run, ``speed`` the SetSpeed speed (0 for none);
     ``words``: the names ``MoveTo``, ``SetSpeed``, ``point_to_point_positioning``,
-    ``speed=``, ``attributes`` and ``ABSOLUTE|CS_CURRENT`` joined by zero bytes. A lane
+    ``speed=``, ``attributes=`` and ``ABSOLUTE|CS_CURRENT`` joined by zero bytes. A lane
     line starts in column 1 with one of the three names, its words separated by blanks
     and tabs: ``MoveTo`` with X= Y= Z= (each at most once, a speed above 0 in force),
     ``SetSpeed v`` or ``SetSpeed speed=v`` (v >= 0), ``point_to_point_positioning`` with
     X= Y= Z= A= B= C= and ``attributes=ABSOLUTE|CS_CURRENT`` (each at most once); blank
     lines are skipped. The run ends before the first other line (the general reader
     takes it, and owns every diagnostic), at the end of ``buf`` or after ``max_events``.
+    One pass over the bytes: each word is read where it starts.
 
     Returns (kinds, positions after each event, speed in force, source lines, byte
     offset after the run, the next line's number, the position after, the speed after,
@@ -118,7 +115,7 @@ def _scan(buf, start, pos, speed, first_line, max_events, words):  # pragma: no 
     pow10[0] = 1.0
     for k in range(1, 23):
         pow10[k] = pow10[k - 1] * 10.0
-    n_buf = len(buf)
+    size = len(buf)
     kind = np.empty(max_events, dtype=np.int8)
     out = np.empty((max_events, 6))
     feed = np.empty(max_events)
@@ -129,83 +126,82 @@ def _scan(buf, start, pos, speed, first_line, max_events, words):  # pragma: no 
     j = start
     line_no = first_line
     set_any = False
-    while j < n_buf and n < max_events:
-        e = j
-        while e < n_buf and buf[e] != 10:
-            e += 1
-        nxt = e + 1 if e < n_buf else e
-        if j == e or _blank(buf[j]):
-            if _skip(buf, j, e) != e:
-                break  # indented: the general reader's (its column)
-            j = nxt
+    while j < size and n < max_events:
+        c = buf[j]
+        if c == 10 or c == 32 or c == 9:  # a blank line is skipped; an indented one ends
+            k = _skip(buf, j, size)
+            if k < size and buf[k] != 10:
+                break
+            j = k + 1 if k < size else k
             line_no += 1
             continue
-        t = _token_end(buf, j, e)
+        if c == 77 and _starts(buf, j, size, move_to):
+            code = _FEED_MOVE
+            k = j + len(move_to)
+        elif c == 112 and _starts(buf, j, size, p2p):
+            code = _TRAVERSE
+            k = j + len(p2p)
+        elif c == 83 and _starts(buf, j, size, set_speed):
+            code = _SET_FEED
+            k = j + len(set_speed)
+        else:
+            break
+        if not _ends(buf, k, size):
+            break
+        k = _skip(buf, k, size)
         ok = True
-        if _same(buf, j, t, move_to) or _same(buf, j, t, p2p):
-            traverse = not _same(buf, j, t, move_to)
-            for a in range(6):
-                new[a] = cur[a]
-            seen = 0
-            k = _skip(buf, t, e)
-            while k < e:
-                t2 = _token_end(buf, k, e)
-                if t2 - k >= 3 and buf[k + 1] == 61:  # X=...
-                    c = buf[k]
-                    a = -1
-                    if 88 <= c <= 90:
-                        a = c - 88
-                    elif traverse and 65 <= c <= 67:
-                        a = c - 62
-                    if a < 0 or seen & (1 << a):
-                        ok = False
-                        break
-                    v, good = _value(buf, k + 2, t2, pow10)
-                    if not good:
-                        ok = False
-                        break
-                    new[a] = v
-                    seen |= 1 << a
-                elif (
-                    traverse
-                    and not seen & 64
-                    and t2 - k == len(attributes) + 1 + len(absolute)
-                    and _same(buf, k, k + len(attributes), attributes)
-                    and buf[k + len(attributes)] == 61
-                    and _same(buf, k + len(attributes) + 1, t2, absolute)
-                ):
-                    seen |= 64
-                else:
-                    ok = False
-                    break
-                k = _skip(buf, t2, e)
-            if not ok or (not traverse and speed == 0.0):
-                break
-            for a in range(6):
-                cur[a] = new[a]
-                out[n, a] = new[a]
-            kind[n] = _TRAVERSE if traverse else _FEED_MOVE
-        elif _same(buf, j, t, set_speed):
-            k = _skip(buf, t, e)
-            t2 = _token_end(buf, k, e)
-            if k == e or _skip(buf, t2, e) != e:
-                break  # not exactly one argument
-            if t2 - k > len(speed_key) and _same(buf, k, k + len(speed_key), speed_key):
+        if code == _SET_FEED:
+            if _starts(buf, k, size, speed_key):
                 k += len(speed_key)
-            v, good = _value(buf, k, t2, pow10)
-            if not good or v < 0.0:
-                break
+            v, k, ok = _number(buf, k, size, pow10)
+            k = _skip(buf, k, size)
+            if not ok or v < 0.0 or not (k == size or buf[k] == 10):
+                break  # malformed, negative, or not exactly one argument
             speed = v
             set_any = True
             for a in range(6):
                 out[n, a] = cur[a]
-            kind[n] = _SET_FEED
         else:
-            break
+            for a in range(6):
+                new[a] = cur[a]
+            seen = 0
+            while k < size and buf[k] != 10:
+                a = -1
+                if k + 1 < size and buf[k + 1] == 61:  # X=...
+                    letter = buf[k]
+                    if 88 <= letter <= 90:
+                        a = letter - 88
+                    elif code == _TRAVERSE and 65 <= letter <= 67:
+                        a = letter - 62
+                if a >= 0 and not seen & (1 << a):
+                    v, k, ok = _number(buf, k + 2, size, pow10)
+                    if not ok:
+                        break
+                    new[a] = v
+                    seen |= 1 << a
+                elif (
+                    code == _TRAVERSE
+                    and not seen & 64
+                    and _starts(buf, k, size, attributes)
+                    and _starts(buf, k + len(attributes), size, absolute)
+                    and _ends(buf, k + len(attributes) + len(absolute), size)
+                ):
+                    seen |= 64
+                    k += len(attributes) + len(absolute)
+                else:
+                    ok = False
+                    break
+                k = _skip(buf, k, size)
+            if not ok or (code == _FEED_MOVE and speed == 0.0):
+                break
+            for a in range(6):
+                cur[a] = new[a]
+                out[n, a] = new[a]
+        kind[n] = code
         feed[n] = speed
         line[n] = line_no
         n += 1
-        j = nxt
+        j = k + 1 if k < size else k
         line_no += 1
     return (
         kind[:n].copy(),
