@@ -27,6 +27,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import cli.convert
+import cli.verify
 import gcode.sandia.reader as sandia_reader
 from cli.verify import _chunks, _resolution
 from gcode.ngc.interpreter import InterpreterOptions, interpret
@@ -293,6 +294,14 @@ def test_a_chord_moved_off_its_arc_is_caught_at_the_arc_line(
     """A chord point moved by more than the tolerance (0.001 mm) fails the check at the
     source line of its arc; moved by less, it passes (the tolerance is the rule's)."""
     monkeypatch.setattr(sandia_reader, "LANE_MIN_BYTES", 0)
+    monkeypatch.setattr(cli.verify, "CHORDS_MIN", 0)
+    spied = {"calls": 0}
+
+    def spy(*args: Any, **kwargs: Any) -> bool:
+        spied["calls"] += 1
+        return chords_equivalent(*args, **kwargs)
+
+    monkeypatch.setattr(cli.verify, "chords_equivalent", spy)
     src = tmp_path / "p.ngc"
     src.write_text("G21 G90 G17\nF100\nG0 X0 Y0 Z5\nG1 Z-1\nG1 X10\nG2 X20 Y0 R5\nG1 X30\nM2\n")
     out = tmp_path / "p.txt"
@@ -307,6 +316,7 @@ def test_a_chord_moved_off_its_arc_is_caught_at_the_arc_line(
 
     monkeypatch.setattr(cli.convert, "write_text", corrupted)
     result = CliRunner().invoke(cli.convert.command, [str(src), "--to", "sandia", "-o", str(out)])
+    assert spied["calls"] == 1
     if caught:
         assert result.exit_code == 1
         assert "p.ngc:6:1: error[CONV-VERIFY]" in result.output
