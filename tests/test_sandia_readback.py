@@ -210,17 +210,7 @@ def _line(draw: st.DrawFn) -> str:
     return text
 
 
-@settings(
-    max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
-)
-@given(
-    lines=st.lists(_line(), min_size=1, max_size=30),
-    speed=st.booleans(),
-    end=st.booleans(),
-)
-def test_random_streams_read_as_the_general_reader(
-    lines: list[str], speed: bool, end: bool, tmp_path: Path, lane_always: dict[str, int]
-) -> None:
+def _same_reading(lines: list[str], speed: bool, end: bool, tmp_path: Path) -> None:
     """Plain and malformed lines: the same commands, or the same error at the same line and
     column with the same code and message."""
     head = ["SetSpeed 100.0"] if speed else []
@@ -228,6 +218,31 @@ def test_random_streams_read_as_the_general_reader(
     path.write_text("\n".join(head + lines) + ("\n" if end else ""))
     opts = InterpreterOptions()
     assert through_lanes(path, "sandia", opts) == general(path, "sandia", opts)
+
+
+_STREAMS = {
+    "lines": st.lists(_line(), min_size=1, max_size=30),
+    "speed": st.booleans(),
+    "end": st.booleans(),
+}
+_FIXTURE = [HealthCheck.function_scoped_fixture]
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=_FIXTURE)
+@given(**_STREAMS)
+def test_random_streams_read_as_the_general_reader(
+    lines: list[str], speed: bool, end: bool, tmp_path: Path, lane_always: dict[str, int]
+) -> None:
+    _same_reading(lines, speed, end, tmp_path)
+
+
+@pytest.mark.slow
+@settings(max_examples=2000, deadline=None, suppress_health_check=_FIXTURE)
+@given(**_STREAMS)
+def test_many_random_streams_read_as_the_general_reader(
+    lines: list[str], speed: bool, end: bool, tmp_path: Path, lane_always: dict[str, int]
+) -> None:
+    _same_reading(lines, speed, end, tmp_path)
 
 
 # ---------------------------------------------------------------- the chord comparison
