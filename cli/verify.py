@@ -26,12 +26,18 @@ from gcode.write.report import ConversionReport
 from gcode.write.spec import Dialect
 from kernel.diagnostics import Diagnostic, Location
 from kernel.ir import canon
+from kernel.ir.chords import chords_equivalent
 from kernel.ir.equivalence import Moves, equivalent, expanded, first_difference
 
 #: report entries that change what the program does (the rest keep it equivalent)
 LOSSES = frozenset({"dropped", "substituted"})
 #: substitutions that state the same motion another way
 SAME_MOTION = frozenset({"CONV-ARC-FORMAT"})
+#: targets without arcs, whose writers turn them into chords, and the source size (commands)
+#: from which kernel.ir.chords compares them (below it the rule alone is quick, and a small
+#: conversion does not build the compiled kernel)
+CHORDS = frozenset({"sandia"})
+CHORDS_MIN = 4096
 
 
 class Recorder:
@@ -161,23 +167,27 @@ def _check(
     losses = [c for c in report.changes if c.kind in LOSSES and c.code not in SAME_MOTION]
     rounding = _resolution(target, writer.decimals)
     refused: list[Diagnostic] = []
-    back = _chunks(
-        _until_refused(read_chunks(spool, target.name, options, arcs=True), refused), spool
-    )
-    same = equivalent(recorder.chunks, back, rounding)
-    back.close()  # the comparison may stop reading at the first difference
+    back = _until_refused(read_chunks(spool, target.name, options, arcs=True), refused)
+    compared = sum(len(c.kind) if isinstance(c, Moves) else 1 for c in recorder.chunks)
+    if target.name in CHORDS and compared >= CHORDS_MIN:  # arcs as chords: as arrays
+        same = chords_equivalent(recorder.chunks, back, writer.tolerance, rounding)
+    else:
+        runs = _chunks(back, spool)
+        same = equivalent(recorder.chunks, runs, rounding)
+        runs.close()  # the comparison may stop reading at the first difference
+    back.close()
     if same and not refused:
-        result.compared = sum(len(c.kind) if isinstance(c, Moves) else 1 for c in recorder.chunks)
+        result.compared = compared
         result.verified = True
         return
     # a difference, or what only the full rule compares: read back again, item by item
-    source = recorder.commands
+    source = expanded(recorder.chunks)
     refused.clear()
     again = expanded(
         _chunks(_until_refused(read_chunks(spool, target.name, options, arcs=True), refused), spool)
     )
     diff = first_difference(source, again, writer.tolerance, rounding)
-    result.compared = len(source)
+    result.compared = compared
     if diff is None and not refused:
         result.verified = True
         return
@@ -194,7 +204,9 @@ def _check(
         raise Diagnostic("CONV-VERIFY", message, where or Location(recorder.file))
 
 
-def _until_refused(stream: Iterable[object], refused: list[Diagnostic]) -> Iterator[object]:
+def _until_refused(
+    stream: Iterable[object], refused: list[Diagnostic]
+) -> Generator[object, None, None]:
     """The reader's stream up to its first error, which is kept in ``refused``."""
     try:
         yield from stream

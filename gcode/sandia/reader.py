@@ -89,6 +89,8 @@ COMMANDS = frozenset(
 #: a plain decimal (the writer's and the seed's ``25.0``); at most 20 integer digits: finite
 _NUMBER = re.compile(r"[-+]?(?:[0-9]{1,20}(?:\.[0-9]*)?|\.[0-9]+)\Z")
 _AXES = "XYZABC"
+#: programs from this size on are read back through the compiled lane (interpret_chunks)
+LANE_MIN_BYTES = 1 << 17
 
 
 def interpret(
@@ -103,6 +105,33 @@ def interpret(
             "IO-OPEN", f"cannot open program: {exc.strerror or exc}", Location(name)
         ) from None
     return _closing(fh, Reader(name, options or InterpreterOptions()).run(fh))
+
+
+def interpret_chunks(
+    path: str | os.PathLike[str], options: InterpreterOptions | None = None, *, arcs: bool = False
+) -> Iterator[object]:
+    """Like :func:`interpret`, with the runs of plain lines of a large program (``MoveTo``,
+    ``SetSpeed``, absolute rapids) as :class:`gcode.ngc.lane.fastlane.Run` arrays scanned
+    by the compiled lane (:mod:`gcode.sandia.lane`); ``arcs`` changes nothing (the language
+    has none). A small program, one with CR line ends, or one read where no kernel loads
+    goes through the general reader alone."""
+    name = os.fspath(path)
+    try:
+        with open(name, "rb") as fh:
+            data = fh.read()
+    except OSError:
+        return interpret(path, options)  # the general reader's located IO-OPEN
+    opts = options or InterpreterOptions()
+    if not opts.fast_lane or len(data) < LANE_MIN_BYTES or b"\r" in data:
+        return interpret(path, options)
+    # imported here: numpy and the kernel load only for a large program
+    from gcode.sandia import lane
+
+    try:
+        lane.kernels()
+    except ImportError:
+        return interpret(path, options)
+    return lane.chunks(Reader(name, opts), data)
 
 
 def _closing(fh: TextIO, commands: Iterator[canon.Command]) -> Iterator[canon.Command]:
@@ -130,6 +159,7 @@ class Reader:
         self.speed: float | None = None
         self.line = 0
         self.text = ""
+        self.ended = False
 
     # ------------------------------------------------------------------ errors
     def error(
@@ -151,7 +181,12 @@ class Reader:
     # ------------------------------------------------------------------ run
     def run(self, lines: Iterable[str]) -> Iterator[canon.Command]:
         yield from self.preamble()
-        for self.line, raw in enumerate(lines, 1):
+        yield from self.body(enumerate(lines, 1))
+
+    def body(self, numbered: Iterable[tuple[int, str]]) -> Iterator[canon.Command]:
+        """The commands of the (line number, text) lines; ``ended`` once ``Deactivate``
+        is read (nothing after it runs)."""
+        for self.line, raw in numbered:
             self.text = raw
             body, hash_, comment = raw.partition("#")
             parts = body.split()
@@ -167,6 +202,7 @@ class Reader:
                 raise self.unknown(name)
             if name == "Deactivate":
                 self.no_args(parts)
+                self.ended = True
                 yield canon.ProgramEnd(source=self.loc())
                 return
             yield from self.command(name, parts)

@@ -30,6 +30,7 @@ from gcode.write.bulk import COMMANDS_BEFORE_BULK
 from gcode.write.options import WriterOptions
 from gcode.write.report import Change, ConversionReport, loss_code, machinist
 from gcode.write.sandia_chords import (
+    ArcRows,
     batch_points,
     format_many,
     move_lines,
@@ -81,7 +82,7 @@ class SandiaWriter:
         self.pallet = False  # a PALLET_SHUTTLE waiting for its stop or end
         self.per_rev = False  # SET_FEED_MODE per revolution in force
         self.file: str | None = None  # the source program (locations of bulk runs)
-        self.queue: list[canon.Command | np.ndarray] = []  # feeds and arcs not yet written
+        self.queue: list[canon.Command | np.ndarray | ArcRows] = []  # not yet written
         self.queued = 0  # moves in the queue (an array holds several)
         self.marks: list[tuple[int, str]] = []  # (moves queued before it, line) meanwhile
         self.compiled = False  # a large program: the queue is formatted in compiled code
@@ -185,6 +186,7 @@ class SandiaWriter:
         else:
             bounds = [0, *(np.flatnonzero(kind[1:] != kind[:-1]) + 1).tolist(), len(run)]
         commands: list[canon.Command] = []
+        arcs = self.queueable_arcs(run)
         for i, j in zip(bounds[:-1], bounds[1:], strict=True):  # stretches of one kind
             k = int(kind[i])
             if k == SET_FEED:
@@ -193,6 +195,9 @@ class SandiaWriter:
             self.src = canon.Location(file, int(run.line[i]), 1)
             if k == FEED_MOVE and self.moving(j - i):
                 self.queue.append(pos[i:j, :3])
+                continue
+            if k == ARC and arcs is not None and self.moving(0):
+                self.queue_arcs(run, arcs, i, j, file)
                 continue
             commands = commands or run.commands(file)
             if k == ARC:  # arcs (a run read with arcs) join the queue as take queues them
@@ -203,6 +208,31 @@ class SandiaWriter:
                 self.flush_moves()
                 self.src = c.source
                 self.handle(c)
+
+    def queueable_arcs(self, run: Run) -> np.ndarray | None:
+        """The run's arcs as :class:`ArcRows` take them (in-plane end, centre, turns,
+        normal end per row), when every one of them joins the queue as :meth:`place`
+        would queue its command (turns, no --on-missing refuse); else None."""
+        if run.arc is None or self.o.on_missing == "refuse":
+            return None
+        rows = run.arc
+        if not rows[run.kind == ARC, 4].all():  # a zero-turn arc: written by its handler
+            return None
+        return rows
+
+    def queue_arcs(self, run: Run, rows: np.ndarray, i: int, j: int, file: str | None) -> None:
+        """Arcs ``i:j`` of ``run`` join the queue as :class:`ArcRows`, split where one by
+        one they would have flushed it (each arc counts as :meth:`place` counts it)."""
+        at = i  # moving(0) readied units and speed, and counted nothing
+        while at < j:
+            if self.queued >= RUN:
+                self.flush_moves()
+            room = max(RUN - self.queued, 1)
+            end = min(j, at + room)
+            self.queue.append(ArcRows(rows[at:end], run.line[at:end], file))
+            self.queued += end - at
+            at = end
+        self.src = canon.Location(file, int(run.line[j - 1]), 1)
 
     def flush_moves(self) -> None:
         """Write the queued moves: all chords computed and formatted at once, with the
@@ -231,13 +261,22 @@ class SandiaWriter:
             for shift, (row, line) in enumerate(marks):
                 lines.insert(int(before[row]) + shift, line)
             self.out.extend(lines)
+        message = f"{machinist('ARC_FEED')} as MoveTo chords"
+        add = self.report.add
         for c, row in zip(queue, rows, strict=True):
             if type(c) is canon.ArcFeed:
                 n, dev = int(counts[row]), float(sag[row])
-                message = f"{machinist('ARC_FEED')} as MoveTo chords"
-                self.report.add(
-                    Change("CONV-ARC-LINES", "approximated", message, c.source, n, dev * s, tol)
-                )
+                add(Change("CONV-ARC-LINES", "approximated", message, c.source, n, dev * s, tol))
+            elif type(c) is ArcRows:
+                m = len(c.line)
+                where = [canon.Location(c.file, ln, 1) for ln in c.line.tolist()]
+                for src, n, dev in zip(
+                    where,
+                    counts[row : row + m].tolist(),
+                    (sag[row : row + m] * s).tolist(),
+                    strict=True,
+                ):
+                    add(Change("CONV-ARC-LINES", "approximated", message, src, n, dev, tol))
 
     def plane_start(self) -> tuple[tuple[int, int, int], tuple[float, float, float]]:
         """For :func:`batch_points`: the indexes in x y z of the plane's first, second and

@@ -17,6 +17,7 @@ from __future__ import annotations
 import functools
 import math
 import re
+from dataclasses import dataclass
 from itertools import compress
 from operator import eq
 
@@ -24,6 +25,17 @@ import numpy as np
 
 from kernel.ir import canon
 from kernel.ir.arcsweep import arc_sweeps
+
+
+@dataclass(frozen=True, slots=True)
+class ArcRows:
+    """Arcs of a fast-lane run queued as arrays, not commands: ``rows[i]`` holds an arc's
+    in-plane end, centre, signed turns and end on the normal axis, as ``ARC_FEED`` takes
+    them (gcode.ngc.lane.fastlane.Run.arc), ``line[i]`` its source line in ``file``."""
+
+    rows: np.ndarray
+    line: np.ndarray
+    file: str | None
 
 
 @functools.cache
@@ -98,9 +110,10 @@ def batch_points(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[int]]:
     """Chord end points of a run of straight feeds and arcs, at once.
 
-    ``items`` holds ``STRAIGHT_FEED`` and ``ARC_FEED`` commands and (k, 3) arrays of the x y z
-    end points of k straight feeds (the fast lane's); ``axes``: indexes of the plane's
-    (first, second, normal) axes in (x, y, z); ``start``: the position before the run.
+    ``items`` holds ``STRAIGHT_FEED`` and ``ARC_FEED`` commands, (k, 3) arrays of the x y z
+    end points of k straight feeds (the fast lane's) and :class:`ArcRows`; ``axes``:
+    indexes of the plane's (first, second, normal) axes in (x, y, z); ``start``: the
+    position before the run.
     Returns (points (N, 3) in x y z, chords per move, the largest sagitta per move, the
     first move of each item): a line is one point; an arc is ``n`` chords of equal angle,
     the module's rule, computed for all arcs of the run together.
@@ -110,6 +123,7 @@ def batch_points(
     rows: list[int] = []
     loose: list[tuple[float, float, float]] = []  # end points of commands, in order
     arcs: list[tuple[int, float, float, float]] = []  # (move, centre first, second, turns)
+    blocks: list[np.ndarray] = []  # the same as arrays, before ``arcs``
     k = 0
     end = [0.0, 0.0, 0.0]
     for item in items:
@@ -121,6 +135,24 @@ def batch_points(
                 loose = []
             pieces.append(item)
             k += len(item)
+            continue
+        if kind is ArcRows:
+            if loose:
+                pieces.append(np.array(loose, dtype=np.float64))
+                loose = []
+            if arcs:
+                blocks.append(np.array(arcs, dtype=np.float64))
+                arcs = []
+            data = item.rows
+            m = len(data)
+            ends = np.empty((m, 3))
+            ends[:, i1], ends[:, i2], ends[:, i3] = data[:, 0], data[:, 1], data[:, 5]
+            pieces.append(ends)
+            block = np.empty((m, 4))
+            block[:, 0] = np.arange(k, k + m)
+            block[:, 1:] = data[:, 2:5]
+            blocks.append(block)
+            k += m
             continue
         if kind is canon.StraightFeed:
             loose.append((item.x, item.y, item.z))
@@ -134,9 +166,11 @@ def batch_points(
     ends = pieces[0] if len(pieces) == 1 else np.concatenate(pieces)
     counts = np.ones(k, dtype=np.int64)
     sag = np.zeros(k)
-    if not arcs:  # straight feeds only: their end points
+    if arcs:
+        blocks.append(np.array(arcs, dtype=np.float64))
+    if not blocks:  # straight feeds only: their end points
         return ends, counts, sag, rows
-    table = np.array(arcs, dtype=np.float64)
+    table = blocks[0] if len(blocks) == 1 else np.concatenate(blocks)
     at = table[:, 0].astype(np.int64)
     centre, rotation = table[:, 1:3], table[:, 3]
     arc_end = ends[at]

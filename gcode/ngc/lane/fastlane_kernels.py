@@ -801,6 +801,8 @@ def _sandia(pts, scale, places, state, known):  # pragma: no cover - compiled
         o += 6
         changed = False
         for a in range(3):
+            if k and pts[k, a] == pts[k - 1, a]:
+                continue  # the text of the line before, which ``last`` holds
             n, big = _put_num(word, 0, pts[k, a] * scale, places, True)
             too_large |= big
             if word[n - 1] == 46:  # at least one decimal: "12." -> "12.0"
