@@ -34,6 +34,8 @@ from kernel.ir.equivalence import (
     _MOTION_KINDS,
     EXACT,
     Moves,
+    _Block,
+    _Kept,
     _mm,
     _State,
     _Table,
@@ -159,6 +161,20 @@ class _Output:
             yield pending()
 
 
+class _SourceColumns:
+    """The source's motion rows (:class:`~kernel.ir.equivalence._Table`'s kept blocks) as
+    whole columns, with the id of the state each row sees (from the table's runs)."""
+
+    def __init__(self, blocks: list[_Block], runs: list[tuple[int, int]]) -> None:
+        self.kind = np.concatenate([b[0] for b in blocks]) if blocks else np.zeros(0, dtype=np.int8)
+        self.values = np.concatenate([b[1] for b in blocks]) if blocks else np.zeros((0, 6))
+        self.feed = np.concatenate([b[2] for b in blocks]) if blocks else np.zeros(0)
+        arcs = [b[3] for b in blocks if b[3] is not None]
+        self.arcs = np.concatenate(arcs) if arcs else np.zeros((0, 3))
+        ids = np.array([sid for sid, _ in runs], dtype=np.int64)
+        self.state = np.repeat(ids, [count for _, count in runs])
+
+
 def chords_equivalent(
     source: Iterable[canon.Command | Moves],
     output: Iterable[object],
@@ -175,20 +191,22 @@ def chords_equivalent(
     except ImportError:  # no compiled kernel and no numba: the rule decides
         return False
     states: dict[_State, int] = {}
-    src = _Table(source, states)
+    kept = _Kept()
+    src = _Table(source, states, kept)
     if not src.ok:
         return False
+    columns = _SourceColumns(kept.blocks, src.runs)
     rounding = resolution or {}
-    n_src = len(src.kind)
+    n_src = len(columns.kind)
     done = np.zeros(n_src, dtype=np.int64)
     carry = np.zeros(4, dtype=np.int64)
     where = np.zeros(4)
     arrays = (
-        np.ascontiguousarray(src.kind, dtype=np.int8),
-        np.ascontiguousarray(src.values, dtype=np.float64),
-        np.ascontiguousarray(src.feed, dtype=np.float64),
-        np.ascontiguousarray(src.state, dtype=np.int64),
-        np.ascontiguousarray(src.arcs, dtype=np.float64).reshape(-1, 3),
+        np.ascontiguousarray(columns.kind, dtype=np.int8),
+        np.ascontiguousarray(columns.values, dtype=np.float64),
+        np.ascontiguousarray(columns.feed, dtype=np.float64),
+        np.ascontiguousarray(columns.state, dtype=np.int64),
+        np.ascontiguousarray(columns.arcs, dtype=np.float64).reshape(-1, 3),
     )
     out = _Output(states)
     tables: tuple[np.ndarray, ...] = ()
