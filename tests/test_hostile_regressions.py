@@ -28,6 +28,7 @@ from kernel.interp import interpolate
 from kernel.machine import DEFAULT_MACHINE, parse_machine
 from kernel.plan.models.grbl import segment_arcs
 from kernel.plan.strategy import build, plan_program
+from kernel.report.trace import setup as servo_setup
 from kernel.tooltable import read_tool_table
 from stepnc.part21 import parse
 from stepnc.to_canon import canon_from_file
@@ -391,3 +392,41 @@ def test_a_line_over_the_line_limit_is_refused_before_it_is_parsed(
     assert (diag.code, diag.location.line, diag.location.column) == ("LIMIT-LINE", 2, 1001)
     limits.configure(line_chars=2002)
     list(read_text("G21\n(" + "a" * 2000 + ")\nM2\n", dialect, "long.ngc"))
+
+
+AXES = "".join(f"[axes.{a}]\nvelocity = 100.0\nacceleration = 1000.0\n" for a in "xyz")
+
+
+# hostile profiles: lookahead 2**63-1 was an IndexError in the plan's stream, an
+# interpolation period of 1e300 s a LinAlgError in the servo model, [limits] NaN a
+# ValueError (int(nan)), a settle of 1e5 s a trace of 1e8 samples per axis (minutes)
+@pytest.mark.parametrize(
+    ("table", "code", "words"),
+    [
+        ("[controller]\nlookahead = 9223372036854775807\n", "MACH-RANGE", "10**6"),
+        ("[controller]\ninterpolation_period = 1e300\n", "MACH-RANGE", "at most 1 s"),
+    ],
+)
+def test_a_profile_value_beyond_any_control_is_machine_range(
+    table: str, code: str, words: str
+) -> None:
+    with pytest.raises(Diagnostic) as info:
+        parse_machine(AXES + table, "m.toml")
+    assert (info.value.code, info.value.location.file) == (code, "m.toml")
+    assert words in info.value.message
+
+
+@pytest.mark.parametrize("value", [math.nan, math.inf, -1.0])
+def test_a_limit_that_is_not_a_finite_count_is_limit_config(
+    fresh_limits: None, value: float
+) -> None:
+    with pytest.raises(Diagnostic) as info:
+        limits.configure(samples_per_move=value)
+    assert info.value.code == "LIMIT-CONFIG"
+
+
+def test_a_servo_settle_of_hours_is_refused() -> None:
+    machine = parse_machine(AXES + "[servo]\nsettle = 100000.0\n", "m.toml")
+    with pytest.raises(Diagnostic) as info:
+        servo_setup(machine, machine.controller.interpolation_period)
+    assert info.value.code == "SERVO-PARAM" and "settle" in info.value.message
