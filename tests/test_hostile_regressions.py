@@ -24,8 +24,10 @@ from cli.excerpt import _line_of, excerpt
 from cli.main import cli
 from cli.programs import load_machine, load_tool_table, read_head
 from gcode.readers import read_text
-from kernel.diagnostics import Diagnostic
+from gcode.write.sandia_chords import batch_points
+from kernel.diagnostics import Diagnostic, Location
 from kernel.interp import interpolate
+from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, parse_machine
 from kernel.plan.models.grbl import segment_arcs
 from kernel.plan.strategy import build, plan_program
@@ -456,3 +458,17 @@ def test_a_huge_line_of_a_large_file_is_read_for_its_excerpt_in_linear_time(
     line = _line_of(str(path), 2)
     assert time.process_time() - start < 1.0
     assert line is not None and len(line) == 9_000_002
+
+
+# cnc convert --to sandia made every chord of an arc before writing: an arc of a million
+# turns (2.2e8 chords) or of radius 1e99 was a ValueError traceback (a negative repeat)
+@pytest.mark.parametrize(("radius", "turns"), [(10.0, 1_000_000), (1e99, 1)])
+def test_a_sandia_arc_of_too_many_chords_is_refused_at_its_line(
+    fresh_limits: None, radius: float, turns: int
+) -> None:
+    where = Location("arc.ngc", 4, 1)
+    arc = canon.ArcFeed(0.0, 0.0, radius, 0.0, turns, 0.0, 0.0, 0.0, 0.0, source=where)
+    with pytest.raises(Diagnostic) as info:
+        batch_points([arc], (0, 1, 2), (0.0, 0.0, 0.0), 0.001)
+    assert (info.value.code, info.value.location) == ("LIMIT-COUNT", where)
+    assert "arc_chords" in info.value.message

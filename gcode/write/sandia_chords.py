@@ -22,6 +22,8 @@ from operator import eq
 
 import numpy as np
 
+import kernel.limits as limits
+from kernel.diagnostics import Location
 from kernel.ir import canon
 from kernel.ir.arcsweep import arc_sweeps
 
@@ -110,6 +112,7 @@ def batch_points(
     rows: list[int] = []
     loose: list[tuple[float, float, float]] = []  # end points of commands, in order
     arcs: list[tuple[int, float, float, float]] = []  # (move, centre first, second, turns)
+    arc_cmds: list[canon.ArcFeed] = []  # the arcs' commands (where a limit is reported)
     k = 0
     end = [0.0, 0.0, 0.0]
     for item in items:
@@ -128,6 +131,7 @@ def batch_points(
             end[i1], end[i2], end[i3] = item.first_end, item.second_end, item.axis_end_point
             loose.append((end[0], end[1], end[2]))
             arcs.append((k, item.first_axis, item.second_axis, item.rotation))
+            arc_cmds.append(item)
         k += 1
     if loose:
         pieces.append(np.array(loose, dtype=np.float64))
@@ -151,7 +155,19 @@ def batch_points(
     sweep = np.abs(arc_sweeps(a0, a1, rotation))
     with np.errstate(divide="ignore", invalid="ignore"):
         step = np.where(tol < r, 2 * np.arccos(np.maximum(-1.0, 1 - tol / r)), math.pi / 2)
-    n = np.maximum(2, np.ceil(sweep / step)).astype(np.int64)
+    with np.errstate(divide="ignore", invalid="ignore"):  # a step of 0: a radius of 1e99
+        wanted = np.maximum(2, np.ceil(sweep / step))
+    over = ~(wanted <= limits.current().arc_chords)  # a million turns, a radius of 1e99
+    if over.any():
+        i = int(np.argmax(over))
+        raise limits.count_error(
+            "chords of one arc (MoveTo lines)",
+            float(wanted[i]),
+            limits.current().arc_chords,
+            "arc_chords",
+            arc_cmds[i].source or Location(None),
+        )
+    n = wanted.astype(np.int64)
     counts[at] = n
     sag[at] = r * (1 - np.cos(sweep / n / 2))
     owner = np.repeat(np.arange(len(at)), n)
