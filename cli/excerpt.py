@@ -144,12 +144,16 @@ def _read_line(name: str, number: int) -> bytes | None:
         offset, line = found
         skip = number - 1 - line  # whole lines between the mark and the one asked for
         fh.seek(offset)
-        data = b""
+        # newlines counted per piece and the pieces joined once: a 100 MB line read by
+        # re-counting (and re-copying) all that was read took minutes
+        pieces, seen = [], 0
         while True:
             more = fh.read(1 << 16)
-            data += more
-            if not more or data.count(b"\n") > skip:
+            pieces.append(more)
+            seen += more.count(b"\n")
+            if not more or seen > skip:
                 break
+        data = b"".join(pieces)
     parts = data.split(b"\n", skip + 1)
     if len(parts) <= skip:
         return None
@@ -227,6 +231,14 @@ def excerpt(number: int, column: int, text: str, width: int = WIDTH) -> list[str
     longer than ``width`` is cut around the column, the cuts marked with ``…``."""
     text = text.rstrip("\r\n")
     index = max(column - 1, 0)
+    cut_head = cut_tail = False
+    if len(text) > 8 * width:
+        # a huge line (100 MB): only a window round the column is laid out, not a display
+        # position per character of the whole line
+        lo = max(0, min(index, len(text)) - 2 * width)
+        hi = lo + 4 * width
+        cut_head, cut_tail = lo > 0, hi < len(text)
+        text, index = text[lo:hi], index - lo
     span = word_span(text, index) if column else 0
     # display position of each character once tabs are TAB wide
     disp = [0]
@@ -239,8 +251,8 @@ def excerpt(number: int, column: int, text: str, width: int = WIDTH) -> list[str
     if len(line) > width:
         start = max(0, min(caret - width // 3, len(line) - width))
         stop = start + width
-        head = "…" if start > 0 else ""
-        line = head + line[start:stop] + ("…" if stop < len(line) else "")
+        head = "…" if start > 0 or cut_head else ""
+        line = head + line[start:stop] + ("…" if stop < len(line) or cut_tail else "")
         length = max(1, min(end, stop) - caret)
         caret = caret - start + len(head)
     gutter = str(number)

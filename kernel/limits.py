@@ -11,6 +11,7 @@ A leaf module: the front ends and the kernel import it, it imports only diagnost
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, fields, replace
 
@@ -74,7 +75,7 @@ def configure(**values: float) -> Limits:
     for f in fields(Limits):
         if f.name in values:
             v = values[f.name]
-            if v < 0 or (f.name != "seconds" and v < 1):
+            if not v < math.inf or v < 0 or (f.name != "seconds" and v < 1):  # NaN too
                 raise Diagnostic("LIMIT-CONFIG", f"limit {f.name} must be >= 1, not {v}")
             typed[f.name] = float(v) if f.name == "seconds" else int(v)
     _current = replace(_current, **typed)

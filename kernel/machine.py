@@ -270,8 +270,8 @@ def _controller(table: object, loc: Location) -> Controller:
             raise Diagnostic("MACH-KEY", f"[controller]: unknown key {key!r}", loc)
         what = f"controller.{key}"
         if key == "lookahead":
-            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise Diagnostic("MACH-RANGE", f"{what} must be an integer >= 1", loc)
+            if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 10**6:
+                raise Diagnostic("MACH-RANGE", f"{what} must be an integer from 1 to 10**6", loc)
             kw[key] = value
         elif key in ("accdec", "corner_rule", "circle_method", "model"):
             allowed = {
@@ -295,6 +295,10 @@ def _controller(table: object, loc: Location) -> Controller:
             v = _number(value, what, loc, positive=pos)
             if v < 0:
                 raise Diagnostic("MACH-RANGE", f"{what} must not be negative", loc)
+            if key == "interpolation_period" and v > 1.0:
+                # controls interpolate every 0.1-10 ms; a longer period makes the servo's
+                # discrete model singular
+                raise Diagnostic("MACH-RANGE", f"{what} must be at most 1 s, got {v:g}", loc)
             if key == "arc_acceleration_ratio" and not 0 < v < 1:
                 raise Diagnostic("MACH-RANGE", f"{what} must lie strictly between 0 and 1", loc)
             kw[key] = v

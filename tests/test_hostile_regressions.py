@@ -20,14 +20,18 @@ from click.testing import CliRunner
 
 import kernel.limits as limits
 from cli.errors import guarded
+from cli.excerpt import _line_of, excerpt
 from cli.main import cli
 from cli.programs import load_machine, load_tool_table, read_head
 from gcode.readers import read_text
-from kernel.diagnostics import Diagnostic
+from gcode.write.sandia_chords import batch_points
+from kernel.diagnostics import Diagnostic, Location
 from kernel.interp import interpolate
+from kernel.ir import canon
 from kernel.machine import DEFAULT_MACHINE, parse_machine
 from kernel.plan.models.grbl import segment_arcs
 from kernel.plan.strategy import build, plan_program
+from kernel.report.trace import setup as servo_setup
 from kernel.tooltable import read_tool_table
 from stepnc.part21 import parse
 from stepnc.to_canon import canon_from_file
@@ -391,3 +395,80 @@ def test_a_line_over_the_line_limit_is_refused_before_it_is_parsed(
     assert (diag.code, diag.location.line, diag.location.column) == ("LIMIT-LINE", 2, 1001)
     limits.configure(line_chars=2002)
     list(read_text("G21\n(" + "a" * 2000 + ")\nM2\n", dialect, "long.ngc"))
+
+
+AXES = "".join(f"[axes.{a}]\nvelocity = 100.0\nacceleration = 1000.0\n" for a in "xyz")
+
+
+# hostile profiles: lookahead 2**63-1 was an IndexError in the plan's stream, an
+# interpolation period of 1e300 s a LinAlgError in the servo model, [limits] NaN a
+# ValueError (int(nan)), a settle of 1e5 s a trace of 1e8 samples per axis (minutes)
+@pytest.mark.parametrize(
+    ("table", "code", "words"),
+    [
+        ("[controller]\nlookahead = 9223372036854775807\n", "MACH-RANGE", "10**6"),
+        ("[controller]\ninterpolation_period = 1e300\n", "MACH-RANGE", "at most 1 s"),
+    ],
+)
+def test_a_profile_value_beyond_any_control_is_machine_range(
+    table: str, code: str, words: str
+) -> None:
+    with pytest.raises(Diagnostic) as info:
+        parse_machine(AXES + table, "m.toml")
+    assert (info.value.code, info.value.location.file) == (code, "m.toml")
+    assert words in info.value.message
+
+
+@pytest.mark.parametrize("value", [math.nan, math.inf, -1.0])
+def test_a_limit_that_is_not_a_finite_count_is_limit_config(
+    fresh_limits: None, value: float
+) -> None:
+    with pytest.raises(Diagnostic) as info:
+        limits.configure(samples_per_move=value)
+    assert info.value.code == "LIMIT-CONFIG"
+
+
+def test_a_servo_settle_of_hours_is_refused() -> None:
+    machine = parse_machine(AXES + "[servo]\nsettle = 100000.0\n", "m.toml")
+    with pytest.raises(Diagnostic) as info:
+        servo_setup(machine, machine.controller.interpolation_period)
+    assert info.value.code == "SERVO-PARAM" and "settle" in info.value.message
+
+
+def test_the_excerpt_of_a_huge_line_lays_out_only_its_window() -> None:
+    """A display position per character of a 100 MB line (a list of 10**8 ints) ran the
+    reporting of LIMIT-LINE out of memory: a MemoryError traceback."""
+    start = time.process_time()
+    text = "a" * 5_000_000 + "\tX1" + "b" * 5_000_000
+    gutter, line, caret = excerpt(7, 5_000_002, text)
+    assert time.process_time() - start < 0.5
+    assert line.startswith("7 | …a") and line.endswith("b…") and len(line) < 120
+    assert line[caret.index("^")] == "X"
+
+
+def test_a_huge_line_of_a_large_file_is_read_for_its_excerpt_in_linear_time(
+    tmp_path: Path,
+) -> None:
+    """_read_line re-counted (and re-copied) all it had read at each 64 KB: a 100 MB line
+    took 53 s of CPU in cnc check's report."""
+    path = tmp_path / "long.ngc"
+    path.write_bytes(b"G21\n(" + b"a" * 9_000_000 + b")\nM2\n")  # over the 8 MB kept whole
+    start = time.process_time()
+    assert _line_of(str(path), 3) == "M2"
+    line = _line_of(str(path), 2)
+    assert time.process_time() - start < 1.0
+    assert line is not None and len(line) == 9_000_002
+
+
+# cnc convert --to sandia made every chord of an arc before writing: an arc of a million
+# turns (2.2e8 chords) or of radius 1e99 was a ValueError traceback (a negative repeat)
+@pytest.mark.parametrize(("radius", "turns"), [(10.0, 1_000_000), (1e99, 1)])
+def test_a_sandia_arc_of_too_many_chords_is_refused_at_its_line(
+    fresh_limits: None, radius: float, turns: int
+) -> None:
+    where = Location("arc.ngc", 4, 1)
+    arc = canon.ArcFeed(0.0, 0.0, radius, 0.0, turns, 0.0, 0.0, 0.0, 0.0, source=where)
+    with pytest.raises(Diagnostic) as info:
+        batch_points([arc], (0, 1, 2), (0.0, 0.0, 0.0), 0.001)
+    assert (info.value.code, info.value.location) == ("LIMIT-COUNT", where)
+    assert "arc_chords" in info.value.message

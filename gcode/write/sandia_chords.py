@@ -23,6 +23,8 @@ from operator import eq
 
 import numpy as np
 
+import kernel.limits as limits
+from kernel.diagnostics import Location
 from kernel.ir import canon
 from kernel.ir.arcsweep import arc_sweeps
 
@@ -36,6 +38,19 @@ class ArcRows:
     rows: np.ndarray
     line: np.ndarray
     file: str | None
+
+
+def _arc_location(owners: list[list[canon.ArcFeed] | ArcRows], i: int) -> Location:
+    """Where the ``i``-th arc of :func:`batch_points`' table came from (its blocks' owners:
+    the arcs' commands, or a fast-lane run's rows)."""
+    for owner in owners:
+        size = len(owner.rows) if isinstance(owner, ArcRows) else len(owner)
+        if i < size:
+            if isinstance(owner, ArcRows):
+                return Location(owner.file, int(owner.line[i]))
+            return owner[i].source or Location(None)
+        i -= size
+    return Location(None)
 
 
 @functools.cache
@@ -124,6 +139,9 @@ def batch_points(
     loose: list[tuple[float, float, float]] = []  # end points of commands, in order
     arcs: list[tuple[int, float, float, float]] = []  # (move, centre first, second, turns)
     blocks: list[np.ndarray] = []  # the same as arrays, before ``arcs``
+    # each block's arcs: their commands, or the run's rows (where a limit is reported)
+    owners: list[list[canon.ArcFeed] | ArcRows] = []
+    arc_cmds: list[canon.ArcFeed] = []  # the commands of ``arcs``
     k = 0
     end = [0.0, 0.0, 0.0]
     for item in items:
@@ -142,7 +160,8 @@ def batch_points(
                 loose = []
             if arcs:
                 blocks.append(np.array(arcs, dtype=np.float64))
-                arcs = []
+                owners.append(arc_cmds)
+                arcs, arc_cmds = [], []
             data = item.rows
             m = len(data)
             ends = np.empty((m, 3))
@@ -152,6 +171,7 @@ def batch_points(
             block[:, 0] = np.arange(k, k + m)
             block[:, 1:] = data[:, 2:5]
             blocks.append(block)
+            owners.append(item)
             k += m
             continue
         if kind is canon.StraightFeed:
@@ -160,6 +180,7 @@ def batch_points(
             end[i1], end[i2], end[i3] = item.first_end, item.second_end, item.axis_end_point
             loose.append((end[0], end[1], end[2]))
             arcs.append((k, item.first_axis, item.second_axis, item.rotation))
+            arc_cmds.append(item)
         k += 1
     if loose:
         pieces.append(np.array(loose, dtype=np.float64))
@@ -168,6 +189,7 @@ def batch_points(
     sag = np.zeros(k)
     if arcs:
         blocks.append(np.array(arcs, dtype=np.float64))
+        owners.append(arc_cmds)
     if not blocks:  # straight feeds only: their end points
         return ends, counts, sag, rows
     table = blocks[0] if len(blocks) == 1 else np.concatenate(blocks)
@@ -185,7 +207,19 @@ def batch_points(
     sweep = np.abs(arc_sweeps(a0, a1, rotation))
     with np.errstate(divide="ignore", invalid="ignore"):
         step = np.where(tol < r, 2 * np.arccos(np.maximum(-1.0, 1 - tol / r)), math.pi / 2)
-    n = np.maximum(2, np.ceil(sweep / step)).astype(np.int64)
+    with np.errstate(divide="ignore", invalid="ignore"):  # a step of 0: a radius of 1e99
+        wanted = np.maximum(2, np.ceil(sweep / step))
+    over = ~(wanted <= limits.current().arc_chords)  # a million turns, a radius of 1e99
+    if over.any():
+        i = int(np.argmax(over))
+        raise limits.count_error(
+            "chords of one arc (MoveTo lines)",
+            float(wanted[i]),
+            limits.current().arc_chords,
+            "arc_chords",
+            _arc_location(owners, i),
+        )
+    n = wanted.astype(np.int64)
     counts[at] = n
     sag[at] = r * (1 - np.cos(sweep / n / 2))
     owner = np.repeat(np.arange(len(at)), n)

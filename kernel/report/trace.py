@@ -66,6 +66,10 @@ def column_dtypes(axes: tuple[str, ...], removal: bool = False) -> dict[str, np.
     return out
 
 
+#: the longest settle after the last command (s): the default is 8/kp, at most 2 s
+MAX_SETTLE = 60.0
+
+
 @dataclass(frozen=True, slots=True)
 class Setup:
     """What the trace stage reads from a machine profile."""
@@ -95,6 +99,11 @@ def setup(machine: Machine, interpolation_period: float) -> Setup:
             isinstance(val, bool) or not isinstance(val, int | float) or not val > 0
         ):
             raise Diagnostic("SERVO-PARAM", f"servo.{key} must be a positive number", loc)
+    if settle is not None and settle > MAX_SETTLE:
+        # each second is a thousand servo samples per axis at 1 ms, simulated and written
+        raise Diagnostic(
+            "SERVO-PARAM", f"servo.settle must be at most {MAX_SETTLE:g} s, got {settle:g}", loc
+        )
     servo_period = float(period) if period is not None else interpolation_period
     axes = {}
     for ax in machine.axes:
