@@ -96,10 +96,10 @@ from kernel.plan.models.lcnc_joins import VIRTUAL as _VIRTUAL
 from kernel.plan.planner import (
     Plan,
     Profiles,
-    carried_lookahead,
     commanded_feed,
     lookahead,
     ratio_min,
+    resumed_lookahead,
     trapezoids,
 )
 
@@ -149,17 +149,29 @@ class Prepared:
 @dataclass(slots=True)
 class Carry:
     """What planning a program window by window (kernel.stream) carries from one window to
-    the next, each window ending at a stop: the running sum ``G`` of ``2 A L`` of the
-    look-ahead, the start time and path position of the window, whether the window holds
-    the program's last move (which takes the program's ``START_CYCLES``) and whether its
-    last row ends at a stop join the next window's first row makes (a traverse next to a
-    feed move, tp.c handleModeChange)."""
+    the next: the look-ahead's running sum ``G`` of ``2 A L`` and its forward pass's running
+    minimum ``m`` at the window's first kept junction, the start time and path position, and
+    the most the first kept row's parabolic overlap may be (what the row before left it);
+    whether the window holds the program's last move (which takes
+    the program's ``START_CYCLES``) and whether its last row ends at a stop join the next
+    window's first row makes (a traverse next to a feed move, tp.c handleModeChange).
+
+    A window that does not start at a stop starts with ``skip`` rows already planned (their
+    joins decide the first kept row's start); one that does not end at a stop has rows after
+    the kept ones (``own``: the rows before are kept), planned only so that the kept rows see
+    what follows them; ``reach`` is set to how many junctions after the kept rows were
+    planned as the program plans them (the rest feel the window's end)."""
 
     g: float = 0.0
     t: float = 0.0
     s: float = 0.0
     last: bool = True
     stop_at_end: bool = False  # the window ends at a stop join: the next row is a stop
+    m: float = 0.0
+    overlap: float = math.inf
+    skip: int = 0
+    own: int | None = None
+    reach: int = 0
 
 
 _MODE_TERM = {
@@ -1040,7 +1052,8 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     """Plan ``path`` (built from ``prepared.commands``) as LinuxCNC 2.9's planner runs it.
     ``carry``: ``path`` is one window of a program, starting and ending at a stop (a hold
     row, a G61.1 join or a traverse next to a feed move), planned as the whole program
-    plans those rows; updated for the next window."""
+    plans those rows (or, with ``carry.skip`` and ``carry.own``, any rows of it: only the
+    kept ones are returned); updated for the next window."""
     seg = path.segments
     n = len(seg)
     period = machine.controller.interpolation_period
@@ -1140,6 +1153,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         in_prev_tan = ins_v(in_prev_tan, True)
         nxt = rows + 1
         in_prev_tan[nxt[nxt < in_prev_tan.size]] = True
+    inserted = is_blend_arc  # the rows a blend made, before empty lines go
     # a line both blends shortened to nothing is gone
     if kept is not None:
         keep = kept
@@ -1155,6 +1169,14 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     kinds = table["kind"]
     length = table["length"]
     nn = len(table)
+    k0, k1 = 0, nn  # the rows kept (a window with rows before or after them: kernel.stream)
+    if carry is not None:
+        origin = np.cumsum(~inserted) - 1  # the row of ``seg`` each comes from (a blend: before)
+        origin = origin if keep.all() else origin[keep]
+        k0 = int(np.searchsorted(origin, carry.skip))
+        if carry.own is not None:
+            k1 = int(np.searchsorted(origin, carry.own))
+            carry.reach = int(np.searchsorted(origin, n - 1)) - k1
     prev_tan = np.concatenate([[False], seg_term[:-1] == TANGENT]) | in_prev_tan
     # short-segment caps at finalisation and in the optimiser
     capped = np.minimum(maxvel, length / period)
@@ -1198,6 +1220,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         cap_t = np.where(kv >= 0, np.minimum(cap_t, kv), cap_t)
         par = (seg_term[:-1] == PARABOLIC) & moving[:-1] & moving[1:]
         par_at = np.flatnonzero(par)
+        par_at = par_at[par_at >= k0] if k0 else par_at
         if par_at.size:
             p, q = par_at, par_at + 1
             u1 = table["u_end"][p, :3]
@@ -1235,7 +1258,11 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     if carry is None:
         v = lookahead(length, jcap, acc_plan, None, window)
     else:
-        v, carry.g = carried_lookahead(length, jcap, acc_plan, window, carry.g)
+        v = np.zeros(nn + 1)
+        v[k0:], g_run, m_run = resumed_lookahead(
+            length[k0:], jcap[k0:], acc_plan[k0:], OPT_DEPTH, carry.g, carry.m
+        )
+        carry.g, carry.m = float(g_run[k1 - k0]), float(m_run[k1 - k0])
     # ramped short tangent segments: straight from the start speed to the end speed
     cap = target.copy()
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -1254,7 +1281,8 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         np.array(machine.limit_vector("velocity"), dtype=float),
         np.array(machine.limit_vector("acceleration"), dtype=float),
     )
-    overlap = _blend_overlap(prof, par_at, blend_vel, table, limits)
+    first = None if carry is None or not par_at.size else (k0, carry.overlap)
+    overlap = _blend_overlap(prof, par_at, blend_vel, table, limits, first)
     duration = np.where(moving, prof.duration, table["duration"]) - overlap
     # the planner runs once per servo period: every stop costs about STOP_CYCLES periods
     # more than the continuous profile, and a program START_CYCLES (tp.c
@@ -1267,7 +1295,12 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     if carry is None:
         t_start = np.concatenate([[0.0], np.cumsum(duration)[:-1]]) if nn else np.zeros(0)
         s = np.concatenate([[0.0], np.cumsum(length)])
-    else:  # the running sums from the program's start, added in the same order
+    else:  # the kept rows, with the running sums from the program's start in the same order
+        carry.overlap = float(overlap[k1]) if k1 < nn else math.inf
+        if (k0, k1) != (0, nn):
+            table, v, cap, pause = table[k0:k1], v[k0 : k1 + 1], cap[k0:k1], pause[k0:k1]
+            duration, overlap, length = duration[k0:k1], overlap[k0:k1], length[k0:k1]
+            prof = Profiles(*(getattr(prof, f)[k0:k1] for f in Profiles.__slots__))
         t_all = np.cumsum(np.concatenate([[carry.t], duration]))
         s = np.cumsum(np.concatenate([[carry.s], length]))
         t_start, carry.t, carry.s = t_all[:-1], float(t_all[-1]), float(s[-1])
@@ -1433,6 +1466,7 @@ def _blend_overlap(
     blend_vel: np.ndarray,
     table: np.ndarray,
     limits: tuple[np.ndarray, np.ndarray],
+    first: tuple[int, float] | None = None,
 ) -> np.ndarray:
     """How long each move that ends in a parabolic blend runs on into the next one's slot
     (tc.c ``tcIsBlending``, tp.c ``tpUpdateBlend``, ``tpDoParabolicBlending``): once the move
@@ -1447,7 +1481,9 @@ def _blend_overlap(
     there), and on arcs their accelerations toward the centre add to the two moves' own;
     the model then starts that blend at the lower speed that keeps every axis within its
     speed and acceleration limits. A move is shared with at most one neighbour at a time
-    (the next move blends on only once this one has ended)."""
+    (the next move blends on only once this one has ended). ``first``: a row whose overlap
+    is at most a bound (a window of a streamed program: what the row before, planned in
+    the window before, left it)."""
     overlap = np.zeros(len(prof.v_peak))
     if not par_at.size:
         return overlap
@@ -1469,6 +1505,8 @@ def _blend_overlap(
             lo = np.where(bad, lo, mid)
         v_on[k] = lo
     overlap[p] = np.minimum(v_on / a_p, prof.t_dec[p])
+    if first is not None:
+        overlap[first[0]] = min(overlap[first[0]], first[1])
     own = prof.duration
     tight = p[overlap[p] + overlap[q] > own[q]]
     for row in tight.tolist():  # rare: a short move between two blends
