@@ -429,9 +429,9 @@ class _Pending:
 
 
 #: the linuxcnc model inside a run of joins: rows planned again before a window's first
-#: kept row (the joins at its start: blend arcs, trims, kinks touch two rows), rows planned
-#: after its last kept one at first (the look-ahead's OPT_DEPTH and the overlaps of the
-#: parabolic blends after it, which read two rows ahead), and how many junctions after the
+#: kept row (the joins at its start: blend arcs, trims, kinks touch two rows; the cut is at
+#: a join kernel.plan.models.linuxcnc ``_window_end`` allows for two), rows planned after
+#: its last kept one at first (the look-ahead's OPT_DEPTH), and how many junctions after the
 #: kept rows must be planned as the whole program plans them (the rest feel the window's
 #: end): a window with fewer (lines blending empties) is planned again with twice the rows
 _CONTEXT = 2
@@ -451,11 +451,13 @@ def _lcnc_windows(
     planned by the whole-program planner with the running sums carried
     (:class:`~kernel.plan.models.linuxcnc.Carry`). A run of ``batch`` rows or more with no
     stop (a CAM program in one G64 run) is cut at joins too: each window's ``batch`` rows
-    are planned with the ``_CONTEXT`` rows before them and at least ``_MARGIN`` after
-    them, the look-ahead's sums, the forward pass's running minimum and the bound on the
-    first row's parabolic overlap carried: LinuxCNC's planner is local (its look-ahead
-    reads ``OPT_DEPTH`` segments back, its joins, blends and naive-CAM runs a few rows),
-    so the kept rows plan as in the whole program."""
+    (up to the last join after which a window may start: no parabolic blend, whose two
+    moves run at once, and not two blends next to circles in a row) are planned with the
+    ``_CONTEXT`` rows before them and at least ``_MARGIN`` after them, the look-ahead's
+    sums and the forward pass's running minimum carried: LinuxCNC's planner is local (its
+    look-ahead reads ``OPT_DEPTH`` segments back, its joins and blends two rows, naive-CAM
+    runs are one row by then), so the kept rows plan as in the whole program. A window
+    with no such join is planned again with twice the rows."""
     builder = PathBuilder(model.build, file)
     errors = _Errors()
     carry = linuxcnc.Carry()
@@ -500,7 +502,7 @@ def _lcnc_windows(
             prep = prepared_for(window)
             forget(rows, idx)
             carry.last, carry.stop_at_end, carry.skip, carry.own = end, at_stop, ctx, None
-            ctx, margin = 0, _MARGIN
+            ctx, margin, span = 0, _MARGIN, max(batch, 1)
             try:
                 plans.append(linuxcnc.plan(Path(window, file), model.planning, prep, carry))
             except Diagnostic as diag:
@@ -518,13 +520,17 @@ def _lcnc_windows(
             except Diagnostic as diag:
                 errors.note(diag, _RANK.get(diag.code, 4))
                 plan = None
+            if plan is not None and carry.reach < 0:  # a run of blends next to circles
+                carry, span = saved, 2 * span
+                continue
             if plan is not None and carry.reach < _REACH:
                 carry, margin = saved, 2 * margin  # lines blending emptied: more rows after
                 continue
-            done = max(ctx + span - _CONTEXT, 0)  # rows no later window plans again
+            cut = ctx + span if plan is None or carry.own is None else carry.own
+            done = max(cut - _CONTEXT, 0)  # rows no later window plans again
             _, rows = pending.take(len(window), done)
             forget(rows, idx)
-            ctx += span - done
+            ctx, span = cut - done, max(batch, 1)
             if plan is not None:
                 plans.append(plan)
         for plan in plans:

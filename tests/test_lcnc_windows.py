@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import random
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -79,13 +80,27 @@ def test_golden_runs_plan_as_a_whole_in_small_windows(name: str, size: int) -> N
 
 
 def test_golden_run_report_in_small_windows() -> None:
-    """The report (cycle time, peaks, limits) and time per tool of a windowed run."""
-    cmds = program("own_sine_0p2_f3000.native.ngc")
+    """The report (cycle time, peaks, limits) and time per tool of a windowed run with
+    parabolic blends, sampled window by window."""
+    cmds = program(RUNS[2])
     ref, shares, total = whole(cmds, MACHINE)
-    for size in (13,):
-        got, got_shares, got_total = streamed(cmds, MACHINE, size)
-        assert_same(ref, got)
-        assert (got_shares, got_total) == (shares, total)
+    got, got_shares, got_total = streamed(cmds, MACHINE, 13)
+    assert_same(ref, got)
+    assert (got_shares, got_total) == (shares, total)
+
+
+def test_cam_program_in_small_windows(tmp_path: Path) -> None:
+    """bench/cam_program.py's CAM program (one G64 run, parabolic blends): the plan and
+    the report, sampled window by window across the blends' overlaps."""
+    sys.path.insert(0, str(Path(__file__).parent.parent / "bench"))
+    from cam_program import write_program
+
+    cmds = list(read(write_program(tmp_path / "cam.ngc", 400), "rs274ngc"))
+    assert assert_windows_plan_as_whole(cmds, MACHINE, (32,)) > 10
+    ref, shares, total = whole(cmds, MACHINE)
+    got, got_shares, got_total = streamed(cmds, MACHINE, 32)
+    assert_same(ref, got)
+    assert (got_shares, got_total) == (shares, total)
 
 
 def test_a_long_run_is_cut_into_windows() -> None:
@@ -100,7 +115,8 @@ def test_a_long_run_is_cut_into_windows() -> None:
 def g64_program(seed: int, n: int) -> list[canon.Command]:
     """About ``n`` moves in G64, G64 P Q and G61: runs of short lines (nearly collinear:
     naive-CAM merging; long enough at a high feed for the look-ahead to read its whole
-    ``OPT_DEPTH``) and arcs, between corners of every angle."""
+    ``OPT_DEPTH``) and arcs, between corners of every angle; now and then a stop (a dwell,
+    a traverse, G61.1), so that windows cut at joins meet windows cut at stops."""
     rng = random.Random(seed)
     out: list[canon.Command] = [canon.SetFeedRate(rng.choice([2400.0, 3000.0]))]
     x = y = z = heading = 0.0
@@ -110,6 +126,15 @@ def g64_program(seed: int, n: int) -> list[canon.Command]:
             mode = rng.choice([canon.MotionMode.CONTINUOUS] * 3 + [canon.MotionMode.EXACT_PATH])
             out.append(canon.SetMotionControlMode(mode, p if mode.name == "CONTINUOUS" else 0.0))
             out.append(canon.SetNaivecamTolerance(p))
+        if rng.random() < 0.03:  # now and then a stop: a dwell, a traverse, a G61.1 run
+            stop = rng.choice(["dwell", "traverse", "exact"])
+            if stop == "dwell":
+                out.append(canon.Dwell(0.0))
+            elif stop == "traverse":
+                out.append(canon.StraightTraverse(x, y, z + 1.0))
+                out.append(canon.StraightTraverse(x, y, z))
+            else:
+                out.append(canon.SetMotionControlMode(canon.MotionMode.EXACT_STOP))
         heading += rng.uniform(-2.8, 2.8)  # a corner
         step = rng.choice([0.02, 0.05, 0.05, 0.1, 0.5])
         bend = rng.choice([0.0, 0.0005, 0.01])
@@ -159,9 +184,9 @@ def test_all_golden_programs_plan_as_a_whole_in_small_windows() -> None:
     for name in names:
         cut += assert_windows_plan_as_whole(program(name), MACHINE, (1, 7, 50, 64)) > 1
     assert len(names) > 100 and cut > 15
-    for name in RUNS:
+    for name in names:
         ref, shares, total = whole(program(name), MACHINE)
-        for size in (1, 7, 64):
+        for size in (1, 7) if name in RUNS else (7,):
             got, got_shares, got_total = streamed(program(name), MACHINE, size)
             assert_same(ref, got)
             assert (got_shares, got_total) == (shares, total)

@@ -150,17 +150,17 @@ class Prepared:
 class Carry:
     """What planning a program window by window (kernel.stream) carries from one window to
     the next: the look-ahead's running sum ``G`` of ``2 A L`` and its forward pass's running
-    minimum ``m`` at the window's first kept junction, the start time and path position, and
-    the most the first kept row's parabolic overlap may be (what the row before left it);
+    minimum ``m`` at the window's first kept junction, the start time and path position;
     whether the window holds the program's last move (which takes
     the program's ``START_CYCLES``) and whether its last row ends at a stop join the next
     window's first row makes (a traverse next to a feed move, tp.c handleModeChange).
 
     A window that does not start at a stop starts with ``skip`` rows already planned (their
     joins decide the first kept row's start); one that does not end at a stop has rows after
-    the kept ones (``own``: the rows before are kept), planned only so that the kept rows see
-    what follows them; ``reach`` is set to how many junctions after the kept rows were
-    planned as the program plans them (the rest feel the window's end)."""
+    the kept ones (``own``: at most the rows before are kept; set to the rows kept, cut at a
+    join where a window may start, :func:`_window_end`), planned only so that the kept rows
+    see what follows them; ``reach`` is set to how many junctions after the kept rows were
+    planned as the program plans them (the rest feel the window's end; -1: no cut)."""
 
     g: float = 0.0
     t: float = 0.0
@@ -168,7 +168,6 @@ class Carry:
     last: bool = True
     stop_at_end: bool = False  # the window ends at a stop join: the next row is a stop
     m: float = 0.0
-    overlap: float = math.inf
     skip: int = 0
     own: int | None = None
     reach: int = 0
@@ -1048,6 +1047,21 @@ def _kept_rows(table: np.ndarray, keep: np.ndarray) -> np.ndarray:
     return out
 
 
+def _window_end(kind: np.ndarray, overlaps: np.ndarray, skip: int, own: int) -> int:
+    """The last row after ``skip`` and up to ``own`` that a later window may start at (0:
+    none): the join before it is no parabolic blend (``overlaps``: the two moves' motions
+    add, and are sampled together), and one of the two joins before it is no blend next to
+    a circle. Those trim the rows on both sides one after the other (:func:`_split_lines`),
+    each reading what the one before left, so a run of them carries a trim's last bits on;
+    a window's two first rows (its context) see the joins before them, so a window may
+    start two rows after such a run is broken."""
+    plain = np.concatenate([[True], kind != _VIRTUAL])  # the join before each row
+    free = np.concatenate([[True], ~overlaps])
+    r = np.arange(skip + 1, own + 1)
+    ok = np.flatnonzero((plain[r - 1] | plain[r]) & free[r])
+    return int(r[ok[-1]]) if ok.size else 0
+
+
 def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None = None) -> Plan:
     """Plan ``path`` (built from ``prepared.commands``) as LinuxCNC 2.9's planner runs it.
     ``carry``: ``path`` is one window of a program, starting and ending at a stop (a hold
@@ -1083,6 +1097,9 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         anti = _rowsum((u1 + u2) ** 2) < _SHARP
         stop_rev = (j.kind == STOP) & anti & moving[:-1] & moving[1:] & (term[:-1] != STOP)
         seg_term[:-1] = np.where(stop_rev, STOP, seg_term[:-1])
+    if carry is not None and carry.own is not None:
+        overlaps = (seg_term[:-1] == PARABOLIC) & moving[:-1] & moving[1:]
+        carry.own = _window_end(j.kind, overlaps, carry.skip, carry.own)
     blend_prev = in_kind == PARABOLIC
     kred = np.maximum(np.concatenate([j.kink_red, [0.0]]), np.concatenate([[0.0], j.kink_red]))
     half = (seg_term == PARABOLIC) | blend_prev
@@ -1175,8 +1192,8 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         origin = origin if keep.all() else origin[keep]
         k0 = int(np.searchsorted(origin, carry.skip))
         if carry.own is not None:
-            k1 = int(np.searchsorted(origin, carry.own))
-            carry.reach = int(np.searchsorted(origin, n - 1)) - k1
+            k1 = max(int(np.searchsorted(origin, carry.own)), k0)
+            carry.reach = int(np.searchsorted(origin, n - 1)) - k1 if carry.own else -1
     prev_tan = np.concatenate([[False], seg_term[:-1] == TANGENT]) | in_prev_tan
     # short-segment caps at finalisation and in the optimiser
     capped = np.minimum(maxvel, length / period)
@@ -1281,8 +1298,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         np.array(machine.limit_vector("velocity"), dtype=float),
         np.array(machine.limit_vector("acceleration"), dtype=float),
     )
-    first = None if carry is None or not par_at.size else (k0, carry.overlap)
-    overlap = _blend_overlap(prof, par_at, blend_vel, table, limits, first)
+    overlap = _blend_overlap(prof, par_at, blend_vel, table, limits)
     duration = np.where(moving, prof.duration, table["duration"]) - overlap
     # the planner runs once per servo period: every stop costs about STOP_CYCLES periods
     # more than the continuous profile, and a program START_CYCLES (tp.c
@@ -1296,7 +1312,6 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         t_start = np.concatenate([[0.0], np.cumsum(duration)[:-1]]) if nn else np.zeros(0)
         s = np.concatenate([[0.0], np.cumsum(length)])
     else:  # the kept rows, with the running sums from the program's start in the same order
-        carry.overlap = float(overlap[k1]) if k1 < nn else math.inf
         if (k0, k1) != (0, nn):
             table, v, cap, pause = table[k0:k1], v[k0 : k1 + 1], cap[k0:k1], pause[k0:k1]
             duration, overlap, length = duration[k0:k1], overlap[k0:k1], length[k0:k1]
@@ -1466,7 +1481,6 @@ def _blend_overlap(
     blend_vel: np.ndarray,
     table: np.ndarray,
     limits: tuple[np.ndarray, np.ndarray],
-    first: tuple[int, float] | None = None,
 ) -> np.ndarray:
     """How long each move that ends in a parabolic blend runs on into the next one's slot
     (tc.c ``tcIsBlending``, tp.c ``tpUpdateBlend``, ``tpDoParabolicBlending``): once the move
@@ -1481,9 +1495,7 @@ def _blend_overlap(
     there), and on arcs their accelerations toward the centre add to the two moves' own;
     the model then starts that blend at the lower speed that keeps every axis within its
     speed and acceleration limits. A move is shared with at most one neighbour at a time
-    (the next move blends on only once this one has ended). ``first``: a row whose overlap
-    is at most a bound (a window of a streamed program: what the row before, planned in
-    the window before, left it)."""
+    (the next move blends on only once this one has ended)."""
     overlap = np.zeros(len(prof.v_peak))
     if not par_at.size:
         return overlap
@@ -1505,8 +1517,6 @@ def _blend_overlap(
             lo = np.where(bad, lo, mid)
         v_on[k] = lo
     overlap[p] = np.minimum(v_on / a_p, prof.t_dec[p])
-    if first is not None:
-        overlap[first[0]] = min(overlap[first[0]], first[1])
     own = prof.duration
     tight = p[overlap[p] + overlap[q] > own[q]]
     for row in tight.tolist():  # rare: a short move between two blends
