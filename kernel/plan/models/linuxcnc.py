@@ -151,9 +151,9 @@ class Carry:
     """What planning a program window by window (kernel.stream) carries from one window to
     the next: the look-ahead's running sum ``G`` of ``2 A L`` and its forward pass's running
     minimum ``m`` at the window's first kept junction, the start time and path position;
-    whether the window holds the program's last move (which takes
-    the program's ``START_CYCLES``) and whether its last row ends at a stop join the next
-    window's first row makes (a traverse next to a feed move, tp.c handleModeChange).
+    whether the window holds the program's last move (which takes the program's
+    ``START_CYCLES``) and whether its last row ends at a stop join the next window's first
+    row makes (a traverse next to a feed move, tp.c handleModeChange).
 
     A window that does not start at a stop starts with ``skip`` rows already planned (their
     joins decide the first kept row's start); one that does not end at a stop has rows after
