@@ -49,17 +49,19 @@ as a later error could still come first.
 
 Planned this way: the ``book`` model with trapezoidal acc/dec and the ``grbl`` model; the
 ``linuxcnc`` model (blend arcs and merged runs across joins, kernel.plan.models) from stop
-to stop (:func:`_lcnc_windows`: holds, exact stops, traverse-feed changes; a program with
-no stop is one window). The book's S-curve (its smoothing reach is set by the fastest
-move anywhere in the program) is planned by kernel.stream_scurve, in two passes
-(:func:`streams` says which models are planned here).
+to stop (:func:`_lcnc_windows`: holds, exact stops, traverse-feed changes) and, inside a
+long run of joins, window by window with rows before and after each planned again (its
+planner is local: a look-ahead of ``OPT_DEPTH`` segments, joins and blends of two rows).
+The book's S-curve (its smoothing reach is set by the fastest move anywhere in the
+program) is planned by kernel.stream_scurve, in two passes (:func:`streams` says which
+models are planned here).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from itertools import islice
 
 import numpy as np
@@ -416,16 +418,34 @@ class _Pending:
         stop_cut = self.last_stop + 1
         return (stop_cut, True) if stop_cut > cut else (cut, False)
 
-    def take(self, cut: int) -> tuple[np.ndarray, np.ndarray]:
-        """The first ``cut`` rows, and the rows kept after them."""
-        rows = self.chunks[0] if len(self.chunks) == 1 else np.concatenate(self.chunks)
-        window, rest = rows[:cut], rows[cut:]
+    def rows(self) -> np.ndarray:
+        """The rows, joined."""
+        if len(self.chunks) > 1:
+            self.chunks = [np.concatenate(self.chunks)]
+        return self.chunks[0] if self.chunks else np.zeros(0, SEGMENT_DTYPE)
+
+    def take(self, cut: int, keep: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The first ``cut`` rows, and the rows kept after dropping the first ``keep``
+        (``cut``: none of them kept; fewer: the last ones, planned again with the next)."""
+        rows = self.rows()
+        window, rest = rows[:cut], rows[cut if keep is None else keep :]
         self.chunks = [rest] if len(rest) else []
         self.count = len(rest)
         holds = np.flatnonzero(rest["kind"] == HOLD)
         self.last_hold = int(holds[-1]) if holds.size else -1
         self.last_stop = -1  # none after the cut: the cut is at the last one or later
         return window, rest
+
+
+#: the linuxcnc model inside a run of joins: rows planned again before a window's first
+#: kept row (the joins at its start: blend arcs, trims, kinks touch two rows; the cut is at
+#: a join kernel.plan.models.linuxcnc ``_window_end`` allows for two), rows planned after
+#: its last kept one at first (the look-ahead's OPT_DEPTH), and how many junctions after the
+#: kept rows must be planned as the whole program plans them (the rest feel the window's
+#: end): a window with fewer (lines blending empties) is planned again with twice the rows
+_CONTEXT = 2
+_MARGIN = linuxcnc.OPT_DEPTH + 8
+_REACH = linuxcnc.OPT_DEPTH + 6
 
 
 def _lcnc_windows(
@@ -438,8 +458,15 @@ def _lcnc_windows(
     last such stop with a move after it (the program's last move takes the program's own
     start-up cost, kernel.plan.models.linuxcnc ``START_CYCLES``), and each window is
     planned by the whole-program planner with the running sums carried
-    (:class:`~kernel.plan.models.linuxcnc.Carry`). A program with no stop is planned whole,
-    as before."""
+    (:class:`~kernel.plan.models.linuxcnc.Carry`). A run of ``batch`` rows or more with no
+    stop (a CAM program in one G64 run) is cut at joins too: each window's ``batch`` rows
+    (up to the last join after which a window may start: no parabolic blend, whose two
+    moves run at once, and not two blends next to circles in a row) are planned with the
+    ``_CONTEXT`` rows before them and at least ``_MARGIN`` after them, the look-ahead's
+    sums and the forward pass's running minimum carried: LinuxCNC's planner is local (its
+    look-ahead reads ``OPT_DEPTH`` segments back, its joins and blends two rows, naive-CAM
+    runs are one row by then), so the kept rows plan as in the whole program. A window
+    with no such join is planned again with twice the rows."""
     builder = PathBuilder(model.build, file)
     errors = _Errors()
     carry = linuxcnc.Carry()
@@ -448,6 +475,9 @@ def _lcnc_windows(
     tols: list[float] = []
     first = 0
     pending = _Pending()
+    ctx = 0  # the first rows of ``pending``, planned already: context of the next window
+    margin = _MARGIN
+    span = max(batch, 1)  # rows kept per window inside a run
 
     def noted() -> Iterator[canon.Command]:  # each command's path mode and G64 P kept
         for cmd, term, tol in prepared:
@@ -455,32 +485,66 @@ def _lcnc_windows(
             tols.append(tol)
             yield cmd
 
+    def prepared_for(window: np.ndarray) -> linuxcnc.Prepared:
+        """The path modes of ``window``'s commands."""
+        upto = int(window["source"].max()) + 1 - first
+        return linuxcnc.Prepared(
+            [], np.array(terms[:upto], dtype=np.int8), np.array(tols[:upto]), first
+        )
+
+    def forget(rest: np.ndarray, idx: int) -> None:
+        """Forget the path modes of the commands before ``rest``'s (``idx``: read so far)."""
+        nonlocal first
+        keep = int(rest["source"].min()) if len(rest) else idx
+        del terms[: keep - first], tols[: keep - first]
+        first = keep
+
     for raw, end, idx in _batches(builder, noted(), batch, errors):
         src = raw["source"] - first
         term = (
             np.asarray(terms[int(src.min()) :], dtype=np.int8)[src - src.min()] if len(raw) else src
         )
         cut, at_stop = pending.add(raw, term, end)
-        if not cut:
-            continue
-        window, rows = pending.take(cut)
-        upto = int(window["source"].max()) + 1 - first
-        prep = linuxcnc.Prepared(
-            [], np.array(terms[:upto], dtype=np.int8), np.array(tols[:upto]), first
-        )
-        keep = int(rows["source"].min()) if len(rows) else idx
-        del terms[: keep - first], tols[: keep - first]
-        first = keep
-        carry.last, carry.stop_at_end = end, at_stop
-        try:
-            plan = linuxcnc.plan(Path(window, file), model.planning, prep, carry)
-        except Diagnostic as diag:
-            errors.note(diag, _RANK.get(diag.code, 4))
-            continue
-        if errors.rank <= 5:
-            continue
-        if errors.checked(plan):
-            yield plan
+        plans: list[Plan] = []
+        if cut > ctx:
+            window, rows = pending.take(cut)
+            prep = prepared_for(window)
+            forget(rows, idx)
+            carry.last, carry.stop_at_end, carry.skip, carry.own = end, at_stop, ctx, None
+            ctx, margin, span = 0, _MARGIN, max(batch, 1)
+            try:
+                plans.append(linuxcnc.plan(Path(window, file), model.planning, prep, carry))
+            except Diagnostic as diag:
+                errors.note(diag, _RANK.get(diag.code, 4))
+        while not end and pending.count >= ctx + span + margin:
+            rows = pending.rows()
+            if not (rows["kind"][ctx + span :] != HOLD).any():
+                break  # the program's last move may be among them: wait for a stop
+            window = rows[: ctx + span + margin]
+            saved = replace(carry)
+            carry.last, carry.stop_at_end, carry.skip, carry.own = False, False, ctx, ctx + span
+            try:
+                prep = prepared_for(window)
+                plan = linuxcnc.plan(Path(window, file), model.planning, prep, carry)
+            except Diagnostic as diag:
+                errors.note(diag, _RANK.get(diag.code, 4))
+                plan = None
+            if plan is not None and carry.reach < 0:  # a run of blends next to circles
+                carry, span = saved, 2 * span
+                continue
+            if plan is not None and carry.reach < _REACH:
+                carry, margin = saved, 2 * margin  # lines blending emptied: more rows after
+                continue
+            cut = ctx + span if plan is None or carry.own is None else carry.own
+            done = max(cut - _CONTEXT, 0)  # rows no later window plans again
+            _, rows = pending.take(len(window), done)
+            forget(rows, idx)
+            ctx, span = cut - done, max(batch, 1)
+            if plan is not None:
+                plans.append(plan)
+        for plan in plans:
+            if errors.rank > 5 and errors.checked(plan):
+                yield plan
     if errors.error is not None:
         raise errors.error
 

@@ -3,13 +3,14 @@
 time and time per tool, with windows cut everywhere (a few commands per window): inside
 runs of G64 P corner blends, at stops, with a look-ahead longer than the window (the
 stopping-distance rule) and shorter, for the book and Grbl models, on the golden programs
-and on random programs; for the linuxcnc model, whose windows end at stops, also on
-LinuxCNC's golden programs (tests/data/lcnc_tp). The cycle-time parts and path lengths are
-sums numpy forms pairwise over the whole table: they agree to 1e-12, everything else bit
-for bit.
+and on random programs; for the linuxcnc model, whose windows end at stops or inside long
+runs (tests/test_lcnc_windows.py), also on LinuxCNC's golden programs (tests/data/lcnc_tp).
+The cycle-time parts and path lengths are sums numpy forms pairwise over the whole table:
+they agree to 1e-12, everything else bit for bit.
 
-The ``slow`` test runs ``cnc plan`` on CAM programs of 10**5 and 10**6 lines and compares
-their peak resident set sizes."""
+The ``slow`` tests run ``cnc plan`` on CAM programs of 10**5 and 10**6 lines (the book
+model; the linuxcnc model with stops and in one G64 run) and compare their peak resident
+set sizes."""
 
 from __future__ import annotations
 
@@ -224,8 +225,9 @@ def test_linuxcnc_golden_programs_plan_as_a_whole(name: str) -> None:
 
 
 def test_linuxcnc_windows_end_at_stops() -> None:
-    """The linuxcnc model's windows end at hold rows (a dwell), never inside a run of
-    blends; a run with no stop is one window."""
+    """The linuxcnc model's windows end at hold rows (a dwell) where the runs of blends
+    between them are short; a long run with no stop is cut into windows of about a batch
+    (tests/test_lcnc_windows.py), planned as the whole program."""
     run = blended_zigzag(40)
     stops = [c for k in range(6) for c in (*run, canon.Dwell(0.01 * k))]
     windows = list(plan_windows(iter(stops), LCNC, "p", batch=10))
@@ -233,8 +235,11 @@ def test_linuxcnc_windows_end_at_stops() -> None:
     assert all(w.path.segments["kind"][-1] == HOLD for w in windows[:-1])
     assert max(len(w.path.segments) for w in windows) < 200
     check(stops, LCNC, (10, 64))
-    no_stop = [c for c in run if not isinstance(c, canon.Dwell)]
-    assert len(list(plan_windows(iter(no_stop), LCNC, "p", batch=10))) == 1
+    no_stop = [c for k in range(4) for c in run if not isinstance(c, canon.Dwell)]
+    windows = list(plan_windows(iter(no_stop), LCNC, "p", batch=10))
+    assert len(windows) > 10 and max(len(w.path.segments) for w in windows[:-1]) < 60
+    assert len(windows[-1].path.segments) < 200  # the rows planned after the last cut
+    check(no_stop, LCNC, (10, 64))
 
 
 def test_linuxcnc_windows_end_at_traverses_and_exact_stops() -> None:
@@ -341,6 +346,16 @@ def test_linuxcnc_plan_peak_memory_is_flat_with_stops(tmp_path: Path) -> None:
     extra = ("--machine", str(LCNC_TP / "machine.toml"))
     small = _peak_rss(10**5, tmp_path, extra, 1000)
     large = _peak_rss(10**6, tmp_path, extra, 1000)
+    assert large <= 1.3 * small, (small, large)
+
+
+@pytest.mark.slow
+def test_linuxcnc_plan_peak_memory_is_flat_in_a_g64_run(tmp_path: Path) -> None:
+    """The linuxcnc model on CAM programs in one G64 run with no stop (cut at joins):
+    peak RSS at 10**6 lines within 1.3 times that at 10**5."""
+    extra = ("--machine", str(LCNC_TP / "machine.toml"))
+    small = _peak_rss(10**5, tmp_path, extra)
+    large = _peak_rss(10**6, tmp_path, extra)
     assert large <= 1.3 * small, (small, large)
 
 

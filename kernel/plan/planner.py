@@ -173,23 +173,32 @@ def lookahead(
     return _speeds(junction_cap, g, h, window)
 
 
-def carried_lookahead(
-    length: np.ndarray, junction_cap: np.ndarray, accel: np.ndarray, window: int | None, g0: float
-) -> tuple[np.ndarray, float]:
-    """:func:`lookahead` (``decel = accel``) of one window of a program that stops where
-    the window starts and where it ends, ``g0`` being ``G`` at its start (the sum of
-    ``2 A L`` over the rows before): the junction speeds as the whole program's look-ahead
-    computes them (the same sums, in the same order: the forward pass's running minimum
-    is ``-G`` at the stop), and ``G`` at the window's end."""
+def resumed_lookahead(
+    length: np.ndarray,
+    junction_cap: np.ndarray,
+    accel: np.ndarray,
+    window: int | None,
+    g0: float,
+    m0: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`lookahead` (``decel = accel``) of one window of a program, which may start
+    anywhere in it (not only at a stop) and whose last junction is taken as a stop (the
+    same sums as the whole program's, in the same order): ``g0`` is ``G`` at its first
+    junction and ``m0`` the forward pass's running minimum of ``w - G`` there (``-g0`` at
+    a stop). Returns the junction speeds and, at every junction, ``G`` and that running
+    minimum: a later window resumed from junction ``k`` with ``G[k]`` and ``M[k]`` gets the
+    speeds the whole program's look-ahead gives from ``k`` on, as long as this window's
+    rows up to ``window`` junctions past ``k`` are the program's."""
     g = np.cumsum(np.concatenate([[g0], 2.0 * np.asarray(accel) * np.asarray(length, float)]))
-    return _speeds(junction_cap, g, g, window), float(g[-1])
+    d = _end_speeds(junction_cap, g, window) - g
+    d[0] = m0
+    m = np.minimum.accumulate(d)
+    return np.sqrt(np.clip(m + g, 0.0, None)), g, m
 
 
-def _speeds(
-    junction_cap: np.ndarray, g: np.ndarray, h: np.ndarray, window: int | None
-) -> np.ndarray:
-    """The backward and forward passes of :func:`lookahead` over the running sums ``g``
-    (deceleration) and ``h`` (acceleration)."""
+def _end_speeds(junction_cap: np.ndarray, g: np.ndarray, window: int | None) -> np.ndarray:
+    """The backward pass of :func:`lookahead` over the running sums ``g``: the squared
+    speed each junction may have (0 at the first and the last)."""
     n = g.size - 1
     c2 = np.square(np.asarray(junction_cap, dtype=float))
     c2[0] = c2[-1] = 0.0
@@ -202,7 +211,15 @@ def _speeds(
         far = np.minimum(i + window, n)
         inner = range_min(x, i + 1, np.minimum(i + window - 1, n))
         end2 = np.minimum(inner, g[far]) - g[1:]
-    y = np.concatenate([[0.0], end2])
+    return np.concatenate([[0.0], end2])
+
+
+def _speeds(
+    junction_cap: np.ndarray, g: np.ndarray, h: np.ndarray, window: int | None
+) -> np.ndarray:
+    """The backward and forward passes of :func:`lookahead` over the running sums ``g``
+    (deceleration) and ``h`` (acceleration)."""
+    y = _end_speeds(junction_cap, g, window)
     w = np.minimum.accumulate(y - h) + h
     return np.sqrt(np.clip(w, 0.0, None))
 
@@ -520,7 +537,7 @@ __all__ = [
     "arc_speed_caps",
     "axis_corner_speed",
     "axis_corner_speeds",
-    "carried_lookahead",
+    "resumed_lookahead",
     "centripetal_speed",
     "chord_error_speed",
     "filter_time",

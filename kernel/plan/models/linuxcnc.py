@@ -112,10 +112,10 @@ from kernel.plan.models.lcnc_joins import VIRTUAL as _VIRTUAL
 from kernel.plan.planner import (
     Plan,
     Profiles,
-    carried_lookahead,
     commanded_feed,
     lookahead,
     ratio_min,
+    resumed_lookahead,
     trapezoids,
 )
 
@@ -165,17 +165,28 @@ class Prepared:
 @dataclass(slots=True)
 class Carry:
     """What planning a program window by window (kernel.stream) carries from one window to
-    the next, each window ending at a stop: the running sum ``G`` of ``2 A L`` of the
-    look-ahead, the start time and path position of the window, whether the window holds
-    the program's last move (which takes the program's ``START_CYCLES``) and whether its
-    last row ends at a stop join the next window's first row makes (a traverse next to a
-    feed move, tp.c handleModeChange)."""
+    the next: the look-ahead's running sum ``G`` of ``2 A L`` and its forward pass's running
+    minimum ``m`` at the window's first kept junction, the start time and path position;
+    whether the window holds the program's last move (which takes the program's
+    ``START_CYCLES``) and whether its last row ends at a stop join the next window's first
+    row makes (a traverse next to a feed move, tp.c handleModeChange).
+
+    A window that does not start at a stop starts with ``skip`` rows already planned (their
+    joins decide the first kept row's start); one that does not end at a stop has rows after
+    the kept ones (``own``: at most the rows before are kept; set to the rows kept, cut at a
+    join where a window may start, :func:`_window_end`), planned only so that the kept rows
+    see what follows them; ``reach`` is set to how many junctions after the kept rows were
+    planned as the program plans them (the rest feel the window's end; -1: no cut)."""
 
     g: float = 0.0
     t: float = 0.0
     s: float = 0.0
     last: bool = True
     stop_at_end: bool = False  # the window ends at a stop join: the next row is a stop
+    m: float = 0.0
+    skip: int = 0
+    own: int | None = None
+    reach: int = 0
 
 
 _MODE_TERM = {
@@ -1208,11 +1219,27 @@ def _kept_rows(table: np.ndarray, keep: np.ndarray) -> np.ndarray:
     return out
 
 
+def _window_end(kind: np.ndarray, overlaps: np.ndarray, skip: int, own: int) -> int:
+    """The last row after ``skip`` and up to ``own`` that a later window may start at (0:
+    none): the join before it is no parabolic blend (``overlaps``: the two moves' motions
+    add, and are sampled together), and one of the two joins before it is no blend next to
+    a circle. Those trim the rows on both sides one after the other (:func:`_split_lines`),
+    each reading what the one before left, so a run of them carries a trim's last bits on;
+    a window's two first rows (its context) see the joins before them, so a window may
+    start two rows after such a run is broken."""
+    plain = np.concatenate([[True], kind != _VIRTUAL])  # the join before each row
+    free = np.concatenate([[True], ~overlaps])
+    r = np.arange(skip + 1, own + 1)
+    ok = np.flatnonzero((plain[r - 1] | plain[r]) & free[r])
+    return int(r[ok[-1]]) if ok.size else 0
+
+
 def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None = None) -> Plan:
     """Plan ``path`` (built from ``prepared.commands``) as LinuxCNC 2.9's planner runs it.
     ``carry``: ``path`` is one window of a program, starting and ending at a stop (a hold
     row, a G61.1 join or a traverse next to a feed move), planned as the whole program
-    plans those rows; updated for the next window."""
+    plans those rows (or, with ``carry.skip`` and ``carry.own``, any rows of it: only the
+    kept ones are returned); updated for the next window."""
     seg = path.segments
     n = len(seg)
     period = machine.controller.interpolation_period
@@ -1253,6 +1280,9 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         anti = _rowsum((u1 + u2) ** 2) < _SHARP
         stop_rev = (j.kind == STOP) & anti & moving[:-1] & moving[1:] & (term[:-1] != STOP)
         seg_term[:-1] = np.where(stop_rev, STOP, seg_term[:-1])
+    if carry is not None and carry.own is not None:
+        overlaps = (seg_term[:-1] == PARABOLIC) & moving[:-1] & moving[1:]
+        carry.own = _window_end(j.kind, overlaps, carry.skip, carry.own)
     blend_prev = in_kind == PARABOLIC
     kred = np.maximum(np.concatenate([j.kink_red, [0.0]]), np.concatenate([[0.0], j.kink_red]))
     half = (seg_term == PARABOLIC) | blend_prev
@@ -1328,6 +1358,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         in_prev_tan = ins_v(in_prev_tan, True)
         nxt = rows + 1
         in_prev_tan[nxt[nxt < in_prev_tan.size]] = True
+    inserted = is_blend_arc  # the rows a blend made, before empty lines go
     # a line both blends shortened to nothing is gone
     if kept is not None:
         keep = kept
@@ -1343,6 +1374,14 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     kinds = table["kind"]
     length = table["length"]
     nn = len(table)
+    k0, k1 = 0, nn  # the rows kept (a window with rows before or after them: kernel.stream)
+    if carry is not None:
+        origin = np.cumsum(~inserted) - 1  # the row of ``seg`` each comes from (a blend: before)
+        origin = origin if keep.all() else origin[keep]
+        k0 = int(np.searchsorted(origin, carry.skip))
+        if carry.own is not None:
+            k1 = max(int(np.searchsorted(origin, carry.own)), k0)
+            carry.reach = int(np.searchsorted(origin, n - 1)) - k1 if carry.own else -1
     prev_tan = np.concatenate([[False], seg_term[:-1] == TANGENT]) | in_prev_tan
     # short-segment caps at finalisation and in the optimiser
     capped = np.minimum(maxvel, length / period)
@@ -1401,6 +1440,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         cap_t = np.where(kv >= 0, np.minimum(cap_t, kv), cap_t)
         par = (seg_term[:-1] == PARABOLIC) & moving[:-1] & moving[1:]
         par_at = np.flatnonzero(par)
+        par_at = par_at[par_at >= k0] if k0 else par_at
         if par_at.size:
             p, q = par_at, par_at + 1
             u1 = table["u_end"][p, :3]
@@ -1442,7 +1482,11 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     if carry is None:
         v = lookahead(length, jcap, acc_plan, None, window)
     else:
-        v, carry.g = carried_lookahead(length, jcap, acc_plan, window, carry.g)
+        v = np.zeros(nn + 1)
+        v[k0:], g_run, m_run = resumed_lookahead(
+            length[k0:], jcap[k0:], acc_plan[k0:], OPT_DEPTH, carry.g, carry.m
+        )
+        carry.g, carry.m = float(g_run[k1 - k0]), float(m_run[k1 - k0])
     # ramped short tangent segments: straight from the start speed to the end speed
     cap = target.copy()
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -1474,7 +1518,11 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     if carry is None:
         t_start = np.concatenate([[0.0], np.cumsum(duration)[:-1]]) if nn else np.zeros(0)
         s = np.concatenate([[0.0], np.cumsum(length)])
-    else:  # the running sums from the program's start, added in the same order
+    else:  # the kept rows, with the running sums from the program's start in the same order
+        if (k0, k1) != (0, nn):
+            table, v, cap, pause = table[k0:k1], v[k0 : k1 + 1], cap[k0:k1], pause[k0:k1]
+            duration, overlap, length = duration[k0:k1], overlap[k0:k1], length[k0:k1]
+            prof = Profiles(*(getattr(prof, f)[k0:k1] for f in Profiles.__slots__))
         t_all = np.cumsum(np.concatenate([[carry.t], duration]))
         s = np.cumsum(np.concatenate([[carry.s], length]))
         t_start, carry.t, carry.s = t_all[:-1], float(t_all[-1]), float(s[-1])
