@@ -43,6 +43,9 @@ class Limits:
     samples_per_move: int = 50_000_000
     #: chords one arc becomes in the Grbl model (each a row of the segment table)
     arc_chords: int = 1_000_000
+    #: full turns of one arc that cnc convert writes as blocks of their own, for a control
+    #: without a turns word (Fanuc, Haas, Grbl, 840D): each is a written and re-read block
+    arc_turns: int = 10_000
     #: control points of one NURBS curve
     nurbs_points: int = 100_000
     #: characters in one line of a G-code program (rs274 reads 256; CAM writes under 300):

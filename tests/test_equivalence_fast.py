@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from gcode.readers import read_text
 from kernel.ir import canon
 from kernel.ir.equivalence import Moves, equivalent, expanded, first_difference
 from tests.convert_support import ir_of, programs
@@ -193,3 +194,16 @@ def test_each_motion_has_the_tolerance_of_its_own_units(
     assert (first_difference(src, out, 0.001, half) is None) is same
     assert equivalent(_as_moves(src), _as_moves(out), half) is same
     assert equivalent(src, _as_moves(out), half) is same
+
+
+# A closed arc of several turns (its end on its start) written as one full circle a turn:
+# each circle's end is on the start, so a piece must be found a turn further on, and the
+# source ends only in its last half turn (a three-turn circle failed verification before)
+@pytest.mark.parametrize(("circles", "same"), [(3, True), (2, False), (4, False)])
+def test_a_closed_arc_of_three_turns_is_three_full_circles_not_two_or_four(
+    circles: int, same: bool
+) -> None:
+    head = "G21 G90 G17\nG0 X0 Y0 Z0\nG1 X10 F500\n"
+    source = list(read_text(head + "G2 X10 Y0 I-10 J0 P3\nM2\n", "rs274ngc", "s.ngc"))
+    output = list(read_text(head + "G2 X10 Y0 I-10 J0\n" * circles + "M2\n", "rs274ngc", "o.ngc"))
+    assert (first_difference(source, output, 0.001, None) is None) is same

@@ -472,3 +472,34 @@ def test_a_sandia_arc_of_too_many_chords_is_refused_at_its_line(
         batch_points([arc], (0, 1, 2), (0.0, 0.0, 0.0), 0.001)
     assert (info.value.code, info.value.location) == ("LIMIT-COUNT", where)
     assert "arc_chords" in info.value.message
+
+
+# cnc convert to a control without a turns word wrote an arc of a million turns as a
+# million full circles and read them all back: 23 s of CPU before CONV-VERIFY
+@pytest.mark.parametrize("target", ["fanuc", "grbl"])
+def test_an_arc_of_a_million_turns_is_refused_at_its_line_before_it_is_written(
+    fresh_limits: None, tmp_path: Path, target: str
+) -> None:
+    program = tmp_path / "turns.ngc"
+    program.write_text("G21 G90 G17\nG0 X0 Y0 Z0\nG1 X10 F500\nG2 X10 Y0 I-10 J0 P1000000\nM2\n")
+    out = tmp_path / "turns.out"
+    start = time.process_time()
+    result = CliRunner().invoke(cli, ["convert", str(program), "--to", target, "-o", str(out)])
+    assert time.process_time() - start < 5.0
+    assert result.exit_code == 1 and not out.exists()
+    assert "turns.ngc:4:1: error[LIMIT-COUNT]" in result.output
+    assert "arc_turns" in result.output
+
+
+def test_an_arc_of_a_few_turns_is_still_written_as_full_circles(
+    fresh_limits: None, tmp_path: Path
+) -> None:
+    program = tmp_path / "turns.ngc"
+    program.write_text("G21 G90 G17\nG0 X0 Y0 Z0\nG1 X10 F500\nG2 X10 Y0 I-10 J0 P3\nM2\n")
+    out = tmp_path / "turns.nc"
+    result = CliRunner().invoke(cli, ["convert", str(program), "--to", "fanuc", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert (
+        sum(line.startswith("G02") or " G02" in line for line in out.read_text().splitlines()) >= 1
+    )
+    assert out.read_text().count("I-10.") == 3  # three full circles, each its own block

@@ -18,6 +18,8 @@ from gcode.ngc.comp.keep import CompRegister
 from gcode.write.context import WriterContext
 from gcode.write.report import machinist
 from gcode.write.state import PLANE_AXES
+from kernel import limits
+from kernel.diagnostics import Location
 from kernel.ir import canon
 from kernel.ir.arcsweep import first_turn, total_sweep
 
@@ -613,6 +615,15 @@ def _expand_turns(w: WriterContext, c: canon.ArcFeed, turns: int, part: float) -
     """Several turns without a turns word: full circles, then the remaining arc."""
     if w.o.on_missing == "refuse":
         w.refuse("CONV-ARC-TURNS", f"{w.d.title} has no multi-turn arcs")
+    limit = limits.current().arc_turns
+    if turns - 1 > limit:  # a million turns: a million blocks written and read back
+        raise limits.count_error(
+            f"full circles of one arc ({w.d.title} has no turns word)",
+            turns - 1,
+            limit,
+            "arc_turns",
+            c.source or Location(None),
+        )
     first, second, normal, _, _ = PLANE_AXES[w.plane]
     s = w.fmt.scale
     total = total_sweep(part, turns)

@@ -306,14 +306,20 @@ class _Curve:
             self.sweep = arc_sweep(t0, t1, cmd.rotation)
             self.r0 = math.hypot(self.start[i] - ci, self.start[j] - cj)
             self.r1 = math.hypot(self.end[i] - ci, self.end[j] - cj)
+            self.turns = max(1, abs(cmd.rotation))
         else:
             self.polyline = _sample(cmd, item, self.axes)
+            self.turns = 1
 
-    def locate(self, point: tuple[float, float, float], tol: float) -> float | None:
+    def locate(
+        self, point: tuple[float, float, float], tol: float, advance: float = 0.0
+    ) -> float | None:
         """Progress (0..1) of ``point`` along the curve past the last one, or None when it
-        is farther than ``tol`` from the curve."""
+        is farther than ``tol`` from the curve. ``advance``: on an arc, the angle (radians)
+        the piece ending at ``point`` must have turned at least (a full circle's end is on
+        its start: without it, the start would be found again)."""
         if self.polyline is None:
-            return self._locate_arc(point, tol)
+            return self._locate_arc(point, tol, advance)
         best: tuple[float, float] | None = None
         line = self.polyline
         last = len(line) - 1
@@ -326,7 +332,9 @@ class _Curve:
                     best = (at, dist)
         return None if best is None else best[0]
 
-    def _locate_arc(self, point: tuple[float, float, float], tol: float) -> float | None:
+    def _locate_arc(
+        self, point: tuple[float, float, float], tol: float, advance: float = 0.0
+    ) -> float | None:
         i, j, n = self.axes
         ci, cj = self.centre
         sweep = abs(self.sweep)
@@ -339,7 +347,7 @@ class _Curve:
         # the angle is known modulo a turn: take the first turn that fits past the last piece
         for turn in range(-1, int(sweep / TWO_PI) + 2):
             angle = base + turn * TWO_PI
-            if angle < self.progress * sweep - slack or angle > sweep + slack:
+            if angle < self.progress * sweep + advance - slack or angle > sweep + slack:
                 continue
             frac = min(max(angle / sweep, 0.0), 1.0)
             expect_r = self.r0 + (self.r1 - self.r0) * frac
@@ -515,7 +523,12 @@ def _cover(
         )
         if diff is not None:
             return out, f"a piece of this {name} sees {diff}"
-        at = curve.locate(out.end, tol_mm)
+        # an arc piece of more than half a turn has gone past the far side of the source
+        # arc's circle: its end is found on a later turn than the last piece's
+        advance = 0.0
+        if isinstance(out.command, canon.ArcFeed):
+            advance = max(0.0, abs(_Curve(out).sweep) - math.pi)
+        at = curve.locate(out.end, tol_mm, advance)
         pieces += 1
         if at is None:
             k = _mm(src.units)
@@ -533,7 +546,9 @@ def _cover(
         end = out.end
         out = next(rest, None)
         closed = math.dist(src.start, src.end) <= tol_mm
-        if math.dist(end, src.end) <= tol_mm and (at > 0.5 or not closed):
+        # a closed curve ends on its start: its end is reached in its last half turn
+        last_half = 1.0 - 0.5 / curve.turns
+        if math.dist(end, src.end) <= tol_mm and (at > last_half or not closed):
             return out, None
     return out, f"the output's pieces stop before the end of this {name}"
 
