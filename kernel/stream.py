@@ -258,27 +258,30 @@ class _Clock:
 
 
 def _window_plan(
-    model: _Model,
+    planning: Machine,
     file: str | None,
     rows: np.ndarray,
     cap: np.ndarray,
     acc: np.ndarray,
     v: np.ndarray,
     clock: _Clock,
+    tf: float = 0.0,
 ) -> Plan:
-    """The plan of final rows, as the whole-program planner computes them."""
+    """The plan of final rows, as the whole-program planner computes them (``tf``: the
+    S-curve filter time, a pause at every stop; kernel.stream_scurve)."""
     length = rows["length"]
     moving = rows["kind"] != HOLD
     prof = trapezoids(length, v[:-1], v[1:], cap, acc)
     duration = np.where(moving, prof.duration, rows["duration"])
+    pause = np.zeros(len(rows))
+    if tf > 0:
+        pause = np.where((v[1:] <= 0.0) & moving, tf, 0.0)
+        duration = duration + pause
     t = np.cumsum(np.concatenate([[clock.t], duration]))
     s = np.cumsum(np.concatenate([[clock.s], length]))
     clock.t, clock.s = float(t[-1]), float(s[-1])
     clock.rows += len(rows)
-    n = len(rows)
-    return Plan(
-        Path(rows, file), model.planning, v, cap, prof, np.zeros(n), duration, t[:-1], s[:-1], 0.0
-    )
+    return Plan(Path(rows, file), planning, v, cap, prof, pause, duration, t[:-1], s[:-1], tf)
 
 
 def _batches(
@@ -361,7 +364,7 @@ def plan_windows(
             look.push(rows, cap, np.where(rows["kind"] != HOLD, acc, 0.0), c2)
         final = look.pop(end)
         if final is not None:
-            plan = _window_plan(model, file, *final, clock)
+            plan = _window_plan(model.planning, file, *final, clock)
             if errors.checked(plan):
                 yield plan
     if errors.error is not None:

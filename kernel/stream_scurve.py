@@ -64,7 +64,6 @@ from kernel.plan.planner import (
     segment_limits,
     smoothed_limits,
     smoothing_reach,
-    trapezoids,
 )
 from kernel.plan.strategy import plan_program
 from kernel.report.breakdown import PARTS, Mark, StretchSums
@@ -84,6 +83,7 @@ from kernel.stream import (
     _Lookahead,
     _rows,
     _samples_before,
+    _window_plan,
 )
 
 _EPS = float(np.finfo(float).eps)
@@ -250,32 +250,6 @@ class _Erosion:
         self.rows, self.cap, self.acc = self.rows[keep:], self.cap[keep:], self.acc[keep:]
         self.jcap, self.s, self.first = self.jcap[keep:], s[keep:], f - keep
         return out
-
-
-def _window_plan(
-    planning: Machine,
-    file: str | None,
-    rows: np.ndarray,
-    cap: np.ndarray,
-    acc: np.ndarray,
-    v: np.ndarray,
-    clock: _Clock,
-    tf: float,
-) -> Plan:
-    """The plan of final rows, as kernel.plan.planner ``plan`` computes them."""
-    length = rows["length"]
-    moving = rows["kind"] != HOLD
-    prof = trapezoids(length, v[:-1], v[1:], cap, acc)
-    duration = np.where(moving, prof.duration, rows["duration"])
-    pause = np.zeros(len(rows))
-    if tf > 0:
-        pause = np.where((v[1:] <= 0.0) & moving, tf, 0.0)
-        duration = duration + pause
-    t = np.cumsum(np.concatenate([[clock.t], duration]))
-    s = np.cumsum(np.concatenate([[clock.s], length]))
-    clock.t, clock.s = float(t[-1]), float(s[-1])
-    clock.rows += len(rows)
-    return Plan(Path(rows, file), planning, v, cap, prof, pause, duration, t[:-1], s[:-1], tf)
 
 
 def scurve_windows(
