@@ -37,6 +37,7 @@ from kernel.ir.equivalence import (
     _Block,
     _Kept,
     _mm,
+    _restated,
     _State,
     _Table,
 )
@@ -73,14 +74,9 @@ class _Output:
         self.events: list[tuple[int, str]] = []
 
     def segments(self, stream: Iterable[object]) -> Iterator[Segment]:  # noqa: C901
-        feed = speed = 0.0
-        direction = canon.Direction.STOPPED
-        tool: int | str = 0
-        mist = flood = False
-        plane = canon.Plane.XY
-        units: canon.Units | None = None
+        feed = 0.0
         states = self.states
-        current: _State = (speed, direction, tool, mist, flood, plane, units)
+        current: _State = (0.0, canon.Direction.STOPPED, 0, False, False, canon.Plane.XY, None)
         state = states.setdefault(current, len(states))
         kinds: list[int] = []
         values: list[tuple[float, ...]] = []
@@ -127,32 +123,12 @@ class _Output:
             if t is canon.SetFeedRate:
                 assert isinstance(c, canon.SetFeedRate)
                 feed = c.rate
-            elif t is canon.SetSpindleSpeed:
-                assert isinstance(c, canon.SetSpindleSpeed)
-                speed = c.speed
-            elif t is canon.StartSpindleClockwise:
-                direction = canon.Direction.CLOCKWISE
-            elif t is canon.StartSpindleCounterclockwise:
-                direction = canon.Direction.COUNTERCLOCKWISE
-            elif t is canon.StopSpindleTurning:
-                direction = canon.Direction.STOPPED
-            elif t is canon.MistOn or t is canon.MistOff:
-                mist = t is canon.MistOn
-            elif t is canon.FloodOn or t is canon.FloodOff:
-                flood = t is canon.FloodOn
-            elif t is canon.UseLengthUnits:
-                assert isinstance(c, canon.UseLengthUnits)
-                units = c.units
-            elif t is canon.SelectPlane:
-                assert isinstance(c, canon.SelectPlane)
-                plane = c.plane
-            elif isinstance(c, _EVENTS):
-                if isinstance(c, canon.ChangeTool):
-                    tool = c.name or c.slot
+                continue
+            key = _restated(c, t, current)
+            if isinstance(c, _EVENTS):
                 text = c.text.strip() if isinstance(c, canon.Message) else c.to_text()
                 self.events.append((moves, c.NAME + " " + text))
-            key = (speed, direction, tool, mist, flood, plane, units)
-            if key != current:  # a new state: the rows so far saw the old one
+            if key is not None and key != current:  # a new state: the rows so far saw the old one
                 if kinds:
                     yield pending()
                 current = key

@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -612,6 +613,37 @@ def expanded(stream: Iterable[canon.Command | Moves]) -> Iterator[canon.Command]
 
 #: the state a motion sees, as the fast path interns it
 _State = tuple[float, canon.Direction, int | str, bool, bool, canon.Plane, canon.Units | None]
+
+
+def _restated(c: object, t: type, key: _State) -> _State | None:
+    """The state ``key`` (spindle speed and direction, tool, mist, flood, plane, length
+    units: what the motions after it see) once the non-motion command ``c`` of type ``t``
+    has run, or None when ``c`` does not set any of it. One rule for both sides of the
+    comparison (:class:`_Table`, kernel.ir.chords)."""
+    speed, direction, tool, mist, flood, plane, units = key
+    if t is canon.SetSpindleSpeed:
+        speed = cast(canon.SetSpindleSpeed, c).speed
+    elif t is canon.StartSpindleClockwise:
+        direction = canon.Direction.CLOCKWISE
+    elif t is canon.StartSpindleCounterclockwise:
+        direction = canon.Direction.COUNTERCLOCKWISE
+    elif t is canon.StopSpindleTurning:
+        direction = canon.Direction.STOPPED
+    elif t is canon.MistOn or t is canon.MistOff:
+        mist = t is canon.MistOn
+    elif t is canon.FloodOn or t is canon.FloodOff:
+        flood = t is canon.FloodOn
+    elif t is canon.UseLengthUnits:
+        units = cast(canon.UseLengthUnits, c).units
+    elif t is canon.SelectPlane:
+        plane = cast(canon.SelectPlane, c).plane
+    elif isinstance(c, canon.ChangeTool):
+        tool = c.name or c.slot
+    else:
+        return None
+    return (speed, direction, tool, mist, flood, plane, units)
+
+
 _SMALL = 256  # Moves of fewer events join the rows as Python lists
 _MOTION_KINDS = (
     canon.StraightTraverse,
@@ -803,13 +835,10 @@ class _Table:
         pv: list[tuple[float, ...]] = []
         pf: list[float] = []
         pa: list[tuple[float, ...]] = []  # the arcs' centre and turns of the rows in pk
-        feed = speed = 0.0
-        direction = canon.Direction.STOPPED
-        tool: int | str = 0
-        mist = flood = False
-        plane = canon.Plane.XY
-        units: canon.Units | None = None
-        state = states.setdefault((speed, direction, tool, mist, flood, plane, units), len(states))
+        feed = 0.0
+        key: _State = (0.0, canon.Direction.STOPPED, 0, False, False, canon.Plane.XY, None)
+        plane = key[5]
+        state = states.setdefault(key, len(states))
         run_start = 0  # first motion seeing ``state``
 
         def flush() -> bool:
@@ -831,7 +860,6 @@ class _Table:
             nonlocal run_start
             state_runs.append((state, moves - run_start))
             run_start = moves
-            key = (speed, direction, tool, mist, flood, plane, units)
             return states.setdefault(key, len(states))
 
         traverse, straight, arc = canon.StraightTraverse, canon.StraightFeed, canon.ArcFeed
@@ -877,39 +905,14 @@ class _Table:
             elif t is canon.SetFeedRate:
                 assert isinstance(c, canon.SetFeedRate)
                 feed = c.rate
-            elif t is canon.SetSpindleSpeed:
-                assert isinstance(c, canon.SetSpindleSpeed)
-                speed = c.speed
-                state = restate()
-            elif t is canon.StartSpindleClockwise:
-                direction = canon.Direction.CLOCKWISE
-                state = restate()
-            elif t is canon.StartSpindleCounterclockwise:
-                direction = canon.Direction.COUNTERCLOCKWISE
-                state = restate()
-            elif t is canon.StopSpindleTurning:
-                direction = canon.Direction.STOPPED
-                state = restate()
-            elif t is canon.MistOn or t is canon.MistOff:
-                mist = t is canon.MistOn
-                state = restate()
-            elif t is canon.FloodOn or t is canon.FloodOff:
-                flood = t is canon.FloodOn
-                state = restate()
-            elif t is canon.UseLengthUnits:
-                assert isinstance(c, canon.UseLengthUnits)
-                units = c.units
-                state = restate()
-            elif t is canon.SelectPlane:
-                assert isinstance(c, canon.SelectPlane)
-                plane = c.plane
-                state = restate()
-            elif isinstance(c, _EVENTS):
-                if isinstance(c, canon.ChangeTool):
-                    tool = c.name or c.slot
+            else:
+                new = _restated(c, t, key)
+                if new is not None:
+                    key, plane = new, new[5]
                     state = restate()
-                text = c.text.strip() if isinstance(c, canon.Message) else c.to_text()
-                self.events.append((moves, c.NAME + " " + text))
+                if isinstance(c, _EVENTS):
+                    text = c.text.strip() if isinstance(c, canon.Message) else c.to_text()
+                    self.events.append((moves, c.NAME + " " + text))
         if not flush():
             self.ok = False
             return
