@@ -624,6 +624,53 @@ def _samples_before(t_end: float, period: float) -> int:
     return k
 
 
+class _Totals:
+    """What a streamed plan's report sums over its windows (added in the order the
+    whole-program report adds them): the cycle-time parts, feed and rapid lengths, rows,
+    the tool and operation stretches, and the cycle time so far; ``watch`` sees each
+    window's plan."""
+
+    def __init__(
+        self,
+        tools: list[Mark] | None,
+        operations: list[Mark] | None,
+        watch: Callable[[Plan], None] | None,
+    ) -> None:
+        self.tool_sums = StretchSums(tools) if tools is not None else None
+        self.op_sums = StretchSums(operations) if operations is not None else None
+        self.parts = [0.0] * len(PARTS)
+        self.feed_length = self.rapid_length = 0.0
+        self.rows = 0
+        self.total = 0.0
+        self.watch = watch
+
+    def add(self, plan: Plan) -> None:
+        seg = plan.path.segments
+        cat, d, length = seg["category"], plan.duration, seg["length"]
+        for j, kinds in enumerate(PARTS):
+            self.parts[j] += float(d[np.isin(cat, kinds)].sum())
+        self.feed_length += float(length[(cat == FEED) | (cat == PROBE)].sum())
+        self.rapid_length += float(length[cat == RAPID].sum())
+        self.rows += len(seg)
+        for sums in (self.tool_sums, self.op_sums):
+            if sums is not None:
+                sums.add(plan)
+        if self.watch is not None:
+            self.watch(plan)
+        self.total = plan.total_time
+
+    def result(self, report: Report, total: float | None = None) -> StreamedPlan:
+        """The streamed plan of ``report`` (``total``: the cycle time, if not the sum)."""
+        t = self.total if total is None else total
+        return StreamedPlan(report, t, self.tool_sums, self.op_sums)
+
+    def report(self, red: SampleReductions) -> Report:
+        """The report of the sampled windows (``red``) with these sums."""
+        return red.report(
+            CycleTime(self.total, *self.parts), self.feed_length, self.rapid_length, self.rows
+        )
+
+
 def measure_streamed(
     commands: Iterable[canon.Command],
     machine: Machine,
@@ -641,45 +688,25 @@ def measure_streamed(
     model = _Model.of(machine)
     red = SampleReductions(model.planning)
     period = model.planning.controller.interpolation_period
-    tool_sums = StretchSums(tools) if tools is not None else None
-    op_sums = StretchSums(operations) if operations is not None else None
-    parts = [0.0] * len(PARTS)
-    feed_length = rapid_length = 0.0
-    rows = 0
+    sums = _Totals(tools, operations, watch)
     next_k = 0
     pending: Plan | None = None
     sampling = _Sampling(red)
-    total = 0.0
     for plan in plan_windows(commands, machine, file, batch):
         if pending is not None:
             k = _samples_before(pending.total_time, period)
             sampling.add(pending, next_k, k, False)
             next_k = max(next_k, k)
-        seg = plan.path.segments
-        cat, d, length = seg["category"], plan.duration, seg["length"]
-        for j, kinds in enumerate(PARTS):
-            parts[j] += float(d[np.isin(cat, kinds)].sum())
-        feed_length += float(length[(cat == FEED) | (cat == PROBE)].sum())
-        rapid_length += float(length[cat == RAPID].sum())
-        rows += len(seg)
-        for sums in (tool_sums, op_sums):
-            if sums is not None:
-                sums.add(plan)
-        if watch is not None:
-            watch(plan)
-        total = plan.total_time
+        sums.add(plan)
         pending = plan
     if pending is None:  # no rows: the whole-program pipeline's empty plan
         _path, pl = plan_program([], machine, planning_machine(machine), file)
-        report = measure_windows(pl, sample_windows(pl))
-        return StreamedPlan(report, pl.total_time, tool_sums, op_sums)
-    count = int(math.ceil(total / period - 1e-9)) + 1
+        return sums.result(measure_windows(pl, sample_windows(pl)), pl.total_time)
+    count = int(math.ceil(sums.total / period - 1e-9)) + 1
     sampling.add(pending, next_k, count, True)
     last_row = pending.path.segments[-1]
     sampling.finish(last_row["end"], [AXIS_NAMES.index(a) for a in pending.machine.axis_names])
-    cycle = CycleTime(total, *parts)
-    report = red.report(cycle, feed_length, rapid_length, rows)
-    return StreamedPlan(report, total, tool_sums, op_sums)
+    return sums.result(sums.report(red))
 
 
 __all__ = ["StreamedPlan", "measure_streamed", "plan_windows", "streams"]

@@ -56,7 +56,7 @@ from kernel.machine import AXIS_NAMES, Machine, filter_time
 from kernel.path.blend import blend_rows
 from kernel.path.builder import PathBuilder
 from kernel.path.curvature import cut_for_machine
-from kernel.path.segments import FEED, HOLD, PROBE, RAPID, SEGMENT_DTYPE, Path
+from kernel.path.segments import HOLD, SEGMENT_DTYPE, Path
 from kernel.plan.planner import (
     Plan,
     Profiles,
@@ -66,9 +66,8 @@ from kernel.plan.planner import (
     smoothing_reach,
 )
 from kernel.plan.strategy import plan_program
-from kernel.report.breakdown import PARTS, Mark, StretchSums
+from kernel.report.breakdown import Mark
 from kernel.report.measure import (
-    CycleTime,
     SampleReductions,
     measure_windows,
     segment_chord_error,
@@ -83,6 +82,7 @@ from kernel.stream import (
     _Lookahead,
     _rows,
     _samples_before,
+    _Totals,
     _window_plan,
 )
 
@@ -504,29 +504,12 @@ def measure_scurve(
     summed. ``watch``: called with each window's plan."""
     planning = planning_machine(machine)
     red = SampleReductions(planning)
-    tool_sums = StretchSums(tools) if tools is not None else None
-    op_sums = StretchSums(operations) if operations is not None else None
-    parts = [0.0] * len(PARTS)
-    feed_length = rapid_length = 0.0
-    rows = 0
-    total = 0.0
+    sums = _Totals(tools, operations, watch)
     sampler = _Sampler(red, planning, file)
     queue: list[Plan] = []  # windows not sampled yet: at least the last one given
     later = np.zeros(0, SEGMENT_DTYPE)
     for plan, later in scurve_windows(commands, machine, d0, file, batch):
-        seg = plan.path.segments
-        cat, d, length = seg["category"], plan.duration, seg["length"]
-        for j, kinds in enumerate(PARTS):
-            parts[j] += float(d[np.isin(cat, kinds)].sum())
-        feed_length += float(length[(cat == FEED) | (cat == PROBE)].sum())
-        rapid_length += float(length[cat == RAPID].sum())
-        rows += len(seg)
-        for sums in (tool_sums, op_sums):
-            if sums is not None:
-                sums.add(plan)
-        if watch is not None:
-            watch(plan)
-        total = plan.total_time
+        sums.add(plan)
         queue.append(plan)
         while len(queue) > 1:
             after = np.concatenate([q.path.segments for q in queue[1:]] + [later])
@@ -535,16 +518,14 @@ def measure_scurve(
             sampler.add(queue.pop(0), after, False)
     if not queue:  # no rows: the whole-program pipeline's empty plan
         _path, pl = plan_program([], machine, planning, file)
-        report = measure_windows(pl, sample_windows(pl))
-        return StreamedPlan(report, pl.total_time, tool_sums, op_sums)
+        return sums.result(measure_windows(pl, sample_windows(pl)), pl.total_time)
     while queue:
         plan = queue.pop(0)
         after = np.concatenate([q.path.segments for q in queue] + [later[:0]])
         sampler.add(plan, after, not queue)
     last_row = plan.path.segments[-1]
     sampler.finish(last_row["end"], [AXIS_NAMES.index(a) for a in planning.axis_names])
-    report = red.report(CycleTime(total, *parts), feed_length, rapid_length, rows)
-    return StreamedPlan(report, total, tool_sums, op_sums)
+    return sums.result(sums.report(red))
 
 
 __all__ = [
