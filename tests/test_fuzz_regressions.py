@@ -60,6 +60,10 @@ PINNED = [
         "    2 N..... NURBS_FEED(149.0501, 1000000000, -47.4, 80, -125.084, 166, -21.06, 79.31,"
         " -86)\n",
     ),
+    # siemens840d, seed 376227 of `python -m tests.fuzzing siemens840d 100000 reader
+    # 300000`: `N160.WHILE` (a block number with a point) ran as a WHILE, but the program's
+    # structure scan read no keyword on that line (a KeyError traceback)
+    ("siemens840d", "R1=0\nN160.WHILE R1<2\nR1=R1+1\nENDWHILE\nM30\n"),
 ]
 
 

@@ -185,7 +185,14 @@ class Program:
         if found is not None:
             return found
         opener = self.head(index)
-        closer = CLOSERS[opener]
+        closer = CLOSERS.get(opener)
+        if closer is None:  # the block read it as a keyword the line's head does not show
+            raise Diagnostic(
+                "SIEM-SYNTAX",
+                "a control structure's keyword must follow the block number (a whole "
+                "number) and label directly",
+                loc,
+            )
         stack: list[str] = []
         other: int | None = None
         i = index
