@@ -591,12 +591,18 @@ class _Sampling:
         if self.held is None:
             return
         seg, w, joined = self.held
-        w.position[-1] = end[columns]
-        w.velocity[-1] = w.acceleration[-1] = 0.0
-        if w.jerk[-1].any():
-            w.jerk[-1] = 0.0
+        _at_rest(w, end, columns)
         self.red.add(seg, w, joined)
         self.held = None
+
+
+def _at_rest(w: Samples, end: np.ndarray, columns: list[int]) -> None:
+    """Make ``w``'s last sample the program's last: at ``end`` (the last row's end point,
+    the machine's axes ``columns``), at rest, as the whole-program sampler ends."""
+    w.position[-1] = end[columns]
+    w.velocity[-1] = w.acceleration[-1] = 0.0
+    if w.jerk[-1].any():
+        w.jerk[-1] = 0.0
 
 
 def _rows(w: Samples, a: int, b: int) -> Samples:

@@ -76,6 +76,7 @@ from kernel.stream import (
     _RANK,
     BATCH,
     StreamedPlan,
+    _at_rest,
     _batches,
     _Clock,
     _Errors,
@@ -370,10 +371,7 @@ class _Reducer:
         if self.held is None:
             return
         seg, base, w = self.held
-        w.position[-1] = end[columns]
-        w.velocity[-1] = w.acceleration[-1] = 0.0
-        if w.jerk[-1].any():
-            w.jerk[-1] = 0.0
+        _at_rest(w, end, columns)
         self._reduce(seg, base, w)
         self.held = None
 
