@@ -17,6 +17,7 @@ from numba import njit
 from numba import types as nt
 
 from kernel.aot import build_module
+from kernel.array_types import F64, F64_2D, I8, I64, U8_RO
 
 #: event kinds, as gcode.ngc.lane.fastlane's
 _TRAVERSE = 0
@@ -216,29 +217,23 @@ def _scan(buf, start, pos, speed, first_line, max_events, words):  # pragma: no 
     )
 
 
-_U8_RO = nt.Array(nt.uint8, 1, "C", readonly=True)
-_I8 = nt.Array(nt.int8, 1, "C")
-_I64 = nt.Array(nt.int64, 1, "C")
-_F64 = nt.Array(nt.float64, 1, "C")
-_F64_2D = nt.Array(nt.float64, 2, "C")
-
 #: exported name -> (JIT function, explicit signature for numba.pycc)
 SIGNATURES = {
     "scan": (
         _scan,
         nt.Tuple(
             (
-                _I8,
-                _F64_2D,
-                _F64,
-                _I64,
+                I8,
+                F64_2D,
+                F64,
+                I64,
                 nt.int64,
                 nt.int64,
-                _F64,
+                F64,
                 nt.float64,
                 nt.boolean,
             )
-        )(_U8_RO, nt.int64, _F64, nt.float64, nt.int64, nt.int64, _U8_RO),
+        )(U8_RO, nt.int64, F64, nt.float64, nt.int64, nt.int64, U8_RO),
     ),
 }
 

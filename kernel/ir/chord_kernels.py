@@ -16,6 +16,7 @@ from numba import njit
 from numba import types as nt
 
 from kernel.aot import build_module
+from kernel.array_types import F64, F64_2D, I8, I64, I64_2D
 
 _TWO_PI = 2.0 * math.pi
 _FULL_TURN_TOL = 1e-12  # kernel.ir.arcsweep.FULL_TURN_TOL
@@ -249,34 +250,28 @@ def _cover(
     return ok
 
 
-_I8 = nt.Array(nt.int8, 1, "C")
-_I64 = nt.Array(nt.int64, 1, "C")
-_I64_2D = nt.Array(nt.int64, 2, "C")
-_F64 = nt.Array(nt.float64, 1, "C")
-_F64_2D = nt.Array(nt.float64, 2, "C")
-
 #: exported name -> (JIT function, explicit signature for numba.pycc)
 SIGNATURES = {
     "cover": (
         _cover,
         nt.int64(
-            _I8,
-            _F64_2D,
-            _F64,
-            _I64,
-            _F64_2D,
-            _I8,
-            _F64_2D,
-            _F64,
+            I8,
+            F64_2D,
+            F64,
+            I64,
+            F64_2D,
+            I8,
+            F64_2D,
+            F64,
             nt.int64,
-            _I64,
-            _F64,
-            _F64,
-            _F64,
-            _I64_2D,
-            _I64,
-            _F64,
-            _I64,
+            I64,
+            F64,
+            F64,
+            F64,
+            I64_2D,
+            I64,
+            F64,
+            I64,
         ),
     ),
 }

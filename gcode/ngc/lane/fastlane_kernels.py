@@ -20,6 +20,7 @@ from numba import njit
 from numba import types as nt
 
 from kernel.aot import build_module
+from kernel.array_types import F64, F64_2D, I8, I64, U8, U8_RO
 
 
 @njit(cache=True)
@@ -846,25 +847,16 @@ def _same_arr(a, la, b, lb):  # pragma: no cover - compiled
     return True
 
 
-_U8 = nt.Array(nt.uint8, 1, "C")
-_U8_RO = nt.Array(nt.uint8, 1, "C", readonly=True)
-_I8 = nt.Array(nt.int8, 1, "C")
-_I64 = nt.Array(nt.int64, 1, "C")
-_F64 = nt.Array(nt.float64, 1, "C")
-_F64_2D = nt.Array(nt.float64, 2, "C")
-
 #: exported name -> (JIT function, explicit signature for numba.pycc)
 SIGNATURES = {
     "scan": (
         _scan,
-        nt.Tuple(
-            (_I8, _F64_2D, _F64, _I64, _F64_2D, nt.int64, nt.int64, _F64, nt.float64, nt.int64)
-        )(
-            _U8_RO,
+        nt.Tuple((I8, F64_2D, F64, I64, F64_2D, nt.int64, nt.int64, F64, nt.float64, nt.int64))(
+            U8_RO,
             nt.int64,
-            _I64,
-            _F64,
-            _F64,
+            I64,
+            F64,
+            F64,
             nt.float64,
             nt.boolean,
             nt.int64,
@@ -872,40 +864,40 @@ SIGNATURES = {
             nt.int64,
             nt.boolean,
             nt.boolean,
-            _I64,
-            _F64,
+            I64,
+            F64,
             nt.boolean,
             nt.int64,
         ),
     ),
     "format": (
         _format,
-        nt.Tuple((_U8, nt.Array(nt.boolean, 1, "C"), nt.int64))(
-            _I8, _F64_2D, _F64, nt.int64, nt.Array(nt.uint8, 2, "C"), _I64
+        nt.Tuple((U8, nt.Array(nt.boolean, 1, "C"), nt.int64))(
+            I8, F64_2D, F64, nt.int64, nt.Array(nt.uint8, 2, "C"), I64
         ),
     ),
     "format_arcs": (
         _format_arcs,
-        nt.Tuple((_U8, nt.Array(nt.boolean, 1, "C"), nt.int64))(
-            _I8, _F64_2D, _F64, _F64_2D, nt.int64, nt.Array(nt.uint8, 2, "C"), _I64
+        nt.Tuple((U8, nt.Array(nt.boolean, 1, "C"), nt.int64))(
+            I8, F64_2D, F64, F64_2D, nt.int64, nt.Array(nt.uint8, 2, "C"), I64
         ),
     ),
     "gcode": (
         _gcode,
-        nt.Tuple((_U8, nt.boolean, nt.int64, nt.int64, nt.int64, _U8))(
-            _I8,
-            _F64_2D,
-            _F64,
+        nt.Tuple((U8, nt.boolean, nt.int64, nt.int64, nt.int64, U8))(
+            I8,
+            F64_2D,
+            F64,
             nt.float64,
-            _I64,
-            _F64,
-            _I64,
-            _U8,
+            I64,
+            F64,
+            I64,
+            U8,
             nt.int64,
             nt.boolean,
-            _U8_RO,
+            U8_RO,
             nt.Array(nt.uint8, 2, "C"),
-            _I64,
+            I64,
             nt.int64,
             nt.float64,
             nt.uint8,
@@ -913,30 +905,30 @@ SIGNATURES = {
     ),
     "gcode_arcs": (
         _gcode_arcs,
-        nt.Tuple((_U8, nt.boolean, nt.int64, nt.int64, nt.int64, _U8))(
-            _I8,
-            _F64_2D,
-            _F64,
-            _F64_2D,
+        nt.Tuple((U8, nt.boolean, nt.int64, nt.int64, nt.int64, U8))(
+            I8,
+            F64_2D,
+            F64,
+            F64_2D,
             nt.float64,
-            _I64,
-            _F64,
-            _I64,
-            _U8,
+            I64,
+            F64,
+            I64,
+            U8,
             nt.int64,
             nt.boolean,
-            _U8_RO,
+            U8_RO,
             nt.Array(nt.uint8, 2, "C"),
-            _I64,
+            I64,
             nt.int64,
             nt.float64,
             nt.uint8,
-            _I64,
+            I64,
         ),
     ),
     "sandia": (
         _sandia,
-        nt.Tuple((_U8, _I64, nt.boolean, _U8))(_F64_2D, nt.float64, nt.int64, _U8_RO, nt.boolean),
+        nt.Tuple((U8, I64, nt.boolean, U8))(F64_2D, nt.float64, nt.int64, U8_RO, nt.boolean),
     ),
 }
 
