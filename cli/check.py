@@ -125,8 +125,8 @@ def load_context(
         extra = machine.extra
         table = dict(extra.get("check", {})) if isinstance(extra.get("check"), dict) else {}
         if "check" in extra and not isinstance(extra["check"], dict):
-            raise Diagnostic("CHECK-CONFIG", "[check] must be a table", Location(machine_path))
-        tools_file, tool_units_mm = tool_table_spec(extra, machine_path)
+            raise Diagnostic("CHECK-CONFIG", "[check] must be a table", machine.where.at("check"))
+        tools_file, tool_units_mm = tool_table_spec(extra, machine.where)
         if tools_file:
             tools_file = str(Path(machine_path).parent / tools_file)
     if config_path is None and Path("pyproject.toml").is_file():
@@ -155,7 +155,7 @@ def load_context(
         config=config,
         tools=tools,
         tool_mm_per_unit=tool_units_mm,
-        spindle_range=spindle_range(extra, machine_path),
+        spindle_range=spindle_range(extra, machine.where),
         default_machine=not machine_path,
     )
 

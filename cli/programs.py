@@ -503,14 +503,16 @@ def apply_limits(machine: Machine, path: str | None) -> None:
     if not isinstance(table, dict) or not all(
         isinstance(v, int | float) and not isinstance(v, bool) for v in table.values()
     ):
-        raise Diagnostic("LIMIT-CONFIG", "[limits] must be a table of numbers", Location(path))
+        raise Diagnostic(
+            "LIMIT-CONFIG", "[limits] must be a table of numbers", machine.where.at("limits")
+        )
     given = click.get_current_context(silent=True)
     root = given.find_root().params.get("limit_values", ()) if given else ()
     named = {str(item).partition("=")[0].strip() for item in root}
     try:
         limits.configure(**{k: float(v) for k, v in table.items() if k not in named})
     except Diagnostic as exc:
-        raise Diagnostic(exc.code, exc.message, Location(path)) from None
+        raise Diagnostic(exc.code, exc.message, machine.where.at("limits")) from None
 
 
 def load_tool_table(path: str) -> ToolTable:
@@ -550,7 +552,7 @@ def profile_tools(machine: Machine, path: str) -> tuple[str | None, float]:
     profile: a plain ``cnc canon`` does not load the checker)."""
     from kernel.check.config import tool_table_spec
 
-    file, mm_per_unit = tool_table_spec(machine.extra, path)
+    file, mm_per_unit = tool_table_spec(machine.extra, machine.where)
     return (str(Path(path).parent / file) if file else None), mm_per_unit
 
 

@@ -135,7 +135,9 @@ def stock_resolution(machine: Machine, where: str | None) -> float:
     table = machine.extra.get("stock")
     res = table.get("resolution", 0.5) if isinstance(table, dict) else 0.5
     if not isinstance(res, int | float) or not res > 0:
-        raise Diagnostic("SIM-GRID", "[stock] resolution must be > 0", Location(where))
+        raise Diagnostic(
+            "SIM-GRID", "[stock] resolution must be > 0", machine.where.at("stock", "resolution")
+        )
     return float(res)
 
 

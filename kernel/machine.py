@@ -24,6 +24,7 @@ from dataclasses import dataclass, field, fields
 from typing import Any
 
 from kernel.diagnostics import Diagnostic, Location
+from kernel.profile_where import ProfileWhere, profile_where
 
 AXIS_NAMES: tuple[str, ...] = ("x", "y", "z", "a", "b", "c")
 ROTARY: frozenset[str] = frozenset({"a", "b", "c"})
@@ -160,6 +161,8 @@ class Machine:
     extra: dict[str, Any] = field(default_factory=dict, compare=False)
     m_codes: dict[int, MCode] = field(default_factory=dict, hash=False)
     kind: str = "mill"
+    # where each key is written in the profile's file (error locations; not part of equality)
+    where: ProfileWhere = field(default_factory=ProfileWhere, compare=False, repr=False)
 
     @property
     def traits(self) -> KindTraits:
@@ -230,20 +233,24 @@ def _number(value: object, what: str, loc: Location, *, positive: bool = False) 
     return v
 
 
-def _axis(name: str, table: object, loc: Location) -> AxisLimits:
+def _axis(name: str, table: object, where: ProfileWhere) -> AxisLimits:
+    loc = where.at("axes", name)
     if name not in AXIS_NAMES:
         raise Diagnostic(
             "MACH-AXIS", f"unknown axis {name!r}; axes are {', '.join(AXIS_NAMES)}", loc
         )
     if not isinstance(table, dict):
         raise Diagnostic("MACH-TYPE", f"[axes.{name}] must be a table", loc)
-    unknown = set(table) - _AXIS_KEYS
+    unknown = sorted(set(table) - _AXIS_KEYS)
     if unknown:
         raise Diagnostic(
-            "MACH-KEY", f"[axes.{name}]: unknown key(s) {', '.join(sorted(unknown))}", loc
+            "MACH-KEY",
+            f"[axes.{name}]: unknown key(s) {', '.join(unknown)}",
+            where.at("axes", name, unknown[0]),
         )
     kw: dict[str, Any] = {}
     for key, value in table.items():
+        loc = where.at("axes", name, key)
         if key == "servo":
             if not isinstance(value, dict):
                 raise Diagnostic("MACH-TYPE", f"[axes.{name}.servo] must be a table", loc)
@@ -256,16 +263,19 @@ def _axis(name: str, table: object, loc: Location) -> AxisLimits:
     axis = AxisLimits(name, **kw)
     if not axis.min < axis.max:
         raise Diagnostic(
-            "MACH-RANGE", f"axes.{name}: min {axis.min} must be below max {axis.max}", loc
+            "MACH-RANGE",
+            f"axes.{name}: min {axis.min} must be below max {axis.max}",
+            where.at("axes", name, "max" if "max" in table else "min"),
         )
     return axis
 
 
-def _controller(table: object, loc: Location) -> Controller:
+def _controller(table: object, where: ProfileWhere) -> Controller:
     if not isinstance(table, dict):
-        raise Diagnostic("MACH-TYPE", "[controller] must be a table", loc)
+        raise Diagnostic("MACH-TYPE", "[controller] must be a table", where.at("controller"))
     kw: dict[str, Any] = {}
     for key, value in table.items():
+        loc = where.at("controller", key)
         if key not in _CONTROLLER_FIELDS:
             raise Diagnostic("MACH-KEY", f"[controller]: unknown key {key!r}", loc)
         what = f"controller.{key}"
@@ -308,12 +318,13 @@ def _controller(table: object, loc: Location) -> Controller:
 _M_CODE_KEYS = {"name", "time", "forbid"}
 
 
-def _m_codes(table: object, loc: Location) -> dict[int, MCode]:
+def _m_codes(table: object, where: ProfileWhere) -> dict[int, MCode]:
     """``[m_codes]``: ``31 = {name = "chip conveyor on", time = 2.0, forbid = false}``."""
     if not isinstance(table, dict):
-        raise Diagnostic("MACH-TYPE", "[m_codes] must be a table", loc)
+        raise Diagnostic("MACH-TYPE", "[m_codes] must be a table", where.at("m_codes"))
     out: dict[int, MCode] = {}
     for key, entry in table.items():
+        loc = where.at("m_codes", key)
         digits = key[1:] if key[:1] in ("M", "m") else key
         if not digits.isdigit() or len(digits) > 8:
             raise Diagnostic(
@@ -327,43 +338,61 @@ def _m_codes(table: object, loc: Location) -> dict[int, MCode]:
             raise Diagnostic("MACH-KEY", f"[m_codes]: M{code} given twice", loc)
         if not isinstance(entry, dict):
             raise Diagnostic("MACH-TYPE", f"{what} must be a table (name, time, forbid)", loc)
-        unknown = set(entry) - _M_CODE_KEYS
+        unknown = sorted(set(entry) - _M_CODE_KEYS)
         if unknown:
             raise Diagnostic(
-                "MACH-KEY", f"{what}: unknown key(s) {', '.join(sorted(unknown))}", loc
+                "MACH-KEY",
+                f"{what}: unknown key(s) {', '.join(unknown)}",
+                where.at("m_codes", key, unknown[0]),
             )
         name = entry.get("name", "")
         if not isinstance(name, str):
-            raise Diagnostic("MACH-TYPE", f"{what}.name must be a string", loc)
+            raise Diagnostic(
+                "MACH-TYPE", f"{what}.name must be a string", where.at("m_codes", key, "name")
+            )
         forbid = entry.get("forbid", False)
         if not isinstance(forbid, bool):
-            raise Diagnostic("MACH-TYPE", f"{what}.forbid must be true or false", loc)
-        time = _number(entry.get("time", 0.0), f"{what}.time", loc)
+            raise Diagnostic(
+                "MACH-TYPE",
+                f"{what}.forbid must be true or false",
+                where.at("m_codes", key, "forbid"),
+            )
+        time_at = where.at("m_codes", key, "time")
+        time = _number(entry.get("time", 0.0), f"{what}.time", time_at)
         if not 0.0 <= time < math.inf:
-            raise Diagnostic("MACH-RANGE", f"{what}.time must be a finite number >= 0", loc)
+            raise Diagnostic("MACH-RANGE", f"{what}.time must be a finite number >= 0", time_at)
         out[code] = MCode(name, time, forbid)
     return out
 
 
-def machine_from_dict(data: dict[str, Any], file: str | None = None) -> Machine:
-    """Build a :class:`Machine` from parsed TOML; raises ``MACH-*`` diagnostics."""
-    loc = Location(file)
+def machine_from_dict(
+    data: dict[str, Any], file: str | None = None, where: ProfileWhere | None = None
+) -> Machine:
+    """Build a :class:`Machine` from parsed TOML; raises ``MACH-*`` diagnostics, located by
+    ``where`` (the positions of the profile's keys) when the text is known."""
+    where = where or ProfileWhere(file)
     axes_t = data.get("axes")
     if not isinstance(axes_t, dict) or not axes_t:
-        raise Diagnostic("MACH-AXIS", "the profile needs at least one [axes.<name>] table", loc)
+        raise Diagnostic(
+            "MACH-AXIS", "the profile needs at least one [axes.<name>] table", where.at("axes")
+        )
     order = sorted(axes_t, key=lambda n: AXIS_NAMES.index(n) if n in AXIS_NAMES else 99)
-    axes = tuple(_axis(n, axes_t[n], loc) for n in order)
-    controller = _controller(data.get("controller", {}), loc)
+    axes = tuple(_axis(n, axes_t[n], where) for n in order)
+    controller = _controller(data.get("controller", {}), where)
     name = data.get("name", file or "machine")
     if not isinstance(name, str):
-        raise Diagnostic("MACH-TYPE", "name must be a string", loc)
-    m_codes = _m_codes(data.get("m_codes", {}), loc)
+        raise Diagnostic("MACH-TYPE", "name must be a string", where.at("name"))
+    m_codes = _m_codes(data.get("m_codes", {}), where)
     kind = data.get("kind", "mill")
     if kind not in KINDS:
-        raise Diagnostic("MACH-KIND", f"kind must be one of {', '.join(KINDS)}, not {kind!r}", loc)
+        raise Diagnostic(
+            "MACH-KIND",
+            f"kind must be one of {', '.join(KINDS)}, not {kind!r}",
+            where.at("kind"),
+        )
     top = ("axes", "controller", "name", "m_codes", "kind")
     extra = {k: v for k, v in data.items() if k not in top}
-    return Machine(name, axes, controller, extra, m_codes, kind)
+    return Machine(name, axes, controller, extra, m_codes, kind, where)
 
 
 def parse_machine(text: str, file: str | None = None) -> Machine:
@@ -372,7 +401,7 @@ def parse_machine(text: str, file: str | None = None) -> Machine:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise Diagnostic("MACH-TOML", f"not valid TOML: {exc}", Location(file)) from None
-    return machine_from_dict(data, file)
+    return machine_from_dict(data, file, profile_where(text, file))
 
 
 def with_controller(machine: Machine, **changes: Any) -> Machine:
@@ -382,8 +411,9 @@ def with_controller(machine: Machine, **changes: Any) -> Machine:
     return Machine(
         machine.name,
         machine.axes,
-        _controller(current, Location()),
+        _controller(current, ProfileWhere()),
         machine.extra,
         machine.m_codes,
         machine.kind,
+        machine.where,
     )

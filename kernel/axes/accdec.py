@@ -109,18 +109,29 @@ def config_from_machine(machine: Machine) -> AccDecConfig:
     table = machine.extra.get("accdec")
     if table is None:
         return AccDecConfig(kind=AccDecKind.NONE)
-    loc = Location(machine.name)
+    at = machine.where.at
     if not isinstance(table, dict):
-        raise Diagnostic("MACH-TYPE", "[accdec] must be a table", loc)
+        raise Diagnostic("MACH-TYPE", "[accdec] must be a table", at("accdec"))
     unknown = sorted(set(table) - set(_CONFIG_KEYS))
     if unknown:
-        raise Diagnostic("MACH-KEY", f"[accdec]: unknown key(s) {', '.join(unknown)}", loc)
+        raise Diagnostic(
+            "MACH-KEY", f"[accdec]: unknown key(s) {', '.join(unknown)}", at("accdec", unknown[0])
+        )
     default = AccDecConfig()
-    kind = _choice(AccDecKind, table, "type", loc) if "type" in table else default.kind
-    placement = _choice(AccDecPlacement, table, "placement", loc) if "placement" in table else None
+    kind = (
+        _choice(AccDecKind, table, "type", at("accdec", "type"))
+        if "type" in table
+        else default.kind
+    )
+    placement = (
+        _choice(AccDecPlacement, table, "placement", at("accdec", "placement"))
+        if "placement" in table
+        else None
+    )
     numbers: dict[str, float] = {}
     for key, field_name in (("tau", "tau"), ("tail_tolerance", "exp_tail_tolerance")):
         if key in table:
+            loc = at("accdec", key)
             v = table[key]
             if isinstance(v, bool) or not isinstance(v, int | float):
                 raise Diagnostic("MACH-TYPE", f"accdec.{key} must be a number", loc)

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from kernel.diagnostics import Diagnostic, Location, Severity
+from kernel.profile_where import ProfileWhere
 
 ARC_TOLERANCES: dict[str, tuple[float, float, float]] = {
     # name: (absolute mm, relative, hard absolute mm) - research/anchors.md §1.1
@@ -181,32 +182,35 @@ def _stock(v: object, loc: Location) -> tuple[tuple[float, float, float], ...]:
     return tuple(out)
 
 
-def spindle_range(extra: dict[str, Any], file: str | None = None) -> tuple[float, float]:
-    """(min, max) rpm from the profile's ``[spindle]`` table (``min_speed``, ``max_speed``)."""
-    loc = Location(file)
+def spindle_range(extra: dict[str, Any], where: ProfileWhere | None = None) -> tuple[float, float]:
+    """(min, max) rpm from the profile's ``[spindle]`` table (``min_speed``, ``max_speed``);
+    errors are located by ``where`` (the profile's key positions)."""
+    at = (where or ProfileWhere()).at
     table = extra.get("spindle", {})
     if not isinstance(table, dict):
-        raise _fail("[spindle] must be a table", loc)
-    lo = _num(table.get("min_speed", 0.0), "spindle.min_speed", loc)
-    hi = _num(table.get("max_speed", math.inf), "spindle.max_speed", loc)
+        raise _fail("[spindle] must be a table", at("spindle"))
+    lo = _num(table.get("min_speed", 0.0), "spindle.min_speed", at("spindle", "min_speed"))
+    hi = _num(table.get("max_speed", math.inf), "spindle.max_speed", at("spindle", "max_speed"))
     if lo < 0 or not lo < hi:
-        raise _fail("spindle: need 0 <= min_speed < max_speed", loc)
+        raise _fail("spindle: need 0 <= min_speed < max_speed", at("spindle", "min_speed"))
     return lo, hi
 
 
-def tool_table_spec(extra: dict[str, Any], file: str | None = None) -> tuple[str | None, float]:
+def tool_table_spec(
+    extra: dict[str, Any], where: ProfileWhere | None = None
+) -> tuple[str | None, float]:
     """The profile's ``[tools]`` table: ``file`` (a ``.tbl`` or NIST tool file, relative to
     the profile) and ``units`` of its lengths (``mm`` or ``inch``); returns (file, mm/unit)."""
-    loc = Location(file)
+    at = (where or ProfileWhere()).at
     table = extra.get("tools", {})
     if not isinstance(table, dict):
-        raise _fail("[tools] must be a table", loc)
+        raise _fail("[tools] must be a table", at("tools"))
     path = table.get("file")
     if path is not None and not isinstance(path, str):
-        raise _fail("tools.file must be a string", loc)
+        raise _fail("tools.file must be a string", at("tools", "file"))
     units = table.get("units", "mm")
     if units not in ("mm", "inch"):
-        raise _fail("tools.units must be 'mm' or 'inch'", loc)
+        raise _fail("tools.units must be 'mm' or 'inch'", at("tools", "units"))
     return path, 25.4 if units == "inch" else 1.0
 
 

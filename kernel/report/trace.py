@@ -28,7 +28,7 @@ import kernel.axes.accdec as accdec
 from kernel.axes.contour import ContourMeter, ErrorTracker, predict_arcs
 from kernel.axes.servo import AxisServo, prefilter
 from kernel.axes.servo_params import ServoParams, params_from_table
-from kernel.diagnostics import Diagnostic, Location
+from kernel.diagnostics import Diagnostic
 from kernel.interp.samples import Samples
 from kernel.machine import Machine
 
@@ -84,31 +84,38 @@ class Setup:
 def setup(machine: Machine, interpolation_period: float) -> Setup:
     """Servo period and per-axis parameters: ``[servo]`` (``period``, ``settle``, ``fine``
     and defaults for every axis) overridden by each ``[axes.<name>.servo]``."""
-    loc = Location(machine.name)
+    at = machine.where.at
     top = machine.extra.get("servo", {})
     if not isinstance(top, dict):
-        raise Diagnostic("SERVO-TYPE", "[servo] must be a table", loc)
+        raise Diagnostic("SERVO-TYPE", "[servo] must be a table", at("servo"))
     top = dict(top)
     period = top.pop("period", None)
     settle = top.pop("settle", None)
     fine = top.pop("fine", "linear")
     if fine not in ("linear", "moving_average"):
-        raise Diagnostic("SERVO-PARAM", "servo.fine must be linear or moving_average", loc)
+        raise Diagnostic(
+            "SERVO-PARAM", "servo.fine must be linear or moving_average", at("servo", "fine")
+        )
     for key, val in (("period", period), ("settle", settle)):
         if val is not None and (
             isinstance(val, bool) or not isinstance(val, int | float) or not val > 0
         ):
-            raise Diagnostic("SERVO-PARAM", f"servo.{key} must be a positive number", loc)
+            raise Diagnostic(
+                "SERVO-PARAM", f"servo.{key} must be a positive number", at("servo", key)
+            )
     if settle is not None and settle > MAX_SETTLE:
         # each second is a thousand servo samples per axis at 1 ms, simulated and written
         raise Diagnostic(
-            "SERVO-PARAM", f"servo.settle must be at most {MAX_SETTLE:g} s, got {settle:g}", loc
+            "SERVO-PARAM",
+            f"servo.settle must be at most {MAX_SETTLE:g} s, got {settle:g}",
+            at("servo", "settle"),
         )
     servo_period = float(period) if period is not None else interpolation_period
     axes = {}
     for ax in machine.axes:
         table = {**top, **ax.servo}
-        axes[ax.name] = params_from_table(table, servo_period, f"axes.{ax.name}.servo", loc)
+        where = at("axes", ax.name, "servo") if ax.servo else at("servo")
+        axes[ax.name] = params_from_table(table, servo_period, f"axes.{ax.name}.servo", where)
     if settle is None:
         slowest = min((p.kp for p in axes.values()), default=1.0)
         settle = min(2.0, max(0.05, 8.0 / slowest))
