@@ -142,7 +142,7 @@ EXPLANATIONS: dict[str, str] = {
     "LIMIT-CONFIG": "--limit or a profile's [limits] table names an unknown limit or an impossible value",
     "LIMIT-COUNT": "a block or operation would generate more cycle passes, toolpath lines, samples, NURBS points or Grbl arc chords than its limit",
     "LIMIT-DIGITS": "a number has more digits than the digits limit (default 100)",
-    "LIMIT-LINE": "a line of an RS274/NGC, NIST v3, Grbl or Mach3 program is longer than the line_chars limit (default 1,000,000 characters), reported before it is decoded",
+    "LIMIT-LINE": "a line of a program is longer than the line_chars limit (default 1,000,000 characters): RS274/NGC, NIST v3, Grbl and Mach3 lines as they are read, before they are decoded; Fanuc, Haas, 840D and Sandia programs (read whole) before they are parsed",
     "LIMIT-MEMORY": "cnc trace or cnc run cannot hold the samples of the whole program (about 16 + 32 bytes per axis a sample: a program of hours at 1 ms), reported at its longest move; any other stage that runs out of memory is reported at the program, exit 1",
     "LIMIT-NESTING": "an expression, Part 21 value or workplan is nested deeper than the nesting or expression_depth limit",
     "LIMIT-TIME": "a program used more CPU time than the seconds limit of a batch command",

@@ -125,6 +125,28 @@ def check_line(length: int, file: str | None, line: int) -> None:
         )
 
 
+def check_lines(data: bytes | str, file: str | None) -> None:
+    """:func:`check_line` for every line of a program read whole (Fanuc, 840D, the Sandia
+    lane): ``LIMIT-LINE`` at the first line longer than ``line_chars``. A program no longer
+    than the limit cannot hold such a line and is not scanned."""
+    limit = _current.line_chars
+    if len(data) <= limit:
+        return
+    import numpy as np  # only for a program larger than the limit
+
+    raw = data if isinstance(data, bytes) else data.encode("utf-8", "surrogatepass")
+    buf = np.frombuffer(raw, dtype=np.uint8)
+    ends = np.flatnonzero(buf == 10)
+    stops = np.append(ends, len(raw))
+    starts = np.concatenate(([0], ends + 1))
+    lengths = stops - starts
+    crlf = (stops > starts) & (buf[np.maximum(stops - 1, 0)] == 13)
+    lengths -= crlf
+    long = np.flatnonzero(lengths > limit)
+    if long.size:
+        check_line(int(lengths[long[0]]), file, int(long[0]) + 1)
+
+
 def nesting_error(file: str | None, line: int, column: int) -> Diagnostic:
     """``LIMIT-NESTING``: an expression nested deeper than the limits allow."""
     lim = _current

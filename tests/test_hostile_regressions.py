@@ -397,6 +397,28 @@ def test_a_line_over_the_line_limit_is_refused_before_it_is_parsed(
     list(read_text("G21\n(" + "a" * 2000 + ")\nM2\n", dialect, "long.ngc"))
 
 
+# Fanuc, Haas, 840D and Sandia programs are read whole: a 100 MB line had no limit at all
+@pytest.mark.parametrize(
+    ("dialect", "text"),
+    [
+        ("fanuc", "O1000\nG0 X1 (" + "a" * 2000 + ")\nM30\n"),
+        ("haas", "%\nO1000\nG0 X1 (" + "a" * 2000 + ")\nM30\n%\n"),
+        ("siemens840d", "G0 X1\nG1 X2 F100 ;" + "a" * 2000 + "\nM30\n"),
+        ("sandia", "Activate\nSetSpeed 10\nMoveTo X=1 Y=2 Z=3 #" + "a" * 2000 + "\nDeactivate\n"),
+    ],
+)
+def test_a_line_over_the_line_limit_is_refused_in_every_dialect(
+    fresh_limits: None, dialect: str, text: str
+) -> None:
+    long_line = text.count("\n", 0, text.index("a" * 2000)) + 1
+    limits.configure(line_chars=1000)
+    diag = _error(text, dialect)
+    assert (diag.code, diag.location.line, diag.location.column) == ("LIMIT-LINE", long_line, 1001)
+    assert f"a line of {len(text.splitlines()[long_line - 1]):,} characters" in diag.message
+    limits.configure(line_chars=2100)
+    list(read_text(text, dialect, "long.nc"))
+
+
 AXES = "".join(f"[axes.{a}]\nvelocity = 100.0\nacceleration = 1000.0\n" for a in "xyz")
 
 

@@ -130,6 +130,7 @@ class Source:
 
     @classmethod
     def from_bytes(cls, path: str, data: bytes) -> Source:
+        limits.check_lines(data, path)
         src = cls(path, Lines(path, data))
         digits = limits.current().digits
         index = at = 0  # the line of offset ``at``: the newlines before it

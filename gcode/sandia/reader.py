@@ -33,6 +33,7 @@ import re
 from collections.abc import Iterable, Iterator
 from typing import TextIO
 
+import kernel.limits as limits
 from gcode.core.register_marks import ToolLengthRegister
 from gcode.ngc.interpreter import InterpreterOptions
 from kernel.diagnostics import Diagnostic, Location
@@ -131,6 +132,7 @@ def interpret_chunks(
         lane.kernels()
     except ImportError:
         return interpret(path, options)
+    limits.check_lines(data, name)
     return lane.chunks(Reader(name, opts), data)
 
 
@@ -186,7 +188,10 @@ class Reader:
     def body(self, numbered: Iterable[tuple[int, str]]) -> Iterator[canon.Command]:
         """The commands of the (line number, text) lines; ``ended`` once ``Deactivate``
         is read (nothing after it runs)."""
+        limit = limits.current().line_chars
         for self.line, raw in numbered:
+            if len(raw) > limit:
+                limits.check_line(len(raw.rstrip("\r\n")), self.name, self.line)
             self.text = raw
             body, hash_, comment = raw.partition("#")
             parts = body.split()

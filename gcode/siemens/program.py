@@ -13,6 +13,7 @@ from array import array
 from collections import OrderedDict
 from itertools import accumulate
 
+import kernel.limits as limits
 from gcode.core.search import find_in_dirs, search_dirs
 from gcode.siemens.blocks import Block, parse_block
 from kernel.diagnostics import Diagnostic, Location
@@ -40,6 +41,7 @@ class Program:
     array of line offsets, no list of line objects)."""
 
     def __init__(self, name: str, text: str) -> None:
+        limits.check_lines(text, name)
         self.name = name
         self.text = text
         self._starts = array("q", [0])  # offsets of the lines found so far
