@@ -4,6 +4,7 @@ commands, RS274/NGC or solids."""
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable, Iterable
 
 import click
 
@@ -153,14 +154,35 @@ def _tool_kind(tool: Entity) -> str:
     return tool.type
 
 
+def _generation_problems(commands: Callable[[], Iterable[object]]) -> list[Diagnostic]:
+    """The refusal of the toolpath generators, run to the end: what the model's validation
+    cannot see (a B-spline with impossible knots, a feed or a tool that cannot cut) and
+    ``stepnc canon``, ``to-gcode`` and ``plan`` would refuse."""
+    try:
+        for _ in commands():
+            pass
+    except Diagnostic as exc:
+        return [exc]
+    return []
+
+
 @command.command("check")
 @program_argument("file")
 @guarded
 @_interpreting
 def check(file: str) -> None:
-    """Report every problem in FILE (collect-all, salvaging what can be read)."""
+    """Report every problem in FILE (collect-all, salvaging what can be read), then make
+    its toolpaths as ``stepnc canon`` does: AP238 AIM files (cutter-location toolpaths) too."""
+    from stepnc.ap238 import canon_from_aim
+    from stepnc.part21 import read_file
+    from stepnc.to_canon import canon_from_model
+
     diags: list[Diagnostic] = []
-    _model(file, diags)
+    model = _model(file, diags)
+    if not is_stdin(file) and diags and all(d.code == "STEPNC-AP238" for d in diags):
+        diags = _generation_problems(lambda: canon_from_aim(read_file(file), "nist"))
+    elif not any(d.record.severity is Severity.ERROR for d in diags):
+        diags += _generation_problems(lambda: canon_from_model(model))
     for d in diags:
         report(d)
     errors = sum(d.record.severity is Severity.ERROR for d in diags)

@@ -525,3 +525,38 @@ def test_an_arc_of_a_few_turns_is_still_written_as_full_circles(
         sum(line.startswith("G02") or " G02" in line for line in out.read_text().splitlines()) >= 1
     )
     assert out.read_text().count("I-10.") == 3  # three full circles, each its own block
+
+
+# cnc stepnc check validated the model only: a program every toolpath command refuses
+# passed it (exit 0), and an AP238 AIM file, which stepnc canon reads, was refused
+@pytest.mark.parametrize(
+    ("name", "old", "new", "code"),
+    [
+        ("explicit_bspline.stp", "(4,4),(0.0,1.0)", "(-4,12),(0.0,1.0)", "STEPNC-CURVE"),
+        (
+            "pocket_zigzag.stp",
+            "MILLING_TECHNOLOGY(0.02",
+            "MILLING_TECHNOLOGY(-0.02",
+            "STEPNC-NO-FEED",
+        ),
+        (
+            "ap238/cc1_two_tools.stp",
+            "NUMERIC_MEASURE(500.)",
+            "NUMERIC_MEASURE(-500.)",
+            "STEPNC-AP238",
+        ),
+    ],
+)
+def test_stepnc_check_refuses_what_the_toolpath_generators_refuse(
+    tmp_path: Path, name: str, old: str, new: str, code: str
+) -> None:
+    text = (Path(__file__).parent / "stepnc" / name).read_text()
+    good, bad = tmp_path / "good.stp", tmp_path / "bad.stp"
+    good.write_text(text)
+    bad.write_text(text.replace(old, new))
+    runner = CliRunner()
+    ok = runner.invoke(cli, ["stepnc", "check", str(good)])
+    assert ok.exit_code == 0, ok.output
+    refused = runner.invoke(cli, ["stepnc", "check", str(bad)])
+    assert refused.exit_code == 1
+    assert f"error[{code}]" in refused.output and f"{bad}:#" in refused.output
