@@ -22,7 +22,7 @@ from kernel.machine import CONTROLLER_MODELS, Machine, with_controller
 from kernel.report.breakdown import Share, Stretches
 from kernel.report.clock import clock, fixed
 from kernel.report.compare import LineTimes, Stretch, stretches_of
-from kernel.report.measure import Report
+from kernel.report.measure import Report, per_period_peaks
 from kernel.simulation import measure_program, plan_and_measure
 from kernel.stream import measure_streamed, streams
 from kernel.stream_scurve import measure_scurve, smoothed, smoothing_reach_of
@@ -184,9 +184,15 @@ def _title(text: str, console: Console) -> None:
 
 
 def _text(
-    report: Report, program: str, console: Console, tools: list[Share], ops: list[Share]
+    report: Report,
+    program: str,
+    console: Console,
+    tools: list[Share],
+    ops: list[Share],
+    per_period: bool = False,
 ) -> None:
-    """The plan as text: times as m:ss, units in every header, detail under ``-v``."""
+    """The plan as text: times as m:ss, units in every header, detail under ``-v``;
+    ``per_period``: the peaks are those of the positions commanded every servo period."""
     c = report.cycle
     _title(f"cycle time of {program}: {clock(c.total)} ({fixed(c.total)} s)", console)
     t = Table()
@@ -216,7 +222,7 @@ def _text(
             f"{report.samples} samples; chord error {fixed(report.chord_error * 1000)} µm",
             highlight=False,
         )
-    p = Table(title="peak axis values")
+    p = Table(title="peak axis values" + (" (per servo period)" if per_period else ""))
     p.add_column("axis")
     p.add_column("velocity \\[mm/s]", justify="right")
     p.add_column("acceleration \\[mm/s²]", justify="right")
@@ -311,4 +317,4 @@ def command(
         times = times_object(cycle, per_tool, ops)
         click.echo(json.dumps({"program": program, **report.to_dict(), "times": times}, indent=2))
     else:
-        _text(report, program, Console(), per_tool, ops)
+        _text(report, program, Console(), per_tool, ops, per_period_peaks(machine))

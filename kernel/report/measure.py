@@ -159,6 +159,31 @@ class DifferencePeaks:
     acceleration_p999: np.ndarray  # 99.9th percentile of |second difference| / T^2
 
 
+def differences(t: np.ndarray, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Axis speed and acceleration between consecutive samples (rows of ``pos`` at times
+    ``t``): first differences over the time step, and second differences over the mean of
+    the two steps. Every servo period a discrete-time control (LinuxCNC's motion module)
+    commands a position; these are the speed and acceleration those positions ask of the
+    axis, velocity steps at kinks included."""
+    dt = np.diff(t)[:, None]
+    step = np.diff(pos, axis=0)
+    v = np.divide(step, dt, out=np.zeros_like(step), where=dt > 0)
+    if len(v) < 2:
+        return v, np.zeros((0, pos.shape[1]))
+    mid = 0.5 * (dt[1:] + dt[:-1])
+    dv = np.diff(v, axis=0)
+    return v, np.divide(dv, mid, out=np.zeros_like(dv), where=mid > 0)
+
+
+def per_period_peaks(machine: Machine) -> bool:
+    """Whether the report's peak speed and acceleration are those of the commanded positions
+    period by period (:func:`differences`) rather than of the planned profile: so for the
+    ``linuxcnc`` model, whose motion module commands a position every servo period and
+    whose recorded motion (halsampler, halscope) shows a kink's velocity step as one
+    period's acceleration (docs/machine-profile.md, "Controller models")."""
+    return machine.controller.model == "linuxcnc"
+
+
 def difference_peaks(samples: Samples, resolution: float = 0.0) -> DifferencePeaks:
     """Peak axis speed and acceleration as a recording of commanded positions gives them:
     the first and second differences of the positions over the sampling period, with the
@@ -179,10 +204,11 @@ def difference_peaks(samples: Samples, resolution: float = 0.0) -> DifferencePea
     moving = np.flatnonzero(np.any(np.abs(step) > 1e-9, axis=1))
     if not moving.size:
         return DifferencePeaks(zero, zero, zero)
-    v = step[moving[0] : moving[-1] + 1] / samples.period
-    if len(v) < 2:
+    span = slice(moving[0], moving[-1] + 2)
+    v, a = differences(samples.t[span], pos[span])
+    a = np.abs(a)
+    if not len(a):
         return DifferencePeaks(np.abs(v).max(axis=0), zero, zero)
-    a = np.abs(np.diff(v, axis=0)) / samples.period
     return DifferencePeaks(np.abs(v).max(axis=0), a.max(axis=0), np.percentile(a, 99.9, axis=0))
 
 
@@ -277,14 +303,20 @@ def measure(plan: Plan, samples: Samples) -> Report:
         return {a: float(v) for a, v in zip(samples.axes, m, strict=True)}
 
     hits, total = limit_hits(plan, samples, extremes=extremes)
+    velocity, acceleration = peaks("velocity"), peaks("acceleration")
+    if per_period_peaks(plan.machine) and len(samples) > 1:
+        v, a = differences(samples.t, samples.position)
+        velocity = dict(zip(samples.axes, map(float, np.abs(v).max(axis=0)), strict=True))
+        a_max = np.abs(a).max(axis=0) if len(a) else np.zeros(len(samples.axes))
+        acceleration = dict(zip(samples.axes, map(float, a_max), strict=True))
     return Report(
         cycle=cycle_time(plan),
         feed_length=float(length[(cat == FEED) | (cat == PROBE)].sum()),
         rapid_length=float(length[cat == RAPID].sum()),
         segments=len(seg),
         samples=len(samples),
-        peak_velocity=peaks("velocity"),
-        peak_acceleration=peaks("acceleration"),
+        peak_velocity=velocity,
+        peak_acceleration=acceleration,
         peak_jerk=peaks("jerk"),
         chord_error=chord_error(plan, samples),
         hits=hits,
@@ -363,6 +395,11 @@ class SampleReductions:
         self.count, self.chord = 0, 0.0
         self.last: Samples | None = None
         self.axes: tuple[str, ...] = machine.axis_names
+        # per-period peaks (per_period_peaks): the last two samples' times and positions, to
+        # difference across a window boundary, and the largest |speed| and |acceleration|
+        self.per_period = per_period_peaks(machine)
+        self.tail: tuple[np.ndarray, np.ndarray] | None = None
+        self.commanded: tuple[np.ndarray, np.ndarray] | None = None
 
     def add(self, seg: np.ndarray, w: Samples, joined: bool) -> None:
         """Reduce window ``w``, whose ``segment`` indexes ``seg``; ``joined``: the last
@@ -391,6 +428,8 @@ class SampleReductions:
             if name in extremes:
                 hi, lo = np.maximum(extremes[name][0], hi), np.minimum(extremes[name][1], lo)
             extremes[name] = (hi, lo)
+        if self.per_period:
+            self._difference(w)
         chord = max(self.chord, segment_chord_error(seg, w))
         last = self.last
         if last is not None and joined:  # the pair of samples across the boundary
@@ -414,6 +453,23 @@ class SampleReductions:
             acc.add(col, mask, w)
         self.last = w
 
+    def _difference(self, w: Samples) -> None:
+        """Fold window ``w`` into the per-period peaks (:func:`differences`), joined to the
+        last two samples of the windows before it."""
+        t, pos = w.t, w.position
+        if self.tail is not None:
+            t, pos = np.concatenate([self.tail[0], t]), np.concatenate([self.tail[1], pos])
+        self.tail = (t[-2:], pos[-2:])
+        if len(t) < 2:
+            return
+        v, a = differences(t, pos)
+        v_max = np.abs(v).max(axis=0)
+        a_max = np.abs(a).max(axis=0) if len(a) else np.zeros(pos.shape[1])
+        if self.commanded is not None:
+            v_max = np.maximum(v_max, self.commanded[0])
+            a_max = np.maximum(a_max, self.commanded[1])
+        self.commanded = (v_max, a_max)
+
     def report(
         self, cycle: CycleTime, feed_length: float, rapid_length: float, segments: int
     ) -> Report:
@@ -428,14 +484,18 @@ class SampleReductions:
 
         hits = [h for _, _, acc in self.runs for h in acc.hits()]
         hits.sort(key=lambda h: h.time)
+        velocity, acceleration = peaks("velocity"), peaks("acceleration")
+        if self.commanded is not None:
+            velocity = dict(zip(axes, map(float, self.commanded[0]), strict=True))
+            acceleration = dict(zip(axes, map(float, self.commanded[1]), strict=True))
         return Report(
             cycle=cycle,
             feed_length=feed_length,
             rapid_length=rapid_length,
             segments=segments,
             samples=self.count,
-            peak_velocity=peaks("velocity"),
-            peak_acceleration=peaks("acceleration"),
+            peak_velocity=velocity,
+            peak_acceleration=acceleration,
             peak_jerk=peaks("jerk"),
             chord_error=self.chord,
             hits=hits[: self.max_hits],
