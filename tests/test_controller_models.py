@@ -254,6 +254,20 @@ def test_grbl_sync_points_stop() -> None:
     assert [c.source.line if c.source else 0 for c in stops] == [1, 3, 6]
 
 
+def test_grbl_work_frame_changes_stop() -> None:
+    """Grbl empties the planner where the work frame changes once the tool has moved
+    (system.c system_flag_wco_change: a new G54..G59 system, G92, a new G43.1 offset) and
+    where it stores offsets (settings.c settings_write_coord_data: G10 L2/L20, G28.1,
+    G30.1); re-selecting the system in force or repeating the tool offset does not stop."""
+    text = (
+        "G21 G90\nG92 X0\nG1 X1 F600\nG55\nG1 X2\nG55\nG92 X0\nG1 X3\nG43.1 Z1\n"
+        "G43.1 Z1\nG1 X4\nG10 L2 P3 X1\nG1 X5\nG28.1\nG1 X6\nG30.1\nG49\nG1 X7\n"
+    )
+    stops = [c for c in synchronised(read_text(text, "grbl"), 0.002) if c.NAME == "DWELL"]
+    lines = sorted({c.source.line if c.source else 0 for c in stops})
+    assert lines == [4, 7, 9, 12, 14, 16, 17]
+
+
 def test_grbl_inverse_time_arc_rate() -> None:
     """mc_arc in G93: the chords run at F times their count, read as mm/min (a half circle
     of radius 10 at $12 = 0.002: 78 chords; G93 F10 -> 780 mm/min), lines at 1/F minutes."""

@@ -130,6 +130,14 @@ def _inverse_time_rate(
     return rate / length * count / mm
 
 
+def _tool_length(cmd: canon.Command) -> float:
+    """The Z tool length offset of a ``USE_TOOL_LENGTH_OFFSET`` (NIST's ``length``, or
+    LinuxCNC's nine values, known by name only)."""
+    if hasattr(cmd, "offset"):
+        return float(canon.named_field(cmd, "offset")[2])
+    return float(canon.named_field(cmd, "length"))
+
+
 def _same_block(a: canon.Command, b: canon.Command) -> bool:
     """Whether two commands come from one source block (known lines only)."""
     return a.source is not None and b.source is not None and a.source.line == b.source.line > 0
@@ -142,13 +150,20 @@ def synchronised(
     Grbl empties its planner buffer: a spindle state change, a coolant change, a new ``S``
     while the spindle turns (gcode.c steps 4, 7 and 8; repeating the state in force does not
     stop); in laser mode (``$32=1``, ``laser``) a new ``S`` on a block that moves does not
-    stop. An arc in inverse time (G93) at the rate Grbl gives its chords (``mc_arc``)."""
+    stop. Grbl also empties its buffer where the work frame changes (system.c
+    ``system_flag_wco_change``: a new G54..G59 system, G92 and G92.1, a new G43.1/G49 tool
+    length offset; settings.c ``settings_write_coord_data``: G10 L2/L20, here where it writes
+    the system in force, the one the IR shows): a stop there too, once the tool has moved
+    (before the first move a stop costs nothing). An arc in inverse time (G93) at the rate
+    Grbl gives its chords (``mc_arc``)."""
     spindle, coolant, speed = 0, 0, 0.0
     inverse, rate, mm = False, 0.0, 1.0
     axes = _PLANE_AXES[canon.Plane.XY]
     last: canon.Command | None = None  # the last straight move: the tool is at its end
     pos: list[float] | None = None  # else where the tool is (None: not known here)
     pending: canon.Command | None = None  # laser mode: a new S, stopping unless its block moves
+    moved = False  # a move came: a stop from now on costs time
+    tlo = 0.0  # the tool length offset in force (G43.1, G49)
     for cmd in commands:
         kind = type(cmd)
         if pending is not None:
@@ -157,12 +172,20 @@ def synchronised(
             yield pending
             pending = None
         if kind in _MOVES:  # the common case first, and cheaply
-            last = cmd
+            last, moved = cmd, True
             yield cmd
             continue
         if kind not in _WATCHED:
-            if cmd.NAME in _REFRAME:
+            name = cmd.NAME
+            if name in _REFRAME:
                 last, pos = None, None
+                if moved and name != "SET_XY_ROTATION":
+                    yield canon.Dwell(0.0, source=cmd.source)
+            elif name == "USE_TOOL_LENGTH_OFFSET":
+                new_tlo = _tool_length(cmd)
+                if new_tlo != tlo and moved:
+                    yield canon.Dwell(0.0, source=cmd.source)
+                tlo = new_tlo
             yield cmd
             continue
         if last is not None:
@@ -171,6 +194,7 @@ def synchronised(
             last = None
         if kind is canon.ArcFeed:
             assert isinstance(cmd, canon.ArcFeed)
+            moved = True
             grbl_rate = None
             if inverse and pos is not None:
                 grbl_rate = _inverse_time_rate(cmd, pos, axes, rate, mm, arc_tolerance)
