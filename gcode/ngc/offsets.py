@@ -173,6 +173,8 @@ def modal_0(ctx: NgcContext, w: Words) -> None:
         go_home(ctx, w, code)
     elif code in (281, 301):
         s = ctx.s
+        if ctx.options.store_sync:
+            ctx.emit(canon.Dwell(0.0, source=ctx.loc))
         home = s.g28 if code == 281 else s.g30
         base = 5161 if code == 281 else 5181
         home[:] = s.to_machine(s.pos)
@@ -241,6 +243,8 @@ def g10(ctx: NgcContext, w: Words) -> None:
     idx = int(round(p)) or s.origin_index
     if idx == s.origin_index:
         ctx.comp_off("active coordinate system")
+    if ctx.options.store_sync:
+        ctx.emit(canon.Dwell(0.0, source=loc))
     row = s.coords[idx]
     if lword == 20 and "r" in v:
         col = w.columns.get("r", loc.column)
