@@ -21,6 +21,7 @@ from hypothesis import strategies as st
 
 import tests.canon_equiv as canon_equiv
 from gcode import readers, registry
+from gcode.core.register_marks import OffsetsStored
 from gcode.grbl import reader as grbl_reader
 from gcode.ngc.interpreter import interpret_text as ngc_text
 from gcode.nist_v3 import reader as nist_v3_reader
@@ -134,10 +135,15 @@ def test_grbl_accepts_its_whole_vocabulary() -> None:
     ours = list(grbl_reader.interpret_text(text, "all.nc"))
     ref = list(ngc_text(text, "all.nc"))
     # Grbl empties its buffer before it stores offsets (G10 L2/L20, G28.1, G30.1: settings.c
-    # settings_write_coord_data): a zero dwell there, and otherwise rs274's commands
-    stops = [c for c in ours if isinstance(c, canon.Dwell) and c.seconds == 0.0]
-    assert [c.source.line for c in stops if c.source is not None] == [2, 3, 16, 18]
-    rest = [c for c in ours if not any(c is d for d in stops)]
+    # settings_write_coord_data): marked there for the planner, and otherwise rs274's commands
+    marks = [c for c in ours if isinstance(c, OffsetsStored)]
+    assert [(c.code, c.source.line if c.source else 0) for c in marks] == [
+        ("G10 L2", 2),
+        ("G10 L20", 3),
+        ("G28.1", 16),
+        ("G30.1", 18),
+    ]
+    rest = [c for c in ours if not isinstance(c, OffsetsStored)]
     assert canon_equiv.compare(fine_text(rest), fine_text(ref)) == []
 
 

@@ -82,8 +82,9 @@ class Grbl(Vocabulary):
         radius must agree with the start's, to 0.005 mm or 0.1 %; motion_control.c
         ``mc_arc`` makes an arc of radius below half ``$12`` one line), and it stops before
         it stores offsets, G10 L2/L20 and G28.1/G30.1 (gcode.c step 19 calls settings.c
-        ``settings_write_coord_data``, which empties the planner buffer first)."""
-        return replace(options, arc_min_radius=0.0, store_sync=True)
+        ``settings_write_coord_data``, which empties the planner buffer first): marked
+        for the planner (``OFFSETS_STORED``)."""
+        return replace(options, arc_min_radius=0.0, store_marks=True)
 
     def check(self, block: Block, file: str) -> None:
         text, line = block.text, block.line

@@ -152,8 +152,8 @@ def synchronised(
     stop); in laser mode (``$32=1``, ``laser``) a new ``S`` on a block that moves does not
     stop. Grbl also empties its buffer where the work frame changes (system.c
     ``system_flag_wco_change``: a new G54..G59 system, G92 and G92.1, a new G43.1/G49 tool
-    length offset; settings.c ``settings_write_coord_data``: G10 L2/L20, here where it writes
-    the system in force, the one the IR shows): a stop there too, once the tool has moved
+    length offset; settings.c ``settings_write_coord_data``: G10 L2/L20, G28.1, G30.1, which
+    the grbl reader marks ``OFFSETS_STORED``): a stop there too, once the tool has moved
     (before the first move a stop costs nothing). An arc in inverse time (G93) at the rate
     Grbl gives its chords (``mc_arc``)."""
     spindle, coolant, speed = 0, 0, 0.0
@@ -181,6 +181,8 @@ def synchronised(
                 last, pos = None, None
                 if moved and name != "SET_XY_ROTATION":
                     yield canon.Dwell(0.0, source=cmd.source)
+            elif name == "OFFSETS_STORED" and moved:
+                yield canon.Dwell(0.0, source=cmd.source)
             elif name == "USE_TOOL_LENGTH_OFFSET":
                 new_tlo = _tool_length(cmd)
                 if new_tlo != tlo and moved:
