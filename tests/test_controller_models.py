@@ -264,6 +264,18 @@ def test_grbl_sync_points_stop() -> None:
     assert [c.source.line if c.source else 0 for c in stops] == [1, 3, 6]
 
 
+def test_grbl_laser_mode_lines_without_axis_words_stop() -> None:
+    """Laser mode with M3 (gcode.c GC_PARSER_LASER_FORCE_SYNC): a line without axis words
+    that switches between G1/G2/G3 and G0 stops, as a new S on a line that does not move
+    does; a line that moves with its S, or keeps the motion mode, does not."""
+    text = "M3 S0\nG0 X1\nG1 F600\nG1 X2 S100\nG0\nG0 X3\nG1 S50\nG1 X4 S60\nG1 F900\n"
+    stops = [c for c in synchronised(read_text(text, "grbl"), 0.002, True) if c.NAME == "DWELL"]
+    assert sorted({c.source.line if c.source else 0 for c in stops}) == [1, 3, 5, 7]
+    # not in laser mode: only the spindle and S changes (no S change on lines 3 and 5)
+    stops = [c for c in synchronised(read_text(text, "grbl"), 0.002) if c.NAME == "DWELL"]
+    assert sorted({c.source.line if c.source else 0 for c in stops}) == [1, 4, 7, 8]
+
+
 def test_grbl_work_frame_changes_stop() -> None:
     """Grbl empties the planner where the work frame changes once the tool has moved
     (system.c system_flag_wco_change: a new G54..G59 system, G92, a new G43.1 offset) and
