@@ -21,6 +21,7 @@ from hypothesis import strategies as st
 
 import tests.canon_equiv as canon_equiv
 from gcode import readers, registry
+from gcode.core.register_marks import OffsetsStored
 from gcode.grbl import reader as grbl_reader
 from gcode.ngc.interpreter import interpret_text as ngc_text
 from gcode.nist_v3 import reader as nist_v3_reader
@@ -133,7 +134,32 @@ def test_grbl_accepts_its_whole_vocabulary() -> None:
     )
     ours = list(grbl_reader.interpret_text(text, "all.nc"))
     ref = list(ngc_text(text, "all.nc"))
-    assert canon_equiv.compare(fine_text(ours), fine_text(ref)) == []
+    # Grbl empties its buffer before it stores offsets (G10 L2/L20, G28.1, G30.1: settings.c
+    # settings_write_coord_data): marked there for the planner, and otherwise rs274's commands
+    marks = [c for c in ours if isinstance(c, OffsetsStored)]
+    assert [(c.code, c.source.line if c.source else 0) for c in marks] == [
+        ("G10 L2", 2),
+        ("G10 L20", 3),
+        ("G28.1", 16),
+        ("G30.1", 18),
+    ]
+    rest = [c for c in ours if not isinstance(c, OffsetsStored)]
+    assert canon_equiv.compare(fine_text(rest), fine_text(ref)) == []
+
+
+def test_grbl_accepts_arcs_of_any_small_radius() -> None:
+    """Grbl refuses no arc for a small radius (gcode.c checks only that the end radius
+    agrees with the start's; mc_arc makes it one line); rs274 refuses radii under 0.002 mm
+    (TOLERANCE_MM) and 0.0002 in."""
+    for text in (
+        "G21 G1 X1 F100\nG3 X1.001 Y0.001 I0 J0.001\n",
+        "G20 G1 X1 F9\nG2 Y0.0002 J0.0001\n",
+    ):
+        arc = list(grbl_reader.interpret_text(text))[-1]
+        assert isinstance(arc, canon.ArcFeed)
+        with pytest.raises(Diagnostic) as err:
+            list(ngc_text(text + "M2\n", "bad.nc"))
+        assert err.value.code == "NGC-ARC-ZERO-RADIUS"
 
 
 def test_large_file_plain_lines_are_checked_too(tmp_path: Path) -> None:

@@ -41,6 +41,18 @@ def test_inch_program_and_origin_offsets_become_machine_millimetres():
     assert seg["length"][-1] == pytest.approx(math.hypot(50.8, 50.8))
 
 
+def test_tool_length_offsets_move_the_machine_with_the_work_offset():
+    """The tool length offset adds to the work offset (machine = program + G5x + tool, as
+    LinuxCNC's canon and Grbl's gcode.c place the tool): a new offset moves the next
+    move's machine end, in program units at the time, not rotated."""
+    text = "G21 G90\nG0 Z5\nG43.1 Z2\nG0 Z1\nG10 L2 P1 X10\nG0 X1\n"
+    text += "G20\nG43.1 Z1\nG0 Z0\nG49\nG0 Z0.5\n"
+    seg = build_path(interpret_text(text + "M2\n"), MILL).segments
+    moves = seg[seg["kind"] != HOLD]
+    want = [[0, 0, 5], [0, 0, 3], [11, 0, 3], [11, 0, 25.4], [11, 0, 12.7]]
+    assert moves["end"][:, :3] == pytest.approx(np.array(want, dtype=float))
+
+
 def test_inverse_time_program_moves_last_one_over_f_minutes():
     # G1 X30 Y40 F2 in G93: 50 mm in 1/2 min; the interpreter emits 100 mm/min (as rs274)
     cmds = list(interpret_text("G21 G90 G93\nG1 X30 Y40 F2\nM2\n"))

@@ -44,19 +44,23 @@ def centre_format(
     inches: bool,
     loc: Location,
     relative: float | None = None,
+    smallest: float | None = None,
 ) -> None:
     """Check an I J K arc: the radii to start and end must agree (LinuxCNC ``arc_data_ijk``).
 
     ``relative``: a difference up to this fraction of the start radius is accepted too.
+    ``smallest``: the smallest radius (program units) instead of LinuxCNC's.
     """
     r1 = math.hypot(start[0] - centre[0], start[1] - centre[1])
     r2 = math.hypot(end[0] - centre[0], end[1] - centre[1])
     tol = RADIUS_TOLERANCE_INCH if inches else RADIUS_TOLERANCE_MM
     zero = ZERO_RADIUS_INCH if inches else ZERO_RADIUS_MM
+    if smallest is not None:
+        zero = smallest
     if r1 < zero or r2 < zero:
         raise Diagnostic("NGC-ARC-ZERO-RADIUS", "zero-radius arc", loc)
     abs_err = abs(r1 - r2)
-    rel_err = abs_err / max(r1, r2)
+    rel_err = abs_err / (max(r1, r2) or 1.0)
     lenient = relative is not None and abs_err <= relative * r1
     if abs_err > tol and rel_err > SPIRAL_RELATIVE_TOLERANCE and not lenient:
         a, b = (n.upper() for n in names)

@@ -58,3 +58,16 @@ class WorkOffsetValues(canon.Command):
     number: int
     axes: str
     values: tuple[float, ...]
+
+
+@record
+class OffsetsStored(canon.Command):
+    """The program stores offsets in the machine's memory here (``code``: ``G10 L2``,
+    ``G10 L20``, ``G28.1``, ``G30.1``), which no NISTIR command says for a system not in
+    force or a home position. Emitted by a reader whose control empties its motion buffer
+    before it writes them (Grbl 1.1: settings.c ``settings_write_coord_data``), so that a
+    planner model can stop there; a writer drops it (the target control stores as it
+    does)."""
+
+    NAME: ClassVar[str] = "OFFSETS_STORED"
+    code: str

@@ -47,6 +47,10 @@ class Vocabulary:
     def check_plain(self, data: bytes, file: str, first_line: int) -> None:
         """Check plain CAM lines (``data``, starting at ``first_line``) the lane skipped."""
 
+    def options(self, options: InterpreterOptions) -> InterpreterOptions:
+        """The interpreter's options for the subset (where its rules differ from rs274's)."""
+        return options
+
     def refuse(self, what: str, file: str, line: int, column: int, code: str = "") -> Diagnostic:
         return Diagnostic(
             code or f"{self.prefix}-UNSUPPORTED",
@@ -90,7 +94,7 @@ def interpret_checked(
     """The interpreter's commands for ``pf``; the subset's lenient end-of-file errors end it."""
     lenient = pf.vocabulary.lenient_end
     try:
-        yield from Interpreter(options or InterpreterOptions()).run(pf)
+        yield from Interpreter(pf.vocabulary.options(options or InterpreterOptions())).run(pf)
     except Diagnostic as exc:
         if exc.code not in lenient:
             raise
@@ -103,7 +107,8 @@ def chunks_checked(
     :class:`gcode.ngc.lane.fastlane.Run` arrays (``Interpreter.chunks``)."""
     lenient = pf.vocabulary.lenient_end
     try:
-        yield from Interpreter(options or InterpreterOptions()).chunks(pf, arcs)
+        opts = pf.vocabulary.options(options or InterpreterOptions())
+        yield from Interpreter(opts).chunks(pf, arcs)
     except Diagnostic as exc:
         if exc.code not in lenient:
             raise

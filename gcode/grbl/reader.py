@@ -24,6 +24,7 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Iterator
+from dataclasses import replace
 
 from gcode.core.codes import Words
 from gcode.core.lexer import Block
@@ -75,6 +76,15 @@ class Grbl(Vocabulary):
             "sleep, reset and startup lines are the operator's)",
             Location(file, line, len(data) - len(stripped) + 1),
         )
+
+    def options(self, options: InterpreterOptions) -> InterpreterOptions:
+        """Grbl refuses no arc for its small radius (gcode.c, the G2/G3 checks: the end
+        radius must agree with the start's, to 0.005 mm or 0.1 %; motion_control.c
+        ``mc_arc`` makes an arc of radius below half ``$12`` one line), and it stops before
+        it stores offsets, G10 L2/L20 and G28.1/G30.1 (gcode.c step 19 calls settings.c
+        ``settings_write_coord_data``, which empties the planner buffer first): marked
+        for the planner (``OFFSETS_STORED``)."""
+        return replace(options, arc_min_radius=0.0, store_marks=True)
 
     def check(self, block: Block, file: str) -> None:
         text, line = block.text, block.line

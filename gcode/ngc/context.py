@@ -48,6 +48,14 @@ class InterpreterOptions:
     # fraction of the start radius is accepted even past LinuxCNC's tolerance (a control
     # that does not refuse such arcs: Mach3); None: LinuxCNC's rule alone
     arc_radius_relative: float | None = None
+    # the smallest centre-format arc radius, mm (inch programs: the same length); None:
+    # LinuxCNC's (TOLERANCE_MM, TOLERANCE_INCH); Grbl has none (0.0): gcode.c checks only
+    # that the end radius agrees with the start's
+    arc_min_radius: float | None = None
+    # mark where stored offsets are written, G10 L2/L20 and G28.1/G30.1
+    # (gcode.core.register_marks.OffsetsStored): a control that first empties its motion
+    # buffer there (Grbl 1.1: settings.c settings_write_coord_data)
+    store_marks: bool = False
     # an INI file's numbers, read by #<_ini[section]name> (keys upper-case; gcode.ngc.ini)
     ini_values: Mapping[tuple[str, str], float] | None = None
     fanuc_subs: bool = True  # M98/M99 programs allowed (INI DISABLE_FANUC_STYLE_SUB = 0)

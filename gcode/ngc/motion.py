@@ -310,7 +310,10 @@ def arc(ctx: NgcContext, w: Words, clockwise: bool) -> None:
             centre = (st[0] + v.get(ci, 0.0), st[1] + v.get(cj, 0.0))
         names = (AXES[f1], AXES[f2])
         lenient = ctx.options.arc_radius_relative
-        arcs.centre_format(st, en, centre, names, inches, loc, lenient)
+        smallest = ctx.options.arc_min_radius
+        if smallest is not None and inches:
+            smallest /= 25.4
+        arcs.centre_format(st, en, centre, names, inches, loc, lenient, smallest)
     if s.feed_mode == INVERSE_TIME:
         _inverse_time_rate(ctx, w, _arc_length(st, en, centre, turn, end[fn] - start[fn]))
     if comp is not None and comp.engaged:

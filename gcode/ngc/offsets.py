@@ -16,7 +16,12 @@ from dataclasses import replace
 
 from gcode.core import linuxcnc as lc
 from gcode.core.codes import Words
-from gcode.core.register_marks import ToolLengthRegister, WorkOffsetRegister, WorkOffsetValues
+from gcode.core.register_marks import (
+    OffsetsStored,
+    ToolLengthRegister,
+    WorkOffsetRegister,
+    WorkOffsetValues,
+)
 from gcode.core.state import AXES, INCH_MM, Setup, ToolLengthCode
 from gcode.ngc.context import NgcContext
 from gcode.ngc.motion import find_ends, traverse
@@ -173,6 +178,8 @@ def modal_0(ctx: NgcContext, w: Words) -> None:
         go_home(ctx, w, code)
     elif code in (281, 301):
         s = ctx.s
+        if ctx.options.store_marks:
+            ctx.emit(OffsetsStored("G28.1" if code == 281 else "G30.1", source=ctx.loc))
         home = s.g28 if code == 281 else s.g30
         base = 5161 if code == 281 else 5181
         home[:] = s.to_machine(s.pos)
@@ -241,6 +248,8 @@ def g10(ctx: NgcContext, w: Words) -> None:
     idx = int(round(p)) or s.origin_index
     if idx == s.origin_index:
         ctx.comp_off("active coordinate system")
+    if ctx.options.store_marks:
+        ctx.emit(OffsetsStored(f"G10 L{lword}", source=loc))
     row = s.coords[idx]
     if lword == 20 and "r" in v:
         col = w.columns.get("r", loc.column)

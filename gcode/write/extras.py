@@ -248,6 +248,7 @@ BY_NAME: dict[str, Callable] = {
     "SET_MOTION_OUTPUT_BIT": output,
     "SET_MOTION_OUTPUT_VALUE": output,
     "ON_RESET": ignore,
+    "OFFSETS_STORED": ignore,
     "START_CHANGE": ignore,
     "FINISH": ignore,
     "SPINDLE.0.WAIT_ORIENT_COMPLETE": ignore,

@@ -59,7 +59,10 @@ _MODE = {
 @dataclass
 class _State:
     mm: float = 1.0
-    g5x: tuple[float, ...] = (0.0,) * 6  # work offset (G54..), mm, applied after rotation
+    # the offset applied after the rotation, mm: the work offset (G54..) plus the tool's
+    g5x: tuple[float, ...] = (0.0,) * 6
+    work: tuple[float, ...] = (0.0,) * 6  # the work offset (G54.., SET_ORIGIN_OFFSETS), mm
+    tlo: tuple[float, ...] = (0.0,) * 6  # the tool length offset (USE_TOOL_LENGTH_OFFSET), mm
     g92: tuple[float, ...] = (0.0,) * 6  # G92 offset, mm, applied before rotation
     rot: float = 0.0  # SET_XY_ROTATION, rad about Z
     position: tuple[float, ...] = (0.0,) * 6
@@ -89,6 +92,15 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def _loc_line(cmd: canon.Command) -> int:
     return cmd.source.line if cmd.source is not None else 0
+
+
+def _tool_offset(cmd: canon.Command, mm: float) -> tuple[float, ...]:
+    """The tool length offset of a ``USE_TOOL_LENGTH_OFFSET`` (NIST's Z ``length``, or
+    LinuxCNC's nine values x y z, a b c, u v w) as x y z in mm and a b c."""
+    if hasattr(cmd, "offset"):
+        o = [float(v) for v in canon.named_field(cmd, "offset")]
+        return (o[0] * mm, o[1] * mm, o[2] * mm, o[3], o[4], o[5])
+    return (0.0, 0.0, canon.named_field(cmd, "length") * mm, 0.0, 0.0, 0.0)
 
 
 class PathBuilder:
@@ -418,7 +430,8 @@ class PathBuilder:
             case canon.UseLengthUnits():
                 st.mm = cmd.units.mm_per_unit
             case canon.SetOriginOffsets():
-                st.g5x = (cmd.x * st.mm, cmd.y * st.mm, cmd.z * st.mm, cmd.a, cmd.b, cmd.c)
+                mm = st.mm
+                self._offsets(work=(cmd.x * mm, cmd.y * mm, cmd.z * mm, cmd.a, cmd.b, cmd.c))
                 st.g92 = (0.0,) * 6
             case canon.SetFeedRate():
                 st.feed = cmd.rate
@@ -448,6 +461,17 @@ class PathBuilder:
             case _:
                 self._linuxcnc(cmd, idx)
 
+    def _offsets(
+        self, work: tuple[float, ...] | None = None, tlo: tuple[float, ...] | None = None
+    ) -> None:
+        """A new work offset or tool length offset: the offset added after the rotation is
+        their sum (LinuxCNC emccanon.cc and Grbl gcode.c both move the tool by the program
+        position plus the work and the tool length offsets; the tool's is not rotated)."""
+        st = self.st
+        st.work = st.work if work is None else work
+        st.tlo = st.tlo if tlo is None else tlo
+        st.g5x = tuple(w + t for w, t in zip(st.work, st.tlo, strict=True))
+
     def _linuxcnc(self, cmd: canon.Command, idx: int) -> None:
         """LinuxCNC additions, known by NAME only (the kernel never imports a front end)."""
         st = self.st
@@ -456,9 +480,11 @@ class PathBuilder:
             v = [canon.named_field(cmd, k) for k in ("x", "y", "z", "a", "b", "c")]
             scaled = (v[0] * st.mm, v[1] * st.mm, v[2] * st.mm, v[3], v[4], v[5])
             if name == "SET_G5X_OFFSET":
-                st.g5x = scaled
+                self._offsets(work=scaled)
             else:
                 st.g92 = scaled
+        elif name == "USE_TOOL_LENGTH_OFFSET":
+            self._offsets(tlo=_tool_offset(cmd, st.mm))
         elif name == "SET_XY_ROTATION":
             st.rot = math.radians(canon.named_field(cmd, "angle"))
         elif name == "RIGID_TAP":  # G33.1: in synchronised, spindle reversal, back out

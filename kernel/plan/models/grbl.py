@@ -130,6 +130,24 @@ def _inverse_time_rate(
     return rate / length * count / mm
 
 
+def _tool_length(cmd: canon.Command) -> float:
+    """The Z tool length offset of a ``USE_TOOL_LENGTH_OFFSET`` (NIST's ``length``, or
+    LinuxCNC's nine values, known by name only)."""
+    if hasattr(cmd, "offset"):
+        return float(canon.named_field(cmd, "offset")[2])
+    return float(canon.named_field(cmd, "length"))
+
+
+def _at(last: canon.Command | None, pos: list[float] | None, move: canon.Command) -> bool:
+    """Whether straight ``move`` ends where the tool is (``last``: the straight move before
+    it, else ``pos``; neither: not known, False)."""
+    assert isinstance(move, _MOVES)
+    if last is not None:
+        assert isinstance(last, _MOVES)
+        return last.x == move.x and last.y == move.y and last.z == move.z
+    return pos is not None and pos == [move.x, move.y, move.z]
+
+
 def _same_block(a: canon.Command, b: canon.Command) -> bool:
     """Whether two commands come from one source block (known lines only)."""
     return a.source is not None and b.source is not None and a.source.line == b.source.line > 0
@@ -138,31 +156,60 @@ def _same_block(a: canon.Command, b: canon.Command) -> bool:
 def synchronised(
     commands: Iterable[canon.Command], arc_tolerance: float, laser: bool = False
 ) -> Iterator[canon.Command]:
-    """The IR as Grbl runs it. A zero-second dwell (a stop) before every command at which
-    Grbl empties its planner buffer: a spindle state change, a coolant change, a new ``S``
-    while the spindle turns (gcode.c steps 4, 7 and 8; repeating the state in force does not
+    """The IR as Grbl runs it. A zero-second dwell (a stop) before every command at which Grbl
+    empties its planner buffer: a spindle state change, a coolant change, a new ``S`` while
+    the spindle turns (gcode.c steps 4, 7 and 8; repeating the state in force does not
     stop); in laser mode (``$32=1``, ``laser``) a new ``S`` on a block that moves does not
-    stop. An arc in inverse time (G93) at the rate Grbl gives its chords (``mc_arc``)."""
+    stop, and with ``M3`` a block without axis words that switches the motion mode between
+    G1/G2/G3 and G0 stops (gcode.c ``GC_PARSER_LASER_FORCE_SYNC``; the IR shows such a block
+    as a move to where the tool is, as it shows a block whose axis words name the point the
+    tool is at, which Grbl does not stop for). Grbl also empties its buffer where the work
+    frame changes (system.c ``system_flag_wco_change``: a new G54..G59 system, G92 and
+    G92.1, a new G43.1/G49 tool length offset; settings.c ``settings_write_coord_data``: G10
+    L2/L20, G28.1, G30.1, which the grbl reader marks ``OFFSETS_STORED``): a stop there too,
+    once the tool has moved (before the first move a stop costs nothing). An arc in inverse
+    time (G93) at the rate Grbl gives its chords (``mc_arc``)."""
     spindle, coolant, speed = 0, 0, 0.0
     inverse, rate, mm = False, 0.0, 1.0
     axes = _PLANE_AXES[canon.Plane.XY]
     last: canon.Command | None = None  # the last straight move: the tool is at its end
     pos: list[float] | None = None  # else where the tool is (None: not known here)
     pending: canon.Command | None = None  # laser mode: a new S, stopping unless its block moves
+    moved = False  # a move came: a stop from now on costs time
+    tlo = 0.0  # the tool length offset in force (G43.1, G49)
+    feeding = False  # laser mode: the motion mode is G1/G2/G3 (Grbl starts in G0)
     for cmd in commands:
         kind = type(cmd)
+        # laser mode: a move to where the tool is, rs274's reading of a line with a motion
+        # mode and no axis words, which Grbl does not count as motion
+        still = laser and kind in _MOVES and _at(last, pos, cmd)
         if pending is not None:
-            if not (kind in _MOTIONS and _same_block(pending, cmd)):
+            if still or not (kind in _MOTIONS and _same_block(pending, cmd)):
                 yield canon.Dwell(0.0, source=pending.source)
             yield pending
             pending = None
         if kind in _MOVES:  # the common case first, and cheaply
-            last = cmd
+            if laser:
+                mode = kind is not canon.StraightTraverse
+                if still and mode != feeding and spindle == 1:
+                    yield canon.Dwell(0.0, source=cmd.source)  # GC_PARSER_LASER_FORCE_SYNC
+                feeding = mode
+            last, moved = cmd, True
             yield cmd
             continue
         if kind not in _WATCHED:
-            if cmd.NAME in _REFRAME:
+            name = cmd.NAME
+            if name in _REFRAME:
                 last, pos = None, None
+                if moved and name != "SET_XY_ROTATION":
+                    yield canon.Dwell(0.0, source=cmd.source)
+            elif name == "OFFSETS_STORED" and moved:
+                yield canon.Dwell(0.0, source=cmd.source)
+            elif name == "USE_TOOL_LENGTH_OFFSET":
+                new_tlo = _tool_length(cmd)
+                if new_tlo != tlo and moved:
+                    yield canon.Dwell(0.0, source=cmd.source)
+                tlo = new_tlo
             yield cmd
             continue
         if last is not None:
@@ -171,6 +218,7 @@ def synchronised(
             last = None
         if kind is canon.ArcFeed:
             assert isinstance(cmd, canon.ArcFeed)
+            moved, feeding = True, True
             grbl_rate = None
             if inverse and pos is not None:
                 grbl_rate = _inverse_time_rate(cmd, pos, axes, rate, mm, arc_tolerance)
