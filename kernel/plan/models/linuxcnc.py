@@ -523,11 +523,16 @@ def _blend_velocity(
     vt2: np.ndarray,
     cos_half: np.ndarray,
     tol: np.ndarray,
+    unfinal2: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """tp.c ``tpComputeBlendVelocity``: the parabolic blend's speed on each side."""
+    """tp.c ``tpComputeBlendVelocity``: the parabolic blend's speed on each side. The peak
+    of the triangle over a move not finalised yet (``unfinal2``: the queue runs dry after
+    it) is taken over half its length (tp.c ``tpCalculateTriangleVel``: blending may take
+    up to half of it); its time still over the whole."""
     with np.errstate(divide="ignore", invalid="ignore"):
         r1 = np.minimum(_tri_vel(acc1, len1), vt1)
-        r2 = np.minimum(_tri_vel(acc2, len2), vt2)
+        tri2 = len2 if unfinal2 is None else np.where(unfinal2, len2 / 2, len2)
+        r2 = np.minimum(_tri_vel(acc2, tri2), vt2)
         t_reach = np.minimum(len1 / r1, len2 / r2)
         t_blend = np.minimum(t_reach, np.maximum(r1 / acc1, r2 / acc2))
         b1 = np.minimum(r1, t_blend * acc1)
@@ -1468,6 +1473,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
                 target[q],
                 cos_half,
                 prepared.tolerance[src_t],
+                dry[q],
             )
             blend_vel[par_at] = b1
         # a parabolic blend: each move runs to a stop, the next starts during the end of
