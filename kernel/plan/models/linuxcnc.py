@@ -570,6 +570,24 @@ def _accel_half_angle(
     return np.arccos(-dot) / 2.0
 
 
+def _circle_tangent(
+    table: np.ndarray, rows: np.ndarray, arc: np.ndarray, at_end: bool
+) -> np.ndarray:
+    """The direction tp.c's blend speed takes for each row's end (or start): a line's own,
+    a circle's the plane's normal crossed with its radius there (tc.c
+    ``tcCircleEndAccelUnitVector``, ``tcCircleStartAccelUnitVector``), which leaves out a
+    helix's rise and a spiral's radial drift."""
+    u = table["u_end" if at_end else "u_start"][rows, :3]
+    if not arc.any():
+        return u
+    point = table["end" if at_end else "start"][rows, :3]
+    normal = table["normal"][rows]
+    t = np.cross(normal, point - table["centre"][rows])
+    t /= np.maximum(_rownorm(t), _TINY)[:, None]
+    t *= np.where(_rowsum(t * u) < 0, -1.0, 1.0)[:, None]
+    return np.where(arc[:, None] & (_rownorm(t) > 0.5)[:, None], t, u)
+
+
 def _spiral_circle(
     seg: np.ndarray, idx: np.ndarray, p: np.ndarray, u_tan: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -1448,8 +1466,8 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         par_at = par_at[par_at >= k0] if k0 else par_at
         if par_at.size:
             p, q = par_at, par_at + 1
-            u1 = table["u_end"][p, :3]
-            u2 = table["u_start"][q, :3]
+            u1 = _circle_tangent(table, p, circle[p], at_end=True)
+            u2 = _circle_tangent(table, q, circle[q], at_end=False)
             cos_half = np.cos(
                 _accel_half_angle(
                     u1,
