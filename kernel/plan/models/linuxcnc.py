@@ -523,16 +523,17 @@ def _blend_velocity(
     vt2: np.ndarray,
     cos_half: np.ndarray,
     tol: np.ndarray,
-    unfinal2: np.ndarray | None = None,
+    unfinal2: np.ndarray | bool = False,
+    unfinal1: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """tp.c ``tpComputeBlendVelocity``: the parabolic blend's speed on each side. The peak
-    of the triangle over a move not finalised yet (``unfinal2``: the queue runs dry after
-    it) is taken over half its length (tp.c ``tpCalculateTriangleVel``: blending may take
-    up to half of it); its time still over the whole."""
+    of the triangle over a move not finalised yet (``unfinal1``, ``unfinal2``: the queue
+    runs dry after it, or the blend is estimated as the next move is queued) is taken over
+    half its length (tp.c ``tpCalculateTriangleVel``: blending may take up to half of it);
+    its time still over the whole (``tc->target``)."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        r1 = np.minimum(_tri_vel(acc1, len1), vt1)
-        tri2 = len2 if unfinal2 is None else np.where(unfinal2, len2 / 2, len2)
-        r2 = np.minimum(_tri_vel(acc2, tri2), vt2)
+        r1 = np.minimum(_tri_vel(acc1, len1 / 2 if unfinal1 else len1), vt1)
+        r2 = np.minimum(_tri_vel(acc2, np.where(unfinal2, len2 / 2, len2)), vt2)
         t_reach = np.minimum(len1 / r1, len2 / r2)
         t_blend = np.minimum(t_reach, np.maximum(r1 / acc1, r2 / acc2))
         b1 = np.minimum(r1, t_blend * acc1)
@@ -862,8 +863,10 @@ def _joins(
         lim.maxacc[b] * (1.0 - KINK_RATIO) * 0.5,
         lim.reqvel[b],
     )
+    # both moves are unfinalised when the next is queued (tp.c tpAddLine: tpHandleBlendArc
+    # before tcFinalizeLength)
     b1, b2 = _blend_velocity(
-        acc1, acc2, length[a] / 2, length[b] / 2, vt[a], vt[b], np.cos(theta_acc), tol[a]
+        acc1, acc2, length[a], length[b], vt[a], vt[b], np.cos(theta_acc), tol[a], True, True
     )
     perf_par = np.sin(theta_acc) * (b1 + b2) / 2.0 / 2.0
     perf = np.stack([perf_par, kink_vel, perf_arc], axis=1)
