@@ -170,6 +170,15 @@ def test_g83_pecks_retract_to_r_and_return_above_the_last_depth() -> None:
     assert zs == [10.0, 10.0, 1.0, -0.5, 1.0, -0.246, -2.0, 1.0, -1.746, -3.0, 1.0]
 
 
+def test_g99_block_after_g98_moves_in_the_plane_above_r_first() -> None:
+    """rs274's CYCLE_MACRO (interp_internal.hh): a block's first hole starts at the current
+    height when that is above R, then goes down to R; LinuxCNC's recording of
+    tests/data/lcnc_tp own_drill_rapids runs that move as a pure Y rapid (50 mm/s)."""
+    got = motions("G21 F100\nG0 Z5\nG98 G81 X0 Y0 Z-2 R1\nG99 G81 Y7 Z-2 R0.5\nM2\n")
+    pts = [(m.y, m.z) for m in got[-4:]]
+    assert pts == [(7.0, 5.0), (7.0, 0.5), (7.0, -2.0), (7.0, 0.5)]
+
+
 def test_g28_goes_through_the_given_point_to_the_stored_home() -> None:
     got = motions("G21\nG0 X4 Y5 Z6\nG28.1\nG0 X0 Y0 Z0\nG28 Z1\nM2\n")
     assert [(m.x, m.y, m.z) for m in got[-2:]] == [(0, 0, 1), (0, 0, 6)]

@@ -8,9 +8,9 @@ Per plane the hole axis is Z (G17), X (G19) or Y (G18); "depth" below means that
 * a series of cycle blocks remembers its initial level (the height before its first
   block); if that is below R, traverse up to R first; G98 returns to the higher of the
   initial level and R, G99 to R (the default of rs274);
-* each repeat (L, incremental X/Y in G91): traverse in the plane (at the current height
-  for the first move of a series, at the clearance height after), down to R, the cycle's
-  own motion, retract;
+* each repeat (L, incremental X/Y in G91): traverse in the plane (on a block's first
+  repeat at the current height if that is above R, else at the clearance height), down to
+  R, the cycle's own motion, retract (rs274 ``CYCLE_MACRO``, interp_internal.hh);
 * R, Z (depth), P, Q are sticky while the same cycle stays in force; in G91 R is measured
   from the start height and the depth from R.
 """
@@ -198,7 +198,10 @@ def canned_cycle(ctx: NgcContext, w: Words, code: int, previous: int | None) -> 
     exact = ctx.compat and s.control_mode is not ControlCode.G61
     if exact:
         ctx.emit(canon.SetMotionControlMode(MotionMode.EXACT_PATH, source=loc))
-    if not first:
+    if not first and height <= r:
+        # a later block of the series starts its first hole at the current height only
+        # when that is above R (a G98 block after a G99 one); at or below R it moves
+        # at the clearance height (rs274 ``CYCLE_MACRO``, interp_internal.hh)
         height = clear
     polar = not s.absolute and ("@" in v or "^" in v)
     _check_passes(ctx, code, repeats, r, bottom)
@@ -207,8 +210,8 @@ def canned_cycle(ctx: NgcContext, w: Words, code: int, previous: int | None) -> 
             inc1, inc2 = polar_step(v, a1, a2)
         a1 += inc1
         a2 += inc2
-        # the first move of a series is at the current height, the later ones at the
-        # clearance height (observed rs274 behaviour, LinuxCNC ``CYCLE_MACRO``)
+        # a block's first move at the height chosen above, its later repeats' at the
+        # clearance height (LinuxCNC ``CYCLE_MACRO``)
         cyc.traverse(a1, a2, height)
         if height != r:
             cyc.traverse(a1, a2, r)

@@ -367,7 +367,7 @@ def blend_choice(
         cos_half = math.cos(theta_acc[j])
         r1 = _mn(math.sqrt(_mx(acc1 * len1, 0.0)), vt[a])
         r2 = _mn(math.sqrt(_mx(acc2 * len2, 0.0)), vt[b])
-        t_reach = _mn(len1 / r1, len2 / r2)
+        t_reach = _mn(length[a] / r1, length[b] / r2)
         t_blend = _mn(t_reach, _mx(r1 / acc1, r2 / acc2))
         b1 = _mn(r1, t_blend * acc1)
         b2 = _mn(r2, t_blend * acc2)

@@ -523,11 +523,17 @@ def _blend_velocity(
     vt2: np.ndarray,
     cos_half: np.ndarray,
     tol: np.ndarray,
+    unfinal2: np.ndarray | bool = False,
+    unfinal1: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """tp.c ``tpComputeBlendVelocity``: the parabolic blend's speed on each side."""
+    """tp.c ``tpComputeBlendVelocity``: the parabolic blend's speed on each side. The peak
+    of the triangle over a move not finalised yet (``unfinal1``, ``unfinal2``: the queue
+    runs dry after it, or the blend is estimated as the next move is queued) is taken over
+    half its length (tp.c ``tpCalculateTriangleVel``: blending may take up to half of it);
+    its time still over the whole (``tc->target``)."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        r1 = np.minimum(_tri_vel(acc1, len1), vt1)
-        r2 = np.minimum(_tri_vel(acc2, len2), vt2)
+        r1 = np.minimum(_tri_vel(acc1, len1 / 2 if unfinal1 else len1), vt1)
+        r2 = np.minimum(_tri_vel(acc2, np.where(unfinal2, len2 / 2, len2)), vt2)
         t_reach = np.minimum(len1 / r1, len2 / r2)
         t_blend = np.minimum(t_reach, np.maximum(r1 / acc1, r2 / acc2))
         b1 = np.minimum(r1, t_blend * acc1)
@@ -563,6 +569,24 @@ def _accel_half_angle(
         v2 = np.where(arc2[:, None], tilted, u2)
     dot = np.clip(_rowsum(u1 * v2), -1.0, 1.0)
     return np.arccos(-dot) / 2.0
+
+
+def _circle_tangent(
+    table: np.ndarray, rows: np.ndarray, arc: np.ndarray, at_end: bool
+) -> np.ndarray:
+    """The direction tp.c's blend speed takes for each row's end (or start): a line's own,
+    a circle's the plane's normal crossed with its radius there (tc.c
+    ``tcCircleEndAccelUnitVector``, ``tcCircleStartAccelUnitVector``), which leaves out a
+    helix's rise and a spiral's radial drift."""
+    u = table["u_end" if at_end else "u_start"][rows, :3]
+    if not arc.any():
+        return u
+    point = table["end" if at_end else "start"][rows, :3]
+    normal = table["normal"][rows]
+    t = np.cross(normal, point - table["centre"][rows])
+    t /= np.maximum(_rownorm(t), _TINY)[:, None]
+    t *= np.where(_rowsum(t * u) < 0, -1.0, 1.0)[:, None]
+    return np.where(arc[:, None] & (_rownorm(t) > 0.5)[:, None], t, u)
 
 
 def _spiral_circle(
@@ -839,8 +863,10 @@ def _joins(
         lim.maxacc[b] * (1.0 - KINK_RATIO) * 0.5,
         lim.reqvel[b],
     )
+    # both moves are unfinalised when the next is queued (tp.c tpAddLine: tpHandleBlendArc
+    # before tcFinalizeLength)
     b1, b2 = _blend_velocity(
-        acc1, acc2, length[a] / 2, length[b] / 2, vt[a], vt[b], np.cos(theta_acc), tol[a]
+        acc1, acc2, length[a], length[b], vt[a], vt[b], np.cos(theta_acc), tol[a], True, True
     )
     perf_par = np.sin(theta_acc) * (b1 + b2) / 2.0 / 2.0
     perf = np.stack([perf_par, kink_vel, perf_arc], axis=1)
@@ -1443,8 +1469,8 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         par_at = par_at[par_at >= k0] if k0 else par_at
         if par_at.size:
             p, q = par_at, par_at + 1
-            u1 = table["u_end"][p, :3]
-            u2 = table["u_start"][q, :3]
+            u1 = _circle_tangent(table, p, circle[p], at_end=True)
+            u2 = _circle_tangent(table, q, circle[q], at_end=False)
             cos_half = np.cos(
                 _accel_half_angle(
                     u1,
@@ -1468,6 +1494,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
                 target[q],
                 cos_half,
                 prepared.tolerance[src_t],
+                dry[q],
             )
             blend_vel[par_at] = b1
         # a parabolic blend: each move runs to a stop, the next starts during the end of
