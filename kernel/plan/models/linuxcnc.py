@@ -404,7 +404,10 @@ def _helix_tangential_cap(arcs: np.ndarray, machine: Machine, speed: np.ndarray)
     acceleration is taken with the helix's true curvature r / (r^2 + c^2) (c the rise per
     radian), and the tangential share is what the plane has left, seen along the path (a
     helix's tangent leaves the plane by the angle whose cosine is arc length / path length).
-    On flat arcs this never binds below LinuxCNC's own split."""
+    On flat arcs this never binds below LinuxCNC's own split. Applied with
+    ``helix_acceleration = "limits"`` only: by default the model splits as LinuxCNC does and
+    its report shows the axis over its limit where the machine's would be (LinuxCNC's
+    acceleration violations: github.com/LinuxCNC/linuxcnc issues 546, 1738, 3773)."""
     amax = np.array(machine.limit_vector("acceleration"))[:3]
     plane = np.abs(arcs["normal"]) < 0.5
     a_pl = np.where(plane, amax[None, :], np.inf).min(axis=1)
@@ -1449,9 +1452,11 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         ratio = np.where(unfinal, ACC_RATIO_TAN, ratio)
         over &= ~unfinal
         maxvel[circle] = np.where(over, np.sqrt(cut * r), v)
-        acc_t[circle] = np.minimum(
-            a_c * ratio, _helix_tangential_cap(table[circle], machine, target_of(circle))
-        )
+        acc_t[circle] = a_c * ratio
+        if machine.controller.helix_acceleration == "limits":
+            acc_t[circle] = np.minimum(
+                acc_t[circle], _helix_tangential_cap(table[circle], machine, target_of(circle))
+            )
     acc_t = np.where(is_blend_arc, acc_all * ACC_RATIO_TAN, acc_t)
     acc_t = np.where(consumed, np.concatenate([acc_t[1:], [0.0]]), acc_t)
     target = np.minimum(reqvel, maxvel)
