@@ -92,7 +92,7 @@ import numpy as np
 import kernel.ir.canon as canon
 from kernel.interp.bulk import bulk_array
 from kernel.machine import Machine
-from kernel.path.blend import insert_blend_arcs, kept_after_blending
+from kernel.path.blend import corner_trims, insert_blend_arcs, kept_after_blending
 from kernel.path.segments import ARC, HOLD, LINE, RAPID, Path
 from kernel.plan.models import lcnc_joins
 from kernel.plan.models.lcnc_joins import (
@@ -1296,9 +1296,12 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     table = seg
     kept = None  # without blends next to circles: the lines blending empties left out now
     if corners.size:
+        big = n - 1 >= COMPILED_JOINS  # compiled as the joins were (numba loaded)
+        radius = j.radius[corners]
+        trims = corner_trims(seg, corners, radius)
         if not virt.size:
-            kept = kept_after_blending(seg, corners, j.radius[corners], _GONE)
-        table = insert_blend_arcs(seg, corners, j.radius[corners], kept)
+            kept = kept_after_blending(seg, corners, radius, _GONE, big, trims)
+        table = insert_blend_arcs(seg, corners, radius, kept, big, trims)
         at = corners + 1
         # the blend arc is asked the faster of its two moves' speeds (tp.c
         # tpCreateLineLineBlend: v_req)
