@@ -25,7 +25,7 @@ from hypothesis import strategies as st
 from kernel.diagnostics import Diagnostic
 from kernel.interp import interpolate
 from kernel.interp.bulk import MAPPED_BYTES, bulk_array
-from kernel.interp.interpolate import _piece_of, sample
+from kernel.interp.interpolate import _piece_of, sample, sample_windows
 from kernel.interp.samples import Samples
 from kernel.ir import canon
 from kernel.machine import AXIS_NAMES, DEFAULT_MACHINE, AxisLimits, Machine, with_controller
@@ -33,6 +33,7 @@ from kernel.path.build import build_path
 from kernel.path.geometry import evaluate, line_cache
 from kernel.path.segments import HOLD
 from kernel.plan.planner import Plan, plan
+from kernel.plan.strategy import plan_program
 
 GOLDEN = FsPath(__file__).resolve().parent / "golden" / "ngc"
 FIELDS = ("t", "position", "velocity", "acceleration", "jerk", "segment", "source_line")
@@ -318,6 +319,25 @@ def test_compiled_arc_kernel_samples_as_before(monkeypatch, chunk):
     plans = [planned(zigzag(12), DEFAULT_MACHINE), *golden_plans(20.0)[::3]]
     for pl in plans:
         assert_same(sample(pl, chunk=chunk), reference_sample(pl, chunk=chunk))
+
+
+@pytest.mark.parametrize("chunk", [1000, 97])
+def test_compiled_sampling_of_a_linuxcnc_plan_in_windows(monkeypatch, chunk):
+    """A LinuxCNC-model plan (blend arcs, overlapping parabolic blends) sampled by the
+    compiled kernels, whole and in windows, bit for bit as by numpy."""
+    machine = with_controller(DEFAULT_MACHINE, model="linuxcnc")
+    _, pl = plan_program(zigzag(12), machine)
+    assert np.any(pl.path.segments["kind"] == 1) and pl.overlap is not None
+    monkeypatch.setattr(interpolate, "COMPILED_ARC_SAMPLES", math.inf)
+    ref = sample(pl, chunk=chunk)
+    monkeypatch.setattr(interpolate, "COMPILED_ARC_SAMPLES", 0)
+    assert interpolate._Sampler(pl, 0.001, chunk).compiled
+    assert_same(sample(pl, chunk=chunk), ref)
+    parts = list(sample_windows(pl, window=2 * chunk, chunk=chunk))
+    assert len(parts) > 1
+    for f in FIELDS:
+        whole = np.concatenate([getattr(w, f) for w in parts])
+        assert np.array_equal(whole, getattr(ref, f)), f
 
 
 def test_golden_programs_with_scurve_and_circle_methods_sample_as_before():

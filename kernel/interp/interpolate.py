@@ -34,7 +34,7 @@ import numpy as np
 
 import kernel.limits as limits
 from kernel.diagnostics import Diagnostic, Location
-from kernel.interp.arc_kernel import arc_samples
+from kernel.interp.arc_kernel import axis_samples, trapezoid_states
 from kernel.interp.bulk import bulk_array
 from kernel.interp.samples import Samples
 from kernel.machine import AXIS_NAMES, Controller, Machine
@@ -207,7 +207,6 @@ class _ArcBatch:
         cols: list[int],
         out: tuple,
         fields: dict[str, np.ndarray],
-        compiled: bool,
     ) -> None:
         self.seg, self.ctl, self.cols, self.out = seg, ctl, cols, out
         self.cache = {  # kernel.path.geometry.line_cache; only "kind" is read for arc queries
@@ -217,9 +216,6 @@ class _ArcBatch:
             "u": np.zeros((0, len(cols))),
             **fields,  # kernel.path.geometry.arc_cache (its "length" is the rows' own)
         }
-        # exact arcs on an XYZ machine, no S-curve: the compiled kernel
-        # (kernel.interp.arc_kernel), with the arc rows' fields of :func:`_arc_rows`
-        self.compiled = compiled
         self.parts: list[tuple[np.ndarray, ...]] = []
         self.size = 0
 
@@ -238,33 +234,6 @@ class _ArcBatch:
         self.parts, self.size = [], 0
         pos, vel, acc, jerk = self.out
         ctl = self.ctl
-        if j is None and self.compiled:
-            f = self.cache
-            arc_samples(
-                rows,
-                f["arc_of"].take(gk),
-                local,
-                v,
-                v**3,
-                a,
-                f["sweep"],
-                f["sweep3"],
-                f["radius"],
-                f["radius_end"],
-                f["length"],
-                f["length3"],
-                f["e1"],
-                f["e2"],
-                f["normal"],
-                f["centre"],
-                f["axial"],
-                f["end"],
-                pos,
-                vel,
-                acc,
-                jerk,
-            )
-            return
         p, d1, curved, d2, d3 = evaluate(
             self.seg, gk, local, ctl.circle_method, ctl.chord_tolerance, self.cols, self.cache
         )
@@ -285,28 +254,6 @@ class _ArcBatch:
             jerk[rows] = jerk_a
 
 
-def _arc_rows(seg: np.ndarray, kind: np.ndarray) -> dict[str, np.ndarray]:
-    """The fields the compiled arc kernel reads, of the arc rows only (contiguous), their
-    cubes as numpy computes them, and ``arc_of``: each segment's place among them."""
-    rows = np.flatnonzero(kind == ARC)
-    # the arc rows gathered as bytes (a structured gather goes field by field)
-    size = seg.dtype.itemsize
-    raw = np.ascontiguousarray(seg).view(np.uint8).reshape(len(seg), size)
-    arcs = raw.take(rows, axis=0).view(seg.dtype).reshape(rows.size)
-    out = {
-        f: np.ascontiguousarray(arcs[f])
-        for f in ("sweep", "radius", "radius_end", "length", "axial", "e1", "e2", "normal")
-    }
-    out["centre"] = np.ascontiguousarray(arcs["centre"])
-    out["end"] = np.ascontiguousarray(arcs["end"][:, :3])
-    out["sweep3"] = out["sweep"] ** 3
-    out["length3"] = out["length"] ** 3
-    arc_of = np.zeros(len(seg), dtype=np.int64)
-    arc_of[rows] = np.arange(rows.size)
-    out["arc_of"] = arc_of
-    return out
-
-
 class _Sampler:
     """The chunk loop of :func:`sample`: the read-only tables the chunks share, and
     :meth:`run`, which fills the rows of the given chunks (every chunk is computed alone)."""
@@ -322,10 +269,11 @@ class _Sampler:
         self.pc = pieces(plan, tf > 0, i_start)
         self.blends = _Blends.of(plan, self.pc) if tf <= 0 else None
         self.kind = kind = np.ascontiguousarray(seg["kind"])
-        self.start, self.u = _line_rows(seg, self.cols)
         self.lines_of = np.ascontiguousarray(seg["line"], dtype=np.int32)
         self.seg_index = np.where(kind == HOLD, -1, np.arange(len(seg), dtype=np.int32))
         self.has_arcs = bool(np.any(kind == ARC))
+        # exact arcs on an XYZ machine, no S-curve, enough arc samples: the compiled
+        # kernels (kernel.interp.arc_kernel) read the table itself, with every row's cubes
         self.compiled = (
             self.ctl.circle_method == "exact"
             and self.cols == [0, 1, 2]
@@ -333,8 +281,12 @@ class _Sampler:
             and float(plan.duration[kind == ARC].sum()) >= COMPILED_ARC_SAMPLES * period
         )
         self.fields: dict[str, np.ndarray] = {}
-        if self.has_arcs:
-            self.fields = _arc_rows(seg, kind) if self.compiled else arc_cache(seg)
+        if self.compiled:
+            self.fields = {f + "3": np.ascontiguousarray(seg[f]) ** 3 for f in ("sweep", "length")}
+        else:
+            self.start, self.u = _line_rows(seg, self.cols)
+            if self.has_arcs:
+                self.fields = arc_cache(seg)
         if tf > 0:
             self.moving_idx = np.flatnonzero(kind != HOLD)
             self.s_end_moving = (plan.s_start + seg["length"])[self.moving_idx]
@@ -348,14 +300,52 @@ class _Sampler:
         :func:`sample_windows`) of the ``count`` samples in all."""
         t, pos, vel, acc, jerk, seg_out, line_out = out
         count = len(t) + offset if count is None else count
+        if self.compiled:
+            self._run_compiled(los, out, offset, count)
+        else:
+            self._run_numpy(los, out, offset, count)
+        if self.blends is not None:
+            self.blends.add(self, out, offset, count)
+
+    def _run_compiled(
+        self, los: range, out: tuple[np.ndarray, ...], offset: int, count: int
+    ) -> None:
+        """:meth:`run` by the compiled kernels: per chunk the path state, the cube of the
+        speed by numpy, then the axes."""
+        t, pos, vel, acc, jerk, seg_out, line_out = out
+        chunk, period, total, pc = self.chunk, self.period, self.total, self.pc
+        seg = self.plan.path.segments
+        sweep3, length3 = self.fields["sweep3"], self.fields["length3"]
+        width = min(chunk, count)
+        gk = np.empty(width, dtype=np.int64)
+        state = np.empty((4, width))
+        for lo in los:
+            hi = min(count, lo + chunk)
+            a_, b_ = lo - offset, hi - offset  # rows of this call's arrays
+            n = hi - lo
+            local, v, a, v3 = state[0, :n], state[1, :n], state[2, :n], state[3, :n]
+            first = min(float(lo) * period, total)
+            k = max(int(np.searchsorted(pc.t0, first, "right")) - 1, 0)
+            trapezoid_states(
+                lo, period, total, k, pc.t0, pc.s0, pc.v0, pc.a, pc.smax, t[a_:b_],
+                gk[:n], local, v, a,
+            )  # fmt: skip
+            np.power(v, 3, out=v3)
+            axis_samples(
+                a_, gk[:n], local, v, v3, a, seg, sweep3, length3, self.seg_index,
+                self.lines_of, pos, vel, acc, jerk, seg_out, line_out,
+            )  # fmt: skip
+
+    def _run_numpy(self, los: range, out: tuple[np.ndarray, ...], offset: int, count: int) -> None:
+        """:meth:`run` by numpy: per chunk the path state, the lines' axes, and the arcs'
+        samples gathered for :class:`_ArcBatch`."""
+        t, pos, vel, acc, jerk, seg_out, line_out = out
         chunk, period, total = self.chunk, self.period, self.total
         kind, u, start, tf = self.kind, self.u, self.start, self.tf
         seg = self.plan.path.segments
         arcs = None
         if self.has_arcs:
-            arcs = _ArcBatch(
-                seg, kind, self.ctl, self.cols, (pos, vel, acc, jerk), self.fields, self.compiled
-            )
+            arcs = _ArcBatch(seg, kind, self.ctl, self.cols, (pos, vel, acc, jerk), self.fields)
         width = min(chunk, count)
         scratch = np.empty((3, width))
         rows = np.empty((2, width, len(self.cols)))
@@ -388,8 +378,6 @@ class _Sampler:
             np.take(self.lines_of, gk, out=line_out[a_:b_], mode="clip")
         if arcs is not None:
             arcs.flush()
-        if self.blends is not None:
-            self.blends.add(self, out, offset, count)
 
     def _smoothed_state(self, tt: np.ndarray) -> tuple[np.ndarray, ...]:
         """``(segment, local s, v, a, j)`` of the S-curve (moving-average) motion."""
