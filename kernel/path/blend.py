@@ -192,13 +192,17 @@ def insert_blend_arcs(
     keep: np.ndarray | None = None,
     compiled: bool = False,
     trims: tuple[np.ndarray, ...] | None = None,
+    feed: np.ndarray | None = None,
 ) -> np.ndarray:
     """``seg`` with a tangent arc of radius ``r[k]`` inserted at the corner after each row
     ``corners[k]`` (sorted; both rows lines); the lines are shortened by the arc's tangent
     length. Lines shortened to nothing are kept (zero length): the caller decides, and may
     pass ``keep`` (:func:`kept_after_blending`): only those rows of the result are made.
     ``compiled``: the rows made in one compiled pass (kernel.path.blend_kernels: the same
-    table, for large ones); ``trims``: :func:`corner_trims` of the same arguments."""
+    table, for large ones); ``trims``: :func:`corner_trims` of the same arguments;
+    ``feed``: the arcs' feed (default: the slower of the two moves')."""
+    if feed is None:
+        feed = np.minimum(seg["feed"][corners], seg["feed"][corners + 1])
     u1, u2, cos, theta, d = corner_trims(seg, corners, r) if trims is None else trims
     c = seg["end"][corners, :3]
     v1, v2 = u1, u2
@@ -213,7 +217,7 @@ def insert_blend_arcs(
     e2 = np.cross(normal, e1)  # = v1: the arc leaves A along the first line
     if compiled:
         return _insert_compiled(
-            seg, corners, keep, d, (start, end, centre, normal, e1, e2, r, theta, v1, v2)
+            seg, corners, keep, d, (start, end, centre, normal, e1, e2, r, theta, v1, v2, feed)
         )
     # the rows moved to their places (row i after the arcs of the corners before it), the
     # arcs in between: one copy of the table, no per-field inserts
@@ -253,7 +257,7 @@ def insert_blend_arcs(
     rows[:, cols["sweep"]] = theta
     rows[:, cols["u_start"] : cols["u_start"] + 3] = v1
     rows[:, cols["u_end"] : cols["u_end"] + 3] = v2
-    rows[:, cols["feed"]] = np.minimum(seg["feed"][corners], seg["feed"][corners + 1])
+    rows[:, cols["feed"]] = feed
     f[at] = rows
     # the fields before the block (kind, category) and after it (exact_stop: False, blend,
     # source, line) as one byte string each per row
@@ -285,14 +289,14 @@ def _insert_compiled(
     arcs: tuple[np.ndarray, ...],
 ) -> np.ndarray:
     """:func:`insert_blend_arcs`' table made by kernel.path.blend_kernels from the arcs'
-    geometry (``start, end, centre, normal, e1, e2, r, theta, v1, v2``) computed above."""
+    geometry and feed (``start, end, centre, normal, e1, e2, r, theta, v1, v2, feed``)
+    computed above."""
     from kernel.path.blend_kernels import fill_blended
 
     n, k = len(seg), corners.size
     if keep is None:
         keep = np.ones(n + k, dtype=bool)
     out = bulk_array(int(np.count_nonzero(keep)), seg.dtype)
-    feed = np.minimum(seg["feed"][corners], seg["feed"][corners + 1])
-    made = fill_blended(seg, out, corners, keep, d, *arcs, feed)
+    made = fill_blended(seg, out, corners, keep, d, *arcs)
     assert made == len(out)
     return out

@@ -1301,19 +1301,23 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         trims = corner_trims(seg, corners, radius)
         if not virt.size:
             kept = kept_after_blending(seg, corners, radius, _GONE, big, trims)
-        table = insert_blend_arcs(seg, corners, radius, kept, big, trims)
-        at = corners + 1
         # the blend arc is asked the faster of its two moves' speeds (tp.c
         # tpCreateLineLineBlend: v_req)
-        rows = at + np.arange(corners.size)
-        if kept is not None:
-            rows = (np.cumsum(kept) - 1)[rows]
-        table["feed"][rows] = np.maximum(seg["feed"][corners], seg["feed"][corners + 1])
-        arc_len = table["length"][rows]
+        arc_feed = np.maximum(seg["feed"][corners], seg["feed"][corners + 1])
+        table = insert_blend_arcs(seg, corners, radius, kept, big, trims, arc_feed)
+        at = corners + 1
+        arc_len = radius * trims[3]  # the arcs' length in the table
         arc_max = np.minimum(j.arc_vel[corners], arc_len / period)
+        # np.insert(x, at, values) for every per-row array, the places found once
+        arc_at = at + np.arange(corners.size)
+        old_at = np.ones(n + corners.size, dtype=bool)
+        old_at[arc_at] = False
 
-        def ins(x: np.ndarray, values: np.ndarray) -> np.ndarray:
-            return np.insert(x, at, values)
+        def ins(x: np.ndarray, values: np.ndarray | float | bool) -> np.ndarray:
+            out = np.empty(old_at.size, dtype=x.dtype)
+            out[old_at] = x
+            out[arc_at] = values
+            return out
 
         seg_term = ins(seg_term, TANGENT)
         acc_all = ins(acc_all, j.arc_acc[corners])
