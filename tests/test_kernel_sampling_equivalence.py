@@ -474,3 +474,24 @@ def test_piece_lookup_on_the_sample_grid_is_searchsorted(on_grid, off_grid, peri
     assert np.array_equal(_piece_of(t0, t, (lo, period)), want)
     i = np.clip(np.searchsorted(t0, t, "right") - 1, 0, None)
     assert np.array_equal(want, i)
+
+
+def test_a_move_longer_than_an_axis_travel_is_plan_travel():
+    """``PLAN-TRAVEL`` names every linear axis a move spans more than its travel (the
+    default machine: X 800 mm, Y 500 mm, Z 500 mm), at the first such move."""
+    cmds = [
+        canon.SetFeedRate(1000.0),
+        canon.StraightFeed(-100.0, 0.0, 0.0),
+        canon.StraightFeed(100.0, 0.0, -99.0),
+        canon.StraightFeed(200.0, 0.0, 0.0),
+    ]
+    pl = planned(cmds, DEFAULT_MACHINE)
+    interpolate.check_travel(pl)  # within the travel
+    seg = pl.path.segments
+    seg["end"][1, :3] = (100.0, 600.0, -600.0)
+    with pytest.raises(Diagnostic) as err:
+        interpolate.check_travel(pl)
+    assert err.value.code == "PLAN-TRAVEL"
+    assert "along Y, Z" in str(err.value) and "X moves" not in str(err.value)
+    assert "Y moves 600.000 mm, its travel is 500.000 mm" in str(err.value)
+    assert "Z moves 600.000 mm, its travel is 500.000 mm" in str(err.value)

@@ -489,16 +489,21 @@ def check_travel(plan: Plan) -> None:
     span = np.asarray(machine.limit_vector("max")) - np.asarray(machine.limit_vector("min"))
     linear = np.isfinite(span) & np.array([n not in "abc" for n in AXIS_NAMES])
     if linear.any():
-        extent = np.abs(seg["end"] - seg["start"])
-        over = (extent > span * (1 + 1e-9) + 1e-6) & linear
-        rows = over.any(axis=1)
+        # only the columns from the first linear axis with a travel to the last (a view)
+        cols = np.flatnonzero(linear)
+        lo, hi = int(cols[0]), int(cols[-1]) + 1
+        extent = np.abs(seg["end"][:, lo:hi] - seg["start"][:, lo:hi])
+        over = (extent > span[lo:hi] * (1 + 1e-9) + 1e-6) & linear[lo:hi]
+        rows = over[:, 0].copy()  # any over the columns, column by column (a few)
+        for col in range(1, hi - lo):
+            rows |= over[:, col]
         if rows.any():
             i = int(np.argmax(rows))
-            axes = [k for k, o in enumerate(over[i]) if o]
+            axes = [lo + k for k, o in enumerate(over[i]) if o]
             names = ", ".join(AXIS_NAMES[k].upper() for k in axes)
             values = "; ".join(
-                f"{AXIS_NAMES[k].upper()} moves {float(extent[i, k]):.3f} mm, its travel is "
-                f"{float(span[k]):.3f} mm"
+                f"{AXIS_NAMES[k].upper()} moves {float(extent[i, k - lo]):.3f} mm, its travel "
+                f"is {float(span[k]):.3f} mm"
                 for k in axes
             )
             raise Diagnostic(
