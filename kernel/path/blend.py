@@ -138,16 +138,26 @@ def blend_radii(seg: np.ndarray) -> np.ndarray:
 
 
 def corner_trims(
-    seg: np.ndarray, corners: np.ndarray, r: np.ndarray
+    seg: np.ndarray, corners: np.ndarray, r: np.ndarray, compiled: bool = False
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Directions into and out of each corner, their cosine and angle, and the tangent
     length ``d`` an arc of radius ``r`` takes off both lines (what
     :func:`kept_after_blending` and :func:`insert_blend_arcs` compute first: pass it to
-    both as ``trims`` to compute it once)."""
-    u1, u2 = seg["u_end"][corners, :3], seg["u_start"][corners + 1, :3]
+    both as ``trims`` to compute it once). ``compiled``: the directions gathered by
+    kernel.path.blend_kernels (the same numbers)."""
+    u1, u2 = _xyz(seg["u_end"], corners, compiled), _xyz(seg["u_start"], corners + 1, compiled)
     cos = np.clip(np.einsum("ij,ij->i", u1, u2), -1.0, 1.0)
     theta = np.arccos(cos)
     return u1, u2, cos, theta, r * np.tan(theta / 2)
+
+
+def _xyz(field: np.ndarray, rows: np.ndarray, compiled: bool) -> np.ndarray:
+    """``field[rows, :3]`` of a (rows, 6) field of the table, by numpy or compiled."""
+    if not compiled:
+        return field[rows, :3]
+    from kernel.path.blend_kernels import gather_xyz
+
+    return gather_xyz(field, rows)
 
 
 def _placed(n: int, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -204,7 +214,7 @@ def insert_blend_arcs(
     if feed is None:
         feed = np.minimum(seg["feed"][corners], seg["feed"][corners + 1])
     u1, u2, cos, theta, d = corner_trims(seg, corners, r) if trims is None else trims
-    c = seg["end"][corners, :3]
+    c = _xyz(seg["end"], corners, compiled)
     v1, v2 = u1, u2
     start = c - d[:, None] * v1
     end = c + d[:, None] * v2

@@ -130,3 +130,15 @@ def fill_blended(
             p += 1
             c += 1
     return j
+
+
+@njit(cache=True)
+def gather_xyz(x: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """``x[rows, :3]`` as a new contiguous array (``x``: a field of the packed table, whose
+    rows numpy's fancy indexing copies element by element)."""
+    out = np.empty((rows.size, 3))
+    for i in range(rows.size):
+        r = rows[i]
+        for c in range(3):
+            out[i, c] = x[r, c]
+    return out

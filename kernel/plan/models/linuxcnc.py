@@ -1298,7 +1298,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     if corners.size:
         big = n - 1 >= COMPILED_JOINS  # compiled as the joins were (numba loaded)
         radius = j.radius[corners]
-        trims = corner_trims(seg, corners, radius)
+        trims = corner_trims(seg, corners, radius, big)
         if not virt.size:
             kept = kept_after_blending(seg, corners, radius, _GONE, big, trims)
         # the blend arc is asked the faster of its two moves' speeds (tp.c
