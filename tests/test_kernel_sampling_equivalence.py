@@ -476,9 +476,11 @@ def test_piece_lookup_on_the_sample_grid_is_searchsorted(on_grid, off_grid, peri
     assert np.array_equal(want, i)
 
 
-def test_a_move_longer_than_an_axis_travel_is_plan_travel():
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_move_longer_than_an_axis_travel_is_plan_travel(compiled):
     """``PLAN-TRAVEL`` names every linear axis a move spans more than its travel (the
-    default machine: X 800 mm, Y 500 mm, Z 500 mm), at the first such move."""
+    default machine: X 800 mm, Y 500 mm, Z 500 mm), at the first such move, found by numpy
+    or by the compiled loop."""
     cmds = [
         canon.SetFeedRate(1000.0),
         canon.StraightFeed(-100.0, 0.0, 0.0),
@@ -486,11 +488,12 @@ def test_a_move_longer_than_an_axis_travel_is_plan_travel():
         canon.StraightFeed(200.0, 0.0, 0.0),
     ]
     pl = planned(cmds, DEFAULT_MACHINE)
-    interpolate.check_travel(pl)  # within the travel
+    interpolate.check_travel(pl, compiled)  # within the travel
     seg = pl.path.segments
     seg["end"][1, :3] = (100.0, 600.0, -600.0)
+    seg["end"][2, :3] = (1000.0, 0.0, 0.0)  # a later one (X) is not reported
     with pytest.raises(Diagnostic) as err:
-        interpolate.check_travel(pl)
+        interpolate.check_travel(pl, compiled)
     assert err.value.code == "PLAN-TRAVEL"
     assert "along Y, Z" in str(err.value) and "X moves" not in str(err.value)
     assert "Y moves 600.000 mm, its travel is 500.000 mm" in str(err.value)

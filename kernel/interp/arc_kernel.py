@@ -149,3 +149,15 @@ def axis_samples(
                 acc[r, col] = u * ai
         seg_out[r] = seg_index[k]
         line_out[r] = lines_of[k]
+
+
+@njit(cache=True)
+def first_over(start: np.ndarray, end: np.ndarray, lo: int, limit: np.ndarray) -> int:
+    """The first row whose ``|end - start|`` in a column ``lo + c`` is over ``limit[c]``
+    (-1: none), for :func:`kernel.interp.interpolate.check_travel`; ``start``, ``end``
+    are the table's packed fields, read in place."""
+    for i in range(start.shape[0]):
+        for c in range(limit.size):
+            if abs(end[i, lo + c] - start[i, lo + c]) > limit[c]:
+                return i
+    return -1

@@ -34,7 +34,7 @@ import numpy as np
 
 import kernel.limits as limits
 from kernel.diagnostics import Diagnostic, Location
-from kernel.interp.arc_kernel import axis_samples, trapezoid_states
+from kernel.interp.arc_kernel import axis_samples, first_over, trapezoid_states
 from kernel.interp.bulk import bulk_array
 from kernel.interp.samples import Samples
 from kernel.machine import AXIS_NAMES, Controller, Machine
@@ -254,6 +254,19 @@ class _ArcBatch:
             jerk[rows] = jerk_a
 
 
+def compiled_sampling(plan: Plan, period: float, kind: np.ndarray | None = None) -> bool:
+    """Whether ``plan`` is sampled by the compiled kernels (kernel.interp.arc_kernel, which
+    read the table itself): exact arcs on an XYZ machine, no S-curve, enough arc samples
+    (``kind``: the table's kinds, if at hand)."""
+    ctl = plan.machine.controller
+    if ctl.circle_method != "exact" or plan.filter_time > 0:
+        return False
+    if _columns(plan.machine) != [0, 1, 2]:
+        return False
+    kind = plan.path.segments["kind"] if kind is None else kind
+    return float(plan.duration[kind == ARC].sum()) >= COMPILED_ARC_SAMPLES * period
+
+
 class _Sampler:
     """The chunk loop of :func:`sample`: the read-only tables the chunks share, and
     :meth:`run`, which fills the rows of the given chunks (every chunk is computed alone)."""
@@ -272,14 +285,7 @@ class _Sampler:
         self.lines_of = np.ascontiguousarray(seg["line"], dtype=np.int32)
         self.seg_index = np.where(kind == HOLD, -1, np.arange(len(seg), dtype=np.int32))
         self.has_arcs = bool(np.any(kind == ARC))
-        # exact arcs on an XYZ machine, no S-curve, enough arc samples: the compiled
-        # kernels (kernel.interp.arc_kernel) read the table itself, with every row's cubes
-        self.compiled = (
-            self.ctl.circle_method == "exact"
-            and self.cols == [0, 1, 2]
-            and plan.filter_time <= 0
-            and float(plan.duration[kind == ARC].sum()) >= COMPILED_ARC_SAMPLES * period
-        )
+        self.compiled = compiled_sampling(plan, period, kind)
         self.fields: dict[str, np.ndarray] = {}
         if self.compiled:
             self.fields = {f + "3": np.ascontiguousarray(seg[f]) ** 3 for f in ("sweep", "length")}
@@ -469,48 +475,57 @@ def _columns(machine: Machine) -> list[int]:
     return [AXIS_NAMES.index(a) for a in machine.axis_names]
 
 
-def check_moves(plan: Plan, period: float) -> None:
+def check_moves(plan: Plan, period: float, compiled: bool = False) -> None:
     """Before sampling: ``PLAN-TRAVEL`` for a move longer along a linear axis than that
     axis' whole travel (it cannot stay inside it), and ``LIMIT-COUNT`` for a move that would
-    take more than ``kernel.limits``' ``samples_per_move`` samples (an arc of 1e9 turns)."""
+    take more than ``kernel.limits``' ``samples_per_move`` samples (an arc of 1e9 turns).
+    ``compiled``: as :func:`check_travel`."""
     if not len(plan.path.segments):
         return
-    check_travel(plan)
+    check_travel(plan, compiled)
     steps, i = move_steps(plan, period)
     check_steps(plan, steps, i)
 
 
-def check_travel(plan: Plan) -> None:
-    """``PLAN-TRAVEL`` at the first move longer along a linear axis than its travel."""
+def check_travel(plan: Plan, compiled: bool = False) -> None:
+    """``PLAN-TRAVEL`` at the first move longer along a linear axis than its travel.
+    ``compiled``: that move found by a compiled loop (kernel.interp.arc_kernel, for plans
+    :func:`compiled_sampling` takes: numba is loaded there anyway)."""
     seg = plan.path.segments
     if not len(seg):
         return
     machine = plan.machine
     span = np.asarray(machine.limit_vector("max")) - np.asarray(machine.limit_vector("min"))
     linear = np.isfinite(span) & np.array([n not in "abc" for n in AXIS_NAMES])
-    if linear.any():
-        # only the columns from the first linear axis with a travel to the last (a view)
-        cols = np.flatnonzero(linear)
-        lo, hi = int(cols[0]), int(cols[-1]) + 1
-        extent = np.abs(seg["end"][:, lo:hi] - seg["start"][:, lo:hi])
-        over = (extent > span[lo:hi] * (1 + 1e-9) + 1e-6) & linear[lo:hi]
+    if not linear.any():
+        return
+    # only the columns from the first linear axis with a travel to the last (views)
+    cols = np.flatnonzero(linear)
+    lo, hi = int(cols[0]), int(cols[-1]) + 1
+    limit = np.where(linear, span * (1 + 1e-9) + 1e-6, np.inf)[lo:hi]
+    if compiled:
+        i = int(first_over(seg["start"], seg["end"], lo, limit))
+    else:
+        over = np.abs(seg["end"][:, lo:hi] - seg["start"][:, lo:hi]) > limit
         rows = over[:, 0].copy()  # any over the columns, column by column (a few)
         for col in range(1, hi - lo):
             rows |= over[:, col]
-        if rows.any():
-            i = int(np.argmax(rows))
-            axes = [lo + k for k, o in enumerate(over[i]) if o]
-            names = ", ".join(AXIS_NAMES[k].upper() for k in axes)
-            values = "; ".join(
-                f"{AXIS_NAMES[k].upper()} moves {float(extent[i, k - lo]):.3f} mm, its travel "
-                f"is {float(span[k]):.3f} mm"
-                for k in axes
-            )
-            raise Diagnostic(
-                "PLAN-TRAVEL",
-                f"move longer along {names} than the machine's travel: {values}",
-                Location(plan.path.file, int(seg["line"][i])),
-            )
+        i = int(np.argmax(rows)) if rows.any() else -1
+    if i < 0:
+        return
+    extent = np.abs(seg["end"][i, lo:hi] - seg["start"][i, lo:hi])
+    axes = [lo + int(k) for k in np.flatnonzero(extent > limit)]
+    names = ", ".join(AXIS_NAMES[k].upper() for k in axes)
+    values = "; ".join(
+        f"{AXIS_NAMES[k].upper()} moves {float(extent[k - lo]):.3f} mm, its travel is "
+        f"{float(span[k]):.3f} mm"
+        for k in axes
+    )
+    raise Diagnostic(
+        "PLAN-TRAVEL",
+        f"move longer along {names} than the machine's travel: {values}",
+        Location(plan.path.file, int(seg["line"][i])),
+    )
 
 
 def move_steps(plan: Plan, period: float) -> tuple[float, int]:
@@ -577,7 +592,7 @@ def sample(plan: Plan, period: float | None = None, chunk: int = CHUNK) -> Sampl
     machine = plan.machine
     period = machine.controller.interpolation_period if period is None else period
     seg = plan.path.segments
-    check_moves(plan, period)
+    check_moves(plan, period, len(seg) > 0 and compiled_sampling(plan, period))
     count = int(math.ceil(plan.total_time / period - 1e-9)) + 1 if len(seg) else 1
     nax = len(machine.axis_names)
     if not len(seg):
