@@ -332,6 +332,10 @@ def test_compiled_sampling_of_a_linuxcnc_plan_in_windows(monkeypatch, chunk):
     ref = sample(pl, chunk=chunk)
     monkeypatch.setattr(interpolate, "COMPILED_ARC_SAMPLES", 0)
     assert interpolate._Sampler(pl, 0.001, chunk).compiled
+    ours, theirs = interpolate.pieces(pl, False, 0.0, True), interpolate.pieces(pl, False)
+    for f in ("t0", "s0", "v0", "a", "smax"):
+        x, y = getattr(ours, f), getattr(theirs, f)
+        assert np.array_equal(x.view(np.uint64), y.view(np.uint64)), f
     assert_same(sample(pl, chunk=chunk), ref)
     parts = list(sample_windows(pl, window=2 * chunk, chunk=chunk))
     assert len(parts) > 1

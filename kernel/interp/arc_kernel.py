@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from kernel.path.segments import ARC, LINE
+from kernel.path.segments import ARC, HOLD, LINE
 
 
 @njit(cache=True)
@@ -161,3 +161,53 @@ def first_over(start: np.ndarray, end: np.ndarray, lo: int, limit: np.ndarray) -
             if abs(end[i, lo + c] - start[i, lo + c]) > limit[c]:
                 return i
     return -1
+
+
+@njit(cache=True)
+def trapezoid_pieces(
+    kind: np.ndarray,
+    length: np.ndarray,
+    t_start: np.ndarray,
+    t_acc: np.ndarray,
+    t_cruise: np.ndarray,
+    t_dec: np.ndarray,
+    v_start: np.ndarray,
+    v_peak: np.ndarray,
+    accel: np.ndarray,
+    decel: np.ndarray,
+    cols: np.ndarray,
+    smax: np.ndarray,
+) -> None:
+    """:func:`kernel.interp.interpolate.pieces` without the integral: each segment's four
+    pieces into ``cols`` (4, n, 4: ``t0, s0, v0, a``), its length (0 for a hold) into
+    ``smax``, with the same operations in the same order."""
+    for i in range(kind.size):
+        moving = kind[i] != HOLD
+        ta = t_acc[i] if moving else 0.0
+        tc = t_cruise[i] if moving else 0.0
+        td = t_dec[i] if moving else 0.0
+        vs = v_start[i] if moving else 0.0
+        vp = v_peak[i] if moving else 0.0
+        acc = accel[i] if moving else 0.0
+        dec = decel[i] if moving else 0.0
+        sm = length[i] if moving else 0.0
+        ts = t_start[i]
+        tac = ta + tc
+        cols[0, i, 0] = ts
+        cols[0, i, 1] = ta + ts
+        cols[0, i, 2] = tac + ts
+        cols[0, i, 3] = (tac + td) + ts
+        s1 = vs * ta + 0.5 * acc * (ta * ta)
+        cols[1, i, 0] = 0.0
+        cols[1, i, 1] = s1
+        cols[1, i, 2] = s1 + vp * tc
+        cols[1, i, 3] = sm
+        cols[2, i, 0] = vs
+        cols[2, i, 1] = vp
+        cols[2, i, 2] = vp
+        cols[2, i, 3] = 0.0
+        cols[3, i, 0] = acc
+        cols[3, i, 1] = 0.0
+        cols[3, i, 2] = -dec
+        cols[3, i, 3] = 0.0
+        smax[i] = sm

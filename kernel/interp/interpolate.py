@@ -34,7 +34,12 @@ import numpy as np
 
 import kernel.limits as limits
 from kernel.diagnostics import Diagnostic, Location
-from kernel.interp.arc_kernel import axis_samples, first_over, trapezoid_states
+from kernel.interp.arc_kernel import (
+    axis_samples,
+    first_over,
+    trapezoid_pieces,
+    trapezoid_states,
+)
 from kernel.interp.bulk import bulk_array
 from kernel.interp.samples import Samples
 from kernel.machine import AXIS_NAMES, Controller, Machine
@@ -66,13 +71,25 @@ class Pieces:
     i_end: float = 0.0  # the integral at the last piece's end (with ``integral``)
 
 
-def pieces(plan: Plan, integral: bool = True, i_start: float = 0.0) -> Pieces:
+def pieces(
+    plan: Plan, integral: bool = True, i_start: float = 0.0, compiled: bool = False
+) -> Pieces:
     """Split every segment's trapezoid into its constant-acceleration pieces (the integral
     columns, needed by S-curve smoothing, only when ``integral``; ``i_start``: the integral
-    at the first piece's start, for a plan that is one window of a longer one)."""
+    at the first piece's start, for a plan that is one window of a longer one).
+    ``compiled``: without the integral, in one compiled pass (kernel.interp.arc_kernel,
+    the same numbers)."""
     p = plan.profiles
     seg = plan.path.segments
     n = len(seg)
+    if compiled and not integral:
+        cols = bulk_array((4, n, 4))
+        smax = np.empty(n)
+        trapezoid_pieces(
+            seg["kind"], seg["length"], plan.t_start, p.t_acc, p.t_cruise, p.t_dec,
+            p.v_start, p.v_peak, p.accel, p.decel, cols, smax,
+        )  # fmt: skip
+        return Pieces(*(c.ravel() for c in cols), smax)
     moving = seg["kind"] != HOLD
     ta, tc, td = (np.where(moving, x, 0.0) for x in (p.t_acc, p.t_cruise, p.t_dec))
     vs, vp = np.where(moving, p.v_start, 0.0), np.where(moving, p.v_peak, 0.0)
@@ -279,13 +296,13 @@ class _Sampler:
         self.cols = _columns(machine)
         self.total = plan.total_time
         self.tf = tf = plan.filter_time
-        self.pc = pieces(plan, tf > 0, i_start)
-        self.blends = _Blends.of(plan, self.pc) if tf <= 0 else None
         self.kind = kind = np.ascontiguousarray(seg["kind"])
+        self.compiled = compiled_sampling(plan, period, kind)
+        self.pc = pieces(plan, tf > 0, i_start, self.compiled)
+        self.blends = _Blends.of(plan, self.pc) if tf <= 0 else None
         self.lines_of = np.ascontiguousarray(seg["line"], dtype=np.int32)
         self.seg_index = np.where(kind == HOLD, -1, np.arange(len(seg), dtype=np.int32))
         self.has_arcs = bool(np.any(kind == ARC))
-        self.compiled = compiled_sampling(plan, period, kind)
         self.fields: dict[str, np.ndarray] = {}
         if self.compiled:
             self.fields = {f + "3": np.ascontiguousarray(seg[f]) ** 3 for f in ("sweep", "length")}
