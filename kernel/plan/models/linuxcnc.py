@@ -1487,7 +1487,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     jcap[last_in] = np.minimum(jcap[last_in], np.sqrt(acc_plan[last_in] * length[last_in]))
     window = None if nn <= OPT_DEPTH else OPT_DEPTH
     if carry is None:
-        v = lookahead(length, jcap, acc_plan, None, window)
+        v = lookahead(length, jcap, acc_plan, None, window, n - 1 >= COMPILED_JOINS)
     else:
         v = np.zeros(nn + 1)
         v[k0:], g_run, m_run = resumed_lookahead(
