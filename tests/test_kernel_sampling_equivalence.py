@@ -25,7 +25,7 @@ from hypothesis import strategies as st
 from kernel.diagnostics import Diagnostic
 from kernel.interp import interpolate
 from kernel.interp.bulk import MAPPED_BYTES, bulk_array
-from kernel.interp.interpolate import _piece_of, sample
+from kernel.interp.interpolate import _piece_of, sample, sample_windows
 from kernel.interp.samples import Samples
 from kernel.ir import canon
 from kernel.machine import AXIS_NAMES, DEFAULT_MACHINE, AxisLimits, Machine, with_controller
@@ -33,6 +33,7 @@ from kernel.path.build import build_path
 from kernel.path.geometry import evaluate, line_cache
 from kernel.path.segments import HOLD
 from kernel.plan.planner import Plan, plan
+from kernel.plan.strategy import plan_program
 
 GOLDEN = FsPath(__file__).resolve().parent / "golden" / "ngc"
 FIELDS = ("t", "position", "velocity", "acceleration", "jerk", "segment", "source_line")
@@ -320,6 +321,29 @@ def test_compiled_arc_kernel_samples_as_before(monkeypatch, chunk):
         assert_same(sample(pl, chunk=chunk), reference_sample(pl, chunk=chunk))
 
 
+@pytest.mark.parametrize("chunk", [1000, 97])
+def test_compiled_sampling_of_a_linuxcnc_plan_in_windows(monkeypatch, chunk):
+    """A LinuxCNC-model plan (blend arcs, overlapping parabolic blends) sampled by the
+    compiled kernels, whole and in windows, bit for bit as by numpy."""
+    machine = with_controller(DEFAULT_MACHINE, model="linuxcnc")
+    _, pl = plan_program(zigzag(12), machine)
+    assert np.any(pl.path.segments["kind"] == 1) and pl.overlap is not None
+    monkeypatch.setattr(interpolate, "COMPILED_ARC_SAMPLES", math.inf)
+    ref = sample(pl, chunk=chunk)
+    monkeypatch.setattr(interpolate, "COMPILED_ARC_SAMPLES", 0)
+    assert interpolate._Sampler(pl, 0.001, chunk).compiled
+    ours, theirs = interpolate.pieces(pl, False, 0.0, True), interpolate.pieces(pl, False)
+    for f in ("t0", "s0", "v0", "a", "smax"):
+        x, y = getattr(ours, f), getattr(theirs, f)
+        assert np.array_equal(x.view(np.uint64), y.view(np.uint64)), f
+    assert_same(sample(pl, chunk=chunk), ref)
+    parts = list(sample_windows(pl, window=2 * chunk, chunk=chunk))
+    assert len(parts) > 1
+    for f in FIELDS:
+        whole = np.concatenate([getattr(w, f) for w in parts])
+        assert np.array_equal(whole, getattr(ref, f)), f
+
+
 def test_golden_programs_with_scurve_and_circle_methods_sample_as_before():
     plans = golden_plans(15.0)[::4]
     assert len(plans) >= 20
@@ -454,3 +478,27 @@ def test_piece_lookup_on_the_sample_grid_is_searchsorted(on_grid, off_grid, peri
     assert np.array_equal(_piece_of(t0, t, (lo, period)), want)
     i = np.clip(np.searchsorted(t0, t, "right") - 1, 0, None)
     assert np.array_equal(want, i)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_move_longer_than_an_axis_travel_is_plan_travel(compiled):
+    """``PLAN-TRAVEL`` names every linear axis a move spans more than its travel (the
+    default machine: X 800 mm, Y 500 mm, Z 500 mm), at the first such move, found by numpy
+    or by the compiled loop."""
+    cmds = [
+        canon.SetFeedRate(1000.0),
+        canon.StraightFeed(-100.0, 0.0, 0.0),
+        canon.StraightFeed(100.0, 0.0, -99.0),
+        canon.StraightFeed(200.0, 0.0, 0.0),
+    ]
+    pl = planned(cmds, DEFAULT_MACHINE)
+    interpolate.check_travel(pl, compiled)  # within the travel
+    seg = pl.path.segments
+    seg["end"][1, :3] = (100.0, 600.0, -600.0)
+    seg["end"][2, :3] = (1000.0, 0.0, 0.0)  # a later one (X) is not reported
+    with pytest.raises(Diagnostic) as err:
+        interpolate.check_travel(pl, compiled)
+    assert err.value.code == "PLAN-TRAVEL"
+    assert "along Y, Z" in str(err.value) and "X moves" not in str(err.value)
+    assert "Y moves 600.000 mm, its travel is 500.000 mm" in str(err.value)
+    assert "Z moves 600.000 mm, its travel is 500.000 mm" in str(err.value)

@@ -34,7 +34,12 @@ import numpy as np
 
 import kernel.limits as limits
 from kernel.diagnostics import Diagnostic, Location
-from kernel.interp.arc_kernel import arc_samples
+from kernel.interp.arc_kernel import (
+    axis_samples,
+    first_over,
+    trapezoid_pieces,
+    trapezoid_states,
+)
 from kernel.interp.bulk import bulk_array
 from kernel.interp.samples import Samples
 from kernel.machine import AXIS_NAMES, Controller, Machine
@@ -66,13 +71,25 @@ class Pieces:
     i_end: float = 0.0  # the integral at the last piece's end (with ``integral``)
 
 
-def pieces(plan: Plan, integral: bool = True, i_start: float = 0.0) -> Pieces:
+def pieces(
+    plan: Plan, integral: bool = True, i_start: float = 0.0, compiled: bool = False
+) -> Pieces:
     """Split every segment's trapezoid into its constant-acceleration pieces (the integral
     columns, needed by S-curve smoothing, only when ``integral``; ``i_start``: the integral
-    at the first piece's start, for a plan that is one window of a longer one)."""
+    at the first piece's start, for a plan that is one window of a longer one).
+    ``compiled``: without the integral, in one compiled pass (kernel.interp.arc_kernel,
+    the same numbers)."""
     p = plan.profiles
     seg = plan.path.segments
     n = len(seg)
+    if compiled and not integral:
+        cols = bulk_array((4, n, 4))
+        smax = np.empty(n)
+        trapezoid_pieces(
+            seg["kind"], seg["length"], plan.t_start, p.t_acc, p.t_cruise, p.t_dec,
+            p.v_start, p.v_peak, p.accel, p.decel, cols, smax,
+        )  # fmt: skip
+        return Pieces(*(c.ravel() for c in cols), smax)
     moving = seg["kind"] != HOLD
     ta, tc, td = (np.where(moving, x, 0.0) for x in (p.t_acc, p.t_cruise, p.t_dec))
     vs, vp = np.where(moving, p.v_start, 0.0), np.where(moving, p.v_peak, 0.0)
@@ -207,7 +224,6 @@ class _ArcBatch:
         cols: list[int],
         out: tuple,
         fields: dict[str, np.ndarray],
-        compiled: bool,
     ) -> None:
         self.seg, self.ctl, self.cols, self.out = seg, ctl, cols, out
         self.cache = {  # kernel.path.geometry.line_cache; only "kind" is read for arc queries
@@ -217,9 +233,6 @@ class _ArcBatch:
             "u": np.zeros((0, len(cols))),
             **fields,  # kernel.path.geometry.arc_cache (its "length" is the rows' own)
         }
-        # exact arcs on an XYZ machine, no S-curve: the compiled kernel
-        # (kernel.interp.arc_kernel), with the arc rows' fields of :func:`_arc_rows`
-        self.compiled = compiled
         self.parts: list[tuple[np.ndarray, ...]] = []
         self.size = 0
 
@@ -238,33 +251,6 @@ class _ArcBatch:
         self.parts, self.size = [], 0
         pos, vel, acc, jerk = self.out
         ctl = self.ctl
-        if j is None and self.compiled:
-            f = self.cache
-            arc_samples(
-                rows,
-                f["arc_of"].take(gk),
-                local,
-                v,
-                v**3,
-                a,
-                f["sweep"],
-                f["sweep3"],
-                f["radius"],
-                f["radius_end"],
-                f["length"],
-                f["length3"],
-                f["e1"],
-                f["e2"],
-                f["normal"],
-                f["centre"],
-                f["axial"],
-                f["end"],
-                pos,
-                vel,
-                acc,
-                jerk,
-            )
-            return
         p, d1, curved, d2, d3 = evaluate(
             self.seg, gk, local, ctl.circle_method, ctl.chord_tolerance, self.cols, self.cache
         )
@@ -285,26 +271,17 @@ class _ArcBatch:
             jerk[rows] = jerk_a
 
 
-def _arc_rows(seg: np.ndarray, kind: np.ndarray) -> dict[str, np.ndarray]:
-    """The fields the compiled arc kernel reads, of the arc rows only (contiguous), their
-    cubes as numpy computes them, and ``arc_of``: each segment's place among them."""
-    rows = np.flatnonzero(kind == ARC)
-    # the arc rows gathered as bytes (a structured gather goes field by field)
-    size = seg.dtype.itemsize
-    raw = np.ascontiguousarray(seg).view(np.uint8).reshape(len(seg), size)
-    arcs = raw.take(rows, axis=0).view(seg.dtype).reshape(rows.size)
-    out = {
-        f: np.ascontiguousarray(arcs[f])
-        for f in ("sweep", "radius", "radius_end", "length", "axial", "e1", "e2", "normal")
-    }
-    out["centre"] = np.ascontiguousarray(arcs["centre"])
-    out["end"] = np.ascontiguousarray(arcs["end"][:, :3])
-    out["sweep3"] = out["sweep"] ** 3
-    out["length3"] = out["length"] ** 3
-    arc_of = np.zeros(len(seg), dtype=np.int64)
-    arc_of[rows] = np.arange(rows.size)
-    out["arc_of"] = arc_of
-    return out
+def compiled_sampling(plan: Plan, period: float, kind: np.ndarray | None = None) -> bool:
+    """Whether ``plan`` is sampled by the compiled kernels (kernel.interp.arc_kernel, which
+    read the table itself): exact arcs on an XYZ machine, no S-curve, enough arc samples
+    (``kind``: the table's kinds, if at hand)."""
+    ctl = plan.machine.controller
+    if ctl.circle_method != "exact" or plan.filter_time > 0:
+        return False
+    if _columns(plan.machine) != [0, 1, 2]:
+        return False
+    kind = plan.path.segments["kind"] if kind is None else kind
+    return float(plan.duration[kind == ARC].sum()) >= COMPILED_ARC_SAMPLES * period
 
 
 class _Sampler:
@@ -319,22 +296,20 @@ class _Sampler:
         self.cols = _columns(machine)
         self.total = plan.total_time
         self.tf = tf = plan.filter_time
-        self.pc = pieces(plan, tf > 0, i_start)
-        self.blends = _Blends.of(plan, self.pc) if tf <= 0 else None
         self.kind = kind = np.ascontiguousarray(seg["kind"])
-        self.start, self.u = _line_rows(seg, self.cols)
+        self.compiled = compiled_sampling(plan, period, kind)
+        self.pc = pieces(plan, tf > 0, i_start, self.compiled)
+        self.blends = _Blends.of(plan, self.pc) if tf <= 0 else None
         self.lines_of = np.ascontiguousarray(seg["line"], dtype=np.int32)
         self.seg_index = np.where(kind == HOLD, -1, np.arange(len(seg), dtype=np.int32))
         self.has_arcs = bool(np.any(kind == ARC))
-        self.compiled = (
-            self.ctl.circle_method == "exact"
-            and self.cols == [0, 1, 2]
-            and plan.filter_time <= 0
-            and float(plan.duration[kind == ARC].sum()) >= COMPILED_ARC_SAMPLES * period
-        )
         self.fields: dict[str, np.ndarray] = {}
-        if self.has_arcs:
-            self.fields = _arc_rows(seg, kind) if self.compiled else arc_cache(seg)
+        if self.compiled:
+            self.fields = {f + "3": np.ascontiguousarray(seg[f]) ** 3 for f in ("sweep", "length")}
+        else:
+            self.start, self.u = _line_rows(seg, self.cols)
+            if self.has_arcs:
+                self.fields = arc_cache(seg)
         if tf > 0:
             self.moving_idx = np.flatnonzero(kind != HOLD)
             self.s_end_moving = (plan.s_start + seg["length"])[self.moving_idx]
@@ -348,14 +323,52 @@ class _Sampler:
         :func:`sample_windows`) of the ``count`` samples in all."""
         t, pos, vel, acc, jerk, seg_out, line_out = out
         count = len(t) + offset if count is None else count
+        if self.compiled:
+            self._run_compiled(los, out, offset, count)
+        else:
+            self._run_numpy(los, out, offset, count)
+        if self.blends is not None:
+            self.blends.add(self, out, offset, count)
+
+    def _run_compiled(
+        self, los: range, out: tuple[np.ndarray, ...], offset: int, count: int
+    ) -> None:
+        """:meth:`run` by the compiled kernels: per chunk the path state, the cube of the
+        speed by numpy, then the axes."""
+        t, pos, vel, acc, jerk, seg_out, line_out = out
+        chunk, period, total, pc = self.chunk, self.period, self.total, self.pc
+        seg = self.plan.path.segments
+        sweep3, length3 = self.fields["sweep3"], self.fields["length3"]
+        width = min(chunk, count)
+        gk = np.empty(width, dtype=np.int64)
+        state = np.empty((4, width))
+        for lo in los:
+            hi = min(count, lo + chunk)
+            a_, b_ = lo - offset, hi - offset  # rows of this call's arrays
+            n = hi - lo
+            local, v, a, v3 = state[0, :n], state[1, :n], state[2, :n], state[3, :n]
+            first = min(float(lo) * period, total)
+            k = max(int(np.searchsorted(pc.t0, first, "right")) - 1, 0)
+            trapezoid_states(
+                lo, period, total, k, pc.t0, pc.s0, pc.v0, pc.a, pc.smax, t[a_:b_],
+                gk[:n], local, v, a,
+            )  # fmt: skip
+            np.power(v, 3, out=v3)
+            axis_samples(
+                a_, gk[:n], local, v, v3, a, seg, sweep3, length3, self.seg_index,
+                self.lines_of, pos, vel, acc, jerk, seg_out, line_out,
+            )  # fmt: skip
+
+    def _run_numpy(self, los: range, out: tuple[np.ndarray, ...], offset: int, count: int) -> None:
+        """:meth:`run` by numpy: per chunk the path state, the lines' axes, and the arcs'
+        samples gathered for :class:`_ArcBatch`."""
+        t, pos, vel, acc, jerk, seg_out, line_out = out
         chunk, period, total = self.chunk, self.period, self.total
         kind, u, start, tf = self.kind, self.u, self.start, self.tf
         seg = self.plan.path.segments
         arcs = None
         if self.has_arcs:
-            arcs = _ArcBatch(
-                seg, kind, self.ctl, self.cols, (pos, vel, acc, jerk), self.fields, self.compiled
-            )
+            arcs = _ArcBatch(seg, kind, self.ctl, self.cols, (pos, vel, acc, jerk), self.fields)
         width = min(chunk, count)
         scratch = np.empty((3, width))
         rows = np.empty((2, width, len(self.cols)))
@@ -388,8 +401,6 @@ class _Sampler:
             np.take(self.lines_of, gk, out=line_out[a_:b_], mode="clip")
         if arcs is not None:
             arcs.flush()
-        if self.blends is not None:
-            self.blends.add(self, out, offset, count)
 
     def _smoothed_state(self, tt: np.ndarray) -> tuple[np.ndarray, ...]:
         """``(segment, local s, v, a, j)`` of the S-curve (moving-average) motion."""
@@ -481,43 +492,57 @@ def _columns(machine: Machine) -> list[int]:
     return [AXIS_NAMES.index(a) for a in machine.axis_names]
 
 
-def check_moves(plan: Plan, period: float) -> None:
+def check_moves(plan: Plan, period: float, compiled: bool = False) -> None:
     """Before sampling: ``PLAN-TRAVEL`` for a move longer along a linear axis than that
     axis' whole travel (it cannot stay inside it), and ``LIMIT-COUNT`` for a move that would
-    take more than ``kernel.limits``' ``samples_per_move`` samples (an arc of 1e9 turns)."""
+    take more than ``kernel.limits``' ``samples_per_move`` samples (an arc of 1e9 turns).
+    ``compiled``: as :func:`check_travel`."""
     if not len(plan.path.segments):
         return
-    check_travel(plan)
+    check_travel(plan, compiled)
     steps, i = move_steps(plan, period)
     check_steps(plan, steps, i)
 
 
-def check_travel(plan: Plan) -> None:
-    """``PLAN-TRAVEL`` at the first move longer along a linear axis than its travel."""
+def check_travel(plan: Plan, compiled: bool = False) -> None:
+    """``PLAN-TRAVEL`` at the first move longer along a linear axis than its travel.
+    ``compiled``: that move found by a compiled loop (kernel.interp.arc_kernel, for plans
+    :func:`compiled_sampling` takes: numba is loaded there anyway)."""
     seg = plan.path.segments
     if not len(seg):
         return
     machine = plan.machine
     span = np.asarray(machine.limit_vector("max")) - np.asarray(machine.limit_vector("min"))
     linear = np.isfinite(span) & np.array([n not in "abc" for n in AXIS_NAMES])
-    if linear.any():
-        extent = np.abs(seg["end"] - seg["start"])
-        over = (extent > span * (1 + 1e-9) + 1e-6) & linear
-        rows = over.any(axis=1)
-        if rows.any():
-            i = int(np.argmax(rows))
-            axes = [k for k, o in enumerate(over[i]) if o]
-            names = ", ".join(AXIS_NAMES[k].upper() for k in axes)
-            values = "; ".join(
-                f"{AXIS_NAMES[k].upper()} moves {float(extent[i, k]):.3f} mm, its travel is "
-                f"{float(span[k]):.3f} mm"
-                for k in axes
-            )
-            raise Diagnostic(
-                "PLAN-TRAVEL",
-                f"move longer along {names} than the machine's travel: {values}",
-                Location(plan.path.file, int(seg["line"][i])),
-            )
+    if not linear.any():
+        return
+    # only the columns from the first linear axis with a travel to the last (views)
+    cols = np.flatnonzero(linear)
+    lo, hi = int(cols[0]), int(cols[-1]) + 1
+    limit = np.where(linear, span * (1 + 1e-9) + 1e-6, np.inf)[lo:hi]
+    if compiled:
+        i = int(first_over(seg["start"], seg["end"], lo, limit))
+    else:
+        over = np.abs(seg["end"][:, lo:hi] - seg["start"][:, lo:hi]) > limit
+        rows = over[:, 0].copy()  # any over the columns, column by column (a few)
+        for col in range(1, hi - lo):
+            rows |= over[:, col]
+        i = int(np.argmax(rows)) if rows.any() else -1
+    if i < 0:
+        return
+    extent = np.abs(seg["end"][i, lo:hi] - seg["start"][i, lo:hi])
+    axes = [lo + int(k) for k in np.flatnonzero(extent > limit)]
+    names = ", ".join(AXIS_NAMES[k].upper() for k in axes)
+    values = "; ".join(
+        f"{AXIS_NAMES[k].upper()} moves {float(extent[k - lo]):.3f} mm, its travel is "
+        f"{float(span[k]):.3f} mm"
+        for k in axes
+    )
+    raise Diagnostic(
+        "PLAN-TRAVEL",
+        f"move longer along {names} than the machine's travel: {values}",
+        Location(plan.path.file, int(seg["line"][i])),
+    )
 
 
 def move_steps(plan: Plan, period: float) -> tuple[float, int]:
@@ -584,7 +609,7 @@ def sample(plan: Plan, period: float | None = None, chunk: int = CHUNK) -> Sampl
     machine = plan.machine
     period = machine.controller.interpolation_period if period is None else period
     seg = plan.path.segments
-    check_moves(plan, period)
+    check_moves(plan, period, len(seg) > 0 and compiled_sampling(plan, period))
     count = int(math.ceil(plan.total_time / period - 1e-9)) + 1 if len(seg) else 1
     nax = len(machine.axis_names)
     if not len(seg):

@@ -137,15 +137,27 @@ def blend_radii(seg: np.ndarray) -> np.ndarray:
     return np.where(r > _MIN_RADIUS, r, 0.0)
 
 
-def _corner_trims(
-    seg: np.ndarray, corners: np.ndarray, r: np.ndarray
+def corner_trims(
+    seg: np.ndarray, corners: np.ndarray, r: np.ndarray, compiled: bool = False
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Directions into and out of each corner, their cosine and angle, and the tangent
-    length ``d`` an arc of radius ``r`` takes off both lines."""
-    u1, u2 = seg["u_end"][corners, :3], seg["u_start"][corners + 1, :3]
+    length ``d`` an arc of radius ``r`` takes off both lines (what
+    :func:`kept_after_blending` and :func:`insert_blend_arcs` compute first: pass it to
+    both as ``trims`` to compute it once). ``compiled``: the directions gathered by
+    kernel.path.blend_kernels (the same numbers)."""
+    u1, u2 = _xyz(seg["u_end"], corners, compiled), _xyz(seg["u_start"], corners + 1, compiled)
     cos = np.clip(np.einsum("ij,ij->i", u1, u2), -1.0, 1.0)
     theta = np.arccos(cos)
     return u1, u2, cos, theta, r * np.tan(theta / 2)
+
+
+def _xyz(field: np.ndarray, rows: np.ndarray, compiled: bool) -> np.ndarray:
+    """``field[rows, :3]`` of a (rows, 6) field of the table, by numpy or compiled."""
+    if not compiled:
+        return field[rows, :3]
+    from kernel.path.blend_kernels import gather_xyz
+
+    return gather_xyz(field, rows)
 
 
 def _placed(n: int, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -156,11 +168,22 @@ def _placed(n: int, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def kept_after_blending(
-    seg: np.ndarray, corners: np.ndarray, r: np.ndarray, min_length: float
+    seg: np.ndarray,
+    corners: np.ndarray,
+    r: np.ndarray,
+    min_length: float,
+    compiled: bool = False,
+    trims: tuple[np.ndarray, ...] | None = None,
 ) -> np.ndarray:
     """Which rows of :func:`insert_blend_arcs`' result are not lines shortened to
-    ``min_length`` or less (the same arithmetic as the shortening there)."""
-    _, _, _, theta, d = _corner_trims(seg, corners, r)
+    ``min_length`` or less (the same arithmetic as the shortening there). ``compiled``:
+    in one compiled pass (kernel.path.blend_kernels, the same result); ``trims``:
+    :func:`corner_trims` of the same arguments."""
+    _, _, _, theta, d = corner_trims(seg, corners, r) if trims is None else trims
+    if compiled:
+        from kernel.path.blend_kernels import kept_rows
+
+        return kept_rows(seg["kind"], seg["length"], corners, d, min_length)
     moved, at = _placed(len(seg), corners)
     length = np.empty(len(seg) + corners.size)
     length[moved] = seg["length"]
@@ -173,14 +196,25 @@ def kept_after_blending(
 
 
 def insert_blend_arcs(
-    seg: np.ndarray, corners: np.ndarray, r: np.ndarray, keep: np.ndarray | None = None
+    seg: np.ndarray,
+    corners: np.ndarray,
+    r: np.ndarray,
+    keep: np.ndarray | None = None,
+    compiled: bool = False,
+    trims: tuple[np.ndarray, ...] | None = None,
+    feed: np.ndarray | None = None,
 ) -> np.ndarray:
     """``seg`` with a tangent arc of radius ``r[k]`` inserted at the corner after each row
     ``corners[k]`` (sorted; both rows lines); the lines are shortened by the arc's tangent
     length. Lines shortened to nothing are kept (zero length): the caller decides, and may
-    pass ``keep`` (:func:`kept_after_blending`): only those rows of the result are made."""
-    u1, u2, cos, theta, d = _corner_trims(seg, corners, r)
-    c = seg["end"][corners, :3]
+    pass ``keep`` (:func:`kept_after_blending`): only those rows of the result are made.
+    ``compiled``: the rows made in one compiled pass (kernel.path.blend_kernels: the same
+    table, for large ones); ``trims``: :func:`corner_trims` of the same arguments;
+    ``feed``: the arcs' feed (default: the slower of the two moves')."""
+    if feed is None:
+        feed = np.minimum(seg["feed"][corners], seg["feed"][corners + 1])
+    u1, u2, cos, theta, d = corner_trims(seg, corners, r) if trims is None else trims
+    c = _xyz(seg["end"], corners, compiled)
     v1, v2 = u1, u2
     start = c - d[:, None] * v1
     end = c + d[:, None] * v2
@@ -191,6 +225,10 @@ def insert_blend_arcs(
     normal /= np.linalg.norm(normal, axis=1)[:, None]
     e1 = (start - centre) / r[:, None]
     e2 = np.cross(normal, e1)  # = v1: the arc leaves A along the first line
+    if compiled:
+        return _insert_compiled(
+            seg, corners, keep, d, (start, end, centre, normal, e1, e2, r, theta, v1, v2, feed)
+        )
     # the rows moved to their places (row i after the arcs of the corners before it), the
     # arcs in between: one copy of the table, no per-field inserts
     n, k = len(seg), corners.size
@@ -229,7 +267,7 @@ def insert_blend_arcs(
     rows[:, cols["sweep"]] = theta
     rows[:, cols["u_start"] : cols["u_start"] + 3] = v1
     rows[:, cols["u_end"] : cols["u_end"] + 3] = v2
-    rows[:, cols["feed"]] = np.minimum(seg["feed"][corners], seg["feed"][corners + 1])
+    rows[:, cols["feed"]] = feed
     f[at] = rows
     # the fields before the block (kind, category) and after it (exact_stop: False, blend,
     # source, line) as one byte string each per row
@@ -251,3 +289,24 @@ def insert_blend_arcs(
     f[after, s0 : s0 + 3] = end[cut_start]
     f[after, ln] -= d[cut_start]
     return out[:size]
+
+
+def _insert_compiled(
+    seg: np.ndarray,
+    corners: np.ndarray,
+    keep: np.ndarray | None,
+    d: np.ndarray,
+    arcs: tuple[np.ndarray, ...],
+) -> np.ndarray:
+    """:func:`insert_blend_arcs`' table made by kernel.path.blend_kernels from the arcs'
+    geometry and feed (``start, end, centre, normal, e1, e2, r, theta, v1, v2, feed``)
+    computed above."""
+    from kernel.path.blend_kernels import fill_blended
+
+    n, k = len(seg), corners.size
+    if keep is None:
+        keep = np.ones(n + k, dtype=bool)
+    out = bulk_array(int(np.count_nonzero(keep)), seg.dtype)
+    made = fill_blended(seg, out, corners, keep, d, *arcs)
+    assert made == len(out)
+    return out

@@ -155,6 +155,7 @@ def lookahead(
     accel: np.ndarray,
     decel: np.ndarray | None = None,
     window: int | None = None,
+    compiled: bool = False,
 ) -> np.ndarray:
     """Junction speeds (n+1) for n segments, starting and ending at rest.
 
@@ -165,12 +166,14 @@ def lookahead(
     With ``w = v^2`` and ``G_k = sum_{m<k} 2 D_m L_m`` the backward pass is
     ``w_i = min_k (c_k + G_k) - G_i``: a (sliding) minimum, likewise the forward pass.
     ``window`` ``None`` means unlimited; ``1`` is no look-ahead (stop after every block).
+    ``compiled``: the window's minima by a compiled loop (kernel.plan.plan_kernels, the same
+    numbers; for callers that load numba anyway).
     """
     length = np.asarray(length, dtype=float)
     decel = accel if decel is None else decel
     g = np.concatenate([[0.0], np.cumsum(2.0 * decel * length)])
     h = np.concatenate([[0.0], np.cumsum(2.0 * accel * length)])
-    return _speeds(junction_cap, g, h, window)
+    return _speeds(junction_cap, g, h, window, compiled)
 
 
 def resumed_lookahead(
@@ -196,7 +199,9 @@ def resumed_lookahead(
     return np.sqrt(np.clip(m + g, 0.0, None)), g, m
 
 
-def _end_speeds(junction_cap: np.ndarray, g: np.ndarray, window: int | None) -> np.ndarray:
+def _end_speeds(
+    junction_cap: np.ndarray, g: np.ndarray, window: int | None, compiled: bool = False
+) -> np.ndarray:
     """The backward pass of :func:`lookahead` over the running sums ``g``: the squared
     speed each junction may have (0 at the first and the last)."""
     n = g.size - 1
@@ -209,17 +214,26 @@ def _end_speeds(junction_cap: np.ndarray, g: np.ndarray, window: int | None) -> 
     else:
         i = np.arange(n)
         far = np.minimum(i + window, n)
-        inner = range_min(x, i + 1, np.minimum(i + window - 1, n))
+        if compiled and not np.isnan(x).any():
+            from kernel.plan.plan_kernels import window_min
+
+            inner = window_min(x, window - 1)
+        else:
+            inner = range_min(x, i + 1, np.minimum(i + window - 1, n))
         end2 = np.minimum(inner, g[far]) - g[1:]
     return np.concatenate([[0.0], end2])
 
 
 def _speeds(
-    junction_cap: np.ndarray, g: np.ndarray, h: np.ndarray, window: int | None
+    junction_cap: np.ndarray,
+    g: np.ndarray,
+    h: np.ndarray,
+    window: int | None,
+    compiled: bool = False,
 ) -> np.ndarray:
     """The backward and forward passes of :func:`lookahead` over the running sums ``g``
     (deceleration) and ``h`` (acceleration)."""
-    y = _end_speeds(junction_cap, g, window)
+    y = _end_speeds(junction_cap, g, window, compiled)
     w = np.minimum.accumulate(y - h) + h
     return np.sqrt(np.clip(w, 0.0, None))
 

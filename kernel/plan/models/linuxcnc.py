@@ -92,7 +92,7 @@ import numpy as np
 import kernel.ir.canon as canon
 from kernel.interp.bulk import bulk_array
 from kernel.machine import Machine
-from kernel.path.blend import insert_blend_arcs, kept_after_blending
+from kernel.path.blend import corner_trims, insert_blend_arcs, kept_after_blending
 from kernel.path.segments import ARC, HOLD, LINE, RAPID, Path
 from kernel.plan.models import lcnc_joins
 from kernel.plan.models.lcnc_joins import (
@@ -1325,21 +1325,28 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     table = seg
     kept = None  # without blends next to circles: the lines blending empties left out now
     if corners.size:
+        big = n - 1 >= COMPILED_JOINS  # compiled as the joins were (numba loaded)
+        radius = j.radius[corners]
+        trims = corner_trims(seg, corners, radius, big)
         if not virt.size:
-            kept = kept_after_blending(seg, corners, j.radius[corners], _GONE)
-        table = insert_blend_arcs(seg, corners, j.radius[corners], kept)
-        at = corners + 1
+            kept = kept_after_blending(seg, corners, radius, _GONE, big, trims)
         # the blend arc is asked the faster of its two moves' speeds (tp.c
         # tpCreateLineLineBlend: v_req)
-        rows = at + np.arange(corners.size)
-        if kept is not None:
-            rows = (np.cumsum(kept) - 1)[rows]
-        table["feed"][rows] = np.maximum(seg["feed"][corners], seg["feed"][corners + 1])
-        arc_len = table["length"][rows]
+        arc_feed = np.maximum(seg["feed"][corners], seg["feed"][corners + 1])
+        table = insert_blend_arcs(seg, corners, radius, kept, big, trims, arc_feed)
+        at = corners + 1
+        arc_len = radius * trims[3]  # the arcs' length in the table
         arc_max = np.minimum(j.arc_vel[corners], arc_len / period)
+        # np.insert(x, at, values) for every per-row array, the places found once
+        arc_at = at + np.arange(corners.size)
+        old_at = np.ones(n + corners.size, dtype=bool)
+        old_at[arc_at] = False
 
-        def ins(x: np.ndarray, values: np.ndarray) -> np.ndarray:
-            return np.insert(x, at, values)
+        def ins(x: np.ndarray, values: np.ndarray | float | bool) -> np.ndarray:
+            out = np.empty(old_at.size, dtype=x.dtype)
+            out[old_at] = x
+            out[arc_at] = values
+            return out
 
         seg_term = ins(seg_term, TANGENT)
         acc_all = ins(acc_all, j.arc_acc[corners])
@@ -1512,7 +1519,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
     jcap[last_in] = np.minimum(jcap[last_in], np.sqrt(acc_plan[last_in] * length[last_in]))
     window = None if nn <= OPT_DEPTH else OPT_DEPTH
     if carry is None:
-        v = lookahead(length, jcap, acc_plan, None, window)
+        v = lookahead(length, jcap, acc_plan, None, window, n - 1 >= COMPILED_JOINS)
     else:
         v = np.zeros(nn + 1)
         v[k0:], g_run, m_run = resumed_lookahead(
