@@ -31,8 +31,9 @@ ROTARY: frozenset[str] = frozenset({"a", "b", "c"})
 ACCDEC_TYPES: tuple[str, ...] = ("trapezoid", "scurve")
 CORNER_RULES: tuple[str, ...] = ("axis", "angle")
 CONTROLLER_MODELS: tuple[str, ...] = ("book", "linuxcnc", "grbl")
-#: the ``linuxcnc`` model's tangential acceleration on a helix (Controller.helix_acceleration)
-HELIX_ACCELERATIONS: tuple[str, ...] = ("linuxcnc", "limits")
+#: where LinuxCNC's planner passes an axis limit, the ``linuxcnc`` model does as it does or
+#: keeps the limit (Controller.axis_limits)
+AXIS_LIMIT_POLICIES: tuple[str, ...] = ("linuxcnc", "strict")
 CIRCLE_METHODS: tuple[str, ...] = (
     "exact",
     "euler",
@@ -90,9 +91,10 @@ class Controller:
     kernel.plan.planner), ``linuxcnc`` (LinuxCNC 2.9's trajectory planner) or ``grbl``
     (Grbl 1.1's planner).
     ``junction_deviation``, ``arc_tolerance``: Grbl's ``$11`` and ``$12``, mm (``grbl`` model).
-    ``helix_acceleration``: the ``linuxcnc`` model's tangential acceleration on a helix:
-    ``linuxcnc`` as LinuxCNC 2.9 splits it (its effective radius; on a steep helix an axis
-    passes its limit, as on the machine) or ``limits`` (capped so every axis keeps its limit).
+    ``axis_limits``: where LinuxCNC 2.9's planner itself passes an axis limit (a steep
+    helix's tangential share, from its effective radius; a parabolic blend whose two moves
+    add up), the ``linuxcnc`` model does the same (``linuxcnc``: the machine's time, and the
+    report shows the hit) or keeps every axis within its limit (``strict``).
     """
 
     interpolation_period: float = 0.001
@@ -113,7 +115,7 @@ class Controller:
     model: str = "book"
     junction_deviation: float = 0.01
     arc_tolerance: float = 0.002
-    helix_acceleration: str = "linuxcnc"
+    axis_limits: str = "linuxcnc"
 
 
 @dataclass(frozen=True, slots=True)
@@ -289,13 +291,13 @@ def _controller(table: object, where: ProfileWhere) -> Controller:
             if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 10**6:
                 raise Diagnostic("MACH-RANGE", f"{what} must be an integer from 1 to 10**6", loc)
             kw[key] = value
-        elif key in ("accdec", "corner_rule", "circle_method", "model", "helix_acceleration"):
+        elif key in ("accdec", "corner_rule", "circle_method", "model", "axis_limits"):
             allowed = {
                 "accdec": ACCDEC_TYPES,
                 "corner_rule": CORNER_RULES,
                 "circle_method": CIRCLE_METHODS,
                 "model": CONTROLLER_MODELS,
-                "helix_acceleration": HELIX_ACCELERATIONS,
+                "axis_limits": AXIS_LIMIT_POLICIES,
             }[key]
             if value not in allowed:
                 raise Diagnostic("MACH-RANGE", f"{what} must be one of {', '.join(allowed)}", loc)

@@ -375,11 +375,11 @@ def test_plan_compare_prints_models_and_stretches() -> None:
 def test_linuxcnc_model_helix_stop_keeps_the_axis_acceleration_limit():
     """Found by the property test: LinuxCNC's effective helix radius (the whole rise squared
     over the radius) leaves too large a tangential share on a short steep helix that slows
-    to a stop; with ``helix_acceleration = "limits"`` the model caps it with the helix's
+    to a stop; with ``axis_limits = "strict"`` the model caps it with the helix's
     true curvature."""
     axes = tuple(AxisLimits(n, velocity=20.0, acceleration=200.0, jerk=20000.0) for n in "xyz")
     machine = with_controller(
-        Machine("helix", axes, Controller()), model="linuxcnc", helix_acceleration="limits"
+        Machine("helix", axes, Controller()), model="linuxcnc", axis_limits="strict"
     )
     cmds = [
         canon.SetFeedRate(644.0),
@@ -453,9 +453,11 @@ _HELIX_BLENDS = {
 def test_linuxcnc_model_helix_blend_keeps_the_axis_acceleration_limit(name: str) -> None:
     """Found by the property test: in a parabolic blend next to a helix the two moves'
     accelerations added up past an axis limit; such a blend now starts at the speed that
-    keeps the sum within it."""
+    keeps the sum within it (``axis_limits = "strict"``; LinuxCNC itself checks nothing there)."""
     axes = tuple(AxisLimits(n, velocity=20.0, acceleration=200.0, jerk=20000.0) for n in "xyz")
-    machine = with_controller(Machine("random", axes, Controller()), model="linuxcnc")
+    machine = with_controller(
+        Machine("random", axes, Controller()), model="linuxcnc", axis_limits="strict"
+    )
     _, p = plan_program(_HELIX_BLENDS[name], machine)
     assert p.overlap is not None and (p.overlap > 0).any()  # the helix is blended
     s = sample(p)
@@ -524,7 +526,7 @@ def test_linuxcnc_model_passes_the_limit_on_a_steep_helix_as_linuxcnc_does() -> 
     """own_helix_pitch.G61 (r 2 mm, 8 mm a turn): LinuxCNC's effective radius leaves the
     tangent nearly all the acceleration and its X reaches about 549 mm/s^2 against 500. By
     default the model does the same (its time and peak those of the recording) and the report
-    shows the hit; ``helix_acceleration = "limits"`` keeps X within 500 and takes longer."""
+    shows the hit; ``axis_limits = "strict"`` keeps X within 500 and takes longer."""
     name = "own_helix_pitch.G61"
     golden = LCNC_GOLDENS[name]
     time, _, acc = _run(str(LCNC), name)
@@ -533,7 +535,7 @@ def test_linuxcnc_model_passes_the_limit_on_a_steep_helix_as_linuxcnc_does() -> 
     prog = LCNC / "ngc" / f"{name}.ngc"
     report = simulate(list(read(prog, "rs274ngc")), _machine(str(LCNC)), str(prog)).measure()
     assert any(h.axis == "x" and h.kind == "acceleration" for h in report.hits)
-    strict = with_controller(_machine(str(LCNC)), helix_acceleration="limits")
+    strict = with_controller(_machine(str(LCNC)), axis_limits="strict")
     kept = simulate(list(read(prog, "rs274ngc")), strict, str(prog))
     assert np.abs(kept.samples.acceleration[:, 0]).max() <= 500.0 * (1 + 1e-6)
     assert kept.measure().cycle.total > 1.02 * _num(golden, "time")

@@ -480,11 +480,11 @@ def test_controller_models_respect_every_limit_and_their_path(model, cmds, machi
     its speed or acceleration limit, the path speed never above the feed, every sample on
     the path the model plans (its blend arcs, Grbl's chords), the end point exact, stopped at
     every barrier and at the end. The linuxcnc model keeps a helix's axes within their
-    limits when told to (``helix_acceleration = "limits"``): by default it passes them where
+    limits when told to (``axis_limits = "strict"``): by default it passes them where
     LinuxCNC does (test_linuxcnc_model_passes_the_limit_on_a_steep_helix_as_linuxcnc_does)."""
     m = with_controller(machine, model=model)
     if model == "linuxcnc":
-        m = with_controller(m, helix_acceleration="limits")
+        m = with_controller(m, axis_limits="strict")
     _, p = plan_program(cmds, m)
     if not len(p.path):
         return

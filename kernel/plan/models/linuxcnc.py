@@ -57,9 +57,13 @@ Re-derived from the behaviour of LinuxCNC 2.9's ``src/emc/tp`` and ``src/emc/tas
   ``tpDoParabolicBlending``): each runs to a stop, and the next starts once the first is on
   its final deceleration below the blend speed; the plan's ``overlap`` says for how long,
   and the sampler adds the two motions there (kernel.interp.interpolate), as LinuxCNC's
-  axis positions are the sum of both. Where that sum would take an axis past its speed or
-  acceleration limit (LinuxCNC checks nothing there) the overlap starts later, at the
-  speed that keeps every axis within them (found by the property tests; no golden moves).
+  axis positions are the sum of both. That sum can take an axis past its speed or
+  acceleration limit (LinuxCNC checks nothing there; own_helix_small.native reaches 563
+  mm/s^2 against 500): the model does the same, or with ``axis_limits = "strict"`` starts
+  the overlap later, at the speed that keeps every axis within them.
+* **Where LinuxCNC passes an axis limit** (``axis_limits``): also a steep helix's
+  tangential share (:func:`_helix_tangential_cap`); LinuxCNC's acceleration violations are
+  known upstream (github.com/LinuxCNC/linuxcnc issues 546, 1738, 3773).
 * **Look-ahead** (tp.c ``tpRunOptimization``): backwards over ``ARC_BLEND_OPTIMIZATION_DEPTH``
   (50) tangent segments; non-tangent joins stop it. A move not finalised yet (the queue runs
   dry after it) is entered no faster than the peak of a triangle over it, ``sqrt(a L)``
@@ -405,7 +409,7 @@ def _helix_tangential_cap(arcs: np.ndarray, machine: Machine, speed: np.ndarray)
     radian), and the tangential share is what the plane has left, seen along the path (a
     helix's tangent leaves the plane by the angle whose cosine is arc length / path length).
     On flat arcs this never binds below LinuxCNC's own split. Applied with
-    ``helix_acceleration = "limits"`` only: by default the model splits as LinuxCNC does and
+    ``axis_limits = "strict"`` only: by default the model splits as LinuxCNC does and
     its report shows the axis over its limit where the machine's would be (LinuxCNC's
     acceleration violations: github.com/LinuxCNC/linuxcnc issues 546, 1738, 3773)."""
     amax = np.array(machine.limit_vector("acceleration"))[:3]
@@ -1460,7 +1464,7 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         over &= ~unfinal
         maxvel[circle] = np.where(over, np.sqrt(cut * r), v)
         acc_t[circle] = a_c * ratio
-        if machine.controller.helix_acceleration == "limits":
+        if machine.controller.axis_limits == "strict":
             acc_t[circle] = np.minimum(
                 acc_t[circle], _helix_tangential_cap(table[circle], machine, target_of(circle))
             )
@@ -1544,7 +1548,8 @@ def plan(path: Path, machine: Machine, prepared: Prepared, carry: Carry | None =
         np.array(machine.limit_vector("velocity"), dtype=float),
         np.array(machine.limit_vector("acceleration"), dtype=float),
     )
-    overlap = _blend_overlap(prof, par_at, blend_vel, table, limits)
+    strict = machine.controller.axis_limits == "strict"
+    overlap = _blend_overlap(prof, par_at, blend_vel, table, limits, strict)
     duration = np.where(moving, prof.duration, table["duration"]) - overlap
     # the planner runs once per servo period: every stop costs about STOP_CYCLES periods
     # more than the continuous profile, and a program START_CYCLES (tp.c
@@ -1727,6 +1732,7 @@ def _blend_overlap(
     blend_vel: np.ndarray,
     table: np.ndarray,
     limits: tuple[np.ndarray, np.ndarray],
+    strict: bool,
 ) -> np.ndarray:
     """How long each move that ends in a parabolic blend runs on into the next one's slot
     (tc.c ``tcIsBlending``, tp.c ``tpUpdateBlend``, ``tpDoParabolicBlending``): once the move
@@ -1739,8 +1745,9 @@ def _blend_overlap(
     ``tpGetRealTargetVel``), so where it speeds up faster than this one slows, an axis both
     move along in the same sense could pass its velocity limit (LinuxCNC checks nothing
     there), and on arcs their accelerations toward the centre add to the two moves' own;
-    the model then starts that blend at the lower speed that keeps every axis within its
-    speed and acceleration limits. A move is shared with at most one neighbour at a time
+    with ``strict`` (``axis_limits = "strict"``) the model then starts that blend at the
+    lower speed that keeps every axis within its speed and acceleration limits, else it
+    blends as LinuxCNC does. A move is shared with at most one neighbour at a time
     (the next move blends on only once this one has ended)."""
     overlap = np.zeros(len(prof.v_peak))
     if not par_at.size:
@@ -1752,7 +1759,9 @@ def _blend_overlap(
     # the axis speeds u1 v1 + u2 v2 over the overlap, checked on a grid; where one passes
     # its limit the blend starts at a lower speed (bisection)
     vq = prof.v_peak[q]
-    over = _axis_speed_ratio(table, p, v_on, a_p, a_q, vq, limits) > 1.0 + 1e-9
+    over = np.zeros(p.size, dtype=bool)
+    if strict:
+        over = _axis_speed_ratio(table, p, v_on, a_p, a_q, vq, limits) > 1.0 + 1e-9
     if over.any():
         k = np.flatnonzero(over)
         lo, hi = np.zeros(k.size), v_on[k].copy()
