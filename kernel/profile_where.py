@@ -126,36 +126,32 @@ class _Scanner:
         ch = self._peek()
         if ch in ('"', "'"):
             self._string()
-        elif ch == "{":
-            self._advance()
-            while True:
-                self._blank(True)
-                if self._peek() in ("}", ""):
-                    if self._peek():
-                        self._advance()
-                    return
-                if self._peek() == ",":
+        elif ch in ("{", "["):
+            self._items(path, "}" if ch == "{" else "]")
+        else:
+            while self._peek() and self._peek() not in ",}]\n#":
+                self._advance()
+
+    def _items(self, path: Path, close: str) -> None:
+        """The items of an inline table (``key = value``, ``close`` = "}") or an array (values,
+        ``close`` = "]"), up to and past ``close``."""
+        self._advance()
+        while True:
+            self._blank(True)
+            if self._peek() in (close, ""):
+                if self._peek():
                     self._advance()
-                    continue
+                return
+            if self._peek() == ",":
+                self._advance()
+                continue
+            if close == "}":
                 inner = self._record(path, self._key())
                 if self._peek() == "=":
                     self._advance()
                 self._value(inner)
-        elif ch == "[":
-            self._advance()
-            while True:
-                self._blank(True)
-                if self._peek() in ("]", ""):
-                    if self._peek():
-                        self._advance()
-                    return
-                if self._peek() == ",":
-                    self._advance()
-                    continue
+            else:
                 self._value(path)
-        else:
-            while self._peek() and self._peek() not in ",}]\n#":
-                self._advance()
 
     def scan(self) -> dict[Path, tuple[int, int]]:
         table: Path = ()
