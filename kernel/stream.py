@@ -150,6 +150,16 @@ class _Model:
             return grbl.block_limits(path, self.planning)
         return segment_limits(path, self.planning)
 
+    def late(
+        self, rows: np.ndarray, v: np.ndarray, cap: np.ndarray, after: np.ndarray | None
+    ) -> np.ndarray | None:
+        """The pause after each of the final ``rows`` (junction speeds ``v``, caps ``cap``;
+        ``after``: the row after them, where there): Grbl's late last step at a stop
+        (kernel.plan.models.grbl ``late_stops``); None for the other models."""
+        if self.name == "grbl":
+            return grbl.late_stops(rows, v, cap, self.planning, after)
+        return None
+
     def junctions(self, seg: np.ndarray, cap: np.ndarray, acc: np.ndarray) -> np.ndarray:
         """The caps at the junctions between consecutive rows of ``seg`` (n - 1)."""
         if self.name == "grbl":
@@ -266,14 +276,19 @@ def _window_plan(
     v: np.ndarray,
     clock: _Clock,
     tf: float = 0.0,
+    late: np.ndarray | None = None,
 ) -> Plan:
     """The plan of final rows, as the whole-program planner computes them (``tf``: the
-    S-curve filter time, a pause at every stop; kernel.stream_scurve)."""
+    S-curve filter time, a pause at every stop; kernel.stream_scurve; ``late``: a model's
+    own pause after each row, as :meth:`_Model.late`)."""
     length = rows["length"]
     moving = rows["kind"] != HOLD
     prof = trapezoids(length, v[:-1], v[1:], cap, acc)
     duration = np.where(moving, prof.duration, rows["duration"])
     pause = np.zeros(len(rows))
+    if late is not None:
+        pause = late
+        duration = duration + pause
     if tf > 0:
         pause = np.where((v[1:] <= 0.0) & moving, tf, 0.0)
         duration = duration + pause
@@ -364,7 +379,9 @@ def plan_windows(
             look.push(rows, cap, np.where(rows["kind"] != HOLD, acc, 0.0), c2)
         final = look.pop(end)
         if final is not None:
-            plan = _window_plan(model.planning, file, *final, clock)
+            after = look.rows[0] if len(look.rows) else None
+            late = model.late(final[0], final[3], final[1], after)
+            plan = _window_plan(model.planning, file, *final, clock, late=late)
             if errors.checked(plan):
                 yield plan
     if errors.error is not None:

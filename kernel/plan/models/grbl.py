@@ -33,6 +33,9 @@ copied) and checked against grbl-sim built from it (tests/data/grbl_sim):
 * **Restarts** (stepper.c ``st_go_idle``, ``st_wake_up``): with a step grid, each run of
   holds costs the time the steppers take to go idle and start again, a fraction of a
   millisecond fitted on grbl-sim (:func:`restart_times`), counted with the hold.
+* **Late last steps** (stepper.c ``st_prep_buffer``): a block that ends at rest on a 10 ms
+  segment boundary can, by Grbl's float32 rounding, leave its last step for a segment of
+  20-33 ms; a pause after the block (:func:`late_stops`, kernel.plan.models.grbl_segments).
 * **Inverse time arcs** (``mc_arc`` in G93): Grbl multiplies ``F`` by the chord count and
   then runs the chords at that many mm/min (:func:`synchronised`).
 
@@ -56,6 +59,7 @@ from kernel.ir.arcsweep import arc_sweep
 from kernel.machine import Machine
 from kernel.path.geometry import evaluate
 from kernel.path.segments import ARC, HOLD, LINE, Path
+from kernel.plan.models.grbl_segments import stop_tails
 from kernel.plan.planner import Plan, commanded_feed, lookahead, ratio_min, trapezoids
 
 BLOCK_BUFFER = 16  # config.h BLOCK_BUFFER_SIZE on the AVR
@@ -511,10 +515,41 @@ def plan(path: Path, machine: Machine) -> Plan:
     length = seg["length"]
     v = lookahead(length, jcap, acc_plan, None, window)
     prof = trapezoids(length, v[:-1], v[1:], nominal, acc_plan)
-    duration = np.where(moving, prof.duration, seg["duration"])
+    pause = late_stops(seg, v, nominal, machine)
+    duration = np.where(moving, prof.duration, seg["duration"]) + pause
     t_start = np.concatenate([[0.0], np.cumsum(duration)[:-1]]) if n else np.zeros(0)
     s = np.concatenate([[0.0], np.cumsum(length)])
-    return Plan(path, machine, v, nominal, prof, np.zeros(n), duration, t_start, s[:-1], 0.0)
+    return Plan(path, machine, v, nominal, prof, pause, duration, t_start, s[:-1], 0.0)
+
+
+def late_stops(
+    seg: np.ndarray,
+    v: np.ndarray,
+    nominal: np.ndarray,
+    machine: Machine,
+    after: np.ndarray | None = None,
+) -> np.ndarray:
+    """Seconds Grbl's last step comes late at the end of each block of ``seg`` (rows on
+    the step grids, ``v`` the junction speeds, ``nominal`` the blocks' speeds as
+    :func:`block_limits` gives them; ``after``: the row after ``seg``, None at the program's
+    end) that
+    ends at rest: float32 rounding in its 10 ms segments (stepper.c ``st_prep_buffer``,
+    kernel.plan.models.grbl_segments), and before a hold (the steppers go idle) the longer
+    interrupt period too; a pause after the block. Zero without step grids on X, Y, Z."""
+    out = np.zeros(len(seg))
+    steps = np.array(machine.limit_vector("steps_per_mm"))[:3]
+    if not len(seg) or not np.all(steps > 0):
+        return out
+    k = np.flatnonzero((seg["kind"] != HOLD) & (v[1:] <= 0.0))
+    if k.size:
+        rows = seg[k]
+        dsteps = np.rint((rows["end"][:, :3] - rows["start"][:, :3]) * steps)
+        feed = commanded_feed(Path(rows), machine.controller)
+        cruise = v[k] >= nominal[k] * (1.0 - 1e-12)
+        late, idle = stop_tails(dsteps, feed, v[k], cruise, machine)
+        nxt = np.append(seg["kind"][1:], LINE if after is None else after["kind"])[k]
+        out[k] = late + np.where(nxt == HOLD, idle, 0.0)
+    return out
 
 
 __all__ = [
@@ -524,6 +559,7 @@ __all__ = [
     "blocks",
     "junction_caps",
     "junction_speed",
+    "late_stops",
     "on_steps",
     "plan",
     "restart_times",
