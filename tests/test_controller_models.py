@@ -27,7 +27,7 @@ from kernel.machine import AxisLimits, Controller, Machine, parse_machine, with_
 from kernel.plan.models import linuxcnc
 from kernel.plan.models.grbl import arc_chords, junction_speed, synchronised
 from kernel.plan.strategy import build, plan_program
-from kernel.report.measure import difference_peaks
+from kernel.report.measure import difference_peaks, servo_waypoints
 from kernel.simulation import plan_and_measure, simulate
 from kernel.stream import measure_streamed
 
@@ -72,7 +72,7 @@ def _run(folder: str, name: str) -> tuple[float, tuple[float, ...], tuple[float,
         prog = GRBL / str(g.get("file", f"ngc/{name.split('@')[0]}.ngc"))  # or a real one
     dialect = "grbl" if Path(folder) == GRBL else "rs274ngc"
     result = simulate(list(read(prog, dialect)), _machine(folder, profile), str(prog))
-    peaks = difference_peaks(result.samples, RECORD_RESOLUTION)
+    peaks = difference_peaks(result.samples, RECORD_RESOLUTION, waypoints=dialect != "grbl")
     vel = tuple(float(x) for x in peaks.velocity[:3])
     acc = tuple(float(x) for x in peaks.acceleration_p999[:3])
     return result.measure().cycle.total, vel, acc
@@ -547,6 +547,25 @@ def test_difference_peaks_of_a_recorded_ramp() -> None:
     recorded = difference_peaks(s, RECORD_RESOLUTION)
     assert abs(recorded.acceleration[0] - a) <= 2 * RECORD_RESOLUTION / period**2 + 1e-9
     assert abs(recorded.velocity[0] - exact.velocity[0]) <= RECORD_RESOLUTION / period + 1e-9
+
+
+def test_servo_waypoints_closed_forms() -> None:
+    """LinuxCNC's cubic interpolator (cubic.c ``wayPoint``) in closed form: a constant
+    acceleration keeps its second differences; a circle run at d radians per period comes out
+    on the radius R (2 + cos d) / 3; a velocity step becomes three periods of 1/6, 2/3, 1/6
+    of it. The recorded blend arc of own_corner_150.G64P (r 0.01746 mm, 0.157 rad a period)
+    was fitted at r 0.017387 mm, the closed form's 0.0173868."""
+    k = np.arange(200, dtype=float)[:, None]
+    ramp = servo_waypoints(250.0 * k**2 * np.ones((1, 3)))
+    assert np.allclose(np.diff(ramp[5:-5], 2, axis=0), 500.0, rtol=1e-12)
+    r, d = 0.01746, 0.157
+    circle = np.hstack([r * np.cos(d * k), r * np.sin(d * k), 0 * k])
+    radius = np.hypot(*servo_waypoints(circle)[1:-1, :2].T)
+    assert np.allclose(radius, r * (2.0 + math.cos(d)) / 3.0, rtol=1e-12)
+    assert r * (2.0 + math.cos(d)) / 3.0 == pytest.approx(0.017387, abs=2e-6)
+    kink = np.where(k < 100, 0.0, k - 100.0) * np.ones((1, 3))
+    acc = np.diff(servo_waypoints(kink), 2, axis=0)[:, 0]
+    assert np.allclose(acc[97:102], [0, 1 / 6, 2 / 3, 1 / 6, 0], atol=1e-12)
 
 
 def test_linuxcnc_model_passes_the_limit_on_a_steep_helix_as_linuxcnc_does() -> None:
