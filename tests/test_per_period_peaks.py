@@ -1,5 +1,5 @@
 """With ``model = "linuxcnc"`` the report's peak axis speed and acceleration are those of
-the positions commanded every servo period (kernel.report.measure.per_period_peaks), as a
+the joint positions commanded every servo period (kernel.report.measure.per_period_peaks), as a
 recording of LinuxCNC's commanded positions shows them: checked against such recordings
 (tests/data/lcnc_tp goldens' largest first and second differences), against closed forms,
 and window by window against the whole program."""
@@ -65,7 +65,8 @@ def test_a_single_move_peaks_at_the_feed_and_the_axis_acceleration() -> None:
 def test_a_kink_passed_at_speed_is_one_period_of_acceleration() -> None:
     """A near-tangent join (3.4 arc minutes) LinuxCNC passes at speed (tp.c's tangent kink):
     the Y speed steps by at most F sin(theta) = 0.02 mm/s within one servo period, 20 mm/s^2
-    of commanded acceleration, where the planned profile shows only the ramps' share."""
+    of commanded acceleration (LinuxCNC's output interpolator spreads it over three periods,
+    two thirds of it in one), where the planned profile shows only the ramps' share."""
     text = "G21 G90 G64\nG0 X0 Y0 Z0\nG1 X50 Y0 F1200\nG1 X100 Y0.05\nM2\n"
     _, plan = plan_program(list(read_text(text, "rs274ngc", "kink.ngc")), MACHINE)
     samples = sample(plan)

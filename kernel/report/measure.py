@@ -176,11 +176,12 @@ def differences(t: np.ndarray, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray]
 
 
 def per_period_peaks(machine: Machine) -> bool:
-    """Whether the report's peak speed and acceleration are those of the commanded positions
-    period by period (:func:`differences`) rather than of the planned profile: so for the
-    ``linuxcnc`` model, whose motion module commands a position every servo period and
-    whose recorded motion (halsampler, halscope) shows a kink's velocity step as one
-    period's acceleration (docs/machine-profile.md, "Controller models")."""
+    """Whether the report's peak speed and acceleration are those of the commanded joint
+    positions period by period (:func:`differences` of :func:`servo_waypoints`) rather than
+    of the planned profile: so for the ``linuxcnc`` model, whose motion module commands a
+    position every servo period and whose recorded motion (halsampler, halscope) shows a
+    kink's velocity step spread over three periods by its interpolator
+    (docs/machine-profile.md, "Controller models")."""
     return machine.controller.model == "linuxcnc"
 
 
@@ -325,7 +326,7 @@ def measure(plan: Plan, samples: Samples) -> Report:
     hits, total = limit_hits(plan, samples, extremes=extremes)
     velocity, acceleration = peaks("velocity"), peaks("acceleration")
     if per_period_peaks(plan.machine) and len(samples) > 1:
-        v, a = differences(samples.t, samples.position)
+        v, a = differences(samples.t, servo_waypoints(samples.position))
         velocity = dict(zip(samples.axes, map(float, np.abs(v).max(axis=0)), strict=True))
         a_max = np.abs(a).max(axis=0) if len(a) else np.zeros(len(samples.axes))
         acceleration = dict(zip(samples.axes, map(float, a_max), strict=True))
@@ -415,9 +416,11 @@ class SampleReductions:
         self.count, self.chord = 0, 0.0
         self.last: Samples | None = None
         self.axes: tuple[str, ...] = machine.axis_names
-        # per-period peaks (per_period_peaks): the last two samples' times and positions, to
-        # difference across a window boundary, and the largest |speed| and |acceleration|
+        # per-period peaks (per_period_peaks): the last two planned rows (times, positions),
+        # whose way points wait for the next row, and the last two way points, to difference
+        # across a window boundary; and the largest |speed| and |acceleration|
         self.per_period = per_period_peaks(machine)
+        self.raw: tuple[np.ndarray, np.ndarray] | None = None
         self.tail: tuple[np.ndarray, np.ndarray] | None = None
         self.commanded: tuple[np.ndarray, np.ndarray] | None = None
 
@@ -474,9 +477,27 @@ class SampleReductions:
         self.last = w
 
     def _difference(self, w: Samples) -> None:
-        """Fold window ``w`` into the per-period peaks (:func:`differences`), joined to the
-        last two samples of the windows before it."""
+        """Fold window ``w`` into the per-period peaks: its rows' way points
+        (:func:`servo_waypoints`; a row's waits for the next row, the first row is held
+        before the program), differenced with the last two way points before them."""
         t, pos = w.t, w.position
+        if self.raw is None:
+            t, pos = np.concatenate([t[:1], t]), np.concatenate([pos[:1], pos])
+        else:
+            t, pos = np.concatenate([self.raw[0], t]), np.concatenate([self.raw[1], pos])
+        self.raw = (t[-2:], pos[-2:])
+        if len(t) > 2:
+            self._fold(t[1:-1], (pos[:-2] + 4.0 * pos[1:-1] + pos[2:]) / 6.0)
+
+    def _last_waypoint(self) -> None:
+        """The program's last row's way point (the row after it held: the machine stops)."""
+        if self.raw is not None:
+            t, pos = self.raw
+            self._fold(t[-1:], (pos[-2:-1] + 5.0 * pos[-1:]) / 6.0)
+            self.raw = None
+
+    def _fold(self, t: np.ndarray, pos: np.ndarray) -> None:
+        """Way points ``pos`` at times ``t`` into the peaks of their differences."""
         if self.tail is not None:
             t, pos = np.concatenate([self.tail[0], t]), np.concatenate([self.tail[1], pos])
         self.tail = (t[-2:], pos[-2:])
@@ -505,6 +526,7 @@ class SampleReductions:
         hits = [h for _, _, acc in self.runs for h in acc.hits()]
         hits.sort(key=lambda h: h.time)
         velocity, acceleration = peaks("velocity"), peaks("acceleration")
+        self._last_waypoint()
         if self.commanded is not None:
             velocity = dict(zip(axes, map(float, self.commanded[0]), strict=True))
             acceleration = dict(zip(axes, map(float, self.commanded[1]), strict=True))
