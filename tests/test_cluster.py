@@ -121,6 +121,7 @@ def test_cluster_results_identical_to_local_pool(cluster: str) -> None:
     assert any(f["findings"] for f in a["files"])  # the batch has findings to compare
 
 
+@pytest.mark.slow
 def test_time_limit_and_corrupt_file_are_one_row_each(cluster: str, tmp_path: Path) -> None:
     hang = tmp_path / "hang.ngc"
     hang.write_text(HANG)

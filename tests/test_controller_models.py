@@ -189,7 +189,17 @@ def _grbl_time(name: str) -> float:
     return pl.total_time
 
 
-@pytest.mark.parametrize("name", GRBL_NAMES)
+# the default run checks one Grbl golden in three and those of Grbl's late last step
+# (stepper.c st_prep_buffer, kernel/plan/models/grbl_segments.py); ``-m slow`` every golden
+_GRBL_QUICK = set(GRBL_NAMES[::3]) | {
+    n for n in GRBL_NAMES if n.startswith(("held3_lightburn_raster_m4", "held3_peck_manual"))
+}
+GRBL_CASES = [
+    pytest.param(n, marks=() if n in _GRBL_QUICK else pytest.mark.slow) for n in GRBL_NAMES
+]
+
+
+@pytest.mark.parametrize("name", GRBL_CASES)
 def test_grbl_cycle_time(name: str) -> None:
     """Cycle time within 1 % of grbl-sim's (Grbl 1.1h's planner and stepper timing; the
     known deviations within their own bound)."""
@@ -225,6 +235,7 @@ def test_grbl_goldens_cover_settings_and_real_programs() -> None:
     assert len(real) >= 30
 
 
+@pytest.mark.slow
 def test_grbl_median_error() -> None:
     """Median |cycle-time error| over every Grbl golden at most 0.1 % (the stepper's timer
     ticks, the step grid and the restarts at stops are modelled; what is left is the phase

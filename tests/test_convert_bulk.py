@@ -42,8 +42,16 @@ def _text(items, dialect: str, opts: WriterOptions, source: str) -> str:  # noqa
         return f"refused {exc.code} {exc.location.line}"
 
 
-@pytest.mark.parametrize("variant", VARIANTS)
-@pytest.mark.parametrize("dialect", DIALECTS)
+#: (dialect, variant) pairs of the plain runs' test: every dialect once and every variant in
+#: the default run (a Latin-square pick), the rest marked slow
+PLAIN_CASES = [
+    pytest.param(d, v, marks=() if (i + j) % 3 == 0 else _SLOW)
+    for i, d in enumerate(DIALECTS)
+    for j, v in enumerate(VARIANTS)
+]
+
+
+@pytest.mark.parametrize(("dialect", "variant"), PLAIN_CASES)
 def test_bulk_runs_write_what_the_commands_write(
     dialect: str, variant: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -154,7 +162,7 @@ def test_batched_command_streams_write_what_the_commands_write(
     assert compared >= 300
 
 
-@pytest.mark.parametrize("queue", [1, 2, 7])
+@pytest.mark.parametrize("queue", [1, pytest.param(2, marks=_SLOW), 7])
 def test_sandia_queues_of_any_length_write_what_the_commands_write(
     queue: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:

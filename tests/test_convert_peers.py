@@ -48,7 +48,17 @@ def allowed_exclusions(d: Dialect) -> set[str]:
     return {name for name, yes in defined.items() if yes}
 
 
-@pytest.mark.parametrize(("dialect", "arc_format"), pygcode_peer.RUNS)
+#: the pygcode runs of the default run (a few seconds each); the rest marked slow
+_PYGCODE_QUICK = {("grbl", "r"), ("fanuc", "ijk")}
+
+
+@pytest.mark.parametrize(
+    ("dialect", "arc_format"),
+    [
+        pytest.param(d, f, marks=() if (d, f) in _PYGCODE_QUICK else pytest.mark.slow)
+        for d, f in pygcode_peer.RUNS
+    ],
+)
 def test_pygcode_reads_every_block_and_stands_at_every_ir_end_point(
     dialect: str, arc_format: str
 ) -> None:

@@ -32,8 +32,20 @@ pytestmark = [
 ]
 
 
-@pytest.mark.parametrize("dialect", ["rs274ngc", "grbl"])
-@pytest.mark.parametrize("program", programs(), ids=lambda p: p.stem)
+def _alternating(values: list[Path], options: list[str]) -> list[object]:
+    """(value, option) cases: every value with one option in the default run, in turn, and
+    with the others under ``-m slow`` (every option stays covered by the default run)."""
+    return [
+        pytest.param(v, o, id=f"{v.stem}-{o}", marks=() if (i + j) % len(options) == 0 else _SLOW)
+        for i, v in enumerate(values)
+        for j, o in enumerate(options)
+    ]
+
+
+_SLOW = pytest.mark.slow
+
+
+@pytest.mark.parametrize(("program", "dialect"), _alternating(programs(), ["rs274ngc", "grbl"]))
 def test_rs274_reads_our_output_as_it_reads_the_original(
     program: Path, dialect: str, tmp_path: Path
 ) -> None:
@@ -57,11 +69,7 @@ def test_rs274_reads_our_output_as_it_reads_the_original(
     assert canon_equiv.compare(ours, expected) == []
 
 
-CANON_FILES = [pytest.param(p, id=p.stem) for p in canon_files()]
-
-
-@pytest.mark.parametrize("arc_format", ["ijk", "r"])
-@pytest.mark.parametrize("canon_file", CANON_FILES)
+@pytest.mark.parametrize(("canon_file", "arc_format"), _alternating(canon_files(), ["ijk", "r"]))
 def test_from_canon_text_through_rs274(canon_file: Path, arc_format: str, tmp_path: Path) -> None:
     text_in = canon_file.read_text()
     report = ConversionReport()

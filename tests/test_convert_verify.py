@@ -50,8 +50,18 @@ ROTATED_FRAMES = {"086_g10_l2_rotation", "190_g10_l20_with_rotation"}
 SQUARE = "G21 G90 G17\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\nG2 X20 Y0 R5\nM2\n"
 
 
-@pytest.mark.parametrize(("dialect", "arc_format"), TARGETS)
-@pytest.mark.parametrize("program", PROGRAMS, ids=lambda p: p.stem)
+#: (program, dialect, arc format): every program with three targets in the default run, in
+#: turn, and with all nine under ``-m slow``
+CASES = [
+    pytest.param(
+        p, d, f, id=f"{p.stem}-{d}-{f}", marks=() if (i + j) % 3 == 0 else pytest.mark.slow
+    )
+    for i, p in enumerate(PROGRAMS)
+    for j, (d, f) in enumerate(TARGETS)
+]
+
+
+@pytest.mark.parametrize(("program", "dialect", "arc_format"), CASES)
 def test_every_lossless_conversion_verifies(program: Path, dialect: str, arc_format: str) -> None:
     ir = ir_of(program)
     if ir is None:

@@ -103,6 +103,7 @@ def _as_tuple(run: fastlane.Run) -> tuple:
     )
 
 
+@pytest.mark.slow  # builds the AOT module with the C compiler (~15 s)
 @pytest.mark.parametrize("max_events", [8192, 7])
 def test_aot_and_jit_scan_a_cam_program_to_identical_runs(
     aot: ModuleType,
@@ -119,6 +120,7 @@ def test_aot_and_jit_scan_a_cam_program_to_identical_runs(
     assert [_as_tuple(r) for r in by_aot] == [_as_tuple(r) for r in by_jit]
 
 
+@pytest.mark.slow  # builds the AOT module with the C compiler (~15 s)
 def test_aot_and_jit_format_identical_text_including_ties_and_huge_values(
     aot: ModuleType, jit: ModuleType, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -141,6 +143,7 @@ def test_aot_and_jit_format_identical_text_including_ties_and_huge_values(
     assert raw_aot[1].tolist() == raw_jit[1].tolist() and raw_aot[2] == raw_jit[2] > 0
 
 
+@pytest.mark.slow  # builds the AOT module with the C compiler (~15 s)
 def test_cnc_canon_prints_the_same_with_aot_and_jit_kernels(
     aot: ModuleType, jit: ModuleType, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -213,6 +216,7 @@ def test_a_build_without_a_working_compiler_reports_failure_and_leaves_no_module
     assert [p.name for p in tmp_path.iterdir()] == []  # no module, no build leftovers
 
 
+@pytest.mark.slow  # builds the AOT module with the C compiler (~15 s)
 def test_loading_the_aot_module_imports_no_numba(
     aot: ModuleType, aot_dir: Path, tmp_path: Path
 ) -> None:

@@ -107,6 +107,7 @@ def _modal_feed(lines: list[str], n: int) -> float:
     return feed
 
 
+@pytest.mark.slow
 def test_the_view_draws_without_console_errors(browser: Browser, tmp_path: Path) -> None:
     page = _page(BRACKET, tmp_path)
     browser.errors.clear()
@@ -120,6 +121,7 @@ def test_the_view_draws_without_console_errors(browser: Browser, tmp_path: Path)
     assert first == "1" + BRACKET.read_text().splitlines()[0]
 
 
+@pytest.mark.slow
 def test_hovering_a_move_shows_its_line_and_feed(browser: Browser, tmp_path: Path) -> None:
     page = _page(BRACKET, tmp_path)
     browser.open(page.as_uri(), READY)
@@ -178,6 +180,7 @@ def test_clicking_a_finding_draws_its_move(browser: Browser, tmp_path: Path) -> 
     assert browser.errors == []
 
 
+@pytest.mark.slow
 def test_a_lathe_program_is_drawn_in_zx_from_the_batch_library(
     browser: Browser, tmp_path: Path
 ) -> None:
@@ -221,6 +224,7 @@ def _red_mask(b: Browser) -> tuple[np.ndarray, list[float]]:
     return red, rect
 
 
+@pytest.mark.slow
 def test_the_cut_part_is_coloured_by_its_deviation_from_the_design(
     browser: Browser, tmp_path: Path
 ) -> None:
