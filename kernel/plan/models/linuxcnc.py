@@ -650,6 +650,40 @@ def _arc_arc_blend(
     return fails, length
 
 
+def _circle_blends(
+    seg: np.ndarray,
+    u1: np.ndarray,
+    u2: np.ndarray,
+    binormal: np.ndarray,
+    r_plan: np.ndarray,
+    tolerance: np.ndarray,
+    theta_tan: np.ndarray,
+    ok: np.ndarray,
+    s_arc: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The blend arcs ``ok`` so far at the joins next to a circle, as LinuxCNC post-processes
+    them (:func:`_arc_arc_blend` between two circles, :func:`_line_arc_blend` between a line
+    and a circle): those it cannot build are no longer ``ok``, and those it builds take the
+    length of the arc built instead of the estimate ``s_arc``."""
+    m = len(ok)
+    arc_a = seg["kind"][:m] == ARC
+    arc_b = seg["kind"][1 : m + 1] == ARC
+    both = ok & arc_a & arc_b
+    if both.any():
+        rows = np.arange(m)
+        fails, s_exact = _arc_arc_blend(
+            seg, rows, rows + 1, u1, u2, binormal, r_plan, tolerance, theta_tan, both
+        )
+        ok = ok & ~fails
+        s_arc = np.where(both, s_exact, s_arc)
+    one = ok & (arc_a != arc_b)
+    if one.any():
+        fails, s_exact = _line_arc_blend(seg, u1, u2, binormal, r_plan, tolerance, theta_tan, one)
+        ok = ok & ~fails
+        s_arc = np.where(one, s_exact, s_arc)
+    return ok, s_arc
+
+
 def _line_arc_blend(
     seg: np.ndarray,
     u1: np.ndarray,
@@ -914,18 +948,7 @@ def _joins(
         same = _rowsum((binormal - nrm) ** 2) < eps2
         opposite = _rowsum((binormal + nrm) ** 2) < eps2
         ok &= ~is_arc | same | opposite
-    both = ok & (seg["kind"][a] == ARC) & (seg["kind"][b] == ARC)
-    if both.any():
-        fails, s_exact = _arc_arc_blend(
-            seg, np.arange(m), np.arange(1, n), u1, u2, binormal, r_plan, tolerance, theta_tan, both
-        )
-        ok &= ~fails
-        s_arc = np.where(both, s_exact, s_arc)
-    one = ok & (circ & ~both)
-    if one.any():
-        fails, s_exact = _line_arc_blend(seg, u1, u2, binormal, r_plan, tolerance, theta_tan, one)
-        ok &= ~fails
-        s_arc = np.where(one, s_exact, s_arc)
+    ok, s_arc = _circle_blends(seg, u1, u2, binormal, r_plan, tolerance, theta_tan, ok, s_arc)
     perf_arc = np.where(ok, np.minimum(v_plan, s_arc / period), 0.0)
     # parabolic estimate (segments not finalized yet: half their lengths, kink loss 0.1)
     acc1 = lim.maxacc[a] * (1.0 - KINK_RATIO) * 0.5
@@ -1075,19 +1098,7 @@ def _joins_compiled(
         r_plan,
         s_arc,
     )
-    a, b = slice(0, m), slice(1, n)
-    both = ok & (skind[a] == ARC) & (skind[b] == ARC)
-    if both.any():
-        fails, s_exact = _arc_arc_blend(
-            seg, np.arange(m), np.arange(1, n), u1, u2, binormal, r_plan, tolerance, theta0, both
-        )
-        ok &= ~fails
-        s_arc = np.where(both, s_exact, s_arc)
-    one = ok & ((skind[a] == ARC) != (skind[b] == ARC))
-    if one.any():
-        fails, s_exact = _line_arc_blend(seg, u1, u2, binormal, r_plan, tolerance, theta0, one)
-        ok &= ~fails
-        s_arc = np.where(one, s_exact, s_arc)
+    ok, s_arc = _circle_blends(seg, u1, u2, binormal, r_plan, tolerance, theta0, ok, s_arc)
     # the parabolic estimate's angle between the directions of acceleration (blended joins)
     theta_acc = np.zeros(m)
     jb = np.flatnonzero(blend)
