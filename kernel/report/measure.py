@@ -197,8 +197,13 @@ def servo_waypoints(position: np.ndarray) -> np.ndarray:
     held (the machine stands still before and after)."""
     if len(position) < 2:
         return position.copy()
-    q = np.concatenate([position[:1], position, position[-1:]])
-    return (q[:-2] + 4.0 * q[1:-1] + q[2:]) / 6.0
+    return spline_points(np.concatenate([position[:1], position, position[-1:]]))
+
+
+def spline_points(rows: np.ndarray) -> np.ndarray:
+    """cubic.c ``wayPoint`` of every row but the first and last, from its two neighbours:
+    ``(x[k-1] + 4 x[k] + x[k+1]) / 6`` (:func:`servo_waypoints` without the held ends)."""
+    return (rows[:-2] + 4.0 * rows[1:-1] + rows[2:]) / 6.0
 
 
 def difference_peaks(
@@ -487,13 +492,13 @@ class SampleReductions:
             t, pos = np.concatenate([self.raw[0], t]), np.concatenate([self.raw[1], pos])
         self.raw = (t[-2:], pos[-2:])
         if len(t) > 2:
-            self._fold(t[1:-1], (pos[:-2] + 4.0 * pos[1:-1] + pos[2:]) / 6.0)
+            self._fold(t[1:-1], spline_points(pos))
 
     def _last_waypoint(self) -> None:
         """The program's last row's way point (the row after it held: the machine stops)."""
         if self.raw is not None:
             t, pos = self.raw
-            self._fold(t[-1:], (pos[-2:-1] + 5.0 * pos[-1:]) / 6.0)
+            self._fold(t[-1:], spline_points(np.concatenate([pos, pos[-1:]])))
             self.raw = None
 
     def _fold(self, t: np.ndarray, pos: np.ndarray) -> None:
