@@ -14,6 +14,8 @@ import subprocess
 from collections.abc import Iterable
 from pathlib import Path
 
+import pytest
+
 from gcode.ngc.interpreter import InterpreterOptions, interpret, interpret_text
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
@@ -106,3 +108,25 @@ def rs274(text: str, tool_table: Path, workdir: Path) -> list[str]:
 def _transient(stderr: str) -> bool:
     """rs274 keeps its tool data in shared memory: concurrent runs can lose their table."""
     return "not found in the tool table" in stderr
+
+
+def in_turn(values: Iterable[object], options: Iterable[object], every: int) -> list[object]:
+    """(value, option) test cases for ``pytest.mark.parametrize``: one option in ``every``
+    per value in the default run, taken in turn so that every option is run there too, and
+    the others under ``-m slow``. A tuple option gives several arguments."""
+    opts = list(options)
+
+    def name(x: object) -> str:
+        parts = x if isinstance(x, tuple) else (x,)
+        return "-".join(p.stem if isinstance(p, Path) else str(p) for p in parts)
+
+    return [
+        pytest.param(
+            v,
+            *(o if isinstance(o, tuple) else (o,)),
+            id=f"{name(v)}-{name(o)}",
+            marks=() if (i + j) % every == 0 else pytest.mark.slow,
+        )
+        for i, v in enumerate(values)
+        for j, o in enumerate(opts)
+    ]

@@ -20,7 +20,7 @@ from gcode.readers import read_chunks
 from gcode.write.report import ConversionReport
 from gcode.write.writer import WriterOptions, write, write_text
 from kernel.diagnostics import Diagnostic
-from tests.convert_support import options, programs
+from tests.convert_support import in_turn, options, programs
 
 DIALECTS = ["rs274ngc", "nist_v3", "fanuc", "grbl", "haas", "siemens840d", "fanuc_lathe", "sandia"]
 _SLOW = (pytest.mark.slow,)
@@ -44,11 +44,7 @@ def _text(items, dialect: str, opts: WriterOptions, source: str) -> str:  # noqa
 
 #: (dialect, variant) pairs of the plain runs' test: every dialect once and every variant in
 #: the default run (a Latin-square pick), the rest marked slow
-PLAIN_CASES = [
-    pytest.param(d, v, marks=() if (i + j) % 3 == 0 else _SLOW)
-    for i, d in enumerate(DIALECTS)
-    for j, v in enumerate(VARIANTS)
-]
+PLAIN_CASES = in_turn(DIALECTS, VARIANTS, 3)
 
 
 @pytest.mark.parametrize(("dialect", "variant"), PLAIN_CASES)

@@ -24,7 +24,7 @@ from cli.convert import read_canon
 from gcode.write.report import ConversionReport
 from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
-from tests.convert_support import canon_files, programs, read_ir, rs274
+from tests.convert_support import canon_files, in_turn, programs, read_ir, rs274
 
 pytestmark = [
     pytest.mark.reference,
@@ -32,20 +32,7 @@ pytestmark = [
 ]
 
 
-def _alternating(values: list[Path], options: list[str]) -> list[object]:
-    """(value, option) cases: every value with one option in the default run, in turn, and
-    with the others under ``-m slow`` (every option stays covered by the default run)."""
-    return [
-        pytest.param(v, o, id=f"{v.stem}-{o}", marks=() if (i + j) % len(options) == 0 else _SLOW)
-        for i, v in enumerate(values)
-        for j, o in enumerate(options)
-    ]
-
-
-_SLOW = pytest.mark.slow
-
-
-@pytest.mark.parametrize(("program", "dialect"), _alternating(programs(), ["rs274ngc", "grbl"]))
+@pytest.mark.parametrize(("program", "dialect"), in_turn(programs(), ["rs274ngc", "grbl"], 2))
 def test_rs274_reads_our_output_as_it_reads_the_original(
     program: Path, dialect: str, tmp_path: Path
 ) -> None:
@@ -69,7 +56,7 @@ def test_rs274_reads_our_output_as_it_reads_the_original(
     assert canon_equiv.compare(ours, expected) == []
 
 
-@pytest.mark.parametrize(("canon_file", "arc_format"), _alternating(canon_files(), ["ijk", "r"]))
+@pytest.mark.parametrize(("canon_file", "arc_format"), in_turn(canon_files(), ["ijk", "r"], 2))
 def test_from_canon_text_through_rs274(canon_file: Path, arc_format: str, tmp_path: Path) -> None:
     text_in = canon_file.read_text()
     report = ConversionReport()

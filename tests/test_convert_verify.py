@@ -27,7 +27,7 @@ from gcode.write.writer import WriterOptions, write
 from kernel.diagnostics import Diagnostic
 from kernel.ir import canon
 from kernel.ir.equivalence import first_difference
-from tests.convert_support import CORPUS, fine_text, ir_of, options, programs
+from tests.convert_support import CORPUS, fine_text, in_turn, ir_of, options, programs
 
 PROGRAMS = programs()
 #: the dialects the round-trip tests write every program in (test_convert_roundtrip*.py)
@@ -52,13 +52,7 @@ SQUARE = "G21 G90 G17\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\nG2 X20 Y0 R5\nM2\n"
 
 #: (program, dialect, arc format): every program with three targets in the default run, in
 #: turn, and with all nine under ``-m slow``
-CASES = [
-    pytest.param(
-        p, d, f, id=f"{p.stem}-{d}-{f}", marks=() if (i + j) % 3 == 0 else pytest.mark.slow
-    )
-    for i, p in enumerate(PROGRAMS)
-    for j, (d, f) in enumerate(TARGETS)
-]
+CASES = in_turn(PROGRAMS, TARGETS, 3)
 
 
 @pytest.mark.parametrize(("program", "dialect", "arc_format"), CASES)
